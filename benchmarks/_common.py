@@ -1,0 +1,35 @@
+"""Shared helpers for the accuracy-versus-time benchmarks (JSON + PNG into benchmarks/results)."""
+
+from __future__ import annotations
+
+import json
+import os
+import statistics
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+RESULTS = Path(__file__).resolve().parent / "results"
+
+
+def median_time(fn: Callable[[], Any], repeats: int = 5, warmup: int = 1) -> tuple[float, Any]:
+    """Median wall time (s) of ``repeats`` calls after ``warmup`` calls; also the last result."""
+    out = None
+    for _ in range(warmup):
+        out = fn()
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times), out
+
+
+def write_json(name: str, data: dict[str, Any]) -> Path:
+    """Write ``benchmarks/results/<name>.json`` with the machine's core count attached."""
+    RESULTS.mkdir(parents=True, exist_ok=True)
+    data = {"cpu_count": os.cpu_count(), **data}
+    path = RESULTS / f"{name}.json"
+    path.write_text(json.dumps(data, indent=2, default=float))
+    return path

@@ -1,0 +1,48 @@
+"""Exceptions shared by the whole package.
+
+The CLI maps them to exit codes: :class:`InputError` (and its subclasses) to 2,
+:class:`SolverError` to 1. Every message is one line a user can act on.
+"""
+
+from __future__ import annotations
+
+
+class InputError(ValueError):
+    """Bad input: a case file, a CLI flag or a call argument outside its allowed range."""
+
+
+class CaseError(InputError):
+    """A case-file field is missing, unknown or outside its allowed range.
+
+    Parameters
+    ----------
+    source
+        The file (or ``"<dict>"`` for an in-memory case) the field came from.
+    field
+        Dotted field name, e.g. ``"liquid.viscosity"``.
+    value
+        The offending value (``None`` when the field is missing).
+    allowed
+        Human-readable allowed range, e.g. ``"> 0 Pa s"``.
+    """
+
+    def __init__(self, source: str, field: str, value: object, allowed: str):
+        self.source, self.field, self.value, self.allowed = source, field, value, allowed
+        shown = "missing" if value is None else f"= {value!r}"
+        super().__init__(f"{source}: {field} {shown}; allowed: {allowed}")
+
+
+class ValidityError(InputError):
+    """A model was asked for a scene outside its validity range.
+
+    The message says why and names the model that applies instead.
+    """
+
+    def __init__(self, model: str, reason: str, use_instead: str | None = None):
+        self.model, self.reason, self.use_instead = model, reason, use_instead
+        tail = f"; use model '{use_instead}' instead" if use_instead else ""
+        super().__init__(f"model '{model}': {reason}{tail}")
+
+
+class SolverError(RuntimeError):
+    """A solver failed to produce a trustworthy answer (no convergence, bad mesh, ...)."""

@@ -1,0 +1,1 @@
+"""gmsh mesh builders (one function per geometry) and meshio I/O."""

@@ -1,0 +1,285 @@
+"""ForceCurve, the Model interface and the model registry.
+
+Every model has one call, ``model.force(scene, gaps=None, preset="default") -> ForceCurve``,
+plus metadata (name, fidelity level, validity range, declared convergence order, resolution
+presets). Models live in the plain dict :data:`MODELS`; tests and reports iterate over it.
+
+Sign convention (DESIGN.md): a force is the axial force on the sphere, positive when it
+pushes the surfaces apart. Viscous resistance to approach is positive; a bridge's
+capillary attraction is negative.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+import numpy as np
+
+from wetcontact.errors import InputError, SolverError, ValidityError
+from wetcontact.scene import Scene
+
+PRESETS = ("fast", "default", "accurate")
+
+
+@dataclass(frozen=True, eq=False)
+class ForceCurve:
+    """Forces along a sequence of gaps, with extras, diagnostics and provenance.
+
+    Attributes
+    ----------
+    case
+        Scene name.
+    model
+        Name of the model that produced the curve.
+    gap
+        Surface gaps S (m), shape (n,).
+    force_viscous, force_capillary
+        Axial force components (N), shape (n,), positive = pushing the surfaces apart;
+        ``None`` where the model does not model that component (not zero).
+    extras
+        Per-gap quantities, each shape (n,): e.g. ``laplace_pressure`` (Pa), ``neck_radius``
+        (m), ``filling_angle`` (rad), ``wetted_radius`` (m), ``rupture_distance`` (m).
+    error_estimate
+        A-priori or a-posteriori relative error estimate per gap, or ``None``.
+    diagnostics
+        What the solver did: iterations, residuals, dofs, wall time (``wall_time_s``).
+    settings
+        Everything besides the scene that changes a number (preset, resolution, ...).
+    provenance
+        Package and library versions, git commit, command; filled by :func:`provenance`.
+    """
+
+    case: str
+    model: str
+    gap: np.ndarray
+    force_viscous: np.ndarray | None
+    force_capillary: np.ndarray | None
+    extras: Mapping[str, np.ndarray] = field(default_factory=dict)
+    error_estimate: np.ndarray | None = None
+    diagnostics: Mapping[str, Any] = field(default_factory=dict)
+    settings: Mapping[str, Any] = field(default_factory=dict)
+    provenance: Mapping[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        gap = np.asarray(self.gap, dtype=float)
+        if gap.ndim != 1 or gap.size == 0:
+            raise SolverError(f"ForceCurve '{self.model}': gap must be a non-empty 1-D array")
+        object.__setattr__(self, "gap", gap)
+        if self.force_viscous is None and self.force_capillary is None:
+            raise SolverError(f"ForceCurve '{self.model}': no force component given")
+        for name in ("force_viscous", "force_capillary", "error_estimate"):
+            val = getattr(self, name)
+            if val is not None:
+                object.__setattr__(self, name, self._checked(name, val, gap.size))
+        object.__setattr__(
+            self, "extras", {k: self._checked(k, v, gap.size) for k, v in self.extras.items()}
+        )
+
+    def _checked(self, name: str, val: Any, n: int) -> np.ndarray:
+        arr = np.asarray(val, dtype=float)
+        if arr.shape != (n,):
+            raise SolverError(
+                f"ForceCurve '{self.model}': {name} has shape {arr.shape}, expected ({n},)"
+            )
+        if not np.all(np.isfinite(arr)):
+            bad = self.gap[~np.isfinite(arr)]
+            raise SolverError(
+                f"model '{self.model}' produced non-finite {name} at gaps {bad[:3].tolist()} m"
+            )
+        arr.setflags(write=False)
+        return arr
+
+    @property
+    def force_total(self) -> np.ndarray:
+        """Sum of the modelled components (N)."""
+        parts = [f for f in (self.force_viscous, self.force_capillary) if f is not None]
+        return np.sum(parts, axis=0)
+
+    def to_json_dict(self) -> dict[str, Any]:
+        """The CLI's ``--json`` object (DESIGN.md): lists in SI units."""
+
+        def lst(a: np.ndarray | None) -> list[float] | None:
+            return None if a is None else [float(x) for x in a]
+
+        out: dict[str, Any] = {
+            "case": self.case,
+            "model": self.model,
+            "gap": lst(self.gap),
+            "force_viscous": lst(self.force_viscous),
+            "force_capillary": lst(self.force_capillary),
+            "force_total": lst(self.force_total),
+        }
+        out.update({k: lst(v) for k, v in self.extras.items()})
+        out["wall_time_s"] = float(self.diagnostics.get("wall_time_s", 0.0))
+        out["error_estimate"] = lst(self.error_estimate)
+        out["settings"] = dict(self.settings)
+        out["diagnostics"] = {k: _jsonable(v) for k, v in self.diagnostics.items()}
+        out["provenance"] = dict(self.provenance)
+        return out
+
+
+def _jsonable(v: Any) -> Any:
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    if isinstance(v, np.generic):
+        return v.item()
+    return v
+
+
+class Model:
+    """Base of every model. Subclasses set the metadata and implement :meth:`_force`.
+
+    Class attributes
+    ----------------
+    name : str
+        Registry key.
+    level : int
+        Fidelity level (0 closed form, 1 lubrication PDE, 2 thin film, 3 FEM).
+    component : str
+        ``"viscous"``, ``"capillary"`` or ``"both"``.
+    validity : str
+        Human-readable validity range (shown by ``wetcontact models``).
+    order : float or None
+        Declared convergence order of the force under refinement (None for closed forms).
+    reference : str
+        The source of the model's equation.
+    """
+
+    name: ClassVar[str] = ""
+    level: ClassVar[int] = 0
+    component: ClassVar[str] = "viscous"
+    validity: ClassVar[str] = ""
+    order: ClassVar[float | None] = None
+    reference: ClassVar[str] = ""
+    presets: ClassVar[Mapping[str, Mapping[str, Any]]] = {p: {} for p in PRESETS}
+
+    def check(self, scene: Scene) -> None:
+        """Raise :class:`ValidityError` if the scene is outside this model's validity."""
+
+    def applicable(self, scene: Scene) -> str | None:
+        """``None`` if the model applies to ``scene``, else the reason why not."""
+        try:
+            self.check(scene)
+        except ValidityError as exc:
+            return str(exc)
+        return None
+
+    def force(self, scene: Scene, gaps: Any = None, preset: str = "default",
+              **settings: Any) -> ForceCurve:
+        """Force on the sphere along the gaps (the scene's, or ``gaps``).
+
+        Validates the scene against the model, times the call and attaches provenance.
+        """
+        if preset not in self.presets:
+            raise InputError(f"model '{self.name}': preset = {preset!r}; allowed: "
+                             + ", ".join(self.presets))
+        if gaps is not None:
+            scene = scene.with_gaps(np.atleast_1d(np.asarray(gaps, dtype=float)).tolist())
+        self.check(scene)
+        opts = {**self.presets[preset], **settings}
+        t0 = time.perf_counter()
+        curve = self._force(scene, preset=preset, **opts)
+        wall = time.perf_counter() - t0
+        diag = {**curve.diagnostics, "wall_time_s": wall}
+        return ForceCurve(
+            case=scene.name, model=self.name, gap=curve.gap,
+            force_viscous=curve.force_viscous, force_capillary=curve.force_capillary,
+            extras=curve.extras, error_estimate=curve.error_estimate, diagnostics=diag,
+            settings={"preset": preset, **{k: _jsonable(v) for k, v in opts.items()}},
+            provenance=provenance(),
+        )
+
+    def _force(self, scene: Scene, preset: str, **opts: Any) -> ForceCurve:
+        raise NotImplementedError
+
+
+MODELS: dict[str, Model] = {}
+
+
+def register(cls: type[Model]) -> type[Model]:
+    """Class decorator: instantiate and add to :data:`MODELS` under ``cls.name``."""
+    if not cls.name or cls.name in MODELS:
+        raise ValueError(f"model name {cls.name!r} empty or registered twice")
+    MODELS[cls.name] = cls()
+    return cls
+
+
+def get_model(name: str) -> Model:
+    """Registered model by name; an :class:`InputError` listing the names otherwise."""
+    load_all()
+    if name not in MODELS:
+        raise InputError(f"model = {name!r}; allowed: " + ", ".join(sorted(MODELS)))
+    return MODELS[name]
+
+
+def load_all() -> dict[str, Model]:
+    """Import every module that registers models (closures and the solvers present)."""
+    import importlib
+
+    for mod in ("wetcontact.reduced_models", "wetcontact.solver"):
+        importlib.import_module(mod)
+    return MODELS
+
+
+_PROVENANCE: dict[str, Any] = {}
+
+
+def provenance() -> dict[str, Any]:
+    """Package version, git commit (when available), library versions, Python, host."""
+    if not _PROVENANCE:
+        import platform
+        import subprocess
+        from importlib import metadata
+        from pathlib import Path
+
+        def ver(dist: str) -> str:
+            try:
+                return metadata.version(dist)
+            except metadata.PackageNotFoundError:
+                return "not installed"
+
+        commit = "unknown"
+        try:
+            here = Path(__file__).resolve().parent
+            out = subprocess.run(["git", "rev-parse", "HEAD"], cwd=here, capture_output=True,
+                                 text=True, timeout=5, check=False)
+            if out.returncode == 0:
+                commit = out.stdout.strip()
+        except (OSError, subprocess.SubprocessError):
+            pass
+        _PROVENANCE.update(
+            wetcontact=ver("wetcontact"), git_commit=commit, python=platform.python_version(),
+            numpy=ver("numpy"), scipy=ver("scipy"), scikit_fem=ver("scikit-fem"),
+            py_pde=ver("py-pde"), gmsh=ver("gmsh"), meshio=ver("meshio"), h5py=ver("h5py"),
+        )
+    return dict(_PROVENANCE)
+
+
+def observed_order(h: Any, err: Any) -> float:
+    """Observed convergence order: slope of ``log|err|`` against ``log h`` (least squares).
+
+    Parameters
+    ----------
+    h
+        Mesh sizes (or 1/N), at least two, positive.
+    err
+        Errors at those sizes, non-zero.
+    """
+    h = np.asarray(h, dtype=float)
+    err = np.abs(np.asarray(err, dtype=float))
+    if h.size < 2 or h.shape != err.shape or np.any(h <= 0) or np.any(err == 0):
+        raise ValueError("observed_order needs >= 2 positive sizes and non-zero errors")
+    return float(np.polyfit(np.log(h), np.log(err), 1)[0])
+
+
+def closure_curve(scene: Scene, model: str, viscous: np.ndarray | None = None,
+                  capillary: np.ndarray | None = None, **extras: np.ndarray) -> ForceCurve:
+    """Assemble a :class:`ForceCurve` for a closed-form model (no diagnostics)."""
+    return ForceCurve(case=scene.name, model=model, gap=scene.gap_array,
+                      force_viscous=viscous, force_capillary=capillary, extras=extras)
+
+
+FunctionOfGap = Callable[[np.ndarray], np.ndarray]

@@ -1,0 +1,8 @@
+"""Closed-form closures (level 0); importing this package registers their models."""
+
+import importlib
+import importlib.util
+
+for _name in ("viscous", "capillary", "rupture"):
+    if importlib.util.find_spec(f"{__name__}.{_name}") is not None:
+        importlib.import_module(f"{__name__}.{_name}")

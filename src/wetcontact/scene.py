@@ -1,0 +1,376 @@
+"""Scene: the validated, frozen description of one wet contact.
+
+A scene is read from a TOML case file (format in ``../shared/DESIGN.md`` and the README)
+or built from a nested dict with :func:`scene_from_dict`. Everything inside is SI; angles
+are given in degrees in the case file and stored in radians. Every validation error is a
+:class:`~wetcontact.errors.CaseError` naming the file, the field, the value and the
+allowed range.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import tomllib
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass, field, replace
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+
+from wetcontact.errors import CaseError
+
+Kind = Literal["sphere-wall", "sphere-sphere"]
+AmountKind = Literal["immersed", "film", "bridge"]
+
+# Allowed keys per table, with whether they are required. Unknown keys are errors.
+_SCHEMA: dict[str, dict[str, bool]] = {
+    "": {"name": True, "description": False, "source": False},
+    "geometry": {"kind": True, "radius": True, "radius2": False},
+    "liquid": {
+        "viscosity": True,
+        "surface_tension": True,
+        "density": True,
+        "contact_angle": False,
+        "contact_angle_sphere": False,
+        "contact_angle_wall": False,
+        "contact_angle_sphere2": False,
+        "slip_length_sphere": False,
+        "slip_length_wall": False,
+        "gravity": False,
+    },
+    "amount": {"film_thickness": False, "bridge_volume": False, "immersed": False},
+    "motion": {"velocity": True, "gaps": True},
+    "particle": {"density": False},
+    "fidelity": {"tolerance": False, "model": False},
+}
+_TABLES = {k for k in _SCHEMA if k}
+
+
+@dataclass(frozen=True)
+class Scene:
+    """One wet contact: geometry, liquid, liquid amount and motion (SI units, radians).
+
+    Attributes
+    ----------
+    name, description, source
+        Identification and provenance of the numbers.
+    kind
+        ``"sphere-wall"`` or ``"sphere-sphere"``.
+    radius, radius2
+        Sphere radius R (m); second sphere radius (m, sphere-sphere only, else ``None``).
+    viscosity, surface_tension, density
+        Liquid eta (Pa s), sigma (N/m), rho (kg/m^3).
+    contact_angle_sphere, contact_angle_wall
+        Contact angle (rad) on the (first) sphere and on the wall, or on the second sphere
+        for ``sphere-sphere``.
+    slip_length_sphere, slip_length_wall
+        Navier slip lengths b (m) on the sphere and on the wall (or second sphere).
+    gravity
+        Gravitational acceleration (m/s^2) acting along -z; 0 by default.
+    amount
+        ``"immersed"``, ``"film"`` or ``"bridge"``.
+    film_thickness, bridge_volume
+        delta (m) for a film, V (m^3) for a bridge; ``None`` otherwise.
+    velocity
+        Normal approach speed v (m/s), positive = approach.
+    gaps
+        Surface gaps S (m) to evaluate, in the order given.
+    particle_density
+        Density of the sphere (kg/m^3), for Stokes numbers and inertial runs; optional.
+    tolerance, model
+        Fidelity request: a relative tolerance, or a fixed model name (or neither).
+    """
+
+    name: str
+    kind: Kind
+    radius: float
+    viscosity: float
+    surface_tension: float
+    density: float
+    velocity: float
+    gaps: tuple[float, ...]
+    amount: AmountKind
+    contact_angle_sphere: float = 0.0
+    contact_angle_wall: float = 0.0
+    radius2: float | None = None
+    film_thickness: float | None = None
+    bridge_volume: float | None = None
+    slip_length_sphere: float = 0.0
+    slip_length_wall: float = 0.0
+    gravity: float = 0.0
+    particle_density: float | None = None
+    tolerance: float | None = None
+    model: str | None = None
+    description: str = ""
+    source: str = ""
+    origin: str = field(default="<dict>", compare=False)
+
+    # ---- derived quantities -------------------------------------------------------
+    @property
+    def gap_array(self) -> np.ndarray:
+        """Gaps S as a float array (m)."""
+        return np.asarray(self.gaps, dtype=float)
+
+    @property
+    def reduced_radius(self) -> float:
+        """R* of the Reynolds closure: R for a wall, R1 R2/(R1 + R2) for two spheres."""
+        if self.kind == "sphere-wall":
+            return self.radius
+        assert self.radius2 is not None
+        return self.radius * self.radius2 / (self.radius + self.radius2)
+
+    @property
+    def willett_radius(self) -> float:
+        """Radius used by Willett et al. (2000) for unequal spheres: 2 R1 R2/(R1 + R2)."""
+        return 2.0 * self.reduced_radius if self.kind == "sphere-sphere" else self.radius
+
+    @property
+    def equal_spheres(self) -> bool:
+        """True for two spheres of equal radius (relative difference < 1e-12)."""
+        return self.kind == "sphere-sphere" and abs(self.radius2 - self.radius) <= (
+            1e-12 * self.radius
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        """Canonical dict (SI, radians), the input of the store's content hash."""
+        d = asdict(self)
+        d.pop("origin")
+        d["gaps"] = list(self.gaps)
+        return d
+
+    def canonical_json(self) -> str:
+        """Canonical JSON: sorted keys, floats at full precision (``repr``)."""
+        return json.dumps(self.to_dict(), sort_keys=True, separators=(",", ":"))
+
+    def with_gaps(self, gaps: Any) -> Scene:
+        """Copy with other gaps, validated like the case file's."""
+        return replace(self, gaps=_validate_gaps(self.origin, gaps, self.radius))
+
+
+# ---- reading ------------------------------------------------------------------------
+
+
+def load_case(path: str | Path) -> Scene:
+    """Read and validate a TOML case file.
+
+    Raises
+    ------
+    CaseError
+        For a missing file, TOML syntax error, unknown key, missing field or a value
+        outside its allowed range; the message names file, field, value and range.
+    """
+    path = Path(path)
+    src = str(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise CaseError(src, "(file)", None, "an existing TOML case file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise CaseError(src, "(file)", type(exc).__name__, "a readable UTF-8 TOML file") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise CaseError(src, "(syntax)", str(exc), "valid TOML") from None
+    return scene_from_dict(data, source=src)
+
+
+def scene_from_dict(data: Mapping[str, Any], source: str = "<dict>") -> Scene:
+    """Build and validate a :class:`Scene` from the nested dict of a case file."""
+    _check_keys(source, data)
+    g = data["geometry"]
+    liq = data["liquid"]
+    amt = data.get("amount", {})
+    mot = data["motion"]
+    fid = data.get("fidelity", {})
+    part = data.get("particle", {})
+
+    name = data["name"]
+    if not isinstance(name, str) or not name.strip():
+        raise CaseError(source, "name", name, "a non-empty string")
+
+    kind = g["kind"]
+    if kind not in ("sphere-wall", "sphere-sphere"):
+        raise CaseError(source, "geometry.kind", kind, "'sphere-wall' or 'sphere-sphere'")
+    radius = _num(source, "geometry.radius", g["radius"], 1e-9, 10.0, "m")
+    radius2 = None
+    if kind == "sphere-sphere":
+        if "radius2" not in g:
+            radius2 = radius
+        else:
+            radius2 = _num(source, "geometry.radius2", g["radius2"], 1e-9, 10.0, "m")
+    elif "radius2" in g:
+        raise CaseError(source, "geometry.radius2", g["radius2"], "only with kind='sphere-sphere'")
+
+    eta = _num(source, "liquid.viscosity", liq["viscosity"], 1e-7, 1e5, "Pa s")
+    sigma = _num(source, "liquid.surface_tension", liq["surface_tension"], 1e-5, 10.0, "N/m")
+    rho = _num(source, "liquid.density", liq["density"], 1e-3, 3e4, "kg/m3")
+    gravity = _num(source, "liquid.gravity", liq.get("gravity", 0.0), 0.0, 1e3, "m/s2", lo_open=False)
+    th_s, th_w = _contact_angles(source, kind, liq)
+    b_s = _num(source, "liquid.slip_length_sphere", liq.get("slip_length_sphere", 0.0), 0.0,
+               radius, "m", lo_open=False)
+    b_w = _num(source, "liquid.slip_length_wall", liq.get("slip_length_wall", 0.0), 0.0,
+               radius, "m", lo_open=False)
+
+    amounts = [k for k in ("film_thickness", "bridge_volume", "immersed") if k in amt]
+    if "immersed" in amt and amt["immersed"] is not True:
+        raise CaseError(source, "amount.immersed", amt["immersed"],
+                        "true (omit the key for a film or a bridge)")
+    if len(amounts) != 1:
+        raise CaseError(source, "amount", sorted(amounts) if amounts else None,
+                        "exactly one of film_thickness, bridge_volume, immersed = true")
+    gaps = _validate_gaps(source, mot["gaps"], radius)
+    film = volume = None
+    if amounts[0] == "film_thickness":
+        if kind != "sphere-wall":
+            raise CaseError(source, "amount.film_thickness", amt["film_thickness"],
+                            "only with kind='sphere-wall' (a film lies on the wall)")
+        film = _num(source, "amount.film_thickness", amt["film_thickness"], 1e-12, 10 * radius, "m")
+        if film <= min(gaps):
+            raise CaseError(source, "amount.film_thickness", film,
+                            f"> the smallest gap {min(gaps):.6g} m (else the sphere never "
+                            "touches the film)")
+        amount: AmountKind = "film"
+    elif amounts[0] == "bridge_volume":
+        vmax = 4.0 / 3.0 * math.pi * radius**3
+        volume = _num(source, "amount.bridge_volume", amt["bridge_volume"], 1e-30, vmax, "m3")
+        amount = "bridge"
+    else:
+        amount = "immersed"
+
+    v = _num(source, "motion.velocity", mot["velocity"], -1e3, 1e3, "m/s", lo_open=False)
+    pdens = None
+    if "density" in part:
+        pdens = _num(source, "particle.density", part["density"], 1.0, 3e4, "kg/m3")
+    tol = model = None
+    if "tolerance" in fid and "model" in fid:
+        raise CaseError(source, "fidelity", sorted(fid), "one of tolerance or model, not both")
+    if "tolerance" in fid:
+        tol = _num(source, "fidelity.tolerance", fid["tolerance"], 1e-12, 1.0, "(relative)")
+    if "model" in fid:
+        model = fid["model"]
+        if not isinstance(model, str) or not model:
+            raise CaseError(source, "fidelity.model", model, "a registered model name")
+    for key in ("description", "source"):
+        if key in data and not isinstance(data[key], str):
+            raise CaseError(source, key, data[key], "a string")
+    return Scene(
+        name=name, kind=kind, radius=radius, radius2=radius2, viscosity=eta,
+        surface_tension=sigma, density=rho, gravity=gravity, contact_angle_sphere=th_s,
+        contact_angle_wall=th_w, slip_length_sphere=b_s, slip_length_wall=b_w,
+        amount=amount, film_thickness=film, bridge_volume=volume, velocity=v, gaps=gaps,
+        particle_density=pdens, tolerance=tol, model=model,
+        description=data.get("description", ""), source=data.get("source", ""), origin=source,
+    )
+
+
+# ---- helpers ------------------------------------------------------------------------
+
+
+def _check_keys(source: str, data: Mapping[str, Any]) -> None:
+    if not isinstance(data, Mapping):
+        raise CaseError(source, "(top level)", type(data).__name__, "a TOML table")
+    for key, val in data.items():
+        if key in _TABLES:
+            if not isinstance(val, Mapping):
+                raise CaseError(source, key, val, "a TOML table [" + key + "]")
+            for sub in val:
+                if sub not in _SCHEMA[key]:
+                    raise CaseError(source, f"{key}.{sub}", val[sub],
+                                    "known keys: " + ", ".join(_SCHEMA[key]))
+        elif key not in _SCHEMA[""]:
+            raise CaseError(source, key, val, "known top-level keys: "
+                            + ", ".join(list(_SCHEMA[""]) + sorted(_TABLES)))
+    for key, req in _SCHEMA[""].items():
+        if req and key not in data:
+            raise CaseError(source, key, None, "required")
+    for table, keys in _SCHEMA.items():
+        if not table:
+            continue
+        sub = data.get(table, {})
+        for key, req in keys.items():
+            if req and key not in sub:
+                raise CaseError(source, f"{table}.{key}", None, "required")
+
+
+def _num(source: str, name: str, value: Any, lo: float, hi: float, unit: str,
+         lo_open: bool = True) -> float:
+    """Validate a finite real number in (lo, hi] (or [lo, hi] with ``lo_open=False``)."""
+    bracket = "(" if lo_open else "["
+    allowed = f"a number in {bracket}{lo:g}, {hi:g}] {unit}".rstrip()
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise CaseError(source, name, value, allowed)
+    x = float(value)
+    if not math.isfinite(x) or x > hi or x < lo or (lo_open and x == lo):
+        raise CaseError(source, name, value, allowed)
+    return x
+
+
+def _angle(source: str, name: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not (
+        0.0 <= float(value) < 180.0
+    ):
+        raise CaseError(source, name, value, "a number in [0, 180) degrees")
+    return math.radians(float(value))
+
+
+def _contact_angles(source: str, kind: str, liq: Mapping[str, Any]) -> tuple[float, float]:
+    other = "contact_angle_wall" if kind == "sphere-wall" else "contact_angle_sphere2"
+    wrong = "contact_angle_sphere2" if kind == "sphere-wall" else "contact_angle_wall"
+    if wrong in liq:
+        raise CaseError(source, f"liquid.{wrong}", liq[wrong], f"not with kind='{kind}'; use "
+                        f"liquid.{other}")
+    if "contact_angle" in liq:
+        for k in ("contact_angle_sphere", other):
+            if k in liq:
+                raise CaseError(source, f"liquid.{k}", liq[k],
+                                "either contact_angle or the per-surface angles, not both")
+        th = _angle(source, "liquid.contact_angle", liq["contact_angle"])
+        return th, th
+    if "contact_angle_sphere" not in liq and other not in liq:
+        return 0.0, 0.0
+    for k in ("contact_angle_sphere", other):
+        if k not in liq:
+            raise CaseError(source, f"liquid.{k}", None,
+                            "required when the other per-surface contact angle is given")
+    return (_angle(source, "liquid.contact_angle_sphere", liq["contact_angle_sphere"]),
+            _angle(source, f"liquid.{other}", liq[other]))
+
+
+def _validate_gaps(source: str, gaps: Any, radius: float) -> tuple[float, ...]:
+    """Gaps from a list or a ``{start, stop, points, spacing}`` table; each in (0, 100 R]."""
+    allowed = f"each gap in (0, {100 * radius:g}] m (0 < S <= 100 R)"
+    if isinstance(gaps, Mapping):
+        for k in gaps:
+            if k not in ("start", "stop", "points", "spacing"):
+                raise CaseError(source, f"motion.gaps.{k}", gaps[k],
+                                "keys start, stop, points, spacing")
+        for k in ("start", "stop", "points"):
+            if k not in gaps:
+                raise CaseError(source, f"motion.gaps.{k}", None, "required")
+        start = _num(source, "motion.gaps.start", gaps["start"], 0.0, 100 * radius, "m")
+        stop = _num(source, "motion.gaps.stop", gaps["stop"], 0.0, 100 * radius, "m")
+        n = gaps["points"]
+        if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 100_000:
+            raise CaseError(source, "motion.gaps.points", n, "an integer in [1, 100000]")
+        spacing = gaps.get("spacing", "log")
+        if spacing == "log":
+            arr = np.geomspace(start, stop, n)
+        elif spacing == "linear":
+            arr = np.linspace(start, stop, n)
+        else:
+            raise CaseError(source, "motion.gaps.spacing", spacing, "'log' or 'linear'")
+        return tuple(float(x) for x in arr)
+    if isinstance(gaps, list | tuple | np.ndarray):
+        if len(gaps) == 0:
+            raise CaseError(source, "motion.gaps", list(gaps), "a non-empty list")
+        out = []
+        for i, s in enumerate(gaps):
+            out.append(_num(source, f"motion.gaps[{i}]", s if not isinstance(s, np.floating)
+                            else float(s), 0.0, 100 * radius, "m"))
+        return tuple(out)
+    if isinstance(gaps, int | float) and not isinstance(gaps, bool):
+        return (_num(source, "motion.gaps", gaps, 0.0, 100 * radius, "m"),)
+    raise CaseError(source, "motion.gaps", gaps, "a list of gaps or {start, stop, points, "
+                    "spacing}; " + allowed)
