@@ -12,7 +12,7 @@ capillary attraction is negative.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -276,10 +276,9 @@ def observed_order(h: Any, err: Any) -> float:
 
 
 def closure_curve(scene: Scene, model: str, viscous: np.ndarray | None = None,
-                  capillary: np.ndarray | None = None, **extras: np.ndarray) -> ForceCurve:
+                  capillary: np.ndarray | None = None, error_estimate: np.ndarray | None = None,
+                  **extras: np.ndarray) -> ForceCurve:
     """Assemble a :class:`ForceCurve` for a closed-form model (no diagnostics)."""
     return ForceCurve(case=scene.name, model=model, gap=scene.gap_array,
-                      force_viscous=viscous, force_capillary=capillary, extras=extras)
-
-
-FunctionOfGap = Callable[[np.ndarray], np.ndarray]
+                      force_viscous=viscous, force_capillary=capillary, extras=extras,
+                      error_estimate=error_estimate)

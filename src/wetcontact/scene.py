@@ -206,7 +206,8 @@ def scene_from_dict(data: Mapping[str, Any], source: str = "<dict>") -> Scene:
     eta = _num(source, "liquid.viscosity", liq["viscosity"], 1e-7, 1e5, "Pa s")
     sigma = _num(source, "liquid.surface_tension", liq["surface_tension"], 1e-5, 10.0, "N/m")
     rho = _num(source, "liquid.density", liq["density"], 1e-3, 3e4, "kg/m3")
-    gravity = _num(source, "liquid.gravity", liq.get("gravity", 0.0), 0.0, 1e3, "m/s2", lo_open=False)
+    gravity = _num(source, "liquid.gravity", liq.get("gravity", 0.0), 0.0, 1e3, "m/s2",
+                   lo_open=False)
     th_s, th_w = _contact_angles(source, kind, liq)
     b_s = _num(source, "liquid.slip_length_sphere", liq.get("slip_length_sphere", 0.0), 0.0,
                radius, "m", lo_open=False)

@@ -1,0 +1,157 @@
+"""Viscous closures and exact series against published values, exact limits and an
+independent 40-digit evaluation of the raw series."""
+
+from __future__ import annotations
+
+import math
+
+import mpmath as mp
+import numpy as np
+import pytest
+from conftest import make_scene
+
+from wetcontact.errors import InputError, ValidityError
+from wetcontact.models import MODELS
+from wetcontact.reduced_models import viscous as vc
+
+
+def _raw_series(s: float, free_surface: bool) -> float:
+    """Brenner (1961) eq. 2.19 (or the shear-free-plane series) summed term by term in
+    40-digit arithmetic, exactly as printed: no rearrangement shared with the code."""
+    with mp.workdps(40):
+        a = mp.acosh(1 + mp.mpf(s) / (2 if free_surface else 1))
+        total, n = mp.mpf(0), 1
+        while True:
+            k = 2 * n + 1
+            if free_surface:
+                b = (4 * mp.cosh((n + mp.mpf(1) / 2) * a) ** 2 + k**2 * mp.sinh(a) ** 2) / (
+                    2 * mp.sinh(k * a) - k * mp.sinh(2 * a))
+            else:
+                b = (2 * mp.sinh(k * a) + k * mp.sinh(2 * a)) / (
+                    4 * mp.sinh((n + mp.mpf(1) / 2) * a) ** 2 - k**2 * mp.sinh(a) ** 2)
+            term = mp.mpf(n * (n + 1)) / ((2 * n - 1) * (2 * n + 3)) * (b - 1)
+            total += term
+            if k * a > 60 and abs(term) < mp.mpf(10) ** -30 * abs(total):
+                return float(4 * mp.sinh(a) / 3 * total)
+            n += 1
+
+
+# Brenner (1961) values as quoted in PHYSICS.md (10 significant digits).
+@pytest.mark.parametrize("s, ref", [(0.1, 11.45915720), (0.01, 101.8961723), (1.0, 2.125535567)])
+def test_brenner_published_values(s, ref):
+    assert vc.brenner_lambda(s) == pytest.approx(ref, rel=1e-8)
+
+
+@pytest.mark.parametrize("s", [1e-4, 1e-3, 0.037, 0.5, 3.0, 100.0])
+@pytest.mark.parametrize("free_surface", [False, True])
+def test_series_match_40_digit_raw_sum(s, free_surface):
+    fn = vc.two_sphere_lambda if free_surface else vc.brenner_lambda
+    assert fn(s) == pytest.approx(_raw_series(s, free_surface), rel=1e-9)
+
+
+def test_brenner_recovers_cox_brenner_constant():
+    # lambda - R/S - (1/5) ln(R/S) -> 0.97128 (Cooley & O'Neill 1969); the remainder is
+    # O(s ln s), about 6e-4 at s = 1e-4 and 6e-5 at s = 1e-5.
+    s = np.array([1e-4, 1e-5, 1e-6])
+    c = vc.brenner_lambda(s) - 1 / s - 0.2 * np.log(1 / s)
+    assert abs(c[-1] - 0.97128) < 2e-5
+    assert np.all(np.diff(np.abs(c - 0.97128)) < 0)  # converging as s -> 0
+
+
+def test_two_sphere_recovers_jeffrey_onishi_constant():
+    h = np.array([1e-4, 1e-5, 1e-6])
+    c = vc.two_sphere_lambda(h) - 0.5 / h - 0.45 * np.log(1 / h)
+    assert abs(c[-1] - 1.34558) < 2e-5
+
+
+def test_far_field_reflections():
+    # lambda ~ 1/(1 - 9/8 x + 1/2 x^3), x = R/(R+S): error O(x^4)
+    s = 50.0
+    x = 1 / (1 + s)
+    assert vc.brenner_lambda(s) == pytest.approx(1 / (1 - 9 / 8 * x + 0.5 * x**3), rel=5 * x**4)
+
+
+def test_reynolds_against_brenner_published_errors():
+    # PHYSICS.md: Reynolds is 12.7 % low at S/R = 0.1, 1.9 % at 0.01, 0.23 % at 0.001.
+    for s, low in [(0.1, 0.127), (0.01, 0.019), (0.001, 0.0023)]:
+        ratio = vc.reynolds_force(1.0, 1.0, 1.0, s) / (6 * math.pi * vc.brenner_lambda(s))
+        assert 1 - ratio == pytest.approx(low, abs=0.0006)
+
+
+def test_reynolds_model_uses_full_radius_for_a_wall():
+    """The R/2 bug of a public DEM code: with R/2 the force is 4x low against Brenner."""
+    sc = make_scene(motion={"velocity": 0.2, "gaps": [1e-8]})
+    f = MODELS["reynolds"].force(sc).force_viscous[0]
+    exact = MODELS["brenner"].force(sc).force_viscous[0]
+    assert f / exact == pytest.approx(1.0, rel=1e-3)
+
+
+def test_reynolds_two_spheres_reduced_radius_and_exact_series():
+    sc = make_scene(geometry={"kind": "sphere-sphere", "radius": 1e-3, "radius2": 1e-3},
+                    motion={"velocity": 0.2, "gaps": [1e-9]})
+    f = MODELS["reynolds"].force(sc).force_viscous[0]
+    exact = MODELS["brenner"].force(sc).force_viscous[0]
+    assert f / exact == pytest.approx(1.0, rel=1e-3)
+    assert f == pytest.approx(6 * math.pi * 1e-3 * (0.5e-3) ** 2 * 0.2 / 1e-9)
+
+
+def test_finite_liquid_factor_limits_and_bridge_volume():
+    assert vc.finite_liquid_factor(1e-9, 1e-4) == pytest.approx(1.0, abs=2e-5)
+    assert vc.finite_liquid_factor(0.5e-4, 1e-4) == pytest.approx(0.25)
+    assert vc.finite_liquid_factor(2e-4, 1e-4) == 0.0
+    # a bridge in a parabolic gap: V = pi R (H^2 - S^2), integrated numerically here
+    r_eff, s, vol = 1e-3, 1e-5, 1e-12
+    h_edge = vc.bridge_edge_gap(s, vol, r_eff)
+    rw = math.sqrt(2 * r_eff * (h_edge - s))
+    r = np.linspace(0, rw, 20001)
+    v_num = np.trapezoid(2 * np.pi * r * (s + r**2 / (2 * r_eff)), r)
+    assert v_num == pytest.approx(vol, rel=1e-7)
+
+
+@pytest.mark.parametrize(
+    "s_over_b, both, one",
+    [(10.0, 0.84448, 0.91620), (1.0, 0.42341, 0.62942), (0.1, 0.10598, 0.35524)],
+)
+def test_vinogradova_published_values(s_over_b, both, one):
+    assert vc.slip_factor(s_over_b, 1.0, 2) == pytest.approx(both, abs=1e-5)
+    assert vc.slip_factor(s_over_b, 1.0, 1) == pytest.approx(one, abs=1e-5)
+
+
+def test_slip_factor_no_slip_limit_without_cancellation():
+    # series of f = 2 phi(x)/x, x = 6 b/S: f = 1 - x/3 + x^2/6 - ... = 1 - 2 b/S + 6 (b/S)^2
+    s = np.array([1e3, 1e6, 1e9])
+    assert np.allclose(vc.slip_factor(s, 1.0, 2), 1 - 2.0 / s, rtol=0, atol=7.0 / s**2)
+    assert np.all(vc.slip_factor(s, 1.0, 1) < 1.0)
+
+
+def test_schaeffer_fit_published_accuracy():
+    s = np.geomspace(1e-4, 100, 300)
+    err = np.abs(vc.schaeffer_lambda(s) / vc.brenner_lambda(s) - 1)
+    assert 1e-3 < err.max() < 4e-3  # published "about 0.3 %"
+
+
+def test_cox_brenner_model_error_estimate_bounds_true_error():
+    sc = make_scene(motion={"velocity": 0.1, "gaps": [1e-7, 1e-6, 1e-5]})
+    cb = MODELS["cox-brenner"].force(sc)
+    exact = MODELS["brenner"].force(sc).force_viscous
+    assert np.all(np.abs(cb.force_viscous / exact - 1) < cb.error_estimate)
+
+
+def test_models_refuse_outside_validity():
+    film = make_scene(amount={"film_thickness": 1e-4})
+    with pytest.raises(ValidityError, match="thinfilm"):
+        MODELS["brenner"].force(film)
+    with pytest.raises(ValidityError, match="brenner"):
+        MODELS["reynolds-finite"].force(make_scene())
+    with pytest.raises(ValidityError, match="reynolds"):
+        MODELS["vinogradova"].force(make_scene())
+    with pytest.raises(InputError, match="gap"):
+        vc.reynolds_force(1.0, 1.0, 1.0, [1e-3, 0.0])
+
+
+def test_vinogradova_model_one_surface():
+    sc = make_scene(liquid={"viscosity": 1e-3, "surface_tension": 0.07, "density": 1e3,
+                            "slip_length_wall": 1e-6},
+                    motion={"velocity": 1.0, "gaps": [1e-6]})
+    f = MODELS["vinogradova"].force(sc).force_viscous[0]
+    assert f == pytest.approx(0.62942 * 6 * math.pi * 1e-3 * 1e-6 / 1e-6, rel=1e-5)
