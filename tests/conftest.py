@@ -7,7 +7,10 @@ from typing import Any
 
 import pytest
 
+from wetcontact.models import load_all
 from wetcontact.scene import Scene, scene_from_dict
+
+load_all()  # fill the registry: closures and every solver present
 
 BASE_CASE: dict[str, Any] = {
     "name": "test-scene",

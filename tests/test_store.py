@@ -1,0 +1,100 @@
+"""Reference store: round trip, content keys, conflicts, and survival of a SIGKILL."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import numpy as np
+import pytest
+from conftest import make_scene
+
+from wetcontact.models import MODELS, ForceCurve
+from wetcontact.store import Store, StoreConflictError, curve_key
+
+
+def test_round_trip_with_provenance(tmp_path):
+    sc = make_scene()
+    curve = MODELS["brenner"].force(sc)
+    st = Store(tmp_path / "ref.h5")
+    key = st.save(sc, curve)
+    back = st.load(key)
+    assert np.array_equal(back.gap, curve.gap)
+    assert np.array_equal(back.force_viscous, curve.force_viscous)
+    assert back.force_capillary is None
+    assert back.provenance["wetcontact"] == curve.provenance["wetcontact"]
+    assert "numpy" in back.provenance and "git_commit" in back.provenance
+    assert back.diagnostics["wall_time_s"] >= 0
+    assert st.find(model="brenner") == [key]
+    assert st.get(sc, curve) is not None
+
+
+def test_same_key_same_data_is_noop_other_data_is_error(tmp_path):
+    sc = make_scene()
+    curve = MODELS["reynolds"].force(sc)
+    st = Store(tmp_path / "ref.h5")
+    k1 = st.save(sc, curve)
+    mtime = os.stat(st.path).st_mtime_ns
+    assert st.save(sc, curve) == k1 and os.stat(st.path).st_mtime_ns == mtime
+    tampered = ForceCurve(case=curve.case, model=curve.model, gap=curve.gap,
+                          force_viscous=curve.force_viscous * 1.01, force_capillary=None,
+                          settings=curve.settings)
+    with pytest.raises(StoreConflictError, match="already holds other force_viscous"):
+        st.save(sc, tampered)
+    assert len(st) == 1
+
+
+def test_key_depends_on_scene_model_and_settings():
+    a, b = make_scene(), make_scene(motion={"velocity": 0.2, "gaps": [1e-5, 1e-4]})
+    assert curve_key(a, "m", {}) != curve_key(b, "m", {})
+    assert curve_key(a, "m", {}) != curve_key(a, "n", {})
+    assert curve_key(a, "m", {"preset": "fast"}) != curve_key(a, "m", {"preset": "default"})
+    assert curve_key(a, "m", {}) == curve_key(make_scene(), "m", {})
+
+
+WRITER = textwrap.dedent("""
+    import sys, numpy as np
+    sys.path.insert(0, {tests!r})
+    from conftest import make_scene
+    from wetcontact.models import ForceCurve
+    from wetcontact.store import Store
+    st = Store({path!r})
+    big = np.linspace(1.0, 2.0, 400_000)   # large extras make each write take a while
+    for i in range(1000):
+        sc = make_scene(motion={{"velocity": 0.1 + i, "gaps": [1e-5]}})
+        cv = ForceCurve(case="k", model="m", gap=[1e-5], force_viscous=[float(i)],
+                        force_capillary=None, extras={{}}, diagnostics={{"blob": 0}})
+        st.save_many([(sc, cv)])
+        # a second, big curve under a different model keeps the writer busy in h5py
+        cv2 = ForceCurve(case="k", model="big", gap=big, force_viscous=big,
+                         force_capillary=None)
+        sc2 = make_scene(motion={{"velocity": 0.1 + i, "gaps": [1e-5]}})
+        st.save_many([(sc2, cv2)])
+        print(i, flush=True)
+""")
+
+
+def test_sigkill_mid_write_keeps_everything_saved_before(tmp_path):
+    path = tmp_path / "ref.h5"
+    tests = os.path.dirname(__file__)
+    proc = subprocess.Popen([sys.executable, "-c", WRITER.format(tests=tests, path=str(path))],
+                            stdout=subprocess.PIPE, text=True)
+    done = []
+    while len(done) < 4:
+        line = proc.stdout.readline()
+        assert line, "writer died early"
+        done.append(int(line))
+    time.sleep(0.05)  # land inside a later write (each takes tens of ms)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    st = Store(path)
+    forces = {float(st.load(k).force_viscous[0]) for k in st.find(model="m")}
+    assert {float(i) for i in done} <= forces  # everything confirmed before the kill
+    for k in st.find(model="big"):
+        assert st.load(k).gap.size == 400_000  # no torn curve
+    leftovers = [p for p in tmp_path.iterdir() if p.name != "ref.h5"]
+    assert len(leftovers) <= 1  # at most the killed write's temporary file
