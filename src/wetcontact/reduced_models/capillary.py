@@ -1,0 +1,931 @@
+"""Capillary-bridge force closures (level 0) and their registered models.
+
+The functions return the axial capillary force as a **positive attractive magnitude** (N),
+vectorised over the gap S (m) and broadcast over the other arguments. SI units inside,
+contact angles in radians. Invalid inputs (V <= 0, R <= 0, sigma <= 0, S < 0, angles
+outside [0, pi)) raise :class:`~wetcontact.errors.InputError` with the value and the
+allowed range; nothing returns NaN silently.
+
+Radius conventions for a contact other than two equal spheres of radius R (stated per
+function): the equal-sphere formulas are used with the Derjaguin radius
+``R_eff = 2 R1 R2/(R1 + R2)`` (Willett's convention, identical to the Derjaguin
+approximation), which for a sphere of radius R against a plane is ``R_eff = 2 R``.
+
+Contact angles: a closure defined for one angle gets the cosine average
+``theta_m = arccos((cos theta_1 + cos theta_2)/2)``, because every closure's small-volume
+contact limit is ``2 pi R_eff sigma cos theta`` and the exact limit for two surfaces is
+``pi R_eff sigma (cos theta_1 + cos theta_2)`` (Derjaguin); the cosine average reproduces
+it exactly, an arithmetic mean of angles only to first order, and LIGGGHTS' product of the
+angles not at all.
+
+Registered models (``component = "capillary"``, ``level = 0``): ``toroidal``, ``mikami``,
+``willett``, ``willett-simple``, ``rabinovich``, ``lambert``, ``bagheri``.
+"""
+
+from __future__ import annotations
+
+from typing import Any, ClassVar, NamedTuple
+
+import numpy as np
+from scipy.optimize import brentq
+
+from wetcontact.errors import InputError, SolverError, ValidityError
+from wetcontact.models import ForceCurve, Model, register
+from wetcontact.reduced_models import rupture
+from wetcontact.scene import Scene
+
+__all__ = [
+    "ToroidalBridge",
+    "bagheri_force",
+    "derjaguin_radius",
+    "lambert_force_sphere_sphere",
+    "lambert_force_sphere_wall",
+    "mean_contact_angle",
+    "mikami_force_pp",
+    "mikami_force_pw",
+    "rabinovich_force_sphere_sphere",
+    "rabinovich_force_sphere_wall",
+    "rabinovich_immersion_height",
+    "toroidal_bridge",
+    "toroidal_force_sphere_sphere",
+    "toroidal_force_sphere_wall",
+    "toroidal_volume",
+    "willett_force",
+    "willett_force_simple",
+]
+
+# ---- input checks ---------------------------------------------------------------------
+
+
+def _positive(name: str, value: Any, unit: str) -> np.ndarray:
+    arr = np.asarray(value, dtype=float)
+    if not np.all(np.isfinite(arr)) or np.any(arr <= 0.0):
+        raise InputError(f"{name} = {value!r}; allowed: finite values > 0 {unit}")
+    return arr
+
+
+def _gap(value: Any) -> np.ndarray:
+    arr = np.asarray(value, dtype=float)
+    if not np.all(np.isfinite(arr)) or np.any(arr < 0.0):
+        raise InputError(f"gap = {value!r}; allowed: finite values >= 0 m")
+    return arr
+
+
+def _angle(name: str, value: Any, hi: float = np.pi) -> np.ndarray:
+    arr = np.asarray(value, dtype=float)
+    if not np.all(np.isfinite(arr)) or np.any(arr < 0.0) or np.any(arr >= hi):
+        raise InputError(f"{name} = {value!r} rad; allowed: [0, {hi:.6g}) rad")
+    return arr
+
+
+def mean_contact_angle(theta1: Any, theta2: Any) -> np.ndarray:
+    r"""Cosine-averaged contact angle, :math:`\arccos((\cos\theta_1 + \cos\theta_2)/2)`.
+
+    The average that keeps the Derjaguin contact limit
+    :math:`\pi R_{eff}\sigma(\cos\theta_1 + \cos\theta_2)` of a single-angle closure exact
+    (see the module docstring). Angles in radians, each in [0, pi).
+    """
+    t1 = _angle("theta1", theta1)
+    t2 = _angle("theta2", theta2)
+    return np.arccos(0.5 * (np.cos(t1) + np.cos(t2)))
+
+
+# ---- toroidal (Fisher) approximation ---------------------------------------------------
+
+
+class ToroidalBridge(NamedTuple):
+    """Geometry and force of a toroidal bridge (arrays over the gaps).
+
+    Attributes
+    ----------
+    filling_angle
+        Half-filling angle b on the sphere (rad).
+    meridian_radius
+        r1, radius of the circular meridian (m).
+    neck_radius
+        r2, radius of the toroid's neck (m).
+    suction
+        u = sigma (1/r1 - 1/r2) (Pa), positive when the liquid is below gas pressure.
+    force
+        Attractive force (N) by the chosen method.
+    """
+
+    filling_angle: np.ndarray
+    meridian_radius: np.ndarray
+    neck_radius: np.ndarray
+    suction: np.ndarray
+    force: np.ndarray
+
+
+def _toroid(b: np.ndarray, gap: np.ndarray, radius: float, theta_s: float, theta_w: float,
+            kind: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """r1, xc (centre distance from the axis), zc, zs for filling angle b (arrays)."""
+    cap = radius * (1.0 - np.cos(b))
+    if kind == "sphere-sphere":
+        zs = 0.5 * gap + cap                      # contact height above the mid-plane
+        r1 = zs / np.cos(b + theta_s)             # = (2R(1 - cos b) + a)/(2 cos(b + theta))
+        zc = np.zeros_like(r1)
+    else:
+        zs = gap + cap                            # contact height above the wall
+        r1 = zs / (np.cos(theta_w) + np.cos(theta_s + b))
+        zc = r1 * np.cos(theta_w)
+    xc = radius * np.sin(b) + r1 * np.sin(b + theta_s)
+    return r1, xc, zc, zs
+
+
+def _half_circle_integral(z: np.ndarray, r1: np.ndarray) -> np.ndarray:
+    """Antiderivative of sqrt(r1^2 - z^2)."""
+    w = np.clip(z / r1, -1.0, 1.0)
+    return 0.5 * (z * np.sqrt(np.maximum(r1**2 - z**2, 0.0)) + r1**2 * np.arcsin(w))
+
+
+def toroidal_volume(filling_angle: Any, gap: Any, radius: float, theta_s: float,
+                    theta_w: float | None = None, kind: str = "sphere-sphere") -> np.ndarray:
+    r"""Liquid volume of a toroidal bridge with half-filling angle b (closed form).
+
+    The meridian is a circular arc of radius r1 centred at distance x_c from the axis;
+    the volume is :math:`\pi\int x(z)^2 dz` between the wall (or the mid-plane) and the
+    contact line, :math:`x(z) = x_c - \sqrt{r_1^2 - (z - z_c)^2}`, minus the immersed sphere
+    cap :math:`\pi h^2 (3R - h)/3`, h = R(1 - cos b); doubled for two equal spheres.
+    Meridian (Fisher 1926; Weigert & Ripperger 1999, eqs. 5-6 for two spheres):
+    two spheres ``r1 = (2R(1 - cos b) + a)/(2 cos(b + theta))``; sphere-wall
+    ``r1 = (a + R(1 - cos b))/(cos theta_w + cos(b + theta_s))``, both
+    ``x_c = R sin b + r1 sin(b + theta_s)``.
+
+    Parameters
+    ----------
+    filling_angle
+        b (rad).
+    gap
+        Surface gap a (m), >= 0.
+    radius
+        Sphere radius R (m).
+    theta_s, theta_w
+        Contact angles (rad) on the sphere(s) and on the wall (sphere-wall only).
+    kind
+        ``"sphere-sphere"`` (equal spheres) or ``"sphere-wall"``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Volume V (m^3); meaningful where the neck radius x_c - r1 is positive.
+    """
+    b = np.asarray(filling_angle, dtype=float)
+    a = np.asarray(gap, dtype=float)
+    tw = theta_s if theta_w is None else theta_w
+    r1, xc, zc, zs = _toroid(b, a, radius, theta_s, tw, kind)
+    lo, hi = -zc, zs - zc                      # integration limits relative to the centre
+    integral = ((xc**2 + r1**2) * (hi - lo) - (hi**3 - lo**3) / 3.0
+                - 2.0 * xc * (_half_circle_integral(hi, r1) - _half_circle_integral(lo, r1)))
+    h = radius * (1.0 - np.cos(b))
+    v = np.pi * integral - np.pi * h**2 * (3.0 * radius - h) / 3.0
+    return 2.0 * v if kind == "sphere-sphere" else v
+
+
+def _max_filling_angle(theta_s: float, theta_w: float, kind: str) -> float:
+    if kind == "sphere-sphere":
+        return min(0.5 * np.pi - theta_s, 0.5 * np.pi)
+    return min(np.pi - theta_w - theta_s, 0.5 * np.pi)
+
+
+def _solve_filling_angle(volume: float, gap: float, radius: float, theta_s: float,
+                         theta_w: float, kind: str) -> float:
+    """Smallest b with toroidal_volume(b) = V and a positive neck radius (bracketed root)."""
+    bmax = _max_filling_angle(theta_s, theta_w, kind)
+    if bmax <= 0.0:
+        raise InputError(f"contact angles ({theta_s:.6g}, {theta_w:.6g}) rad leave no "
+                         "concave toroidal bridge; allowed: theta_s + theta_w < pi")
+    grid = np.linspace(bmax * 1e-4, bmax * (1.0 - 1e-9), 600)
+    r1, xc, _, _ = _toroid(grid, np.full_like(grid, gap), radius, theta_s, theta_w, kind)
+    vol = toroidal_volume(grid, gap, radius, theta_s, theta_w, kind)
+    ok = (xc - r1) > 0.0
+    f = np.where(ok, vol - volume, -np.inf)
+    idx = np.nonzero((f[:-1] < 0.0) & (f[1:] >= 0.0) & ok[1:])[0]
+    if idx.size == 0:
+        raise SolverError(
+            f"toroidal: no bridge of volume {volume:.6g} m3 at gap {gap:.6g} m "
+            f"(R = {radius:.6g} m); the volume exceeds the toroid's maximum "
+            f"{np.nanmax(np.where(ok, vol, np.nan)) if ok.any() else 0.0:.6g} m3 "
+            "or the gap is beyond the toroid's existence")
+    i = int(idx[0])
+
+    def resid(b: float) -> float:
+        return float(toroidal_volume(b, gap, radius, theta_s, theta_w, kind)) - volume
+
+    return float(brentq(resid, grid[i], grid[i + 1], xtol=1e-14, rtol=1e-13, maxiter=200))
+
+
+def toroidal_bridge(gap: Any, volume: float, radius: float, surface_tension: float,
+                    theta_s: float, theta_w: float | None = None,
+                    kind: str = "sphere-sphere", method: str = "boundary") -> ToroidalBridge:
+    r"""Toroidal (Fisher) bridge at fixed volume: filling angle, curvatures and force.
+
+    For each gap the half-filling angle b is found from the volume by a bracketed root
+    find (Brent) of :func:`toroidal_volume`. Suction ``u = sigma (1/r1 - 1/r2)``,
+    neck radius ``r2 = x_c - r1`` (Weigert & Ripperger 1999, eqs. 5, 6, 22). Force:
+
+    - ``method="boundary"`` (at the contact line on the sphere, Weigert & Ripperger eq. 21):
+      :math:`F = 2\pi\sigma R\sin b\,\sin(b + \theta_s) + \pi R^2 \sin^2 b\; u`
+    - ``method="gorge"`` (at the neck, Fisher 1926):
+      :math:`F = 2\pi\sigma r_2 + \pi r_2^2 u`
+
+    The toroid is not an exact Young-Laplace surface, so the two differ; only the gorge
+    method gives Fisher's zero-gap result :math:`2\pi R\sigma/(1 + \tan(b/2))`
+    (theta = 0). Lian et al. (1993) put the toroidal error within about 10 % of the exact
+    solution for small bridges.
+
+    Parameters
+    ----------
+    gap
+        Surface gaps (m), >= 0.
+    volume
+        Bridge volume V (m^3), > 0.
+    radius
+        Sphere radius R (m); unequal spheres: pass R_eff = 2 R1 R2/(R1 + R2) (Derjaguin).
+    surface_tension
+        sigma (N/m).
+    theta_s, theta_w
+        Contact angle on the sphere(s), and on the wall for ``kind="sphere-wall"``
+        (defaults to theta_s), radians.
+    kind
+        ``"sphere-sphere"`` or ``"sphere-wall"``.
+    method
+        ``"boundary"`` or ``"gorge"``.
+
+    Returns
+    -------
+    ToroidalBridge
+        Arrays over the gaps; ``force`` is the attractive magnitude (N).
+
+    Raises
+    ------
+    InputError
+        Bad inputs.
+    SolverError
+        No toroidal bridge with this volume at some gap (volume too large for the toroid).
+    """
+    a = np.atleast_1d(_gap(gap))
+    v = float(_positive("volume", volume, "m^3"))
+    r = float(_positive("radius", radius, "m"))
+    sig = float(_positive("surface_tension", surface_tension, "N/m"))
+    ts = float(_angle("theta_s", theta_s))
+    tw = ts if theta_w is None else float(_angle("theta_w", theta_w))
+    if kind not in ("sphere-sphere", "sphere-wall"):
+        raise InputError(f"kind = {kind!r}; allowed: 'sphere-sphere', 'sphere-wall'")
+    if method not in ("boundary", "gorge"):
+        raise InputError(f"method = {method!r}; allowed: 'boundary', 'gorge'")
+    b = np.array([_solve_filling_angle(v, float(ai), r, ts, tw, kind) for ai in a])
+    r1, xc, _, _ = _toroid(b, a, r, ts, tw, kind)
+    r2 = xc - r1
+    u = sig * (1.0 / r1 - 1.0 / r2)
+    if method == "boundary":
+        f = 2.0 * np.pi * sig * r * np.sin(b) * np.sin(b + ts) + np.pi * (r * np.sin(b)) ** 2 * u
+    else:
+        f = 2.0 * np.pi * sig * r2 + np.pi * r2**2 * u
+    return ToroidalBridge(b, r1, r2, u, f)
+
+
+def toroidal_force_sphere_sphere(gap: Any, volume: float, radius: float,
+                                 surface_tension: float, theta: float,
+                                 method: str = "boundary") -> np.ndarray:
+    """Toroidal force between two equal spheres (N, attractive); see :func:`toroidal_bridge`.
+
+    Unequal spheres: radius = 2 R1 R2/(R1 + R2) (Derjaguin). Validity: small bridges
+    (V/R^3 below about 0.1), concave meridian (theta + b < pi/2).
+    """
+    return toroidal_bridge(gap, volume, radius, surface_tension, theta, theta,
+                           "sphere-sphere", method).force
+
+
+def toroidal_force_sphere_wall(gap: Any, volume: float, radius: float,
+                               surface_tension: float, theta_s: float, theta_w: float,
+                               method: str = "boundary") -> np.ndarray:
+    """Toroidal force between a sphere and a plane (N, attractive); see
+    :func:`toroidal_bridge`. Validity: small bridges, theta_s + b + theta_w < pi."""
+    return toroidal_bridge(gap, volume, radius, surface_tension, theta_s, theta_w,
+                           "sphere-wall", method).force
+
+
+# ---- Willett et al. (2000) -------------------------------------------------------------
+
+
+def _willett_f(theta: np.ndarray, lnv: np.ndarray) -> tuple[np.ndarray, ...]:
+    t, t2 = theta, theta**2
+    lv, lv2, lv3 = lnv, lnv**2, lnv**3
+    f1 = ((-0.44507 + 0.050832 * t - 1.1466 * t2)
+          + (-0.1119 - 0.000411 * t - 0.1490 * t2) * lv
+          + (-0.012101 - 0.0036456 * t - 0.01255 * t2) * lv2
+          + (-0.0005 - 0.0003505 * t - 0.00029076 * t2) * lv3)
+    f2 = ((1.9222 - 0.57473 * t - 1.2918 * t2)
+          + (-0.0668 - 0.1201 * t - 0.22574 * t2) * lv
+          + (-0.0013375 - 0.0068988 * t - 0.01137 * t2) * lv2)
+    f3 = ((1.268 - 0.01396 * t - 0.23566 * t2)
+          + (0.198 + 0.092 * t - 0.06418 * t2) * lv
+          + (0.02232 + 0.02238 * t - 0.009853 * t2) * lv2
+          + (0.0008585 + 0.001318 * t - 0.00053 * t2) * lv3)
+    f4 = ((-0.010703 + 0.073776 * t - 0.34742 * t2)
+          + (0.03345 + 0.04543 * t - 0.09056 * t2) * lv
+          + (0.0018574 + 0.004456 * t - 0.006257 * t2) * lv2)
+    return f1, f2, f3, f4
+
+
+def willett_force(gap: Any, volume: Any, radius: Any, surface_tension: Any,
+                  theta: Any) -> np.ndarray:
+    r"""Willett et al. (2000) full closed-form fit for two spheres.
+
+    .. math::
+        \ln F^* = f_1 - f_2 \exp(f_3 \ln S^+ + f_4 (\ln S^+)^2), \quad
+        F^* = \frac{F}{2\pi R\sigma}, \quad S^+ = \frac{S}{2}\sqrt{R/V}
+
+    with f1..f4 quadratic in theta (rad) and polynomial in ln V*, V* = V/R^3
+    (C. D. Willett, M. J. Adams, S. A. Johnson, J. P. K. Seville, Langmuir 16, 9396
+    (2000), appendix eq. A1; coefficients as in Yade ``ViscoelasticCapillarPM.cpp`` and
+    MercuryDPM ``LiquidBridgeClassicalWilletInteraction.cc``; note one public MATLAB
+    copy has -0.0029076 for the theta^2 ln^3 V* coefficient of f1, which gives F > cos
+    theta contact limits at small V and is not used). At S = 0, F* = exp(f1).
+
+    Parameters
+    ----------
+    gap
+        Surface gap S (m), >= 0.
+    volume
+        V (m^3), > 0.
+    radius
+        R (m): sphere radius; unequal spheres R = 2 R1 R2/(R1 + R2) (Willett);
+        sphere-wall R = 2 R_sphere (Derjaguin).
+    surface_tension
+        sigma (N/m).
+    theta
+        Contact angle (rad).
+
+    Returns
+    -------
+    numpy.ndarray
+        Attractive force (N). Validity (Willett): theta < 50 deg, V* < 0.1; published
+        agreement with Young-Laplace solutions within a few per cent in that range. For very
+        small V* (f4 > 0: below about 1e-8 at theta = 0, 1e-7 at 20 deg) the exponent turns
+        upward as S -> 0 and the fit collapses to zero at contact; the registered model
+        refuses such scenes.
+    """
+    s = _gap(gap)
+    v = _positive("volume", volume, "m^3")
+    r = _positive("radius", radius, "m")
+    sig = _positive("surface_tension", surface_tension, "N/m")
+    th = _angle("theta", theta)
+    f1, f2, f3, f4 = _willett_f(th, np.log(v / r**3))
+    splus = 0.5 * s * np.sqrt(r / v)
+    with np.errstate(divide="ignore"):
+        ls = np.log(np.where(splus > 0.0, splus, 1.0))
+    expo = np.where(splus > 0.0, f3 * ls + f4 * ls**2, -np.inf)
+    lnf = f1 - f2 * np.exp(expo)
+    return 2.0 * np.pi * r * sig * np.exp(lnf)
+
+
+def willett_force_simple(gap: Any, volume: Any, radius: Any, surface_tension: Any,
+                         theta: Any) -> np.ndarray:
+    r"""Willett et al. (2000) simple analytic form.
+
+    .. math:: F = \frac{2\pi R\sigma\cos\theta}{1 + 1.05\,\hat S + 2.5\,\hat S^2},
+              \quad \hat S = S\sqrt{R/V}
+
+    (Willett et al. 2000, eq. 12 written with the full gap; Herminghaus 2005, eq. 7).
+    Radius convention as :func:`willett_force`.
+
+    Returns
+    -------
+    numpy.ndarray
+        Attractive force (N). Validity: small V* and theta (Willett: equal spheres,
+        V* < 0.1, theta < 50 deg), within a few per cent of the full fit there.
+    """
+    s = _gap(gap)
+    v = _positive("volume", volume, "m^3")
+    r = _positive("radius", radius, "m")
+    sig = _positive("surface_tension", surface_tension, "N/m")
+    th = _angle("theta", theta)
+    sh = s * np.sqrt(r / v)
+    return 2.0 * np.pi * r * sig * np.cos(th) / (1.0 + 1.05 * sh + 2.5 * sh**2)
+
+
+# ---- Mikami, Kamiya & Horio (1998) ------------------------------------------------------
+
+
+def mikami_force_pp(gap: Any, volume: Any, radius: Any, surface_tension: Any,
+                    theta: Any) -> np.ndarray:
+    r"""Mikami, Kamiya & Horio (1998) regression, particle-particle.
+
+    .. math::
+        F/(\pi R\sigma) = \exp(A S/R + B) + C, \quad A = -1.1\,V^{*-0.53},\\
+        B = (-0.148 \ln V^* - 0.96)\,\theta^2 - 0.0082 \ln V^* + 0.48, \quad
+        C = 0.0018 \ln V^* + 0.078
+
+    natural logarithm, theta in radians, V* = V/R^3 (T. Mikami, H. Kamiya, M. Horio,
+    Chem. Eng. Sci. 53, 1927 (1998); as in Yade ``Soulie_f`` and LIGGGHTS). The
+    (0.34, 0.019, 0.0042) set is the same fit for log10 and must not be used with ln.
+
+    Parameters
+    ----------
+    gap, volume, radius, surface_tension, theta
+        S (m) >= 0, V (m^3), R (m): equal spheres' radius, unequal spheres
+        R = 2 R1 R2/(R1 + R2) (Derjaguin; LIGGGHTS uses sqrt(R1 R2)), sigma (N/m),
+        theta (rad).
+
+    Returns
+    -------
+    numpy.ndarray
+        Attractive force (N). The contact value exp(B) + C is about 10-20 % from the exact
+        2 cos(theta) at V* = 1e-3 (a regression of Young-Laplace solutions, not a limit).
+    """
+    s = _gap(gap)
+    v = _positive("volume", volume, "m^3")
+    r = _positive("radius", radius, "m")
+    sig = _positive("surface_tension", surface_tension, "N/m")
+    th = _angle("theta", theta)
+    vs = v / r**3
+    lv = np.log(vs)
+    a = -1.1 * vs**-0.53
+    b = (-0.148 * lv - 0.96) * th**2 - 0.0082 * lv + 0.48
+    c = 0.0018 * lv + 0.078
+    return np.pi * r * sig * (np.exp(a * s / r + b) + c)
+
+
+def mikami_force_pw(gap: Any, volume: Any, radius: Any, surface_tension: Any,
+                    theta: Any) -> np.ndarray:
+    r"""Mikami, Kamiya & Horio (1998) regression, particle-wall.
+
+    Same form as :func:`mikami_force_pp` with
+    :math:`A = -1.9\,V^{*-0.51}`,
+    :math:`B = (-0.016 \ln V^* - 0.76)\,\theta^2 - 0.012 \ln V^* + 1.2`,
+    :math:`C = 0.013 \ln V^* + 0.18` (coefficients as in PHYSICS.md, marked "check": the
+    original paper was not available here; R is the sphere radius, theta a single angle:
+    pass the cosine mean of sphere and wall).
+
+    Returns
+    -------
+    numpy.ndarray
+        Attractive force (N).
+    """
+    s = _gap(gap)
+    v = _positive("volume", volume, "m^3")
+    r = _positive("radius", radius, "m")
+    sig = _positive("surface_tension", surface_tension, "N/m")
+    th = _angle("theta", theta)
+    vs = v / r**3
+    lv = np.log(vs)
+    a = -1.9 * vs**-0.51
+    b = (-0.016 * lv - 0.76) * th**2 - 0.012 * lv + 1.2
+    c = 0.013 * lv + 0.18
+    return np.pi * r * sig * (np.exp(a * s / r + b) + c)
+
+
+# ---- Rabinovich et al. (2005), Lambert et al. (2008) -----------------------------------
+
+
+def rabinovich_immersion_height(gap: Any, volume: Any, radius: Any,
+                                kind: str = "sphere-sphere") -> np.ndarray:
+    r"""Immersion height d of the sphere(s) in a bridge of volume V (parabolic gap).
+
+    Two spheres (Rabinovich et al. 2005, eq. 20): volume of the gap
+    :math:`h = H + \rho^2/R` up to :math:`\rho^2 = 2Rd` gives
+    :math:`d = (H/2)(-1 + \sqrt{1 + 2V/(\pi R H^2)})`.
+    Sphere-plane (:math:`h = H + \rho^2/(2R)`):
+    :math:`d = H(-1 + \sqrt{1 + V/(\pi R H^2)})`.
+    Evaluated in the cancellation-free form :math:`q/(\sqrt{H^2 + q} + H)`, finite at H = 0.
+    """
+    h = _gap(gap)
+    v = _positive("volume", volume, "m^3")
+    r = _positive("radius", radius, "m")
+    if kind == "sphere-sphere":
+        q = 2.0 * v / (np.pi * r)
+        return 0.5 * q / (np.sqrt(h**2 + q) + h)
+    if kind == "sphere-wall":
+        q = v / (np.pi * r)
+        return q / (np.sqrt(h**2 + q) + h)
+    raise InputError(f"kind = {kind!r}; allowed: 'sphere-sphere', 'sphere-wall'")
+
+
+def lambert_force_sphere_sphere(gap: Any, volume: Any, radius: Any, surface_tension: Any,
+                                theta: Any) -> np.ndarray:
+    r"""Lambert et al. (2008): first term of Rabinovich et al. (2005), two spheres.
+
+    .. math:: F = \frac{2\pi R\sigma\cos\theta}{1 + H/(2d)}
+
+    d from :func:`rabinovich_immersion_height` (P. Lambert, A. Chau, A. Delchambre,
+    S. Regnier, Langmuir 24, 3157 (2008), eq. 65). R: equal spheres' radius, unequal
+    spheres R = 2 R1 R2/(R1 + R2) (Derjaguin). Exact contact limit 2 pi R sigma cos theta
+    at H = 0 for any V.
+
+    Returns
+    -------
+    numpy.ndarray
+        Attractive force (N). Validity: Derjaguin/parabolic-gap approximation, small V*
+        and H << R.
+    """
+    h = _gap(gap)
+    sig = _positive("surface_tension", surface_tension, "N/m")
+    th = _angle("theta", theta)
+    r = _positive("radius", radius, "m")
+    d = rabinovich_immersion_height(h, volume, r, "sphere-sphere")
+    return 2.0 * np.pi * r * sig * np.cos(th) / (1.0 + h / (2.0 * d))
+
+
+def lambert_force_sphere_wall(gap: Any, volume: Any, radius: Any, surface_tension: Any,
+                              theta_s: Any, theta_w: Any) -> np.ndarray:
+    r"""Lambert et al. (2008) / Rabinovich first term, sphere-plane.
+
+    .. math:: F = \frac{2\pi R\sigma(\cos\theta_s + \cos\theta_w)}{1 + H/d},
+              \quad d = H(-1 + \sqrt{1 + V/(\pi R H^2)})
+
+    i.e. :math:`2\pi R\sigma(\cos\theta_s + \cos\theta_w)(1 - H/\sqrt{H^2 + V/(\pi R)})`,
+    the two-sphere formula with the Derjaguin radius 2R (the same as haloless/StupidCFD's
+    ``DerjaguinRadius`` for a flat). Exact contact limit 2 pi R sigma (cos theta_s +
+    cos theta_w) at H = 0.
+    """
+    h = _gap(gap)
+    sig = _positive("surface_tension", surface_tension, "N/m")
+    ts = _angle("theta_s", theta_s)
+    tw = _angle("theta_w", theta_w)
+    r = _positive("radius", radius, "m")
+    d = rabinovich_immersion_height(h, volume, r, "sphere-wall")
+    return 2.0 * np.pi * r * sig * (np.cos(ts) + np.cos(tw)) / (1.0 + h / d)
+
+
+def rabinovich_force_sphere_sphere(gap: Any, volume: Any, radius: Any,
+                                   surface_tension: Any, theta: Any) -> np.ndarray:
+    r"""Rabinovich et al. (2005), two spheres, both terms.
+
+    .. math::
+        F = \frac{2\pi R\sigma\cos\theta}{1 + H/(2d)}
+            + 2\pi R\sigma\sin\alpha\,\sin(\theta + \alpha), \quad
+        \alpha = \sqrt{(H/R)(-1 + \sqrt{1 + 2V/(\pi R H^2)})} = \sqrt{2d/R}
+
+    (Y. I. Rabinovich, M. S. Esayanur, B. M. Moudgil, Langmuir 21, 10992 (2005), eqs. 19,
+    20, A3). R as :func:`lambert_force_sphere_sphere`. At H -> 0 the second term tends to
+    :math:`2\pi R\sigma\sin\alpha_0\sin(\theta + \alpha_0)`,
+    :math:`\alpha_0 = (2V^*/\pi)^{1/4}` (Yade sets alpha = 0 at H = 0, a discontinuity);
+    it vanishes for V -> 0, recovering 2 pi R sigma cos theta.
+
+    Returns
+    -------
+    numpy.ndarray
+        Attractive force (N). Validity: small bridges, H << R (parabolic gap).
+    """
+    h = _gap(gap)
+    sig = _positive("surface_tension", surface_tension, "N/m")
+    th = _angle("theta", theta)
+    r = _positive("radius", radius, "m")
+    d = rabinovich_immersion_height(h, volume, r, "sphere-sphere")
+    alpha = np.sqrt(2.0 * d / r)
+    first = 2.0 * np.pi * r * sig * np.cos(th) / (1.0 + h / (2.0 * d))
+    return first + 2.0 * np.pi * r * sig * np.sin(alpha) * np.sin(th + alpha)
+
+
+def rabinovich_force_sphere_wall(gap: Any, volume: Any, radius: Any, surface_tension: Any,
+                                 theta_s: Any, theta_w: Any) -> np.ndarray:
+    r"""Rabinovich et al. (2005), sphere-plane: Lambert's term plus the contact-line term.
+
+    .. math::
+        F = \frac{2\pi R\sigma(\cos\theta_s + \cos\theta_w)}{1 + H/d}
+            + 2\pi R\sigma\sin\alpha\,\sin(\theta_s + \alpha),\quad \alpha = \sqrt{2d/R}
+
+    with the sphere-plane d of :func:`rabinovich_immersion_height` (wetted radius
+    :math:`\rho^2 = 2Rd` on the sphere of radius R). The first term is the sphere-plane
+    form of Rabinovich et al. (2005) (= the two-sphere form with Derjaguin radius 2R).
+    The second term's sphere-plane alpha is derived here from the same parabolic geometry;
+    substituting 2R into the two-sphere alpha, as a code reusing the two-sphere function
+    with R = 2R would, gives alpha half as large.
+    """
+    h = _gap(gap)
+    sig = _positive("surface_tension", surface_tension, "N/m")
+    ts = _angle("theta_s", theta_s)
+    tw = _angle("theta_w", theta_w)
+    r = _positive("radius", radius, "m")
+    d = rabinovich_immersion_height(h, volume, r, "sphere-wall")
+    alpha = np.sqrt(2.0 * d / r)
+    first = 2.0 * np.pi * r * sig * (np.cos(ts) + np.cos(tw)) / (1.0 + h / d)
+    return first + 2.0 * np.pi * r * sig * np.sin(alpha) * np.sin(ts + alpha)
+
+
+# ---- Bagheri, Roy & Poeschel (2024) -------------------------------------------------------
+
+
+def bagheri_force(gap: Any, volume: Any, radius: Any, surface_tension: Any,
+                  theta: Any) -> np.ndarray:
+    r"""Bagheri, Roy & Poeschel (2024) closed form, two identical spheres.
+
+    With :math:`f = F/(R\sigma)`, :math:`V^* = V/R^3`, :math:`s = S/(R S_c^*)` and Willett's
+    :math:`S_c^* = (1 + \theta/2)(V^{*1/3} + 0.1 V^{*2/3})`:
+
+    .. math::
+        f_0 = 2\pi(1 - 0.3823\,V^{*0.2586}), \quad
+        f_t = (1 - a\sin^b\theta)\,f_0, \\
+        a = 0.4158\,V^{*0.2835} + 0.6474, \quad b = -0.2087\,V^{*0.3113} + 2.267, \\
+        f = f_t\,\frac{1 + a_s s}{1 + a_t b_s a_s s + a_t b_s s^2}, \\
+        a_s = -0.3319\,V^{*0.4974} + 0.6717\,V^{*0.1995}, \quad
+        b_s = 13.84\,V^{*-0.3909} - 12.11\,V^{*-0.3945}, \\
+        a_t = (-0.007815 \ln^2 V^* - 0.2105 \ln V^* - 1.426)\,\theta^3
+              + (-1.78\,V^{*0.8351} + 0.6669\,V^{*-0.01391})\,\theta + 1
+
+    (M. Bagheri, S. Roy, T. Poeschel, Comput. Part. Mech. (2024), arXiv:2310.11485,
+    eqs. 24-30, read from the first author's MercuryDPM implementation
+    ``LiquidBridgeBagheriInteraction.cc``; the paper itself was not accessible here).
+    Theta in radians. Published accuracy: within about 0.6 % of Young-Laplace solutions
+    (PHYSICS.md). R: sphere radius; unequal spheres R = 2 R1 R2/(R1 + R2), sphere-wall
+    R = 2 R_sphere (Derjaguin, an extrapolation beyond the paper's identical spheres).
+
+    Returns
+    -------
+    numpy.ndarray
+        Attractive force (N); the formula is meant for 0 <= S <= S_c (rupture).
+    """
+    sg = _gap(gap)
+    v = _positive("volume", volume, "m^3")
+    r = _positive("radius", radius, "m")
+    sig = _positive("surface_tension", surface_tension, "N/m")
+    th = _angle("theta", theta)
+    vs = v / r**3
+    lv = np.log(vs)
+    sc = (1.0 + 0.5 * th) * (np.cbrt(vs) + 0.1 * np.cbrt(vs) ** 2)
+    s = sg / (r * sc)
+    f0 = 2.0 * np.pi * (1.0 - 0.3823 * vs**0.2586)
+    a = 0.4158 * vs**0.2835 + 0.6474
+    b = -0.2087 * vs**0.3113 + 2.267
+    ft = (1.0 - a * np.sin(th) ** b) * f0
+    a_s = -0.3319 * vs**0.4974 + 0.6717 * vs**0.1995
+    b_s = 13.84 * vs**-0.3909 - 12.11 * vs**-0.3945
+    a_t = ((-0.007815 * lv**2 - 0.2105 * lv - 1.426) * th**3
+           + (-1.78 * vs**0.8351 + 0.6669 * vs**-0.01391) * th + 1.0)
+    f = ft * (1.0 + a_s * s) / (1.0 + a_t * b_s * a_s * s + a_t * b_s * s**2)
+    return f * r * sig
+
+
+# ---- registered models --------------------------------------------------------------------
+
+
+def derjaguin_radius(scene: Scene) -> float:
+    """Radius for an equal-sphere closure: 2 R1 R2/(R1 + R2); sphere-wall: 2 R.
+
+    Note: ``scene.willett_radius`` returns R (not 2R) for a sphere-wall scene; with R the
+    contact limit would be half the exact sphere-wall value 4 pi R sigma cos theta.
+    """
+    if scene.kind == "sphere-wall":
+        return 2.0 * scene.radius
+    return scene.willett_radius
+
+
+def _scene_mean_angle(scene: Scene) -> float:
+    return float(mean_contact_angle(scene.contact_angle_sphere, scene.contact_angle_wall))
+
+
+class _CapillaryClosure(Model):
+    """Shared metadata, validity check and curve assembly of the capillary closures."""
+
+    component: ClassVar[str] = "capillary"
+    level: ClassVar[int] = 0
+    order: ClassVar[float | None] = None
+    #: stated validity, soft: outside it values are returned with a diagnostics note
+    max_theta_deg: ClassVar[float] = 50.0
+    max_volume_ratio: ClassVar[float] = 0.1
+    #: hard limits: outside them ``check`` raises ValidityError naming 'meniscus'
+    hard_theta_deg: ClassVar[float] = 90.0
+    hard_volume_ratio: ClassVar[float] = 1.0
+
+    def volume_ratio(self, scene: Scene) -> float:
+        """V* in this closure's radius convention."""
+        assert scene.bridge_volume is not None
+        return scene.bridge_volume / derjaguin_radius(scene) ** 3
+
+    def check(self, scene: Scene) -> None:
+        if scene.amount != "bridge":
+            instead = {"immersed": "brenner" if scene.kind == "sphere-wall" else "stokes",
+                       "film": "thinfilm"}[scene.amount]
+            raise ValidityError(self.name, f"needs a liquid bridge (amount = 'bridge'), "
+                                f"got amount = {scene.amount!r}", use_instead=instead)
+        theta = np.degrees(_scene_mean_angle(scene))
+        if theta >= self.hard_theta_deg:
+            raise ValidityError(self.name, f"mean contact angle {theta:.4g} deg >= "
+                                f"{self.hard_theta_deg:g} deg (no concave wetting bridge)",
+                                use_instead="meniscus")
+        vr = self.volume_ratio(scene)
+        if vr > self.hard_volume_ratio:
+            raise ValidityError(self.name, f"V* = {vr:.4g} > {self.hard_volume_ratio:g} "
+                                "(bridge as large as the sphere)", use_instead="meniscus")
+
+    def soft_note(self, scene: Scene) -> str:
+        """Empty, or why the scene is outside the closure's stated (soft) validity."""
+        notes = []
+        theta = np.degrees(_scene_mean_angle(scene))
+        if theta > self.max_theta_deg:
+            notes.append(f"theta = {theta:.4g} deg > {self.max_theta_deg:g} deg")
+        vr = self.volume_ratio(scene)
+        if vr > self.max_volume_ratio:
+            notes.append(f"V* = {vr:.4g} > {self.max_volume_ratio:g}")
+        return "; ".join(notes)
+
+    def rupture_distance(self, scene: Scene) -> float:
+        raise NotImplementedError
+
+    def attraction(self, scene: Scene, gaps: np.ndarray) -> tuple[np.ndarray, dict]:
+        """Attractive magnitude (N) at gaps inside the rupture distance, and extras."""
+        raise NotImplementedError
+
+    def _force(self, scene: Scene, preset: str, **opts: Any) -> ForceCurve:
+        gap = scene.gap_array
+        sc = self.rupture_distance(scene)
+        inside = gap < sc
+        force = np.zeros_like(gap)
+        extras: dict[str, np.ndarray] = {"rupture_distance": np.full_like(gap, sc)}
+        if inside.any():
+            f_in, ext_in = self.attraction(scene, gap[inside])
+            force[inside] = f_in
+            for key, val in ext_in.items():
+                full = np.zeros_like(gap)
+                full[inside] = val
+                extras[key] = full
+        note = self.soft_note(scene)
+        diag = {"outside_stated_validity": note} if note else {}
+        return ForceCurve(case=scene.name, model=self.name, gap=gap, force_viscous=None,
+                          force_capillary=-force, extras=extras, diagnostics=diag)
+
+
+@register
+class Toroidal(_CapillaryClosure):
+    """Toroidal (Fisher) approximation, boundary-method force, Lian rupture distance."""
+
+    name = "toroidal"
+    reference = ("Fisher 1926; Weigert & Ripperger 1999 eqs. 5, 6, 21, 22; rupture: "
+                 "Lian, Thornton & Adams 1993")
+    validity = ("pendular bridge, V*/R_eff^3 < 0.1, theta + filling angle < 90 deg; force by the "
+                "boundary method at the sphere's contact line; Lian et al. 1993: within about "
+                "10 % of Young-Laplace; extras filling_angle, neck_radius, laplace_pressure are "
+                "0 beyond rupture")
+    max_theta_deg = 90.0
+
+    def volume_ratio(self, scene: Scene) -> float:
+        assert scene.bridge_volume is not None
+        r = scene.radius if scene.kind == "sphere-wall" else scene.willett_radius
+        return scene.bridge_volume / r**3
+
+    def check(self, scene: Scene) -> None:
+        super().check(scene)
+        try:
+            self.attraction(scene, np.array([min(scene.gaps)]))
+        except SolverError as exc:
+            raise ValidityError(self.name, str(exc), use_instead="meniscus") from None
+
+    def rupture_distance(self, scene: Scene) -> float:
+        assert scene.bridge_volume is not None
+        return float(rupture.lian_rupture_distance(scene.bridge_volume,
+                                                   _scene_mean_angle(scene)))
+
+    def attraction(self, scene: Scene, gaps: np.ndarray) -> tuple[np.ndarray, dict]:
+        assert scene.bridge_volume is not None
+        if scene.kind == "sphere-wall":
+            br = toroidal_bridge(gaps, scene.bridge_volume, scene.radius,
+                                 scene.surface_tension, scene.contact_angle_sphere,
+                                 scene.contact_angle_wall, "sphere-wall")
+        else:
+            br = toroidal_bridge(gaps, scene.bridge_volume, scene.willett_radius,
+                                 scene.surface_tension, _scene_mean_angle(scene),
+                                 kind="sphere-sphere")
+        return br.force, {"filling_angle": br.filling_angle, "neck_radius": br.neck_radius,
+                          "laplace_pressure": -br.suction}
+
+
+@register
+class Mikami(_CapillaryClosure):
+    """Mikami et al. (1998) regressions with Mikami's own rupture distances."""
+
+    name = "mikami"
+    reference = "Mikami, Kamiya & Horio, Chem. Eng. Sci. 53, 1927 (1998)"
+    validity = ("pendular bridge, small V* (about 1e-4 to 1e-1) and theta below about 50 deg "
+                "(regression of Young-Laplace solutions); natural-log coefficients; contact "
+                "value 10-20 % from 2 cos(theta) at V* = 1e-3")
+
+    def volume_ratio(self, scene: Scene) -> float:
+        assert scene.bridge_volume is not None
+        r = scene.radius if scene.kind == "sphere-wall" else scene.willett_radius
+        return scene.bridge_volume / r**3
+
+    def rupture_distance(self, scene: Scene) -> float:
+        assert scene.bridge_volume is not None
+        th = _scene_mean_angle(scene)
+        if scene.kind == "sphere-wall":
+            return float(rupture.mikami_rupture_distance_pw(scene.bridge_volume,
+                                                            scene.radius, th))
+        return float(rupture.mikami_rupture_distance_pp(scene.bridge_volume,
+                                                        scene.willett_radius, th))
+
+    def attraction(self, scene: Scene, gaps: np.ndarray) -> tuple[np.ndarray, dict]:
+        th = _scene_mean_angle(scene)
+        v, sig = scene.bridge_volume, scene.surface_tension
+        if scene.kind == "sphere-wall":
+            return mikami_force_pw(gaps, v, scene.radius, sig, th), {}
+        return mikami_force_pp(gaps, v, scene.willett_radius, sig, th), {}
+
+
+class _WillettFamily(_CapillaryClosure):
+    def rupture_distance(self, scene: Scene) -> float:
+        assert scene.bridge_volume is not None
+        return float(rupture.willett_rupture_distance(
+            scene.bridge_volume, derjaguin_radius(scene), _scene_mean_angle(scene)))
+
+
+@register
+class Willett(_WillettFamily):
+    """Willett et al. (2000) full fit, Willett's rupture distance."""
+
+    name = "willett"
+    reference = "Willett, Adams, Johnson & Seville, Langmuir 16, 9396 (2000), eq. A1"
+    validity = ("pendular bridge, theta < 50 deg, V* = V/R_eff^3 < 0.1 with R_eff = 2R1R2/(R1+R2) "
+                "(sphere-wall: 2R); fit within a few % of Young-Laplace in that range; "
+                "refused where the fit's f4 > 0 (V* below about 1e-8 to 1e-7)")
+
+    def check(self, scene: Scene) -> None:
+        super().check(scene)
+        f4 = _willett_f(np.asarray(_scene_mean_angle(scene)),
+                        np.asarray(np.log(self.volume_ratio(scene))))[3]
+        if f4 > 0.0:
+            raise ValidityError(self.name, f"V* = {self.volume_ratio(scene):.3g} is below the "
+                                "fit's range: f4 > 0 there, so the fit collapses to 0 as the "
+                                "gap closes", use_instead="bagheri")
+
+    def attraction(self, scene: Scene, gaps: np.ndarray) -> tuple[np.ndarray, dict]:
+        return willett_force(gaps, scene.bridge_volume, derjaguin_radius(scene),
+                             scene.surface_tension, _scene_mean_angle(scene)), {}
+
+
+@register
+class WillettSimple(_WillettFamily):
+    """Willett et al. (2000) simple analytic form, Willett's rupture distance."""
+
+    name = "willett-simple"
+    reference = "Willett et al., Langmuir 16, 9396 (2000), eq. 12"
+    validity = ("pendular bridge, small V* and theta (Willett: theta < 50 deg, V* < 0.1); "
+                "R_eff = 2R1R2/(R1+R2), sphere-wall 2R")
+
+    def attraction(self, scene: Scene, gaps: np.ndarray) -> tuple[np.ndarray, dict]:
+        return willett_force_simple(gaps, scene.bridge_volume, derjaguin_radius(scene),
+                                    scene.surface_tension, _scene_mean_angle(scene)), {}
+
+
+@register
+class Bagheri(_WillettFamily):
+    """Bagheri, Roy & Poeschel (2024), Willett's rupture distance (as in the paper)."""
+
+    name = "bagheri"
+    reference = ("Bagheri, Roy & Poeschel, Comput. Part. Mech. (2024), arXiv:2310.11485, "
+                 "eqs. 24-30")
+    validity = ("identical spheres (others via R_eff = 2R1R2/(R1+R2), sphere-wall 2R: "
+                "extrapolation), pendular bridge, V* < 0.1, theta < 50 deg; about 0.6 % from "
+                "Young-Laplace where checked by the authors")
+
+    def attraction(self, scene: Scene, gaps: np.ndarray) -> tuple[np.ndarray, dict]:
+        return bagheri_force(gaps, scene.bridge_volume, derjaguin_radius(scene),
+                             scene.surface_tension, _scene_mean_angle(scene)), {}
+
+
+class _RabinovichFamily(_CapillaryClosure):
+    terms: ClassVar[str] = "both"
+
+    def volume_ratio(self, scene: Scene) -> float:
+        assert scene.bridge_volume is not None
+        r = scene.radius if scene.kind == "sphere-wall" else scene.willett_radius
+        return scene.bridge_volume / r**3
+
+    def rupture_distance(self, scene: Scene) -> float:
+        assert scene.bridge_volume is not None
+        return float(rupture.lian_rupture_distance(scene.bridge_volume,
+                                                   _scene_mean_angle(scene)))
+
+    def attraction(self, scene: Scene, gaps: np.ndarray) -> tuple[np.ndarray, dict]:
+        v, sig = scene.bridge_volume, scene.surface_tension
+        if scene.kind == "sphere-wall":
+            fn = rabinovich_force_sphere_wall if self.terms == "both" else lambert_force_sphere_wall
+            return fn(gaps, v, scene.radius, sig, scene.contact_angle_sphere,
+                      scene.contact_angle_wall), {}
+        fn2 = (rabinovich_force_sphere_sphere if self.terms == "both"
+               else lambert_force_sphere_sphere)
+        return fn2(gaps, v, scene.willett_radius, sig, _scene_mean_angle(scene)), {}
+
+
+@register
+class Rabinovich(_RabinovichFamily):
+    """Rabinovich et al. (2005), both terms, Lian rupture distance."""
+
+    name = "rabinovich"
+    reference = "Rabinovich, Esayanur & Moudgil, Langmuir 21, 10992 (2005), eqs. 19, 20, A3"
+    validity = ("pendular bridge, small V*, H << R (parabolic gap, Derjaguin); unequal spheres "
+                "R_eff = 2R1R2/(R1+R2); the second (contact-line) term stays finite at H = 0")
+    terms = "both"
+
+
+@register
+class Lambert(_RabinovichFamily):
+    """Lambert et al. (2008): Rabinovich's first term only, Lian rupture distance."""
+
+    name = "lambert"
+    reference = "Lambert, Chau, Delchambre & Regnier, Langmuir 24, 3157 (2008), eq. 65"
+    validity = ("pendular bridge, small V*, H << R (parabolic gap, Derjaguin); exact contact "
+                "limit 2 pi R sigma cos(theta) (two spheres), 2 pi R sigma (cos ts + cos tw) "
+                "(sphere-wall)")
+    terms = "first"
