@@ -18,7 +18,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from wetcontact.errors import InputError, SolverError, ValidityError
+from wetcontact.errors import InputError, SolverError
 from wetcontact.scene import Scene
 
 PRESETS = ("fast", "default", "accurate")
@@ -146,6 +146,10 @@ class Model:
         Declared convergence order of the force under refinement (None for closed forms).
     reference : str
         The source of the model's equation.
+    cost : float
+        Rough wall time per gap (s), to rank models of one level by cost.
+    saves_fields : bool
+        True for field solvers that accept ``save_fields=DIR`` (VTU output).
     """
 
     name: ClassVar[str] = ""
@@ -154,6 +158,8 @@ class Model:
     validity: ClassVar[str] = ""
     order: ClassVar[float | None] = None
     reference: ClassVar[str] = ""
+    cost: ClassVar[float] = 1e-6
+    saves_fields: ClassVar[bool] = False
     presets: ClassVar[Mapping[str, Mapping[str, Any]]] = {p: {} for p in PRESETS}
 
     def check(self, scene: Scene) -> None:
@@ -163,7 +169,7 @@ class Model:
         """``None`` if the model applies to ``scene``, else the reason why not."""
         try:
             self.check(scene)
-        except ValidityError as exc:
+        except InputError as exc:  # ValidityError, or a scene value the model rejects
             return str(exc)
         return None
 

@@ -123,8 +123,9 @@ class Scene:
 
     @property
     def willett_radius(self) -> float:
-        """Radius used by Willett et al. (2000) for unequal spheres: 2 R1 R2/(R1 + R2)."""
-        return 2.0 * self.reduced_radius if self.kind == "sphere-sphere" else self.radius
+        """Derjaguin radius of the equal-sphere closures: 2 R1 R2/(R1 + R2), and 2 R for a
+        wall (Willett et al. 2000; the sphere-plate limit R2 -> infinity)."""
+        return 2.0 * self.reduced_radius if self.kind == "sphere-sphere" else 2.0 * self.radius
 
     @property
     def equal_spheres(self) -> bool:

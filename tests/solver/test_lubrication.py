@@ -272,3 +272,20 @@ def test_bad_options_are_refused(scene_factory):
 def test_model_metadata():
     assert MODEL.level == 1 and MODEL.order == 6.0
     assert set(MODEL.presets) == {"fast", "default", "accurate"}
+
+
+def test_film_gaps_above_the_film_give_zero_force():
+    """At S >= delta the sphere does not touch the film: zero force, zero wetted radius;
+    the touching gaps are unchanged by the presence of the dry ones."""
+    from conftest import make_scene
+
+    from wetcontact.models import MODELS
+
+    wet = make_scene(amount={"film_thickness": 1e-4}, motion={"velocity": 0.5,
+                                                              "gaps": [1e-5, 5e-5]})
+    mixed = wet.with_gaps([2e-4, 1e-4, 1e-5, 5e-5])
+    a = MODELS["lubrication"].force(wet)
+    b = MODELS["lubrication"].force(mixed)
+    assert np.array_equal(b.force_viscous[:2], [0.0, 0.0])
+    assert np.array_equal(b.extras["wetted_radius"][:2], [0.0, 0.0])
+    assert np.allclose(b.force_viscous[2:], a.force_viscous, rtol=1e-13)

@@ -662,13 +662,9 @@ def bagheri_force(gap: Any, volume: Any, radius: Any, surface_tension: Any,
 
 
 def derjaguin_radius(scene: Scene) -> float:
-    """Radius for an equal-sphere closure: 2 R1 R2/(R1 + R2); sphere-wall: 2 R.
-
-    Note: ``scene.willett_radius`` returns R (not 2R) for a sphere-wall scene; with R the
-    contact limit would be half the exact sphere-wall value 4 pi R sigma cos theta.
-    """
-    if scene.kind == "sphere-wall":
-        return 2.0 * scene.radius
+    """Radius for an equal-sphere closure: 2 R1 R2/(R1 + R2); sphere-wall: 2 R
+    (``scene.willett_radius``). With R for a wall the contact limit would be half the
+    exact sphere-wall value 4 pi R sigma cos theta."""
     return scene.willett_radius
 
 

@@ -640,7 +640,24 @@ class Lubrication(Model):
         if scene.amount == "immersed":
             raise ValidityError(NAME, "an immersed sphere is outside the thin-gap (finite "
                                 "liquid) lubrication model", "stokes")
-        wetted_xi(self._profile(scene, "sphere"), **self._amount(scene))
+        wet, _ = self._touching(scene)
+        wetted_xi(self._profile(wet, "sphere"), **self._amount(wet))
+
+    @staticmethod
+    def _touching(scene: Scene) -> tuple[Scene, np.ndarray]:
+        """The scene restricted to the gaps where the sphere touches the liquid, and the mask.
+
+        A film of thickness delta is touched only where S < delta; at S >= delta the sphere
+        is above the film and the liquid force is exactly zero.
+        """
+        gaps = scene.gap_array
+        if scene.amount != "film":
+            return scene, np.ones(gaps.shape, bool)
+        mask = gaps < scene.film_thickness
+        if not mask.any():
+            raise ValidityError(NAME, f"every gap is >= the film thickness "
+                                f"{scene.film_thickness:g} m: the sphere never touches the film")
+        return scene.with_gaps(gaps[mask].tolist()), mask
 
     @staticmethod
     def _profile(scene: Scene, gap_shape: str) -> GapProfile:
@@ -668,6 +685,7 @@ class Lubrication(Model):
         if unknown:
             raise InputError(f"model '{NAME}': unknown option(s) {sorted(unknown)}; allowed: "
                              + ", ".join(sorted(known)))
+        full, (scene, mask) = scene, self._touching(scene)
         profile = self._profile(scene, opts.get("gap_shape", "sphere"))
         p_b = float(opts.get("boundary_pressure", 0.0))
         sol = solve_reynolds(
@@ -677,15 +695,22 @@ class Lubrication(Model):
             cavitation_pressure=opts.get("cavitation_pressure", P_CAV_DEFAULT),
             n=opts.get("n", 48), levels=opts.get("levels", 3),
             **self._amount(scene, opts.get("wetted_radius")))
+        def on_all_gaps(values: np.ndarray, dry: float = 0.0) -> np.ndarray:
+            """Values at the touching gaps, ``dry`` where the sphere is above the film."""
+            out = np.full(mask.shape, dry)
+            out[mask] = values
+            return out
+
         return ForceCurve(
-            case=scene.name, model=NAME, gap=scene.gap_array,
-            force_viscous=sol.force_viscous,
-            force_capillary=sol.force_boundary if p_b != 0.0 else None,
-            extras={"wetted_radius": sol.wetted_radius, "edge_gap": sol.edge_gap,
-                    "cavitation_radius": sol.cavitation_radius,
-                    "boundary_pressure_force": sol.force_boundary,
-                    "axis_pressure": sol.p[:, 0]},
-            error_estimate=sol.error_estimate,
+            case=scene.name, model=NAME, gap=full.gap_array,
+            force_viscous=on_all_gaps(sol.force_viscous),
+            force_capillary=on_all_gaps(sol.force_boundary) if p_b != 0.0 else None,
+            extras={"wetted_radius": on_all_gaps(sol.wetted_radius),
+                    "edge_gap": on_all_gaps(sol.edge_gap, full.film_thickness or 0.0),
+                    "cavitation_radius": on_all_gaps(sol.cavitation_radius),
+                    "boundary_pressure_force": on_all_gaps(sol.force_boundary),
+                    "axis_pressure": on_all_gaps(sol.p[:, 0])},
+            error_estimate=on_all_gaps(sol.error_estimate),
             diagnostics={"dofs_per_gap": sol.dofs, "levels": opts.get("levels", 3),
                          "active_set_iterations": sol.active_set_iterations},
         )

@@ -1,0 +1,124 @@
+"""The wetcontact command: exit codes, one-line errors, JSON output, the main job."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+BAD = ROOT / "tests" / "data" / "bad_cases"
+
+# each malformed case file and the field its message must name
+EXPECTED_FIELD = {
+    "bad-gap-range": "motion.gaps.points",
+    "bad-kind": "geometry.kind",
+    "bad-syntax": "(syntax)",
+    "contact-angle-180": "liquid.contact_angle",
+    "film-thinner-than-gaps": "amount.film_thickness",
+    "missing-radius": "geometry.radius",
+    "negative-viscosity": "liquid.viscosity",
+    "radius2-on-wall": "geometry.radius2",
+    "string-velocity": "motion.velocity",
+    "two-amounts": "amount",
+    "unknown-key": "liquid.viscocity",
+    "zero-gap": "motion.gaps[0]",
+}
+
+
+def wc(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "wetcontact.cli", *args], cwd=cwd,
+                          capture_output=True, text=True, timeout=600)
+
+
+def test_every_bad_case_file_is_listed():
+    assert {p.stem for p in BAD.glob("*.toml")} == set(EXPECTED_FIELD)
+
+
+@pytest.mark.parametrize("stem", sorted(EXPECTED_FIELD))
+def test_bad_case_exit_2_one_line_naming_field(stem):
+    r = wc("solve", str(BAD / f"{stem}.toml"), "--model", "reynolds")
+    assert r.returncode == 2
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1, r.stderr
+    assert "Traceback" not in r.stderr
+    assert f"{stem}.toml" in lines[0] and EXPECTED_FIELD[stem] in lines[0]
+    assert "allowed" in lines[0]
+
+
+def test_unknown_model_and_bad_flag_exit_2():
+    case = ROOT / "cases" / "brenner-immersed-sphere-wall.toml"
+    r = wc("solve", str(case), "--model", "nope")
+    assert r.returncode == 2 and "allowed" in r.stderr and "Traceback" not in r.stderr
+    r = wc("solve", str(case), "--preset", "fastest")
+    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1
+
+
+def test_model_outside_validity_names_the_alternative():
+    r = wc("solve", str(ROOT / "cases" / "glass-2mm-water-film.toml"), "--model", "brenner")
+    assert r.returncode == 2 and "use model" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_solve_json_keys_and_values():
+    case = ROOT / "cases" / "brenner-immersed-sphere-wall.toml"
+    r = wc("solve", str(case), "--model", "brenner", "--json")
+    assert r.returncode == 0, r.stderr
+    out = json.loads(r.stdout)
+    for key in ("case", "model", "gap", "force_viscous", "force_capillary", "force_total",
+                "wall_time_s", "error_estimate", "provenance"):
+        assert key in out
+    assert out["model"] == "brenner" and out["force_capillary"] is None
+    assert len(out["gap"]) == len(out["force_total"]) == 26
+    import math
+
+    from wetcontact.reduced_models.viscous import brenner_lambda
+    s, f = out["gap"][-1], out["force_viscous"][-1]
+    assert f == pytest.approx(6 * math.pi * 1.2 * 1e-3 * 1e-3 * brenner_lambda(s / 1e-3),
+                              rel=1e-12)
+
+
+def test_solve_by_tolerance_picks_cheapest_adequate_model():
+    case = ROOT / "cases" / "brenner-immersed-sphere-wall.toml"
+    out = json.loads(wc("solve", str(case), "--tol", "0.005", "--json").stdout)
+    assert out["model"] == "schaeffer"  # 0.3 % fit beats 0.5 %; reynolds does not
+    out = json.loads(wc("solve", str(case), "--tol", "1e-6", "--json").stdout)
+    assert out["model"] == "brenner"
+
+
+def test_models_lists_registry():
+    r = wc("models")
+    assert r.returncode == 0
+    for name in ("reynolds", "brenner", "reynolds-finite"):
+        assert name in r.stdout
+
+
+def test_help_on_every_command():
+    for cmd in ([], ["run"], ["solve"], ["models"]):
+        r = wc(*cmd, "--help")
+        assert r.returncode == 0 and "usage" in r.stdout
+
+
+def test_run_quick_writes_report(tmp_path):
+    cases = tmp_path / "cases"
+    cases.mkdir()
+    for name in ("brenner-immersed-sphere-wall", "dem-pendular-bridge-100um"):
+        shutil.copy(ROOT / "cases" / f"{name}.toml", cases)
+    out = tmp_path / "reports"
+    r = wc("run", "--quick", "--cases", str(cases), "--out", str(out), cwd=tmp_path)
+    assert r.returncode == 0, r.stderr[-2000:]
+    assert (out / "README.md").exists() and (out / "closure_errors.csv").exists()
+    assert (out / "curves" / "brenner-immersed-sphere-wall.png").stat().st_size > 1000
+    from wetcontact.store import Store
+
+    assert len(Store(out / "reference.h5").find(case="dem-pendular-bridge-100um")) >= 2
+    text = (out / "README.md").read_text()
+    assert "| brenner-immersed-sphere-wall | viscous | reynolds | brenner |" in text
+
+
+def test_run_without_cases_is_input_error(tmp_path):
+    r = wc("run", "--cases", str(tmp_path), "--out", str(tmp_path / "o"), cwd=tmp_path)
+    assert r.returncode == 2 and "no case files" in r.stderr
