@@ -1,0 +1,134 @@
+"""Independent ODE-shooting solution of the axisymmetric liquid bridge (test reference).
+
+Written separately from ``wetcontact.solver.meniscus`` (nothing imported from it). Units:
+lengths over the radius R1 of the upper sphere (centre at z = S + 1), pressures over
+sigma/R1, forces over sigma R1. The lower solid is a wall (z = 0) or a sphere of radius R2
+with centre (0, -R2).
+
+From the contact line on the upper sphere (half-filling angle phi1, tangent angle
+psi = phi1 + theta1) integrate downwards in arc length sigma
+
+    dr/dsigma = -cos psi,  dz/dsigma = -sin psi,  dpsi/dsigma = -(P - sin(psi)/r),
+    dv/dsigma = pi r^2 sin psi   (v: volume of revolution between the two contact heights)
+
+with scipy's DOP853 until the tangent angle meets the contact condition of the lower solid
+(wall: psi = pi - theta2; sphere: psi = pi - phi2(r, z) - theta2): an event transversal to
+the curve even for zero contact angle, where the curve is tangent to the solid. The miss
+distance from the lower solid and the volume error are driven to zero by a root find on
+(phi1, P). The attractive force is 2 pi sin(phi1) sin(phi1 + theta1) - pi sin^2(phi1) P.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import minimize_scalar, root
+
+
+@dataclass(frozen=True)
+class Shot:
+    phi1: float
+    pressure: float
+    force: float
+    gap: float
+    end_r: float
+    end_z: float
+    residual: float
+
+
+def _cap(phi: float, R: float) -> float:
+    c = math.cos(phi)
+    return math.pi * R**3 * (1 - c) ** 2 * (2 + c) / 3.0
+
+
+def _integrate(phi1: float, P: float, S: float, th1: float, th2: float, R2: float | None):
+    r0, z0 = math.sin(phi1), S + 1 - math.cos(phi1)
+    psi0 = phi1 + th1
+
+    def rhs(_s, y):
+        r, _z, psi, _v = y
+        return [-math.cos(psi), -math.sin(psi), -(P - math.sin(psi) / r),
+                math.pi * r * r * math.sin(psi)]
+
+    if R2 is None:
+        def hit(_s, y):
+            return y[2] - (math.pi - th2)
+    else:
+        def hit(_s, y):
+            return y[2] - (math.pi - math.atan2(y[0], y[1] + R2) - th2)
+    hit.terminal = True
+
+    def axis(_s, y):
+        return y[0] - 1e-9
+    axis.terminal = True
+    length = 20.0 * (abs(r0) + abs(z0) + 1.0)
+    sol = solve_ivp(rhs, (0.0, length), [r0, z0, psi0, 0.0], method="DOP853", rtol=1e-13,
+                    atol=1e-15, events=(hit, axis))
+    if sol.t_events[0].size == 0:
+        return None
+    r, z, _psi, v = sol.y_events[0][0]
+    if R2 is None:
+        miss = z
+        cap2 = 0.0
+    else:
+        miss = math.hypot(r, z + R2) - R2
+        cap2 = _cap(math.atan2(r, z + R2), R2)
+    V = v - _cap(phi1, 1.0) - cap2
+    return miss, V, r, z
+
+
+def force_of(phi1: float, P: float, th1: float) -> float:
+    """Attractive force over sigma R1 at the contact line on sphere 1 (PHYSICS.md)."""
+    return (2 * math.pi * math.sin(phi1) * math.sin(phi1 + th1)
+            - math.pi * math.sin(phi1) ** 2 * P)
+
+
+def shoot_volume(V: float, S: float, th1: float, th2: float, R2: float | None,
+                 guess: tuple[float, float]) -> Shot:
+    """Bridge of volume V at gap S: root of (miss, volume error) in (phi1, P)."""
+    def fun(u):
+        out = _integrate(u[0], u[1], S, th1, th2, R2)
+        if out is None:
+            return [1.0, 1.0]
+        return [out[0], (out[1] - V) / V]
+
+    sol = root(fun, np.array(guess, dtype=float), method="hybr", tol=1e-14)
+    phi1, P = sol.x
+    res = float(np.max(np.abs(fun(sol.x))))
+    out = _integrate(phi1, P, S, th1, th2, R2)
+    return Shot(phi1, P, force_of(phi1, P, th1), S, out[2], out[3], res)
+
+
+def shoot_phi(V: float, phi1: float, th1: float, th2: float, R2: float | None,
+              guess: tuple[float, float]) -> Shot:
+    """Bridge of volume V with half-filling angle phi1: root in (S, P)."""
+    def fun(u):
+        out = _integrate(phi1, u[1], u[0], th1, th2, R2)
+        if out is None:
+            return [1.0, 1.0]
+        return [out[0], (out[1] - V) / V]
+
+    sol = root(fun, np.array(guess, dtype=float), method="hybr", tol=1e-14)
+    S, P = sol.x
+    res = float(np.max(np.abs(fun(sol.x))))
+    return Shot(phi1, P, force_of(phi1, P, th1), S, 0.0, 0.0, res)
+
+
+def shoot_rupture(V: float, th1: float, th2: float, R2: float | None,
+                  phi_bracket: tuple[float, float], guess: tuple[float, float]) -> Shot:
+    """Turning point: the largest gap S(phi1) over phi1 in ``phi_bracket``."""
+    state = {"g": guess}
+
+    def neg_gap(phi):
+        shot = shoot_phi(V, phi, th1, th2, R2, state["g"])
+        if shot.residual > 1e-9:
+            return 1.0
+        state["g"] = (shot.gap, shot.pressure)
+        return -shot.gap
+
+    res = minimize_scalar(neg_gap, bounds=phi_bracket, method="bounded",
+                          options={"xatol": 1e-9})
+    return shoot_phi(V, float(res.x), th1, th2, R2, state["g"])
