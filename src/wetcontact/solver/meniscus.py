@@ -1074,17 +1074,22 @@ def force_separation_curve(bridge: Bridge, volume: float, n_points: int = 100,
     rupture (the last one is the turning point), each warm-started from its neighbour."""
     if n_points < 2:
         raise InputError(f"meniscus: n_points = {n_points}; allowed: >= 2")
-    br, ell = _branch_for(bridge, volume, n_elements)
+    br, ell = _branch_for(bridge, volume, n_elements, n_steps=20)
     d, g = br.d, br.g
     Sg = np.linspace(0.0, br.S_fold, n_points)
     out = []
     x = br.xs[0]
+    x_prev = None
     for k, S in enumerate(Sg):
         if k == n_points - 1:
             x, it = br.x_fold, 0
         else:
-            nw = _newton(d, g, np.where(np.arange(d.m) == d.iS, S, x),
-                         (("volume", br.V), ("fix", d.iS, S)))
+            guess = x.copy()
+            if x_prev is not None and x[d.iS] > x_prev[d.iS]:  # secant predictor in S
+                guess += (x - x_prev) * (S - x[d.iS]) / (x[d.iS] - x_prev[d.iS])
+            guess[d.iS] = S
+            x_prev = x
+            nw = _newton(d, g, guess, (("volume", br.V), ("fix", d.iS, S)))
             if not nw.converged or (S > 0.7 * br.S_fold and _stability(d, g, nw.x) < 0):
                 nw = _on_branch(br, S)
             x, it = nw.x, nw.iterations
