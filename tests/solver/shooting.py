@@ -14,8 +14,10 @@ psi = phi1 + theta1) integrate downwards in arc length sigma
 with scipy's DOP853 until the tangent angle meets the contact condition of the lower solid
 (wall: psi = pi - theta2; sphere: psi = pi - phi2(r, z) - theta2): an event transversal to
 the curve even for zero contact angle, where the curve is tangent to the solid. The miss
-distance from the lower solid and the volume error are driven to zero by a root find on
-(phi1, P). The attractive force is 2 pi sin(phi1) sin(phi1 + theta1) - pi sin^2(phi1) P.
+distance from the lower solid (or, for contact angles >= 20 deg, where the curve crosses the
+solid transversally and the integration stops on it, the angle error) and the volume error
+are driven to zero by a root find on (phi1, P).
+The attractive force is 2 pi sin(phi1) sin(phi1 + theta1) - pi sin^2(phi1) P.
 """
 
 from __future__ import annotations
@@ -53,11 +55,17 @@ def _integrate(phi1: float, P: float, S: float, th1: float, th2: float, R2: floa
         return [-math.cos(psi), -math.sin(psi), -(P - math.sin(psi) / r),
                 math.pi * r * r * math.sin(psi)]
 
+    # contact angles >= 20 deg: the curve crosses the solid transversally, so stop on the
+    # solid and drive the angle error to zero (robust for profiles with an inflection);
+    # small angles: stop on the angle (the curve is nearly tangent to the solid there).
+    by_position = th2 >= math.radians(20.0)
     if R2 is None:
         def hit(_s, y):
-            return y[2] - (math.pi - th2)
+            return y[1] if by_position else y[2] - (math.pi - th2)
     else:
         def hit(_s, y):
+            if by_position:
+                return math.hypot(y[0], y[1] + R2) - R2
             return y[2] - (math.pi - math.atan2(y[0], y[1] + R2) - th2)
     hit.terminal = True
 
@@ -69,13 +77,15 @@ def _integrate(phi1: float, P: float, S: float, th1: float, th2: float, R2: floa
                     atol=1e-15, events=(hit, axis))
     if sol.t_events[0].size == 0:
         return None
-    r, z, _psi, v = sol.y_events[0][0]
+    r, z, psi, v = sol.y_events[0][0]
     if R2 is None:
-        miss = z
+        miss = psi - (math.pi - th2) if by_position else z
         cap2 = 0.0
     else:
-        miss = math.hypot(r, z + R2) - R2
-        cap2 = _cap(math.atan2(r, z + R2), R2)
+        phi2 = math.atan2(r, z + R2)
+        miss = (psi - (math.pi - phi2 - th2) if by_position
+                else math.hypot(r, z + R2) - R2)
+        cap2 = _cap(phi2, R2)
     V = v - _cap(phi1, 1.0) - cap2
     return miss, V, r, z
 
