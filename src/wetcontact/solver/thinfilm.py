@@ -1,0 +1,712 @@
+r"""Thin-film solver: a sphere squeezing a liquid layer with a free surface (level 2).
+
+Physics
+-------
+A liquid film of thickness :math:`\delta` lies on a wall; a rigid sphere of radius R
+approaches it at speed v(t) (positive = approach). Under the lubrication approximation
+(:math:`\delta \ll R`, small slopes) the liquid is described by one field, the thickness
+h(r, t) of liquid on the wall, obeying the conservation law
+
+.. math::
+    \partial_t h + \frac{1}{r}\partial_r (r q) = 0, \qquad q = -M(h)\, \partial_r p,
+
+with the mobility of a film with a no-slip wall and a stress-free surface,
+:math:`M = h^3/(3\eta)`, where the surface is free, and of a gap with no slip on wall and
+sphere, :math:`M = g^3/(12\eta)`, where the liquid fills the gap. The sphere is an obstacle:
+:math:`h \le g(r, t) = S(t) + r^2/(2R)` (parabolic gap; or the exact sphere gap
+:math:`S + R - \sqrt{R^2 - r^2}`), :math:`dS/dt = -v`. The pressure is
+
+.. math::
+    p = -\sigma \nabla^2 h + \rho g_{\rm acc} h + p_c, \qquad
+    p_c = k\,\max(0, h - g), \quad k = \frac{P_{\rm ref}(S)}{\varepsilon S},\quad
+    P_{\rm ref} = \frac{3\eta v R}{S^2} + \frac{\sigma}{R} + \rho g_{\rm acc}\delta,
+
+i.e. the Laplace pressure of the free surface (small-slope curvature), hydrostatics, and a
+penalty contact pressure that keeps the liquid out of the sphere. :math:`P_{\rm ref}` is
+the pressure scale at the centre (Reynolds, :math:`p(0) \approx 3\eta v R/S^2`), so the
+penalty lets the liquid penetrate the sphere by a relative amount of order
+:math:`\varepsilon` (the one numerical parameter of the contact formulation;
+:func:`penalty_study` and the tests show the force converging as :math:`\varepsilon \to 0`,
+first order). Where the liquid touches the sphere the total p is the physical lubrication
+pressure; the split into a "Laplace" and a "contact" part has no meaning there. The
+mobility switches to the confined value on the faces where the face thickness reaches the
+gap, and uses :math:`\min(h, g)` so the penetration does not bias the flux.
+
+The film meets the sphere tangentially (h = g and h' = g' at the wetted radius), the only
+contact a graph :math:`h(r) \le g(r)` with small slopes can make. The scene's contact
+angles are therefore not used (a wetting meniscus climbing the sphere is a large-slope
+feature outside this model).
+
+Force on the sphere (axial, positive = pushing the surfaces apart):
+
+.. math::
+    F = 2\pi \int_0^{r_w} p\, r\, dr = F_{\rm cap} + F_{\rm visc},\qquad
+    F_{\rm cap} = \pi r_w^2\, p(r_w),\qquad F_{\rm visc} = 2\pi\int_0^{r_w} (p - p(r_w))\,r\,dr,
+
+the capillary part being the meniscus (Laplace) pressure at the wetted edge acting on the
+wetted area (negative = suction), the viscous part the squeeze pressure above it. Limits
+(PHYSICS.md sections 1 and 3): in the slow limit (capillary number
+:math:`Ca^* = 3\eta v R^2/(\sigma\delta^2)` small) the film stays flat and the wetted
+zone obeys the Reynolds equation, :math:`F_{\rm visc} = 6\pi\eta v\int_0^{r_w} r^3/g^3 dr`;
+in the fast limit the squeezed liquid piles up at the contact line,
+:math:`r_w \to \sqrt{4R(\delta - S)}` and
+:math:`F \to 6\pi\eta R^2 v/S\,(1 - S/H)^2`, :math:`H = 2\delta - S` (Pitois et al. 2000).
+A small J0(k r) mode of a flat film decays at :math:`\sigma\delta^3k^4/(3\eta)` (+
+:math:`\rho g\delta^3 k^2/(3\eta)`).
+
+Numerics
+--------
+Conservative finite volumes on py-pde's :class:`~pde.grids.PolarSymGrid` (uniform cells of
+width dr on [0, L], L = ``domain_factor`` times the pile-up wetted radius
+:math:`\sqrt{4R\delta}`); the Laplacian and the flux are built on cell faces, so
+:math:`\sum_i V_i\,\dot h_i = 0` to round-off and the liquid volume is conserved by any
+linear multistep/Newton integrator. Boundary conditions: symmetry at r = 0; h' = 0 and
+zero flux at r = L (a closed dish, large enough that the displaced volume raises the far
+film by under 3 % of :math:`\delta` at the default size). Declared spatial order 2 (force
+and decay rate). Time integration: py-pde's :class:`~pde.solvers.ScipySolver` with BDF
+and the pentadiagonal Jacobian sparsity pattern (implicit, stable far beyond the explicit
+limit :math:`\Delta t \propto dr^4`); py-pde's explicit Euler/RK and fixed-point implicit
+Euler are kept for the stability comparison, together with :func:`newton_euler_step`,
+a backward-Euler step solved by Newton's method on the same sparse Jacobian.
+
+Sources: Oron, Davis & Bankoff (1997) Rev. Mod. Phys. 69, 931 (thin-film equation);
+Pitois, Moucheront & Chateau (2000) J. Colloid Interface Sci. 231, 26 (finite-liquid
+squeeze force); Kikuchi & Oden (1988) "Contact problems in elasticity" (penalty method).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pde
+import scipy.sparse as sp
+from scipy.integrate import BDF
+from scipy.sparse.linalg import splu
+
+from wetcontact.errors import InputError, SolverError, ValidityError
+from wetcontact.models import ForceCurve, Model, register
+from wetcontact.scene import Scene
+
+# ---- validity limits (measured, see tables/thinfilm.py and the benchmark) ------------
+DELTA_OVER_R_MAX = 0.12
+"""Largest film thickness delta/R: the sphere slope at the pile-up wetted radius,
+sqrt(4 delta/R), stays below 0.7 (lubrication error of order slope^2 ~ 0.5^2)."""
+CA_MAX = 1.0
+"""Largest capillary number eta v/sigma: the pile-up rim slope grows like (3 Ca)^(1/4)
+(rim width delta (3 Ca)^(-1/4)), small slopes fail beyond Ca ~ 1."""
+CA_STAR_MAX = 2.0e5
+"""Largest reduced capillary number Ca* = 3 eta v R^2/(sigma delta^2) the default grid
+resolves: the rim width sqrt(R delta) Ca*^(-1/4) must span several cells."""
+
+
+# ---- the problem --------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class FilmProblem:
+    """Parameters and grid of one thin-film run (SI units).
+
+    Attributes
+    ----------
+    radius, viscosity, surface_tension, density, gravity, film_thickness, velocity
+        R (m), eta (Pa s), sigma (N/m), rho (kg/m^3), g (m/s^2), delta (m), v (m/s).
+    cells
+        Number of finite-volume cells on [0, L].
+    domain
+        Outer radius L (m).
+    penetration
+        Penalty parameter epsilon (relative penetration of the liquid into the sphere).
+    gap_shape
+        ``"parabolic"`` (S + r^2/2R), ``"sphere"`` (exact) or ``"none"`` (no sphere).
+    """
+
+    radius: float
+    viscosity: float
+    surface_tension: float
+    density: float
+    gravity: float
+    film_thickness: float
+    velocity: float
+    cells: int
+    domain: float
+    penetration: float = 1e-3
+    gap_shape: str = "parabolic"
+    grid: pde.PolarSymGrid = field(init=False, repr=False, compare=False)
+    r_c: np.ndarray = field(init=False, repr=False, compare=False)
+    r_f: np.ndarray = field(init=False, repr=False, compare=False)
+    vol: np.ndarray = field(init=False, repr=False, compare=False)
+    area: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        if self.gap_shape not in ("parabolic", "sphere", "none"):
+            raise InputError(f"thinfilm: gap_shape = {self.gap_shape!r}; allowed: "
+                             "'parabolic', 'sphere', 'none'")
+        if not (isinstance(self.cells, int | np.integer) and self.cells >= 8):
+            raise InputError(f"thinfilm: cells = {self.cells!r}; allowed: an integer >= 8")
+        if not self.penetration > 0:
+            raise InputError(f"thinfilm: penetration = {self.penetration!r}; allowed: > 0")
+        grid = pde.PolarSymGrid((0.0, self.domain), int(self.cells))
+        dr = self.domain / self.cells
+        r_f = np.arange(self.cells + 1) * dr
+        object.__setattr__(self, "grid", grid)
+        object.__setattr__(self, "r_c", grid.axes_coords[0].copy())
+        object.__setattr__(self, "r_f", r_f)
+        object.__setattr__(self, "vol", np.pi * (r_f[1:] ** 2 - r_f[:-1] ** 2))
+        object.__setattr__(self, "area", 2.0 * np.pi * r_f)
+
+    @property
+    def dr(self) -> float:
+        """Cell width (m)."""
+        return self.domain / self.cells
+
+    def gap(self, r: np.ndarray, s: float) -> np.ndarray:
+        """Gap g(r) between wall and sphere at surface gap S (m); +inf without a sphere."""
+        if self.gap_shape == "parabolic":
+            return s + r**2 / (2.0 * self.radius)
+        if self.gap_shape == "sphere":
+            rr = np.minimum(r, self.radius)
+            out = s + self.radius - np.sqrt(self.radius**2 - rr**2)
+            return np.where(r < self.radius, out, np.inf)
+        return np.full_like(r, np.inf)
+
+    def surface_gap(self, t: float) -> float:
+        """S(t) = delta - v t (prescribed constant speed from first touch)."""
+        return self.film_thickness - self.velocity * t
+
+    def penalty_stiffness(self, s: float) -> float:
+        """k = P_ref(S)/(epsilon S), P_ref = 3 eta v R/S^2 + sigma/R + rho g delta."""
+        p_ref = (3.0 * self.viscosity * abs(self.velocity) * self.radius / s**2
+                 + self.surface_tension / self.radius
+                 + self.density * self.gravity * self.film_thickness)
+        return p_ref / (self.penetration * s)
+
+    # ---- the operator --------------------------------------------------------------
+
+    def laplacian(self, h: np.ndarray) -> np.ndarray:
+        """Conservative FV Laplacian (1/r)(r h')' with h' = 0 at r = 0 and r = L."""
+        flux = np.zeros(self.cells + 1)
+        flux[1:-1] = self.area[1:-1] * np.diff(h) / self.dr
+        return np.diff(flux) / self.vol
+
+    def pressure(self, h: np.ndarray, s: float) -> np.ndarray:
+        """p = -sigma lap(h) + rho g h + k max(0, h - g) at the cell centres (Pa)."""
+        p = -self.surface_tension * self.laplacian(h) + self.density * self.gravity * h
+        if self.gap_shape != "none":
+            g = self.gap(self.r_c, s)
+            p = p + self.penalty_stiffness(s) * np.maximum(h - g, 0.0)
+        return p
+
+    def face_mobility(self, h: np.ndarray, s: float) -> np.ndarray:
+        """Mobility on the interior faces: h^3/(3 eta) free, min(h, g)^3/(12 eta) confined."""
+        hf = 0.5 * (h[1:] + h[:-1])
+        if self.gap_shape == "none":
+            return hf**3 / (3.0 * self.viscosity)
+        gf = self.gap(self.r_f[1:-1], s)
+        confined = hf >= gf
+        return np.where(confined, np.minimum(hf, gf) ** 3 / (12.0 * self.viscosity),
+                        hf**3 / (3.0 * self.viscosity))
+
+    def rate(self, h: np.ndarray, t: float) -> np.ndarray:
+        """dh/dt = -(1/V_i)(A_{i+1/2} q_{i+1/2} - A_{i-1/2} q_{i-1/2}), zero end fluxes."""
+        s = self.surface_gap(t)
+        p = self.pressure(h, s)
+        flux = np.zeros(self.cells + 1)
+        flux[1:-1] = -self.area[1:-1] * self.face_mobility(h, s) * np.diff(p) / self.dr
+        return -np.diff(flux) / self.vol
+
+    def jac_sparsity(self) -> sp.csr_matrix:
+        """Pentadiagonal pattern: dh_i/dt depends on h_{i-2..i+2}."""
+        n = self.cells
+        return sp.diags([np.ones(n - abs(k)) for k in range(-2, 3)], range(-2, 3),
+                        format="csr")
+
+    def volume(self, h: np.ndarray) -> float:
+        """Liquid volume 2 pi int h r dr (m^3), exact for the cell averages."""
+        return float(np.dot(self.vol, h))
+
+
+class ThinFilmPDE(pde.PDEBase):
+    r"""py-pde wrapper: :math:`\partial_t h = -\nabla\cdot q` of :class:`FilmProblem`."""
+
+    explicit_time_dependence = True
+    complex_valued = False
+    check_implementation = False
+
+    def __init__(self, problem: FilmProblem):
+        super().__init__()
+        self.problem = problem
+
+    def evolution_rate(self, state: pde.ScalarField, t: float = 0) -> pde.ScalarField:
+        """Right-hand side as a py-pde field (numpy backend)."""
+        return pde.ScalarField(state.grid, self.problem.rate(state.data, t))
+
+
+# ---- diagnostics of one state -------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Snapshot:
+    """Forces and geometry of one film state at surface gap ``gap``."""
+
+    gap: float
+    force_viscous: float
+    force_capillary: float
+    wetted_radius: float
+    edge_pressure: float
+    max_slope: float
+    max_penetration: float
+    volume: float
+
+
+def snapshot(problem: FilmProblem, h: np.ndarray, s: float) -> Snapshot:
+    """Wetted radius, edge pressure and the force split of state ``h`` at gap ``s``.
+
+    The wetted zone is the run of cells from the axis in which h >= g; r_w is the linear
+    zero of h - g between its last cell and the next. p is piecewise linear between cell
+    centres (constant on the first half cell); F = 2 pi int_0^{r_w} p r dr (trapezoid).
+    """
+    p = problem.pressure(h, s)
+    slope = float(np.max(np.abs(np.diff(h)))) / problem.dr
+    vol = problem.volume(h)
+    if problem.gap_shape == "none":
+        return Snapshot(s, 0.0, 0.0, 0.0, 0.0, slope, 0.0, vol)
+    g = problem.gap(problem.r_c, s)
+    pen = h - g
+    if pen[0] < 0.0:
+        return Snapshot(s, 0.0, 0.0, 0.0, float(p[0]), slope, 0.0, vol)
+    outside = np.nonzero(pen < 0.0)[0]
+    if outside.size == 0:
+        raise SolverError("thinfilm: the liquid fills the gap out to the domain edge; "
+                          "raise domain_factor")
+    j = int(outside[0])  # first free cell
+    r0, r1 = problem.r_c[j - 1], problem.r_c[j]
+    w = pen[j - 1] / (pen[j - 1] - pen[j])
+    r_w = r0 + w * (r1 - r0)
+    p_w = p[j - 1] + w * (p[j] - p[j - 1])
+    rr = np.concatenate(([0.0], problem.r_c[:j], [r_w]))
+    pp = np.concatenate(([p[0]], p[:j], [p_w]))
+    f_tot = 2.0 * np.pi * float(np.trapezoid(pp * rr, rr))
+    f_cap = np.pi * r_w**2 * float(p_w)
+    return Snapshot(s, f_tot - f_cap, f_cap, float(r_w), float(p_w), slope,
+                    float(np.max(pen[:j]) / s), vol)
+
+
+# ---- integrators --------------------------------------------------------------------
+
+
+def _counting_bdf(counter: dict[str, int]) -> type[BDF]:
+    """scipy BDF that counts accepted steps and steps shortened by rejections."""
+
+    class CountingBDF(BDF):
+        def _step_impl(self):  # noqa: ANN202 - scipy's private signature
+            h_try = self.h_abs
+            t_old = self.t
+            ok, msg = super()._step_impl()
+            if ok:
+                counter["steps"] += 1
+                if abs(self.t - t_old) < h_try * (1 - 1e-12):
+                    counter["shortened"] += 1
+            return ok, msg
+
+    return CountingBDF
+
+
+@dataclass
+class RunResult:
+    """Snapshots at the requested gaps, profiles, and what the integrator did."""
+
+    snapshots: list[Snapshot]
+    profiles: dict[float, np.ndarray]
+    r: np.ndarray
+    volume0: float
+    steps: int
+    steps_shortened: int
+    rhs_evaluations: int
+    wall_time_s: float
+
+    @property
+    def volume_drift(self) -> float:
+        """max |V(t) - V(0)|/V(0) over the output states."""
+        return max(abs(s.volume - self.volume0) for s in self.snapshots) / self.volume0
+
+
+def penetration_run(problem: FilmProblem, gaps: Sequence[float],
+                    profile_gaps: Sequence[float] = (), rtol: float = 1e-7,
+                    progress: bool = False) -> RunResult:
+    """Integrate from first touch (S = delta, flat film) down to min(gaps) with BDF.
+
+    Uses py-pde's :class:`~pde.solvers.ScipySolver` (``method`` = a step-counting BDF,
+    ``jac_sparsity`` pentadiagonal); outputs are taken at t = (delta - S)/v through a
+    py-pde storage tracker, so the integrator lands exactly on each requested gap.
+
+    Parameters
+    ----------
+    problem
+        The film, sphere and grid.
+    gaps
+        Surface gaps S (m) at which to report, each in (0, delta].
+    profile_gaps
+        Gaps at which the film profile h(r) is kept (nearest output gap).
+    rtol
+        Relative tolerance of BDF; the absolute tolerance is rtol * min(gaps).
+    progress
+        Show py-pde's progress bar (tqdm).
+    """
+    delta, v = problem.film_thickness, problem.velocity
+    gaps = np.asarray(gaps, dtype=float)
+    if v <= 0:
+        raise InputError(f"thinfilm: velocity = {v!r}; allowed: > 0 m/s (approach)")
+    if np.any(gaps <= 0) or np.any(gaps > delta * (1 + 1e-12)):
+        raise InputError(f"thinfilm: gaps must lie in (0, delta = {delta:g}] m")
+    order = np.argsort(-gaps)
+    times = (delta - gaps[order]) / v
+    times = np.maximum(times, 0.0)
+    eq = ThinFilmPDE(problem)
+    state = pde.ScalarField(problem.grid, delta)
+    v0 = problem.volume(state.data)
+    counter = {"steps": 0, "shortened": 0}
+    solver = pde.ScipySolver(eq, backend="numpy", method=_counting_bdf(counter), rtol=rtol,
+                             atol=rtol * float(np.min(gaps)),
+                             jac_sparsity=problem.jac_sparsity())
+    storage = pde.MemoryStorage()
+    t_out = [t for t in times if t > 0]
+    trackers: list[Any] = [storage.tracker(interrupts=t_out)] if t_out else []
+    if progress:
+        trackers.append("progress")
+    t0 = time.perf_counter()
+    info: dict[str, Any] = {}
+    if t_out:
+        controller = pde.Controller(solver, t_range=(0.0, float(times[-1])), tracker=trackers)
+        try:
+            controller.run(state)
+        except (RuntimeError, ValueError) as exc:
+            raise SolverError(f"thinfilm: time integration failed ({exc}); try a finer "
+                              "grid, a larger penetration or a smaller rtol") from None
+        info = solver.info
+    wall = time.perf_counter() - t0
+    stored = {float(t): np.array(d) for t, d in zip(storage.times, storage.data, strict=True)}
+    snaps: list[Snapshot | None] = [None] * gaps.size
+    profiles: dict[float, np.ndarray] = {}
+    want = {float(gaps[np.argmin(np.abs(gaps - pg))]) for pg in profile_gaps}
+    for k, idx in enumerate(order):
+        t = float(times[k])
+        if t == 0.0:
+            h = np.full(problem.cells, delta)
+        else:
+            key = min(stored, key=lambda tt, t=t: abs(tt - t))
+            if abs(key - t) > 1e-9 * max(t, 1e-300):
+                raise SolverError(f"thinfilm: no stored state at t = {t:g} s")
+            h = stored[key]
+        snaps[idx] = snapshot(problem, h, float(gaps[idx]))
+        if float(gaps[idx]) in want:
+            profiles[float(gaps[idx])] = h.copy()
+    return RunResult(snapshots=[s for s in snaps if s is not None], profiles=profiles,
+                     r=problem.r_c.copy(), volume0=v0, steps=counter["steps"],
+                     steps_shortened=counter["shortened"],
+                     rhs_evaluations=int(info.get("steps", 0)), wall_time_s=wall)
+
+
+def newton_euler_step(problem: FilmProblem, h: np.ndarray, t: float, dt: float,
+                      tol: float = 1e-10, maxiter: int = 30) -> np.ndarray:
+    """One backward-Euler step h1 = h + dt f(h1, t + dt), solved by Newton's method.
+
+    The Jacobian is formed by finite differences on the pentadiagonal pattern (five
+    colour groups) and factorised with SuperLU. Converged when the update is below
+    ``tol`` times the film thickness.
+
+    Raises
+    ------
+    SolverError
+        If Newton does not converge in ``maxiter`` iterations.
+    """
+    n = problem.cells
+    t1 = t + dt
+    y = h.copy()
+    scale = problem.film_thickness
+    for _ in range(maxiter):
+        f0 = problem.rate(y, t1)
+        res = y - h - dt * f0
+        jac = _fd_jacobian(problem, y, t1, f0)
+        mat = (sp.identity(n, format="csc") - dt * jac).tocsc()
+        dy = splu(mat).solve(-res)
+        y = y + dy
+        if np.max(np.abs(dy)) < tol * scale:
+            return y
+    raise SolverError(f"thinfilm: Newton did not converge in {maxiter} iterations "
+                      f"(dt = {dt:g} s)")
+
+
+def _fd_jacobian(problem: FilmProblem, y: np.ndarray, t: float,
+                 f0: np.ndarray) -> sp.csr_matrix:
+    """Finite-difference Jacobian of ``problem.rate`` on the pentadiagonal pattern."""
+    n = problem.cells
+    rows, cols, vals = [], [], []
+    eps = 1e-7 * np.maximum(np.abs(y), problem.film_thickness * 1e-3)
+    for c in range(5):
+        idx = np.arange(c, n, 5)
+        yp = y.copy()
+        yp[idx] += eps[idx]
+        df = (problem.rate(yp, t) - f0)
+        for j in idx:
+            lo, hi = max(0, j - 2), min(n, j + 3)
+            rows.extend(range(lo, hi))
+            cols.extend([j] * (hi - lo))
+            vals.extend(df[lo:hi] / eps[j])
+    return sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+
+
+# ---- reference checks ---------------------------------------------------------------
+
+
+def bessel_mode_decay(problem: FilmProblem, mode: int = 1, amplitude: float = 1e-4,
+                      rtol: float = 1e-10) -> tuple[float, float]:
+    r"""Numerical and analytic decay rate of a J0(k r) perturbation of a flat film.
+
+    Initial h = delta (1 + a J0(k r)), k = j_{1,m}/L (J0'(kL) = 0 fits h' = 0 at L).
+    Analytic rate (linear leveling, PHYSICS.md section 3):
+    :math:`\gamma = \sigma\delta^3k^4/(3\eta) + \rho g\delta^3k^2/(3\eta)`.
+    The numerical rate is -ln(A(t)/A(0))/t with A the projection on J0(k r), integrated
+    with BDF to t = 1/(2 gamma). The problem must have ``gap_shape = "none"``.
+
+    Returns
+    -------
+    (numerical, analytic) rates in 1/s.
+    """
+    from scipy.integrate import solve_ivp
+    from scipy.special import j0, jn_zeros
+
+    if problem.gap_shape != "none":
+        raise InputError("bessel_mode_decay needs gap_shape='none' (a free film)")
+    k = float(jn_zeros(1, mode)[-1]) / problem.domain
+    d, eta = problem.film_thickness, problem.viscosity
+    rate_an = (problem.surface_tension * d**3 * k**4 + problem.density * problem.gravity
+               * d**3 * k**2) / (3.0 * eta)
+    # cell averages of J0(k r) (3-point Gauss per cell), so the initial state is exact
+    xg, wg = np.polynomial.legendre.leggauss(3)
+    rr = 0.5 * (problem.r_f[:-1, None] + problem.r_f[1:, None]) + 0.5 * problem.dr * xg
+    mode_avg = (2 * np.pi * (j0(k * rr) * rr * wg).sum(axis=1) * 0.5 * problem.dr
+                / problem.vol)
+    h0 = d * (1.0 + amplitude * mode_avg)
+
+    def amp(h: np.ndarray) -> float:
+        return float(np.dot(problem.vol, (h - d) * mode_avg) / np.dot(problem.vol,
+                                                                         mode_avg**2))
+
+    t_end = 0.5 / rate_an
+    sol = solve_ivp(lambda t, y: problem.rate(y, t), (0.0, t_end), h0, method="BDF",
+                    rtol=rtol, atol=rtol * d * amplitude * 1e-3,
+                    jac_sparsity=problem.jac_sparsity(), t_eval=[t_end])
+    if not sol.success:
+        raise SolverError(f"thinfilm: Bessel-mode integration failed: {sol.message}")
+    rate_num = -math.log(amp(sol.y[:, -1]) / amp(h0)) / t_end
+    return rate_num, rate_an
+
+
+def reynolds_wetted_force(problem: FilmProblem, s: float, r_w: float) -> float:
+    r"""Quadrature :math:`F = 6\pi\eta v\int_0^{r_w} r^3/g^3\,dr` (Reynolds equation with
+    p = p(r_w) at the wetted edge; the viscous part only)."""
+    from scipy.integrate import quad
+
+    def f(r: float) -> float:
+        return r**3 / float(problem.gap(np.array([r]), s)[0]) ** 3
+
+    val, _ = quad(f, 0.0, r_w, epsabs=0.0, epsrel=1e-11, limit=200)
+    return 6.0 * np.pi * problem.viscosity * problem.velocity * val
+
+
+def pileup_limit(radius: float, viscosity: float, velocity: float, delta: float,
+                 s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    r"""Fast-approach (pile-up) limit: :math:`r_w = \sqrt{4R(\delta - S)}`,
+    :math:`F = 6\pi\eta R^2 v/S\,(1 - S/H)^2`, :math:`H = 2\delta - S`."""
+    s = np.asarray(s, dtype=float)
+    hh = 2.0 * delta - s
+    return (np.sqrt(4.0 * radius * (delta - s)),
+            6.0 * np.pi * viscosity * radius**2 * velocity / s * (1.0 - s / hh) ** 2)
+
+
+# ---- the model ----------------------------------------------------------------------
+
+
+def reduced_capillary_number(scene: Scene) -> float:
+    """Ca* = 3 eta v R^2/(sigma delta^2): squeeze rate over capillary leveling rate."""
+    assert scene.film_thickness is not None
+    return (3.0 * scene.viscosity * abs(scene.velocity) * scene.radius**2
+            / (scene.surface_tension * scene.film_thickness**2))
+
+
+def validity_reason(delta_over_r: float, ca: float, ca_star: float) -> str | None:
+    """Why (delta/R, Ca, Ca*) is outside the thin-film validity, or ``None``."""
+    if delta_over_r > DELTA_OVER_R_MAX:
+        return (f"delta/R = {delta_over_r:.3g} > {DELTA_OVER_R_MAX} (sphere slope at the "
+                f"wetted edge sqrt(4 delta/R) = {math.sqrt(4 * delta_over_r):.2f}: "
+                "lubrication fails)")
+    if ca > CA_MAX:
+        return (f"Ca = eta v/sigma = {ca:.3g} > {CA_MAX} (the pile-up rim is steep, "
+                "small-slope free surface fails)")
+    if ca_star > CA_STAR_MAX:
+        return (f"Ca* = 3 eta v R^2/(sigma delta^2) = {ca_star:.3g} > {CA_STAR_MAX:g} "
+                "(rim narrower than the grid can resolve)")
+    return None
+
+
+def problem_from_scene(scene: Scene, cells: int, domain_factor: float,
+                       penetration: float, gap_shape: str = "parabolic") -> FilmProblem:
+    """The :class:`FilmProblem` of a film scene at a resolution."""
+    assert scene.film_thickness is not None
+    length = domain_factor * math.sqrt(4.0 * scene.radius * scene.film_thickness)
+    return FilmProblem(radius=scene.radius, viscosity=scene.viscosity,
+                       surface_tension=scene.surface_tension, density=scene.density,
+                       gravity=scene.gravity, film_thickness=scene.film_thickness,
+                       velocity=scene.velocity, cells=int(cells), domain=length,
+                       penetration=penetration, gap_shape=gap_shape)
+
+
+@register
+class ThinFilm(Model):
+    """Sphere squeezing a liquid film with a free surface (thin-film equation, py-pde)."""
+
+    name = "thinfilm"
+    level = 2
+    component = "both"
+    validity = (f"sphere-wall, film; delta/R <= {DELTA_OVER_R_MAX}, Ca <= {CA_MAX}, "
+                f"Ca* = 3 eta v R^2/(sigma delta^2) <= {CA_STAR_MAX:g}; approach (v > 0)")
+    order = 2.0
+    order_tolerance = 0.3
+    reference = ("thin-film equation (Oron, Davis & Bankoff 1997) with a penalty "
+                 "obstacle; limits: Pitois et al. 2000")
+    presets = {
+        "fast": {"cells": 400, "penetration": 3e-3, "rtol": 1e-6, "domain_factor": 3.0},
+        "default": {"cells": 800, "penetration": 1e-3, "rtol": 1e-7, "domain_factor": 3.0},
+        "accurate": {"cells": 1600, "penetration": 3e-4, "rtol": 1e-8,
+                     "domain_factor": 3.0},
+    }
+
+    def check(self, scene: Scene) -> None:
+        """Film on a wall, approach, and (delta/R, Ca, Ca*) inside the validity."""
+        if scene.amount == "immersed":
+            raise ValidityError(self.name, "the scene is immersed, not a film",
+                                use_instead="stokes")
+        if scene.amount == "bridge":
+            raise ValidityError(self.name, "the scene is a liquid bridge, not a film",
+                                use_instead="lubrication")
+        if scene.kind != "sphere-wall":
+            raise ValidityError(self.name, "only a sphere on a wall", use_instead="stokes")
+        if scene.velocity <= 0:
+            raise ValidityError(self.name, f"velocity = {scene.velocity:g} m/s; only "
+                                "approach (v > 0) is modelled", use_instead="stokes")
+        assert scene.film_thickness is not None
+        ca = scene.viscosity * scene.velocity / scene.surface_tension
+        reason = validity_reason(scene.film_thickness / scene.radius, ca,
+                                 reduced_capillary_number(scene))
+        if reason:
+            raise ValidityError(self.name, reason, use_instead="stokes")
+
+    def _force(self, scene: Scene, preset: str, cells: int = 800,
+               penetration: float = 1e-3, rtol: float = 1e-7, domain_factor: float = 3.0,
+               gap_shape: str = "parabolic", profile_gaps: Sequence[float] | None = None,
+               progress: bool = False, **opts: Any) -> ForceCurve:
+        if opts:
+            raise InputError("thinfilm: unknown settings " + ", ".join(sorted(opts))
+                             + "; allowed: cells, penetration, rtol, domain_factor, "
+                             "gap_shape, profile_gaps, progress")
+        problem = problem_from_scene(scene, cells, domain_factor, penetration, gap_shape)
+        gaps = scene.gap_array
+        if profile_gaps is None:
+            profile_gaps = [float(np.max(gaps)), float(np.median(gaps)), float(np.min(gaps))]
+        res = penetration_run(problem, gaps, profile_gaps=profile_gaps, rtol=rtol,
+                              progress=progress)
+        snaps = res.snapshots
+        return ForceCurve(
+            case=scene.name, model=self.name, gap=gaps,
+            force_viscous=np.array([s.force_viscous for s in snaps]),
+            force_capillary=np.array([s.force_capillary for s in snaps]),
+            extras={"wetted_radius": np.array([s.wetted_radius for s in snaps]),
+                    "laplace_pressure": np.array([s.edge_pressure for s in snaps]),
+                    "max_slope": np.array([s.max_slope for s in snaps]),
+                    "max_penetration": np.array([s.max_penetration for s in snaps])},
+            diagnostics={"steps": res.steps, "steps_shortened_by_rejection":
+                         res.steps_shortened, "rhs_evaluations": res.rhs_evaluations,
+                         "volume_drift": res.volume_drift, "cells": problem.cells,
+                         "domain_m": problem.domain, "dr_m": problem.dr,
+                         "profile_r_m": res.r.tolist(),
+                         "profile_gaps_m": sorted(res.profiles, reverse=True),
+                         "profiles_h_m": [res.profiles[g].tolist()
+                                          for g in sorted(res.profiles, reverse=True)]},
+        )
+
+    def convergence_data(self) -> tuple[np.ndarray, np.ndarray]:
+        """Relative error of the J0-mode decay rate against sigma delta^3 k^4/(3 eta)
+        on 24, 48, 96, 192 cells (analytic reference; second order)."""
+        cells = np.array([24, 48, 96, 192])
+        err = []
+        for n in cells:
+            prob = _leveling_problem(int(n))
+            num, an = bessel_mode_decay(prob, mode=2)
+            err.append(num / an - 1.0)
+        return 1.0 / cells, np.array(err)
+
+
+def _leveling_problem(cells: int, gravity: float = 0.0) -> FilmProblem:
+    """A free water film, 10 um thick on a 1 mm dish (no sphere)."""
+    return FilmProblem(radius=1e-3, viscosity=1e-3, surface_tension=0.072, density=998.0,
+                       gravity=gravity, film_thickness=1e-5, velocity=0.0, cells=cells,
+                       domain=1e-3, gap_shape="none")
+
+
+def explicit_stable_dt(problem: FilmProblem, h0: np.ndarray, scheme: str = "euler",
+                       steps: int = 400, lo: float = 1e-30, hi: float = 1.0,
+                       t0: float = 0.0, bisections: int = 30) -> float:
+    """Largest fixed dt for which py-pde's explicit solver keeps the run bounded.
+
+    Stable = after ``steps`` steps of size dt the deviation from the initial state has
+    not grown beyond 10 times its initial size (and no NaN). Bisection in log dt.
+    """
+    eq = ThinFilmPDE(problem)
+    dev0 = float(np.max(np.abs(h0 - np.mean(h0)))) + 1e-30
+
+    def stable(dt: float) -> bool:
+        state = pde.ScalarField(problem.grid, h0.copy())
+        solver = pde.ExplicitSolver(eq, scheme=scheme, adaptive=False, backend="numpy")
+        ctrl = pde.Controller(solver, t_range=(t0, t0 + steps * dt), tracker=None)
+        try:
+            with np.errstate(all="ignore"):
+                ctrl.run(state, dt=dt)
+        except (RuntimeError, FloatingPointError, ValueError):
+            return False
+        d = state.data
+        return bool(np.all(np.isfinite(d)) and np.max(np.abs(d - np.mean(h0))) < 10 * dev0)
+
+    a, b = math.log(lo), math.log(hi)
+    for _ in range(bisections):
+        m = 0.5 * (a + b)
+        if stable(math.exp(m)):
+            a = m
+        else:
+            b = m
+    return math.exp(a)
+
+
+def implicit_stable_dt(problem: FilmProblem, h0: np.ndarray, dts: Sequence[float],
+                       steps: int = 20, t0: float = 0.0) -> float:
+    """Largest dt in ``dts`` for which Newton backward Euler stays bounded (and converges)."""
+    dev0 = float(np.max(np.abs(h0 - np.mean(h0)))) + 1e-30
+    best = 0.0
+    for dt in sorted(dts):
+        h = h0.copy()
+        try:
+            for i in range(steps):
+                h = newton_euler_step(problem, h, t0 + i * dt, dt)
+        except SolverError:
+            break
+        if not (np.all(np.isfinite(h)) and np.max(np.abs(h - np.mean(h0))) < 10 * dev0):
+            break
+        best = dt
+    return best
+
+
+ProgressFn = Callable[[float], None]
