@@ -32,6 +32,7 @@ from scipy.optimize import brentq
 from wetcontact.errors import InputError, SolverError, ValidityError
 from wetcontact.models import ForceCurve, Model, register
 from wetcontact.reduced_models import rupture
+from wetcontact.reduced_models._checks import angle, non_negative, positive
 from wetcontact.scene import Scene
 
 __all__ = [
@@ -57,25 +58,8 @@ __all__ = [
 # ---- input checks ---------------------------------------------------------------------
 
 
-def _positive(name: str, value: Any, unit: str) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
-    if not np.all(np.isfinite(arr)) or np.any(arr <= 0.0):
-        raise InputError(f"{name} = {value!r}; allowed: finite values > 0 {unit}")
-    return arr
-
-
 def _gap(value: Any) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
-    if not np.all(np.isfinite(arr)) or np.any(arr < 0.0):
-        raise InputError(f"gap = {value!r}; allowed: finite values >= 0 m")
-    return arr
-
-
-def _angle(name: str, value: Any, hi: float = np.pi) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
-    if not np.all(np.isfinite(arr)) or np.any(arr < 0.0) or np.any(arr >= hi):
-        raise InputError(f"{name} = {value!r} rad; allowed: [0, {hi:.6g}) rad")
-    return arr
+    return non_negative("gap", value, "m")
 
 
 def mean_contact_angle(theta1: Any, theta2: Any) -> np.ndarray:
@@ -85,8 +69,8 @@ def mean_contact_angle(theta1: Any, theta2: Any) -> np.ndarray:
     :math:`\pi R_{eff}\sigma(\cos\theta_1 + \cos\theta_2)` of a single-angle closure exact
     (see the module docstring). Angles in radians, each in [0, pi).
     """
-    t1 = _angle("theta1", theta1)
-    t2 = _angle("theta2", theta2)
+    t1 = angle("theta1", theta1)
+    t2 = angle("theta2", theta2)
     return np.arccos(0.5 * (np.cos(t1) + np.cos(t2)))
 
 
@@ -265,11 +249,11 @@ def toroidal_bridge(gap: Any, volume: float, radius: float, surface_tension: flo
         No toroidal bridge with this volume at some gap (volume too large for the toroid).
     """
     a = np.atleast_1d(_gap(gap))
-    v = float(_positive("volume", volume, "m^3"))
-    r = float(_positive("radius", radius, "m"))
-    sig = float(_positive("surface_tension", surface_tension, "N/m"))
-    ts = float(_angle("theta_s", theta_s))
-    tw = ts if theta_w is None else float(_angle("theta_w", theta_w))
+    v = float(positive("volume", volume, "m^3"))
+    r = float(positive("radius", radius, "m"))
+    sig = float(positive("surface_tension", surface_tension, "N/m"))
+    ts = float(angle("theta_s", theta_s))
+    tw = ts if theta_w is None else float(angle("theta_w", theta_w))
     if kind not in ("sphere-sphere", "sphere-wall"):
         raise InputError(f"kind = {kind!r}; allowed: 'sphere-sphere', 'sphere-wall'")
     if method not in ("boundary", "gorge"):
@@ -368,10 +352,10 @@ def willett_force(gap: Any, volume: Any, radius: Any, surface_tension: Any,
         refuses such scenes.
     """
     s = _gap(gap)
-    v = _positive("volume", volume, "m^3")
-    r = _positive("radius", radius, "m")
-    sig = _positive("surface_tension", surface_tension, "N/m")
-    th = _angle("theta", theta)
+    v = positive("volume", volume, "m^3")
+    r = positive("radius", radius, "m")
+    sig = positive("surface_tension", surface_tension, "N/m")
+    th = angle("theta", theta)
     f1, f2, f3, f4 = _willett_f(th, np.log(v / r**3))
     splus = 0.5 * s * np.sqrt(r / v)
     with np.errstate(divide="ignore"):
@@ -398,15 +382,32 @@ def willett_force_simple(gap: Any, volume: Any, radius: Any, surface_tension: An
         V* < 0.1, theta < 50 deg), within a few per cent of the full fit there.
     """
     s = _gap(gap)
-    v = _positive("volume", volume, "m^3")
-    r = _positive("radius", radius, "m")
-    sig = _positive("surface_tension", surface_tension, "N/m")
-    th = _angle("theta", theta)
+    v = positive("volume", volume, "m^3")
+    r = positive("radius", radius, "m")
+    sig = positive("surface_tension", surface_tension, "N/m")
+    th = angle("theta", theta)
     sh = s * np.sqrt(r / v)
     return 2.0 * np.pi * r * sig * np.cos(th) / (1.0 + 1.05 * sh + 2.5 * sh**2)
 
 
 # ---- Mikami, Kamiya & Horio (1998) ------------------------------------------------------
+
+
+# Natural-log coefficients (a0, a1, b0, b1, b2, b3, c0, c1) of
+# A = a0 V*^a1, B = (b0 ln V* + b1) theta^2 + b2 ln V* + b3, C = c0 ln V* + c1.
+_MIKAMI_PP = (-1.1, -0.53, -0.148, -0.96, -0.0082, 0.48, 0.0018, 0.078)
+_MIKAMI_PW = (-1.9, -0.51, -0.016, -0.76, -0.012, 1.2, 0.013, 0.18)
+
+
+def _mikami(s: np.ndarray, v: np.ndarray, r: np.ndarray, sig: np.ndarray, th: np.ndarray,
+            k: tuple[float, ...]) -> np.ndarray:
+    """``F = pi R sigma (exp(A S/R + B) + C)`` with the coefficients ``k`` above."""
+    vs = v / r**3
+    lv = np.log(vs)
+    a = k[0] * vs ** k[1]
+    b = (k[2] * lv + k[3]) * th**2 + k[4] * lv + k[5]
+    c = k[6] * lv + k[7]
+    return np.pi * r * sig * (np.exp(a * s / r + b) + c)
 
 
 def mikami_force_pp(gap: Any, volume: Any, radius: Any, surface_tension: Any,
@@ -436,16 +437,11 @@ def mikami_force_pp(gap: Any, volume: Any, radius: Any, surface_tension: Any,
         2 cos(theta) at V* = 1e-3 (a regression of Young-Laplace solutions, not a limit).
     """
     s = _gap(gap)
-    v = _positive("volume", volume, "m^3")
-    r = _positive("radius", radius, "m")
-    sig = _positive("surface_tension", surface_tension, "N/m")
-    th = _angle("theta", theta)
-    vs = v / r**3
-    lv = np.log(vs)
-    a = -1.1 * vs**-0.53
-    b = (-0.148 * lv - 0.96) * th**2 - 0.0082 * lv + 0.48
-    c = 0.0018 * lv + 0.078
-    return np.pi * r * sig * (np.exp(a * s / r + b) + c)
+    v = positive("volume", volume, "m^3")
+    r = positive("radius", radius, "m")
+    sig = positive("surface_tension", surface_tension, "N/m")
+    th = angle("theta", theta)
+    return _mikami(s, v, r, sig, th, _MIKAMI_PP)
 
 
 def mikami_force_pw(gap: Any, volume: Any, radius: Any, surface_tension: Any,
@@ -465,16 +461,11 @@ def mikami_force_pw(gap: Any, volume: Any, radius: Any, surface_tension: Any,
         Attractive force (N).
     """
     s = _gap(gap)
-    v = _positive("volume", volume, "m^3")
-    r = _positive("radius", radius, "m")
-    sig = _positive("surface_tension", surface_tension, "N/m")
-    th = _angle("theta", theta)
-    vs = v / r**3
-    lv = np.log(vs)
-    a = -1.9 * vs**-0.51
-    b = (-0.016 * lv - 0.76) * th**2 - 0.012 * lv + 1.2
-    c = 0.013 * lv + 0.18
-    return np.pi * r * sig * (np.exp(a * s / r + b) + c)
+    v = positive("volume", volume, "m^3")
+    r = positive("radius", radius, "m")
+    sig = positive("surface_tension", surface_tension, "N/m")
+    th = angle("theta", theta)
+    return _mikami(s, v, r, sig, th, _MIKAMI_PW)
 
 
 # ---- Rabinovich et al. (2005), Lambert et al. (2008) -----------------------------------
@@ -492,8 +483,8 @@ def rabinovich_immersion_height(gap: Any, volume: Any, radius: Any,
     Evaluated in the cancellation-free form :math:`q/(\sqrt{H^2 + q} + H)`, finite at H = 0.
     """
     h = _gap(gap)
-    v = _positive("volume", volume, "m^3")
-    r = _positive("radius", radius, "m")
+    v = positive("volume", volume, "m^3")
+    r = positive("radius", radius, "m")
     if kind == "sphere-sphere":
         q = 2.0 * v / (np.pi * r)
         return 0.5 * q / (np.sqrt(h**2 + q) + h)
@@ -521,9 +512,9 @@ def lambert_force_sphere_sphere(gap: Any, volume: Any, radius: Any, surface_tens
         and H << R.
     """
     h = _gap(gap)
-    sig = _positive("surface_tension", surface_tension, "N/m")
-    th = _angle("theta", theta)
-    r = _positive("radius", radius, "m")
+    sig = positive("surface_tension", surface_tension, "N/m")
+    th = angle("theta", theta)
+    r = positive("radius", radius, "m")
     d = rabinovich_immersion_height(h, volume, r, "sphere-sphere")
     return 2.0 * np.pi * r * sig * np.cos(th) / (1.0 + h / (2.0 * d))
 
@@ -541,10 +532,10 @@ def lambert_force_sphere_wall(gap: Any, volume: Any, radius: Any, surface_tensio
     cos theta_w) at H = 0.
     """
     h = _gap(gap)
-    sig = _positive("surface_tension", surface_tension, "N/m")
-    ts = _angle("theta_s", theta_s)
-    tw = _angle("theta_w", theta_w)
-    r = _positive("radius", radius, "m")
+    sig = positive("surface_tension", surface_tension, "N/m")
+    ts = angle("theta_s", theta_s)
+    tw = angle("theta_w", theta_w)
+    r = positive("radius", radius, "m")
     d = rabinovich_immersion_height(h, volume, r, "sphere-wall")
     return 2.0 * np.pi * r * sig * (np.cos(ts) + np.cos(tw)) / (1.0 + h / d)
 
@@ -570,9 +561,9 @@ def rabinovich_force_sphere_sphere(gap: Any, volume: Any, radius: Any,
         Attractive force (N). Validity: small bridges, H << R (parabolic gap).
     """
     h = _gap(gap)
-    sig = _positive("surface_tension", surface_tension, "N/m")
-    th = _angle("theta", theta)
-    r = _positive("radius", radius, "m")
+    sig = positive("surface_tension", surface_tension, "N/m")
+    th = angle("theta", theta)
+    r = positive("radius", radius, "m")
     d = rabinovich_immersion_height(h, volume, r, "sphere-sphere")
     alpha = np.sqrt(2.0 * d / r)
     first = 2.0 * np.pi * r * sig * np.cos(th) / (1.0 + h / (2.0 * d))
@@ -595,10 +586,10 @@ def rabinovich_force_sphere_wall(gap: Any, volume: Any, radius: Any, surface_ten
     with R = 2R would, gives alpha half as large.
     """
     h = _gap(gap)
-    sig = _positive("surface_tension", surface_tension, "N/m")
-    ts = _angle("theta_s", theta_s)
-    tw = _angle("theta_w", theta_w)
-    r = _positive("radius", radius, "m")
+    sig = positive("surface_tension", surface_tension, "N/m")
+    ts = angle("theta_s", theta_s)
+    tw = angle("theta_w", theta_w)
+    r = positive("radius", radius, "m")
     d = rabinovich_immersion_height(h, volume, r, "sphere-wall")
     alpha = np.sqrt(2.0 * d / r)
     first = 2.0 * np.pi * r * sig * (np.cos(ts) + np.cos(tw)) / (1.0 + h / d)
@@ -638,10 +629,10 @@ def bagheri_force(gap: Any, volume: Any, radius: Any, surface_tension: Any,
         Attractive force (N); the formula is meant for 0 <= S <= S_c (rupture).
     """
     sg = _gap(gap)
-    v = _positive("volume", volume, "m^3")
-    r = _positive("radius", radius, "m")
-    sig = _positive("surface_tension", surface_tension, "N/m")
-    th = _angle("theta", theta)
+    v = positive("volume", volume, "m^3")
+    r = positive("radius", radius, "m")
+    sig = positive("surface_tension", surface_tension, "N/m")
+    th = angle("theta", theta)
     vs = v / r**3
     lv = np.log(vs)
     sc = (1.0 + 0.5 * th) * (np.cbrt(vs) + 0.1 * np.cbrt(vs) ** 2)

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from wetcontact.errors import InputError
+from wetcontact.reduced_models._checks import angle, non_negative, positive
 
 __all__ = [
     "lian_rupture_distance",
@@ -26,20 +26,6 @@ __all__ = [
     "pitois_rupture_distance",
     "willett_rupture_distance",
 ]
-
-
-def _positive(name: str, value: Any, unit: str) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
-    if not np.all(np.isfinite(arr)) or np.any(arr <= 0.0):
-        raise InputError(f"{name} = {value!r}; allowed: finite values > 0 {unit}".rstrip())
-    return arr
-
-
-def _angle(name: str, value: Any) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
-    if not np.all(np.isfinite(arr)) or np.any(arr < 0.0) or np.any(arr >= np.pi):
-        raise InputError(f"{name} = {value!r} rad; allowed: [0, pi) rad")
-    return arr
 
 
 def lian_rupture_distance(volume: Any, theta: Any) -> np.ndarray:
@@ -64,8 +50,8 @@ def lian_rupture_distance(volume: Any, theta: Any) -> np.ndarray:
         Rupture gap S_c (m). Validity: small bridges, V/R^3 below about 0.1, theta below
         about 50 deg (the range of the solutions it was fitted to).
     """
-    v = _positive("volume", volume, "m^3")
-    th = _angle("theta", theta)
+    v = positive("volume", volume, "m^3")
+    th = angle("theta", theta)
     return (1.0 + 0.5 * th) * np.cbrt(v)
 
 
@@ -93,11 +79,20 @@ def willett_rupture_distance(volume: Any, radius: Any, theta: Any) -> np.ndarray
     numpy.ndarray
         Rupture gap S_c (m). Validity: theta < 50 deg, V* < 0.1 (Willett's fit range).
     """
-    v = _positive("volume", volume, "m^3")
-    r = _positive("radius", radius, "m")
-    th = _angle("theta", theta)
+    v = positive("volume", volume, "m^3")
+    r = positive("radius", radius, "m")
+    th = angle("theta", theta)
     vs = v / r**3
     return r * (1.0 + 0.5 * th) * (np.cbrt(vs) + 0.1 * np.cbrt(vs) ** 2)
+
+
+def _mikami_rupture(volume: Any, radius: Any, theta: Any, a: float, b: float,
+                    p: float) -> np.ndarray:
+    """``S_c = R (a theta + b) V*^p`` with checked inputs."""
+    v = positive("volume", volume, "m^3")
+    r = positive("radius", radius, "m")
+    th = angle("theta", theta)
+    return r * (a * th + b) * (v / r**3) ** p
 
 
 def mikami_rupture_distance_pp(volume: Any, radius: Any, theta: Any) -> np.ndarray:
@@ -120,10 +115,7 @@ def mikami_rupture_distance_pp(volume: Any, radius: Any, theta: Any) -> np.ndarr
     numpy.ndarray
         Rupture gap S_c (m).
     """
-    v = _positive("volume", volume, "m^3")
-    r = _positive("radius", radius, "m")
-    th = _angle("theta", theta)
-    return r * (0.62 * th + 0.99) * (v / r**3) ** 0.34
+    return _mikami_rupture(volume, radius, theta, 0.62, 0.99, 0.34)
 
 
 def mikami_rupture_distance_pw(volume: Any, radius: Any, theta: Any) -> np.ndarray:
@@ -143,10 +135,7 @@ def mikami_rupture_distance_pw(volume: Any, radius: Any, theta: Any) -> np.ndarr
     numpy.ndarray
         Rupture gap S_c (m).
     """
-    v = _positive("volume", volume, "m^3")
-    r = _positive("radius", radius, "m")
-    th = _angle("theta", theta)
-    return r * (0.22 * th + 0.95) * (v / r**3) ** 0.32
+    return _mikami_rupture(volume, radius, theta, 0.22, 0.95, 0.32)
 
 
 def pitois_rupture_distance(volume: Any, theta: Any, capillary_number: Any) -> np.ndarray:
@@ -173,7 +162,5 @@ def pitois_rupture_distance(volume: Any, theta: Any, capillary_number: Any) -> n
     numpy.ndarray
         Rupture gap S_c (m).
     """
-    ca = np.asarray(capillary_number, dtype=float)
-    if not np.all(np.isfinite(ca)) or np.any(ca < 0.0):
-        raise InputError(f"capillary_number = {capillary_number!r}; allowed: finite values >= 0")
+    ca = non_negative("capillary_number", capillary_number)
     return lian_rupture_distance(volume, theta) * (1.0 + np.sqrt(ca))

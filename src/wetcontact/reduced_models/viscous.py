@@ -17,6 +17,7 @@ import numpy as np
 
 from wetcontact.errors import InputError, ValidityError
 from wetcontact.models import ForceCurve, Model, closure_curve, register
+from wetcontact.reduced_models._checks import positive
 from wetcontact.scene import Scene
 
 # ---- closed forms --------------------------------------------------------------------
@@ -44,7 +45,7 @@ def reynolds_force(eta: Any, r_star: Any, v: Any, gap: Any) -> np.ndarray:
     numpy.ndarray
         Force (N), positive = resisting approach. Valid for S << R* with the gap flooded.
     """
-    gap = _positive("gap", gap)
+    gap = positive("gap", gap)
     return 6.0 * np.pi * np.asarray(eta) * np.asarray(r_star) ** 2 * np.asarray(v) / gap
 
 
@@ -61,8 +62,8 @@ def finite_liquid_factor(gap: Any, edge_gap: Any) -> np.ndarray:
     edge_gap
         Gap H at the wetted edge (m): the film thickness, or :func:`bridge_edge_gap`.
     """
-    gap = _positive("gap", gap)
-    h = _positive("edge_gap", edge_gap)
+    gap = positive("gap", gap)
+    h = positive("edge_gap", edge_gap)
     return np.where(gap < h, (1.0 - np.minimum(gap / h, 1.0)) ** 2, 0.0)
 
 
@@ -72,8 +73,8 @@ def bridge_edge_gap(gap: Any, volume: Any, r_eff: Any) -> np.ndarray:
     ``H = sqrt(S^2 + V/(pi R_eff))`` from ``V = int_0^{r_w} 2 pi r h dr`` with
     ``h = S + r^2/(2 R_eff)`` (Pitois et al. 2000); R_eff = R (sphere-plane) or R*.
     """
-    gap = _positive("gap", gap)
-    return np.sqrt(gap**2 + _positive("volume", volume) / (np.pi * np.asarray(r_eff)))
+    gap = positive("gap", gap)
+    return np.sqrt(gap**2 + positive("volume", volume) / (np.pi * np.asarray(r_eff)))
 
 
 def slip_factor(gap: Any, slip_length: Any, surfaces: int) -> np.ndarray:
@@ -99,8 +100,8 @@ def slip_factor(gap: Any, slip_length: Any, surfaces: int) -> np.ndarray:
     surfaces
         1 or 2.
     """
-    s = _positive("gap", gap)
-    b = _positive("slip_length", slip_length)
+    s = positive("gap", gap)
+    b = positive("slip_length", slip_length)
     if surfaces == 2:
         x = 6.0 * b / s
         return 2.0 * _phi(x) / x
@@ -181,7 +182,7 @@ def brenner_lambda(s_over_r: Any) -> np.ndarray:
     s_over_r
         S/R > 0, scalar or array.
     """
-    s = _positive("s_over_r", s_over_r)
+    s = positive("s_over_r", s_over_r)
     return np.vectorize(_brenner_scalar, otypes=[float])(s)
 
 
@@ -224,7 +225,7 @@ def two_sphere_lambda(h_over_r: Any) -> np.ndarray:
     h_over_r
         Surface gap over sphere radius, > 0.
     """
-    h = _positive("h_over_r", h_over_r)
+    h = positive("h_over_r", h_over_r)
     return np.vectorize(_two_sphere_scalar, otypes=[float])(h)
 
 
@@ -252,7 +253,7 @@ def cox_brenner_lambda(s_over_r: Any) -> np.ndarray:
     ``lambda = R/S + (1/5) ln(R/S) + 0.97128 + O((S/R) ln(S/R))``
     (Cox & Brenner 1967; constant from Cooley & O'Neill 1969).
     """
-    s = _positive("s_over_r", s_over_r)
+    s = positive("s_over_r", s_over_r)
     return 1.0 / s + 0.2 * np.log(1.0 / s) + 0.97128
 
 
@@ -262,7 +263,7 @@ def jeffrey_onishi_lambda(h_over_r: Any) -> np.ndarray:
     ``lambda_fs = R/(2h) + (9/20) ln(R/h) + 1.34558 + O((h/R) ln(h/R))``, same normalisation
     as :func:`two_sphere_lambda`.
     """
-    h = _positive("h_over_r", h_over_r)
+    h = positive("h_over_r", h_over_r)
     return 0.5 / h + 0.45 * np.log(1.0 / h) + 1.34558
 
 
@@ -272,17 +273,9 @@ def schaeffer_lambda(s_over_r: Any) -> np.ndarray:
     ``lambda = 1/(1 - 9/8 x + 1/2 x^3 - 57/100 x^4 + 1/5 x^5 + 7/200 x^11 - 1/25 x^12)``,
     ``x = R/(R + S)``; published maximum error about 0.3 %.
     """
-    x = 1.0 / (1.0 + _positive("s_over_r", s_over_r))
+    x = 1.0 / (1.0 + positive("s_over_r", s_over_r))
     return 1.0 / (1 - 9 / 8 * x + 0.5 * x**3 - 0.57 * x**4 + 0.2 * x**5 + 0.035 * x**11
                   - 0.04 * x**12)
-
-
-def _positive(name: str, value: Any) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
-    if not np.all(np.isfinite(arr)) or np.any(arr <= 0):
-        bad = arr[~(np.isfinite(arr) & (arr > 0))] if arr.ndim else arr
-        raise InputError(f"{name} = {np.ravel(bad)[:3].tolist()}; allowed: finite and > 0")
-    return arr
 
 
 # ---- registered models ---------------------------------------------------------------
