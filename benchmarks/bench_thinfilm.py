@@ -1,0 +1,139 @@
+"""Thin-film solver benchmark: force error against wall time, and the stability study.
+
+Writes ``benchmarks/results/thinfilm.json`` and ``thinfilm.png``:
+
+1. Work-precision: a full penetration run (S = delta -> 0.01 delta, 40 log-spaced gaps) of a
+   2 mm glass bead on a 100 um water film at 4 resolutions (cells 100 ... 800); the error is
+   the maximum relative difference of the total force from a 1600-cell run (same penalty
+   and tolerance), the time is one wall-clock run (2 shared cores: noisy).
+2. Stability: the largest stable fixed time step of py-pde's explicit Euler and of a
+   Newton backward-Euler step against the cell width, on a perturbed flat film (the
+   capillary operator, explicit limit ~ dr^4) and with the sphere pressed in (penalty).
+
+Run: ``/work/venv/bin/python benchmarks/bench_thinfilm.py [--quick]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+
+import numpy as np
+from _common import RESULTS, write_json
+
+from wetcontact.models import observed_order
+from wetcontact.solver import thinfilm as tf
+
+R, DELTA, V, ETA, SIGMA = 1e-3, 1e-4, 1.0, 1e-3, 0.072
+
+
+def water_problem(cells: int) -> tf.FilmProblem:
+    """2 mm glass bead, 100 um water film, 1 m/s (Ca* = 4.2), default penalty and domain."""
+    return tf.FilmProblem(radius=R, viscosity=ETA, surface_tension=SIGMA, density=998.0,
+                          gravity=0.0, film_thickness=DELTA, velocity=V, cells=cells,
+                          domain=3.0 * math.sqrt(4 * R * DELTA), penetration=1e-3)
+
+
+def work_precision(cells_list: list[int], ref_cells: int, n_gaps: int) -> dict:
+    gaps = np.geomspace(DELTA, 0.01 * DELTA, n_gaps)
+    runs = {}
+    for n in [*cells_list, ref_cells]:
+        t0 = time.perf_counter()
+        res = tf.penetration_run(water_problem(n), gaps, rtol=1e-7)
+        wall = time.perf_counter() - t0
+        f = np.array([s.force_viscous + s.force_capillary for s in res.snapshots])
+        runs[n] = {"wall_time_s": wall, "force": f, "steps": res.steps,
+                   "volume_drift": res.volume_drift,
+                   "wetted_radius": [s.wetted_radius for s in res.snapshots]}
+        print(f"cells {n}: {wall:.1f} s, {res.steps} steps, drift {res.volume_drift:.1e}",
+              flush=True)
+    fref = runs[ref_cells]["force"]
+    out = []
+    for n in cells_list:
+        err = float(np.max(np.abs(runs[n]["force"][1:] / fref[1:] - 1)))
+        out.append({"cells": n, "dr_m": water_problem(n).dr, "error": err,
+                    "wall_time_s": runs[n]["wall_time_s"], "steps": runs[n]["steps"],
+                    "volume_drift": runs[n]["volume_drift"]})
+    order = observed_order([o["dr_m"] for o in out], [o["error"] for o in out])
+    return {"gaps_m": gaps.tolist(), "reference_cells": ref_cells,
+            "reference_wall_time_s": runs[ref_cells]["wall_time_s"],
+            "reference_force_N": fref.tolist(), "runs": out, "observed_order": order}
+
+
+def stability(cells_list: list[int]) -> dict:
+    rows = []
+    for n in cells_list:
+        free = tf._leveling_problem(n)
+        h0 = free.film_thickness * (1 + 1e-3 * np.cos(np.pi * free.r_c / free.domain))
+        dt_e = tf.explicit_stable_dt(free, h0, steps=400, bisections=24, lo=1e-12, hi=10.0)
+        dt_i = tf.implicit_stable_dt(free, h0, [dt_e * 10.0**k for k in range(1, 9)],
+                                     steps=10)
+        # sphere pressed in (S = delta/2), water case, the penalty-stiffened operator
+        wet = water_problem(n)
+        t_half = 0.5 * DELTA / V
+        h_w = tf.newton_euler_step(wet, np.full(n, DELTA), 0.0, t_half)
+        dt_ew = tf.explicit_stable_dt(wet, h_w, steps=200, bisections=24, lo=1e-20,
+                                      hi=1e-6, t0=t_half)
+        dt_iw = tf.implicit_stable_dt(wet, h_w, [dt_ew * 10.0**k for k in range(1, 9)],
+                                      steps=5, t0=t_half)
+        rows.append({"cells": n, "dr_free_m": free.dr, "explicit_free_dt_s": dt_e,
+                     "implicit_free_dt_s": dt_i, "dr_wet_m": wet.dr,
+                     "explicit_wet_dt_s": dt_ew, "implicit_wet_dt_s": dt_iw})
+        print(rows[-1], flush=True)
+    slope = observed_order([r["dr_free_m"] for r in rows],
+                           [r["explicit_free_dt_s"] for r in rows])
+    return {"rows": rows, "explicit_free_slope": slope,
+            "note": "implicit values are the largest dt tried (up to 1e8 x explicit); "
+                    "all tried steps were stable"}
+
+
+def chart(data: dict) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (a, b) = plt.subplots(1, 2, figsize=(10, 4))
+    wp = data["work_precision"]["runs"]
+    a.loglog([r["wall_time_s"] for r in wp], [r["error"] for r in wp], "o-")
+    for r in wp:
+        a.annotate(str(r["cells"]), (r["wall_time_s"], r["error"]))
+    a.set_xlabel("wall time of a full penetration run (s)")
+    a.set_ylabel("max relative force error")
+    a.set_title("thinfilm work-precision (water film)")
+    rows = data["stability"]["rows"]
+    dr = [r["dr_free_m"] for r in rows]
+    b.loglog(dr, [r["explicit_free_dt_s"] for r in rows], "o-", label="explicit Euler, free")
+    b.loglog(dr, [r["implicit_free_dt_s"] for r in rows], "s--",
+             label="Newton backward Euler, free (>=)")
+    drw = [r["dr_wet_m"] for r in rows]
+    b.loglog(drw, [r["explicit_wet_dt_s"] for r in rows], "^-", label="explicit, sphere in")
+    b.loglog(drw, [r["implicit_wet_dt_s"] for r in rows], "v--",
+             label="Newton BE, sphere in (>=)")
+    b.set_xlabel("dr (m)")
+    b.set_ylabel("largest stable dt (s)")
+    b.legend(fontsize=7)
+    b.set_title(f"explicit slope {data['stability']['explicit_free_slope']:.2f}")
+    fig.tight_layout()
+    fig.savefig(RESULTS / "thinfilm.png", dpi=120)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--quick", action="store_true")
+    args = ap.parse_args()
+    if args.quick:
+        wp = work_precision([50, 100, 200, 400], 800, 20)
+        st = stability([16, 32, 64])
+    else:
+        wp = work_precision([100, 200, 400, 800], 1600, 40)
+        st = stability([16, 32, 64, 128])
+    data = {"work_precision": wp, "stability": st,
+            "note": "2 CPU cores shared with 5 other developers: timings are noisy"}
+    write_json("thinfilm", data)
+    chart(data)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,234 @@
+"""Tests of the thin-film solver against independent references.
+
+References: the analytic leveling rate of a J0 mode (PHYSICS.md section 3), the pile-up
+limit (volume conservation + Pitois et al. 2000), the Reynolds equation in the wetted zone
+(``lubrication`` model, or the closed-form quadrature), exact volume conservation of the
+finite-volume form, and the dr^4 explicit stability limit.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from wetcontact.errors import InputError, ValidityError
+from wetcontact.models import MODELS, load_all, observed_order
+from wetcontact.solver import thinfilm as tf
+
+load_all()
+
+R, ETA, SIGMA = 1e-3, 1e-3, 0.072
+
+
+def film_problem(ca_star: float, cells: int, delta: float = 1e-5, penetration: float = 1e-3,
+                 domain_factor: float = 3.0) -> tf.FilmProblem:
+    """Sphere R = 1 mm on a water film; speed from the reduced capillary number."""
+    v = ca_star * SIGMA * delta**2 / (3 * ETA * R**2)
+    return tf.FilmProblem(radius=R, viscosity=ETA, surface_tension=SIGMA, density=998.0,
+                          gravity=0.0, film_thickness=delta, velocity=v, cells=cells,
+                          domain=domain_factor * math.sqrt(4 * R * delta),
+                          penetration=penetration)
+
+
+def film_scene(scene_factory, delta=1e-4, v=1.0, eta=1e-3, gaps=None):
+    gaps = gaps if gaps is not None else {"start": delta, "stop": delta / 100, "points": 8}
+    return scene_factory(
+        liquid={"viscosity": eta, "surface_tension": SIGMA, "density": 998.0,
+                "contact_angle": 20.0},
+        amount={"film_thickness": delta},
+        motion={"velocity": v, "gaps": gaps},
+    )
+
+
+# ---- conservation and flat films ----------------------------------------------------
+
+
+def test_volume_conserved_over_full_penetration():
+    """S from delta to 0.01 delta: relative volume drift <= 1e-8 (flux form + BDF)."""
+    prob = film_problem(10.0, cells=200)
+    gaps = np.geomspace(prob.film_thickness, 0.01 * prob.film_thickness, 6)
+    res = tf.penetration_run(prob, gaps, rtol=1e-6)
+    assert res.volume_drift < 1e-8
+    assert res.snapshots[-1].wetted_radius > 0
+
+
+def test_flat_film_without_sphere_stays_flat():
+    prob = tf.FilmProblem(radius=R, viscosity=ETA, surface_tension=SIGMA, density=998.0,
+                          gravity=9.81, film_thickness=1e-5, velocity=0.0, cells=64,
+                          domain=1e-3, gap_shape="none")
+    h = np.full(prob.cells, 1e-5)
+    assert np.max(np.abs(prob.rate(h, 0.0))) * 1e-3 <= 1e-16 * 1e-5
+    for _ in range(3):
+        h = tf.newton_euler_step(prob, h, 0.0, 1.0)
+    assert np.max(np.abs(h - 1e-5)) <= 1e-14 * 1e-5
+
+
+@pytest.mark.parametrize("gravity", [0.0, 9.81])
+def test_bessel_mode_decays_at_the_leveling_rate(gravity):
+    """sigma delta^3 k^4/(3 eta) (+ rho g delta^3 k^2/(3 eta)) within 1 %."""
+    prob = tf._leveling_problem(96, gravity=gravity)
+    num, an = tf.bessel_mode_decay(prob, mode=2)
+    assert num == pytest.approx(an, rel=1e-2)
+    # not trivially satisfied: a coarse grid is measurably off
+    num_c, an_c = tf.bessel_mode_decay(tf._leveling_problem(12, gravity=gravity), mode=2)
+    assert abs(num_c / an_c - 1) > abs(num / an - 1)
+
+
+def test_decay_rate_converges_at_declared_order():
+    h, err = MODELS["thinfilm"].convergence_data()
+    assert observed_order(h, err) == pytest.approx(2.0, abs=0.3)
+
+
+# ---- the wetted zone against the Reynolds equation (slow limit) ---------------------
+
+
+def _reynolds(prob: tf.FilmProblem, snap: tf.Snapshot) -> tuple[float, float]:
+    """(viscous, boundary) force of the lubrication model for the same r_w and p_b."""
+    try:
+        from wetcontact.solver.lubrication import GapProfile, solve_reynolds
+    except ImportError:  # the colleague's module is absent: closed-form quadrature
+        return (tf.reynolds_wetted_force(prob, snap.gap, snap.wetted_radius),
+                math.pi * snap.wetted_radius**2 * snap.edge_pressure)
+    sol = solve_reynolds(GapProfile.parabolic(snap.gap, prob.radius),
+                         viscosity=prob.viscosity, velocity=prob.velocity,
+                         wetted_radius=snap.wetted_radius,
+                         boundary_pressure=snap.edge_pressure, cavitation_pressure=None)
+    return float(sol.force_viscous[0]), float(sol.force_boundary[0])
+
+
+def test_slow_approach_wetted_zone_matches_lubrication():
+    """Ca* = 1: the force in the wetted zone equals lubrication's within 1 %."""
+    prob = film_problem(1.0, cells=400)
+    gaps = prob.film_thickness * np.array([1.0, 0.5, 0.2, 0.05, 0.01])
+    res = tf.penetration_run(prob, gaps, rtol=1e-7)
+    for snap in res.snapshots[1:]:
+        visc, bnd = _reynolds(prob, snap)
+        total = snap.force_viscous + snap.force_capillary
+        assert total == pytest.approx(visc + bnd, rel=1e-2), snap.gap
+        assert snap.force_viscous == pytest.approx(visc, rel=1e-2), snap.gap
+    # slow limit: the film barely moves, the contact stays inside the flat-film radius
+    rw_flat = math.sqrt(2 * R * (prob.film_thickness - gaps[-1]))
+    assert res.snapshots[-1].wetted_radius < rw_flat
+
+
+def test_reynolds_quadrature_matches_closed_form():
+    """Parabolic gap, r_w -> edge gap H: 6 pi eta R^2 v/S (1 - S/H)^2 (Pitois 2000)."""
+    prob = film_problem(1.0, cells=16)
+    s, hh = 2e-6, 1.5e-5
+    r_w = math.sqrt(2 * R * (hh - s))
+    f = tf.reynolds_wetted_force(prob, s, r_w)
+    assert f == pytest.approx(6 * math.pi * ETA * R**2 * prob.velocity / s * (1 - s / hh) ** 2,
+                              rel=1e-9)
+
+
+# ---- the fast (pile-up) limit --------------------------------------------------------
+
+
+def _limit_ratios(ca_star: float, cells: int) -> tuple[np.ndarray, np.ndarray]:
+    prob = film_problem(ca_star, cells=cells)
+    d = prob.film_thickness
+    gaps = d * np.array([1.0, 0.5, 0.1, 0.03])
+    res = tf.penetration_run(prob, gaps, rtol=1e-6)
+    rw_l, f_l = tf.pileup_limit(R, ETA, prob.velocity, d, gaps)
+    rw = np.array([s.wetted_radius for s in res.snapshots[1:]]) / rw_l[1:]
+    fv = np.array([s.force_viscous for s in res.snapshots[1:]]) / f_l[1:]
+    return rw, fv
+
+
+def test_trend_toward_pileup_limit_as_ca_grows():
+    """r_w/sqrt(4R(delta-S)) and F/F_pileup rise toward 1 with Ca*; slow end: flat film."""
+    rw1, f1 = _limit_ratios(1.0, 300)
+    rw2, f2 = _limit_ratios(30.0, 300)
+    assert np.all(rw2 > rw1) and np.all(f2 > f1)
+    assert np.all(rw2 < 1.0) and np.all(f2 < 1.0)
+    # at Ca* = 1 the wetted radius is already below the flat-film value sqrt(2R(delta-S))
+    assert np.all(rw1 < 1 / math.sqrt(2) * 1.0001)
+
+
+@pytest.mark.slow
+def test_pileup_limit_reached_at_large_ca():
+    """Ca* = 1000: viscous force within 2 % of the pile-up limit for S <= 0.1 delta."""
+    rw, fv = _limit_ratios(1000.0, 800)
+    assert np.all(np.abs(fv[1:] - 1) < 0.02)
+    assert np.all(rw > 0.88)
+
+
+# ---- the penalty parameter ------------------------------------------------------------
+
+
+def test_force_converges_as_penalty_is_refined():
+    """F(eps) converges as eps -> 0; measured order about 0.6 (the contact-edge boundary
+    layer of width ~ sqrt(sigma/k) ~ sqrt(eps) mixes orders 1/2 and 1)."""
+    forces = []
+    for eps in (1e-2, 1e-3, 1e-4):
+        prob = film_problem(10.0, cells=200, penetration=eps)
+        d = prob.film_thickness
+        res = tf.penetration_run(prob, d * np.array([1.0, 0.1]), rtol=1e-8)
+        s = res.snapshots[1]
+        forces.append(s.force_viscous + s.force_capillary)
+    d1, d2 = abs(forces[0] - forces[1]), abs(forces[1] - forces[2])
+    assert d2 < 0.5 * d1
+    assert 0.4 < observed_order([1e-2, 1e-3], [d1, d2]) < 1.3
+    assert d2 < 5e-3 * abs(forces[2])
+
+
+# ---- stability ------------------------------------------------------------------------
+
+
+def test_explicit_limit_scales_like_dr4_and_implicit_is_unconditional():
+    dts, drs = [], []
+    for n in (16, 32):
+        prob = tf._leveling_problem(n)
+        h0 = prob.film_thickness * (1 + 1e-3 * np.cos(np.pi * prob.r_c / prob.domain))
+        dts.append(tf.explicit_stable_dt(prob, h0, steps=200, bisections=14,
+                                         lo=1e-9, hi=1e-1))
+        drs.append(prob.dr)
+    assert observed_order(drs, dts) == pytest.approx(4.0, abs=0.5)
+    prob = tf._leveling_problem(32)
+    h0 = prob.film_thickness * (1 + 1e-3 * np.cos(np.pi * prob.r_c / prob.domain))
+    assert tf.implicit_stable_dt(prob, h0, [1e4 * dts[-1]], steps=5) > 0
+
+
+# ---- model interface ------------------------------------------------------------------
+
+
+def test_model_force_curve_for_a_film_scene(scene_factory):
+    scene = film_scene(scene_factory, delta=1e-4, v=1.0)
+    curve = MODELS["thinfilm"].force(scene, preset="fast")
+    assert curve.gap.shape == (8,)
+    assert curve.force_viscous[0] == 0.0  # first touch
+    assert np.all(np.diff(curve.force_viscous) > 0)
+    assert np.all(curve.extras["wetted_radius"][1:] > 0)
+    assert curve.diagnostics["volume_drift"] < 1e-8
+    assert curve.diagnostics["steps"] > 0
+    assert len(curve.diagnostics["profiles_h_m"]) == 3
+    # the viscous force approaches the Reynolds closure from below at small gaps
+    reyn = 6 * math.pi * ETA * R**2 * 1.0 / curve.gap[-1]
+    assert 0.8 * reyn < curve.force_viscous[-1] < reyn
+
+
+@pytest.mark.parametrize(
+    ("tables", "instead"),
+    [({"amount": {"immersed": True}}, "stokes"),
+     ({"amount": {"bridge_volume": 1e-12}}, "lubrication"),
+     ({"amount": {"film_thickness": 3e-4}, "motion": {"velocity": 1.0, "gaps": [1e-5]}},
+      "stokes"),
+     ({"amount": {"film_thickness": 1e-5},
+       "liquid": {"viscosity": 1.0, "surface_tension": 0.06, "density": 1200.0},
+       "motion": {"velocity": 1.0, "gaps": [1e-6]}}, "stokes")],
+)
+def test_out_of_validity_is_refused(scene_factory, tables, instead):
+    scene = scene_factory(**tables)
+    with pytest.raises(ValidityError) as exc:
+        MODELS["thinfilm"].force(scene)
+    assert exc.value.use_instead == instead
+
+
+def test_bad_settings_are_input_errors(scene_factory):
+    scene = film_scene(scene_factory)
+    with pytest.raises(InputError):
+        MODELS["thinfilm"].force(scene, preset="fast", cells=3)
+    with pytest.raises(InputError):
+        MODELS["thinfilm"].force(scene, preset="fast", typo=1)
