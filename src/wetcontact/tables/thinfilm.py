@@ -1,0 +1,171 @@
+"""Report section: thin-film force curves of the film cases against the viscous closures.
+
+For each film case in ``cases/`` (``*film*.toml``, amount = film) the ``thinfilm`` model is
+run from S = delta to the smallest gap and compared with the Reynolds closure
+``6 pi eta R^2 v/S`` and the finite-film closure ``6 pi eta R^2 v/S (1 - S/delta)^2``
+(Pitois et al. 2000, PHYSICS.md section 1). Cases outside the thin-film validity are listed
+with the solver's reason. Also written: the stability map (largest stable dt against dr of
+the explicit and implicit integrators, from ``benchmarks/results/thinfilm.json`` when
+present, else a small computation) and the validity region in (delta/R, Ca).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from wetcontact.errors import ValidityError
+from wetcontact.models import MODELS, load_all
+from wetcontact.scene import Scene, load_case
+from wetcontact.solver import thinfilm as tf
+
+ROOT = Path(__file__).resolve().parents[3]
+
+
+def _closures(scene: Scene, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Reynolds and finite-film closure forces (N) at gaps ``s``."""
+    assert scene.film_thickness is not None
+    reyn = 6 * math.pi * scene.viscosity * scene.radius**2 * scene.velocity / s
+    return reyn, reyn * (1 - s / scene.film_thickness) ** 2
+
+
+def _case_rows(scene: Scene, quick: bool) -> tuple[list[dict], str | None]:
+    model = MODELS["thinfilm"]
+    try:
+        model.check(scene)
+    except ValidityError as exc:
+        return [], exc.reason
+    gaps = scene.gap_array
+    if quick:
+        gaps = np.geomspace(gaps.max(), gaps.min(), 10)
+    curve = model.force(scene, gaps=gaps, preset="fast" if quick else "default")
+    f = curve.force_total
+    reyn, fin = _closures(scene, curve.gap)
+    rows = []
+    for i, s in enumerate(curve.gap):
+        if f[i] <= 0:
+            continue  # first touch: no wetted zone yet
+        rows.append({"case": scene.name, "gap_m": s, "S_over_delta": s / scene.film_thickness,
+                     "force_thinfilm_N": f[i], "force_viscous_N": curve.force_viscous[i],
+                     "force_capillary_N": curve.force_capillary[i],
+                     "wetted_radius_m": curve.extras["wetted_radius"][i],
+                     "err_reynolds": reyn[i] / f[i] - 1, "err_finite_film": fin[i] / f[i] - 1,
+                     "volume_drift": curve.diagnostics["volume_drift"],
+                     "wall_time_s": curve.diagnostics["wall_time_s"]})
+    return rows, None
+
+
+def _stability(out: Path) -> list[dict]:
+    bench = ROOT / "benchmarks" / "results" / "thinfilm.json"
+    if bench.exists():
+        return json.loads(bench.read_text())["stability"]["rows"]
+    rows = []
+    for n in (16, 32, 64):
+        free = tf._leveling_problem(n)
+        h0 = free.film_thickness * (1 + 1e-3 * np.cos(np.pi * free.r_c / free.domain))
+        dt_e = tf.explicit_stable_dt(free, h0, steps=200, bisections=16, lo=1e-12, hi=1.0)
+        dt_i = tf.implicit_stable_dt(free, h0, [dt_e * 10.0**k for k in (2, 4, 6)], steps=5)
+        rows.append({"cells": n, "dr_free_m": free.dr, "explicit_free_dt_s": dt_e,
+                     "implicit_free_dt_s": dt_i})
+    return rows
+
+
+def _plots(out: Path, stab: list[dict]) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (a, b) = plt.subplots(1, 2, figsize=(10, 4))
+    dr = [r["dr_free_m"] for r in stab]
+    a.loglog(dr, [r["explicit_free_dt_s"] for r in stab], "o-", label="explicit Euler")
+    a.loglog(dr, [r["implicit_free_dt_s"] for r in stab], "s--",
+             label="Newton backward Euler (largest tried)")
+    a.loglog(dr, stab[0]["explicit_free_dt_s"] * (np.array(dr) / dr[0]) ** 4, "k:",
+             label="dr^4")
+    a.set_xlabel("dr (m)")
+    a.set_ylabel("largest stable dt (s)")
+    a.legend(fontsize=7)
+    a.set_title("stability (free water film, 10 um)")
+    dr_r = np.geomspace(1e-3, 0.5, 120)
+    ca = np.geomspace(1e-6, 10, 120)
+    ok = np.array([[tf.validity_reason(x, c, 3 * c / x**2) is None for x in dr_r] for c in ca])
+    b.contourf(dr_r, ca, ok.astype(float), levels=[-0.5, 0.5, 1.5],
+               colors=["#f4b6b6", "#b6e3b6"])
+    b.set_xscale("log")
+    b.set_yscale("log")
+    b.set_xlabel("delta/R")
+    b.set_ylabel("Ca = eta v/sigma")
+    b.set_title("thin-film validity (green: runs; red: refused)")
+    fig.tight_layout()
+    fig.savefig(out / "thinfilm_stability_validity.png", dpi=110)
+    plt.close(fig)
+    with (out / "thinfilm_validity.csv").open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["delta_over_R", "Ca", "valid", "reason"])
+        for x in dr_r[::10]:
+            for c in ca[::10]:
+                reason = tf.validity_reason(x, c, 3 * c / x**2)
+                w.writerow([f"{x:.4g}", f"{c:.4g}", reason is None, reason or ""])
+
+
+def section(out: Path, quick: bool) -> str:
+    """Write the thin-film CSV/PNG files into ``out``; return the Markdown section."""
+    load_all()
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    cases = sorted((ROOT / "cases").glob("*film*.toml"))
+    scenes = [sc for sc in (load_case(p) for p in cases) if sc.amount == "film"]
+    rows: list[dict] = []
+    refused: list[tuple[str, str]] = []
+    for sc in scenes:
+        r, reason = _case_rows(sc, quick)
+        rows.extend(r)
+        if reason:
+            refused.append((sc.name, reason))
+    if rows:
+        with (out / "thinfilm_closure_errors.csv").open("w", newline="") as fh:
+            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+            w.writeheader()
+            w.writerows(rows)
+    stab = _stability(out)
+    _plots(out, stab)
+
+    md = ["## Thin film: sphere squeezing a liquid layer (model `thinfilm`)", "",
+          "Total force of the thin-film solver along the penetration against the Reynolds "
+          "closure and the finite-film closure 6 pi eta R^2 v/S (1 - S/delta)^2 "
+          "(error = closure/thinfilm - 1; full table in `thinfilm_closure_errors.csv`).", "",
+          "| case | S/delta | F thinfilm (N) | F_cap/F | r_w (um) | Reynolds err | "
+          "finite-film err |", "|---|---|---|---|---|---|---|"]
+    for name in dict.fromkeys(r["case"] for r in rows):
+        sub = [r for r in rows if r["case"] == name]
+        pick = sorted({0, len(sub) // 4, len(sub) // 2, 3 * len(sub) // 4, len(sub) - 1})
+        for i in pick:
+            r = sub[i]
+            md.append(f"| {name} | {r['S_over_delta']:.3f} | {r['force_thinfilm_N']:.3e} | "
+                      f"{r['force_capillary_N'] / r['force_thinfilm_N']:+.3f} | "
+                      f"{1e6 * r['wetted_radius_m']:.0f} | {100 * r['err_reynolds']:+.1f} % | "
+                      f"{100 * r['err_finite_film']:+.1f} % |")
+    for name, reason in refused:
+        md.append(f"| {name} | refused: {reason} | | | | | |")
+    md.append("")
+    md.append("Stability and validity: `thinfilm_stability_validity.png`, "
+              "`thinfilm_validity.csv`.")
+    if rows:
+        worst_r = max(abs(r["err_reynolds"]) for r in rows)
+        worst_f = max(abs(r["err_finite_film"]) for r in rows)
+        small = [r for r in rows if r["S_over_delta"] <= 0.1]
+        tail = ""
+        if small:
+            tail = (f"; for S <= 0.1 delta the errors are at most "
+                    f"{100 * max(abs(r['err_reynolds']) for r in small):.0f} % and "
+                    f"{100 * max(abs(r['err_finite_film']) for r in small):.0f} %")
+        md.append("")
+        md.append(f"Conclusion: along the whole penetration the Reynolds closure errs by up "
+                  f"to {100 * worst_r:.0f} % and the finite-film closure by up to "
+                  f"{100 * worst_f:.0f} %{tail}.")
+    return "\n".join(md) + "\n"
