@@ -110,7 +110,7 @@ resolves: the rim width sqrt(R delta) Ca*^(-1/4) must span several cells."""
 
 @dataclass(frozen=True)
 class FilmProblem:
-    """Parameters and grid of one thin-film run (SI units).
+    r"""Parameters and grid of one thin-film run (SI units).
 
     Attributes
     ----------
@@ -124,6 +124,16 @@ class FilmProblem:
         Penalty parameter epsilon (relative penetration of the liquid into the sphere).
     gap_shape
         ``"parabolic"`` (S + r^2/2R), ``"sphere"`` (exact) or ``"none"`` (no sphere).
+    contact
+        ``"tangential"``: the free surface meets the sphere tangentially (a non-wetting,
+        180 deg contact); ``"meniscus"``: a wetting meniscus at the wetted edge with the
+        spreading energy :math:`W = \sigma(\cos\theta_s + \cos\theta_w)` (see
+        :meth:`wetting_pressure`).
+    angle_sphere, angle_wall
+        Contact angles (rad) of the meniscus on the sphere and on its lower side: the
+        film's own surface (0, default) or the wall.
+    wetting_width
+        lambda: relative width (in h/g) of the diffuse contact zone of the meniscus model.
     """
 
     radius: float
@@ -137,6 +147,10 @@ class FilmProblem:
     domain: float
     penetration: float = 1e-3
     gap_shape: str = "parabolic"
+    contact: str = "tangential"
+    angle_sphere: float = math.pi
+    angle_wall: float = 0.0
+    wetting_width: float = 0.1
     grid: pde.PolarSymGrid = field(init=False, repr=False, compare=False)
     r_c: np.ndarray = field(init=False, repr=False, compare=False)
     r_f: np.ndarray = field(init=False, repr=False, compare=False)
@@ -149,6 +163,16 @@ class FilmProblem:
                              "'parabolic', 'sphere', 'none'")
         if not (isinstance(self.cells, int | np.integer) and self.cells >= 8):
             raise InputError(f"thinfilm: cells = {self.cells!r}; allowed: an integer >= 8")
+        if self.contact not in ("tangential", "meniscus"):
+            raise InputError(f"thinfilm: contact = {self.contact!r}; allowed: "
+                             "'tangential', 'meniscus'")
+        if not 0.0 < self.wetting_width <= 0.5:
+            raise InputError(f"thinfilm: wetting_width = {self.wetting_width!r}; allowed: "
+                             "(0, 0.5]")
+        for name in ("angle_sphere", "angle_wall"):
+            if not 0.0 <= getattr(self, name) <= math.pi:
+                raise InputError(f"thinfilm: {name} = {getattr(self, name)!r}; allowed: "
+                                 "[0, pi] rad")
         if not self.penetration > 0:
             raise InputError(f"thinfilm: penetration = {self.penetration!r}; allowed: > 0")
         grid = pde.PolarSymGrid((0.0, self.domain), int(self.cells))
@@ -194,12 +218,47 @@ class FilmProblem:
         flux[1:-1] = self.area[1:-1] * np.diff(h) / self.dr
         return np.diff(flux) / self.vol
 
+    @property
+    def spreading_energy(self) -> float:
+        """W = sigma (cos theta_s + cos theta_w) (N/m) for ``contact = "meniscus"``, else 0."""
+        if self.contact != "meniscus":
+            return 0.0
+        return self.surface_tension * (math.cos(self.angle_sphere)
+                                       + math.cos(self.angle_wall))
+
+    def wetted_fraction(self, h: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """f(x) and df/dx, x = h/g: C1 smoothstep from 0 at x = 1 - lambda to 1 at x = 1."""
+        lam = self.wetting_width
+        y = np.clip((h / g - 1.0 + lam) / lam, 0.0, 1.0)
+        return y * y * (3.0 - 2.0 * y), 6.0 * y * (1.0 - y) / lam
+
+    def wetting_pressure(self, h: np.ndarray, s: float) -> np.ndarray:
+        r"""Pressure of the meniscus wetting energy, :math:`p_w = -W f'(h/g)/g`.
+
+        The free energy gains :math:`-W` per unit area of sphere wetted by the liquid,
+        :math:`E_w = -\int W f(h/g)\,dA`, f the wetted fraction (a step regularised over
+        :math:`1-\lambda \le h/g \le 1`). Filling the gap at the wetted edge over an area
+        dA takes the volume :math:`(g - h_o)\,dA` (h_o the film at the meniscus foot), so
+        the static edge pressure is :math:`dE_w/dV = -W/(g - h_o)`: the Laplace pressure
+        of the two-plate meniscus spanning the local gap,
+        :math:`-\sigma(\cos\theta_s + \cos\theta_w)/d` (Fisher 1926; e.g. Israelachvili,
+        "Intermolecular and Surface Forces", 3rd ed., sec. 17.7), independent of lambda.
+        """
+        w = self.spreading_energy
+        if w == 0.0 or self.gap_shape == "none":
+            return np.zeros_like(h)
+        g = self.gap(self.r_c, s)
+        _, df = self.wetted_fraction(h, g)
+        return -w * df / g
+
     def pressure(self, h: np.ndarray, s: float) -> np.ndarray:
-        """p = -sigma lap(h) + rho g h + k max(0, h - g) at the cell centres (Pa)."""
+        """p = -sigma lap(h) + rho g h + k max(0, h - g) + p_w at the cell centres (Pa)."""
         p = -self.surface_tension * self.laplacian(h) + self.density * self.gravity * h
         if self.gap_shape != "none":
             g = self.gap(self.r_c, s)
             p = p + self.penalty_stiffness(s) * np.maximum(h - g, 0.0)
+            if self.contact == "meniscus":
+                p = p + self.wetting_pressure(h, s)
         return p
 
     def face_mobility(self, h: np.ndarray, s: float) -> np.ndarray:
@@ -216,8 +275,12 @@ class FilmProblem:
         return np.minimum(hf, gf) ** 3 / (3.0 * self.viscosity) * (1.0 - 0.75 * confined)
 
     def rate(self, h: np.ndarray, t: float) -> np.ndarray:
-        """dh/dt = -(1/V_i)(A_{i+1/2} q_{i+1/2} - A_{i-1/2} q_{i-1/2}), zero end fluxes."""
-        s = self.surface_gap(t)
+        """dh/dt at time t of the prescribed-speed run, S = delta - v t."""
+        return self.rate_gap(h, self.surface_gap(t))
+
+    def rate_gap(self, h: np.ndarray, s: float) -> np.ndarray:
+        """dh/dt = -(1/V_i)(A_{i+1/2} q_{i+1/2} - A_{i-1/2} q_{i-1/2}) at surface gap S,
+        zero end fluxes."""
         p = self.pressure(h, s)
         flux = np.zeros(self.cells + 1)
         flux[1:-1] = -self.area[1:-1] * self.face_mobility(h, s) * np.diff(p) / self.dr
@@ -281,6 +344,8 @@ def snapshot(problem: FilmProblem, h: np.ndarray, s: float) -> Snapshot:
     vol = problem.volume(h)
     if problem.gap_shape == "none":
         return Snapshot(s, 0.0, 0.0, 0.0, 0.0, slope, 0.0, vol)
+    if problem.contact == "meniscus":
+        return _meniscus_snapshot(problem, h, s, p, slope, vol)
     g = problem.gap(problem.r_c, s)
     pen = h - g
     if pen[0] < 0.0:
@@ -310,6 +375,40 @@ def snapshot(problem: FilmProblem, h: np.ndarray, s: float) -> Snapshot:
     f_cap = np.pi * r_w**2 * float(p_w)
     return Snapshot(s, f_tot - f_cap, f_cap, float(r_w), float(p_w), slope,
                     float(np.max(pen[:j]) / s), vol)
+
+
+def _meniscus_snapshot(problem: FilmProblem, h: np.ndarray, s: float, p: np.ndarray,
+                       slope: float, vol: float) -> Snapshot:
+    r"""Force split of a state with the wetting meniscus (``contact = "meniscus"``).
+
+    Wetted area :math:`A_w = \sum_i V_i f_i = \pi r_w^2` (f the wetted fraction),
+    :math:`F = \sum_i V_i f_i p_i + F_{\rm line}`, the liquid pressure on the wetted
+    sphere plus the surface tension pulling along the contact line,
+    :math:`F_{\rm line} = -2\pi\sigma r_w \sin(\theta_s + \psi)`,
+    :math:`\psi = \arctan(dg/dr)` the sphere's slope at r_w (PHYSICS.md section 2, the
+    contact-line decomposition). Capillary part :math:`\pi r_w^2 p(r_w) + F_{\rm line}`
+    with p(r_w) interpolated where f = 1/2; viscous part the rest.
+    """
+    g = problem.gap(problem.r_c, s)
+    f, _ = problem.wetted_fraction(h, g)
+    area = float(np.dot(problem.vol, f))
+    if area <= 0.0:
+        return Snapshot(s, 0.0, 0.0, 0.0, float(p[0]), slope, 0.0, vol)
+    r_w = math.sqrt(area / math.pi)
+    j = int(np.argmax(f < 0.5)) if np.any(f < 0.5) else problem.cells - 1
+    if j == 0:
+        p_w = float(p[0])
+    else:
+        w = (f[j - 1] - 0.5) / (f[j - 1] - f[j])
+        p_w = float(p[j - 1] + w * (p[j] - p[j - 1]))
+    rr = np.array([r_w])
+    dg = float((problem.gap(rr * (1 + 1e-6), s) - problem.gap(rr, s))[0]) / (1e-6 * r_w)
+    f_line = (-2.0 * np.pi * problem.surface_tension * r_w
+              * math.sin(problem.angle_sphere + math.atan(dg)))
+    f_tot = float(np.dot(problem.vol, f * p)) + f_line
+    f_cap = math.pi * r_w**2 * p_w + f_line
+    pen = float(np.max(h - g)) / s
+    return Snapshot(s, f_tot - f_cap, f_cap, r_w, p_w, slope, max(pen, 0.0), vol)
 
 
 # ---- integrators --------------------------------------------------------------------
@@ -344,11 +443,18 @@ class RunResult:
     steps_shortened: int
     rhs_evaluations: int
     wall_time_s: float
+    speeds: list[float] = field(default_factory=list)
+    reached: list[bool] = field(default_factory=list)
+    min_gap: float = 0.0
+    newton_iterations: int = 0
+    rejected_steps: int = 0
 
     @property
     def volume_drift(self) -> float:
-        """max |V(t) - V(0)|/V(0) over the output states."""
-        return max(abs(s.volume - self.volume0) for s in self.snapshots) / self.volume0
+        """max |V(t) - V(0)|/V(0) over the output states that were reached."""
+        vols = [s.volume for i, s in enumerate(self.snapshots)
+                if not self.reached or self.reached[i]]
+        return max(abs(v - self.volume0) for v in vols) / self.volume0
 
 
 def penetration_run(problem: FilmProblem, gaps: Sequence[float],
@@ -425,6 +531,211 @@ def penetration_run(problem: FilmProblem, gaps: Sequence[float],
                      r=problem.r_c.copy(), volume0=v0, steps=counter["steps"],
                      steps_shortened=counter["shortened"],
                      rhs_evaluations=int(info.get("steps", 0)), wall_time_s=wall)
+
+
+def _banded_jacobian(problem: FilmProblem, y: np.ndarray, s: float,
+                     f0: np.ndarray) -> np.ndarray:
+    """Finite-difference Jacobian of ``problem.rate_gap`` in LAPACK band storage (2, 2).
+
+    Five colour groups (cells j = c mod 5 perturbed together); entry (i, j) is stored at
+    ``ab[2 + i - j, j]`` as :func:`scipy.linalg.solve_banded` expects.
+    """
+    n = problem.cells
+    eps = 1e-7 * np.maximum(np.abs(y), problem.film_thickness * 1e-3)
+    ab = np.zeros((5, n))
+    cols = np.arange(n)
+    for c in range(5):
+        idx = cols[c::5]
+        yp = y.copy()
+        yp[idx] += eps[idx]
+        dq = problem.rate_gap(yp, s) - f0
+        for o in range(-2, 3):
+            j = idx[(idx + o >= 0) & (idx + o < n)]
+            ab[2 + o, j] = dq[j + o] / eps[j]
+    return ab
+
+
+def _bdf2_newton(problem: FilmProblem, rhs: np.ndarray, guess: np.ndarray, s1: float,
+                 beta_dt: float, tol: float, maxiter: int = 8) -> tuple[np.ndarray, int]:
+    """Solve y - beta_dt f(y, S1) = rhs by Newton's method on the banded Jacobian.
+
+    Returns (y, iterations); raises :class:`SolverError` if Newton does not converge
+    (the caller then shortens the step). Every iterate keeps sum V_i y_i = sum V_i rhs_i
+    because the columns of the Jacobian of a conservative flux form sum to zero.
+    """
+    from scipy.linalg import solve_banded
+
+    y = guess.copy()
+    for it in range(1, maxiter + 1):
+        f0 = problem.rate_gap(y, s1)
+        res = y - rhs - beta_dt * f0
+        ab = -beta_dt * _banded_jacobian(problem, y, s1, f0)
+        ab[2] += 1.0
+        dy = solve_banded((2, 2), ab, -res, check_finite=False)
+        y = y + dy
+        if not np.all(np.isfinite(y)):
+            break
+        if np.max(np.abs(dy)) < tol:
+            return y, it
+    raise SolverError("thinfilm: Newton did not converge")
+
+
+def implicit_run(problem: FilmProblem, gaps: Sequence[float],
+                 profile_gaps: Sequence[float] = (), rtol: float = 1e-4,
+                 mass: float | None = None, max_gap_step: float = 0.05,
+                 max_steps: int = 200_000) -> RunResult:
+    r"""Penetration run with an adaptive variable-step BDF2 + Newton integrator.
+
+    From first touch (S = delta, flat film) to min(gaps). Each step solves
+    :math:`h_{n+1} - a_1 h_n - a_2 h_{n-1} = \beta\,\Delta t\, f(h_{n+1}, S_{n+1})`,
+    with the variable-step BDF2 coefficients (:math:`\omega = \Delta t_n/\Delta t_{n-1}`)
+    :math:`a_1 = (1+\omega)^2/(1+2\omega)`, :math:`a_2 = -\omega^2/(1+2\omega)`,
+    :math:`\beta = (1+\omega)/(1+2\omega)` (Hairer & Wanner, "Solving ODEs II", sec.
+    III.5), backward Euler for the first step; Newton on the pentadiagonal
+    finite-difference Jacobian (LAPACK banded LU). Local error estimate: the distance of
+    the solution from the quadratic extrapolation of the last three states, times 2/11
+    (the BDF2 error constant relative to the predictor's), in the norm
+    :math:`\max_i |e_i|/(a_{tol} + r_{tol} h_i)`, :math:`a_{tol} = r_{tol}\min(gaps)`;
+    the step also keeps :math:`|\Delta S| \le` ``max_gap_step`` S (the gap is the
+    clock: all the stiffness is in the approach) and lands on every output gap.
+
+    With ``mass`` = m the sphere moves under its own inertia, :math:`m\,dv/dt = -F`,
+    :math:`dS/dt = -v`, v(0) = ``problem.velocity``, F the total force of
+    :func:`snapshot`; coupled by a trapezoidal predictor-corrector in each step
+    (S from the extrapolated speed, then v from the mean force; second order). The run
+    stops when v reaches 0 (the minimum gap, interpolated) or at min(gaps); gaps never
+    reached have ``reached = False``, zero forces and the state at the minimum gap.
+    """
+    delta, v0 = problem.film_thickness, problem.velocity
+    gaps = np.asarray(gaps, dtype=float)
+    if v0 <= 0:
+        raise InputError(f"thinfilm: velocity = {v0!r}; allowed: > 0 m/s (approach)")
+    if np.any(gaps <= 0) or np.any(gaps > delta * (1 + 1e-12)):
+        raise InputError(f"thinfilm: gaps must lie in (0, delta = {delta:g}] m")
+    if mass is not None and not (math.isfinite(mass) and mass > 0):
+        raise InputError(f"thinfilm: mass = {mass!r}; allowed: > 0 kg or None")
+    targets = sorted({float(g) for g in gaps}, reverse=True)
+    s_end = targets[-1]
+    atol = rtol * s_end
+    newton_tol = 1e-3 * atol
+    t0w = time.perf_counter()
+    h = np.full(problem.cells, delta)
+    vol0 = problem.volume(h)
+    hist: list[tuple[float, np.ndarray]] = [(0.0, h.copy())]
+    t, s, v = 0.0, delta, v0
+    f_now = snapshot(problem, h, s)
+    force = f_now.force_viscous + f_now.force_capillary
+    out: dict[float, tuple[Snapshot, np.ndarray, float]] = {}
+    k_out = 0
+    while k_out < len(targets) and targets[k_out] >= delta * (1 - 1e-12):
+        out[targets[k_out]] = (f_now, h.copy(), v)
+        k_out += 1
+    dt = 1e-4 * delta / v0
+    steps = newton_total = rejected = 0
+    min_gap = s_end
+    stopped = False
+    while k_out < len(targets):
+        if steps >= max_steps:
+            raise SolverError(f"thinfilm: more than {max_steps} steps; raise rtol")
+        dt = min(dt, max_gap_step * s / v)
+        target = targets[k_out]
+        landing = s - dt * v <= target * (1 + 1e-12)
+        if landing:
+            dt = (s - target) / v
+        # sphere: trapezoidal predictor for S_{n+1}
+        if mass is None:
+            s1 = target if landing else s - dt * v0
+        else:
+            v_pred = v - dt * force / mass
+            s1 = target if landing else s - 0.5 * dt * (v + v_pred)
+        if len(hist) >= 2:
+            w = dt / (t - hist[-2][0])
+            a1, a2, beta = (1 + w) ** 2 / (1 + 2 * w), -(w**2) / (1 + 2 * w), (1 + w) / (1 + 2 * w)
+            rhs = a1 * h + a2 * hist[-2][1]
+        else:
+            a1, a2, beta = 1.0, 0.0, 1.0
+            rhs = h
+        guess = _extrapolate(hist, t + dt)
+        try:
+            h1, its = _bdf2_newton(problem, rhs, guess, s1, beta * dt, newton_tol)
+        except SolverError:
+            rejected += 1
+            dt *= 0.3
+            if dt < 1e-14 * delta / v0:
+                raise SolverError("thinfilm: step size underflow in the implicit "
+                                  "integrator") from None
+            continue
+        newton_total += its
+        if len(hist) >= 3:
+            err = float(np.max(np.abs(h1 - guess) / (atol + rtol * np.abs(h1)))) * 2.0 / 11.0
+        elif len(hist) == 2:
+            err = float(np.max(np.abs(h1 - guess) / (atol + rtol * np.abs(h1)))) * 0.5
+        else:
+            err = 0.5
+        if err > 1.0:
+            rejected += 1
+            dt *= max(0.2, 0.9 * err ** (-1.0 / 3.0))
+            continue
+        snap1 = snapshot(problem, h1, s1)
+        f1 = snap1.force_viscous + snap1.force_capillary
+        v_new = v0 if mass is None else v - 0.5 * dt * (force + f1) / mass
+        if mass is not None and not landing:
+            s1c = s - 0.5 * dt * (v + v_new)
+            if v_new <= 0.0:
+                # the sphere stops inside this step: the minimum gap, v(S) linear
+                min_gap = s - (s - s1c) * v / (v - v_new) if v > v_new else s1c
+                stopped = True
+                break
+        steps += 1
+        hist = [*hist[-2:], (t + dt, h1)]
+        t, h, s, v, force = t + dt, h1, s1, v_new, f1
+        min_gap = s
+        if landing:
+            out[target] = (snap1, h.copy(), v)
+            k_out += 1
+        dt *= min(2.0, max(0.5, 0.9 * max(err, 1e-6) ** (-1.0 / 3.0)))
+    wall = time.perf_counter() - t0w
+    snaps: list[Snapshot] = []
+    speeds: list[float] = []
+    reached: list[bool] = []
+    profiles: dict[float, np.ndarray] = {}
+    want = {float(gaps[np.argmin(np.abs(gaps - pg))]) for pg in profile_gaps}
+    for g in gaps:
+        g = float(g)
+        if g in out:
+            sn, hh, vv = out[g]
+            snaps.append(sn)
+            speeds.append(vv)
+            reached.append(True)
+        else:
+            snaps.append(Snapshot(g, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, problem.volume(h)))
+            speeds.append(0.0)
+            reached.append(False)
+            hh = h
+        if g in want:
+            profiles[g] = hh.copy()
+    if not stopped:
+        min_gap = min(min_gap, s_end)
+    return RunResult(snapshots=snaps, profiles=profiles, r=problem.r_c.copy(),
+                     volume0=vol0, steps=steps, steps_shortened=rejected,
+                     rhs_evaluations=newton_total * 6, wall_time_s=wall, speeds=speeds,
+                     reached=reached, min_gap=float(min_gap), newton_iterations=newton_total,
+                     rejected_steps=rejected)
+
+
+def _extrapolate(hist: list[tuple[float, np.ndarray]], t: float) -> np.ndarray:
+    """Lagrange extrapolation of the last (up to three) states to time t."""
+    pts = hist[-3:]
+    if len(pts) == 1:
+        return pts[0][1].copy()
+    out = np.zeros_like(pts[0][1])
+    for i, (ti, yi) in enumerate(pts):
+        li = 1.0
+        for j, (tj, _) in enumerate(pts):
+            if j != i:
+                li *= (t - tj) / (ti - tj)
+        out += li * yi
+    return out
 
 
 def newton_euler_step(problem: FilmProblem, h: np.ndarray, t: float, dt: float,
