@@ -122,3 +122,11 @@ def test_run_quick_writes_report(tmp_path):
 def test_run_without_cases_is_input_error(tmp_path):
     r = wc("run", "--cases", str(tmp_path), "--out", str(tmp_path / "o"), cwd=tmp_path)
     assert r.returncode == 2 and "no case files" in r.stderr
+
+
+def test_solve_by_tolerance_bridge_uses_the_fe_meniscus():
+    """No capillary closure carries an error estimate: a 1e-4 request on a bridge goes to
+    the finite-element bridge, whose tested bound is 1e-6."""
+    case = ROOT / "cases" / "dem-pendular-bridge-100um.toml"
+    out = json.loads(wc("solve", str(case), "--tol", "1e-4", "--json").stdout)
+    assert out["model"] == "meniscus" and "preset" in out["selection"]

@@ -148,6 +148,9 @@ class Model:
         The source of the model's equation.
     cost : float
         Rough wall time per gap (s), to rank models of one level by cost.
+    error_bound : dict
+        Solvers: preset name -> relative error bound of the force within the validity
+        range, measured in the tests or benchmarks (used by model selection).
     saves_fields : bool
         True for field solvers that accept ``save_fields=DIR`` (VTU output).
     """
@@ -159,6 +162,7 @@ class Model:
     order: ClassVar[float | None] = None
     reference: ClassVar[str] = ""
     cost: ClassVar[float] = 1e-6
+    error_bound: ClassVar[Mapping[str, float]] = {}
     saves_fields: ClassVar[bool] = False
     presets: ClassVar[Mapping[str, Mapping[str, Any]]] = {p: {} for p in PRESETS}
 

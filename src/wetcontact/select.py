@@ -4,7 +4,7 @@ Candidates are the registered models that apply to the scene, cheapest first (lo
 level, then lowest declared ``cost`` per gap). A closure is accepted when its a-priori
 error estimate, evaluated along the scene's gaps, stays below the tolerance everywhere;
 a solver (level >= 1) when its declared accuracy at a preset meets it (attribute
-``preset_accuracy``: preset name -> relative error). If nothing qualifies, the
+``error_bound``: preset name -> relative error). If nothing qualifies, the
 highest-fidelity applicable model is returned with the reason.
 """
 
@@ -50,7 +50,7 @@ def choose_model(scene: Scene, tolerance: float) -> Choice:
             if est is not None and np.all(est <= tolerance):
                 return Choice(m, "default", f"a-priori error {est.max():.2g} <= {tolerance:g}")
         else:
-            acc = getattr(m, "preset_accuracy", {})
+            acc = m.error_bound
             for preset in ("fast", "default", "accurate"):
                 if preset in acc and acc[preset] <= tolerance:
                     return Choice(m, preset, f"preset '{preset}' accuracy {acc[preset]:.1g} "
