@@ -755,33 +755,6 @@ def implicit_run(problem: FilmProblem, gaps: Sequence[float],
                      rejected_steps=rejected)
 
 
-def relax(problem: FilmProblem, h0: np.ndarray, s: float, rtol: float = 1e-10,
-          max_steps: int = 400) -> tuple[np.ndarray, int]:
-    """Static equilibrium of the film with the sphere held at gap ``s``.
-
-    Pseudo-transient continuation: backward-Euler steps (Newton, banded Jacobian) of
-    growing size from the capillary time of one cell until the update is below ``rtol``
-    times the film thickness scale max(h0). The liquid volume is conserved exactly (see
-    :func:`_bdf2_newton`). Returns (h, steps).
-    """
-    h = np.asarray(h0, dtype=float).copy()
-    scale = float(np.max(h))
-    dt = 3.0 * problem.viscosity * problem.dr**4 / (problem.surface_tension * scale**3)
-    for k in range(1, max_steps + 1):
-        try:
-            h1, _ = _bdf2_newton(problem, h, h, s, dt, 1e-6 * rtol * scale, maxiter=12)
-        except SolverError:
-            dt *= 0.25
-            continue
-        change = float(np.max(np.abs(h1 - h)))
-        h = h1
-        if change < rtol * scale and dt > 1e6 * 3.0 * problem.viscosity * problem.dr**4 / (
-                problem.surface_tension * scale**3):
-            return h, k
-        dt *= 2.0
-    raise SolverError(f"thinfilm: no static equilibrium after {max_steps} steps")
-
-
 def _extrapolate(hist: list[tuple[float, np.ndarray]], t: float) -> np.ndarray:
     """Lagrange extrapolation of the last (up to three) states to time t."""
     pts = hist[-3:]
