@@ -144,7 +144,8 @@ def _mesh_and_read(gmsh, size: SizeFn, groups: dict[str, list[int]], surface: in
 def _sphere_size(res: Resolution, centre: float, gap_planes: Sequence[float] = (0.0,)) -> SizeFn:
     """Size field for a unit sphere centred at (0, centre) facing the planes z = gap_planes.
 
-    Size = min(h_sphere + growth * d_sphere, h(r)/n_gap in the gap column), with the local gap
+    Size = min(h_sphere + growth * d_sphere, h(r)/(n_gap + 0.3) in the gap column; the 0.3
+    makes gmsh round the axis segment to exactly n_gap elements), with the local gap
     ``h(r) = |centre - plane| - sqrt(1 - r^2)``.
     """
 
@@ -154,9 +155,9 @@ def _sphere_size(res: Resolution, centre: float, gap_planes: Sequence[float] = (
         if r < 1.0:
             root = math.sqrt(1.0 - r * r)
             for zp in gap_planes:
-                if (zp - centre) * (z - centre) > 0.0:  # same side of the centre as the plane
+                if min(zp, centre) <= z <= max(zp, centre):  # between the plane and centre
                     h = abs(centre - zp) - root
-                    s = min(s, max(h, 0.0) / res.n_gap + 0.5 * res.growth * d)
+                    s = min(s, max(h, 0.0) / (res.n_gap + 0.3))
         return s
 
     return size
@@ -186,7 +187,7 @@ def sphere_wall(gap: float, res: Resolution, plane: str = "wall") -> meshio.Mesh
     if plane not in ("wall", "symmetry"):
         raise InputError(f"plane = {plane!r}; allowed: 'wall', 'symmetry'")
     c = 1.0 + gap
-    L = max(res.far, 10.0 * (c + 1.0))
+    L = max(res.far, 100.0 * (c + 1.0))
     with _Gmsh("sphere_wall") as gmsh:
         g = gmsh.model.geo
         o, pw, pf = g.addPoint(0, 0, 0), g.addPoint(L, 0, 0), g.addPoint(0, L, 0)
@@ -213,7 +214,7 @@ def sphere_sphere(gap: float, res: Resolution) -> meshio.Mesh:
     """
     _check_gap(gap)
     c = 1.0 + 0.5 * gap
-    L = max(res.far, 10.0 * (c + 1.0))
+    L = max(res.far, 100.0 * (c + 1.0))
     with _Gmsh("sphere_sphere") as gmsh:
         g = gmsh.model.geo
         o = g.addPoint(0, 0, 0)

@@ -27,7 +27,7 @@ from wetcontact.errors import InputError
 from wetcontact.meshes import builders
 from wetcontact.meshes.io import to_skfem
 
-MESH_VERSION = 1
+MESH_VERSION = 3
 """Bump when a builder changes the mesh it produces for the same parameters."""
 
 BUILDERS = {

@@ -64,6 +64,8 @@ def write_vtu(path: Path, mesh: MeshTri2, point_data: dict[str, np.ndarray],
     """Write a VTU (ParaView) file: the mesh vertices (times ``scale``) and vertex fields."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    pts = np.column_stack([mesh.p.T * scale, np.zeros(mesh.p.shape[1])])
+    nv = int(mesh.t.max()) + 1  # vertices come first in a quadratic skfem mesh
+    p = mesh.p[:, :nv]
+    pts = np.column_stack([p.T * scale, np.zeros(nv)])
     meshio.Mesh(pts, [("triangle", mesh.t.T)], point_data=point_data).write(path)
     return path

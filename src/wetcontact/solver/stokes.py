@@ -75,6 +75,17 @@ MIN_GAP = 1e-5
 """Smallest S/R the solver accepts (below it the graded mesh and the P2 force lose digits)."""
 
 
+def container_factor(x: float) -> float:
+    """Drag factor of a sphere moving inside a concentric spherical container at rest.
+
+    ``K = (1 - x^5) / (1 - 9/4 x + 5/2 x^3 - 9/4 x^5 + x^6)``, x = R/L (Haberman & Sayre 1958;
+    Happel & Brenner 1965, sec. 4-22): the exact far-boundary correction of the isolated-sphere
+    mesh, whose far boundary u = 0 is a circle of radius L about the sphere's centre.
+    K = 1 + (9/4) x + O(x^3).
+    """
+    return (1 - x**5) / (1 - 2.25 * x + 2.5 * x**3 - 2.25 * x**5 + x**6)
+
+
 # ---- weak forms -------------------------------------------------------------------------
 
 
@@ -86,7 +97,7 @@ def viscous_form(u, w, x):
     erz_u = du[0][1] + du[1][0]
     erz_w = dw[0][1] + dw[1][0]
     return 2.0 * (du[0][0] * dw[0][0] + du[1][1] * dw[1][1]) * r + erz_u * erz_w * r + (
-        2.0 * u.value[0] * w.value[0] / r
+        2.0 * u[0] * w[0] / r
     )
 
 
@@ -94,7 +105,7 @@ def viscous_form(u, w, x):
 def divergence_form(w, q, x):
     """r-weighted divergence b(w, q) = q (r d_r w_r + w_r + r d_z w_z)."""
     r = x.x[0]
-    return q * (r * (w.grad[0][0] + w.grad[1][1]) + w.value[0])
+    return q * (r * (w.grad[0][0] + w.grad[1][1]) + w[0])
 
 
 @Functional
@@ -294,9 +305,9 @@ class Stokes(Model):
     reference = ("Taylor-Hood axisymmetric Stokes FEM (scikit-fem, gmsh); force by the "
                  "reaction (dissipation) and by the traction integral")
     presets = {
-        "fast": {"n_gap": 3, "h_sphere": 0.08, "growth": 0.25, "far": 1.0e4, "n_film": 4},
-        "default": {"n_gap": 4, "h_sphere": 0.05, "growth": 0.15, "far": 1.0e4, "n_film": 6},
-        "accurate": {"n_gap": 6, "h_sphere": 0.03, "growth": 0.08, "far": 1.0e4, "n_film": 8},
+        "fast": {"n_gap": 3, "h_sphere": 0.08, "growth": 0.25, "far": 1.0e3, "n_film": 4},
+        "default": {"n_gap": 4, "h_sphere": 0.05, "growth": 0.15, "far": 1.0e3, "n_film": 6},
+        "accurate": {"n_gap": 8, "h_sphere": 0.02, "growth": 0.08, "far": 1.0e3, "n_film": 8},
     }
     error_bound = {"fast": 1e-3, "default": 1e-4, "accurate": 1e-5}
     """Relative error bound of the immersed force per preset (measured, benchmarks/)."""
