@@ -375,7 +375,8 @@ def test_sphere_that_stops_reports_unreached_gaps_explicitly():
         assert snap.force_viscous == 0.0 and snap.force_capillary == 0.0
         assert res.speeds[i] == 0.0
     s_stop = brentq(lambda s: _pileup_speed(v0, m, d, s), 1e-6 * d, d)
-    assert res.min_gap < d and res.min_gap == pytest.approx(s_stop, rel=0.3)
+    # measured 3.25e-7 m vs 3.52e-7 m (pure Reynolds force: 1e-6 m)
+    assert res.min_gap < s_stop and res.min_gap == pytest.approx(s_stop, rel=0.15)
 
 
 def test_model_inertia_extras(scene_factory):
