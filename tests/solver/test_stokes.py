@@ -145,3 +145,19 @@ def test_two_spheres_accurate_preset_within_1e_5_of_series(model, scene_factory,
     ref = 6 * math.pi * ETA * R * (V / 2) * two_sphere_lambda(s)
     f = model.force(scene, preset="accurate").force_viscous[0]
     assert f / ref == pytest.approx(1.0, abs=1e-5)
+
+
+def test_error_table_section_quick(tmp_path):
+    """The report section writes its CSV and a Markdown table whose FEM column is small."""
+    import csv
+
+    from wetcontact.tables.stokes import section
+
+    md = section(tmp_path, quick=True)
+    assert md.startswith("## ") and "| immersed |" in md and "| film |" in md
+    rows = list(csv.DictReader((tmp_path / "stokes_errors.csv").open()))
+    imm = [r for r in rows if r["case"] == "immersed"]
+    assert imm and all(abs(float(r["fem_vs_exact"])) < 1e-3 for r in imm)
+    # Reynolds is 12.7 % low against the exact force at S/R = 0.1 (PHYSICS.md)
+    r01 = next(r for r in imm if float(r["s_over_r"]) == 0.1)
+    assert float(r01["err_reynolds"]) == pytest.approx(-0.127, abs=2e-3)

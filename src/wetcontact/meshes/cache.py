@@ -39,7 +39,7 @@ BUILDERS = {
 }
 
 _MEMO: OrderedDict[str, MeshTri2] = OrderedDict()
-_MEMO_SIZE = 32
+_MEMO_SIZE = 8
 
 
 def cache_dir(cache_dir: str | Path | None = None) -> Path:
