@@ -121,6 +121,7 @@ def test_film_gap_above_the_film_has_no_force(model, scene_factory):
 
 
 def test_save_fields_writes_vtu(model, scene_factory, tmp_path):
+    assert model.saves_fields  # the CLI's --save-fields relies on it
     curve = model.force(_scene(scene_factory, gaps=(0.1,)), preset="fast",
                         save_fields=str(tmp_path))
     (path,) = curve.diagnostics["vtu_files"]

@@ -311,6 +311,7 @@ class Stokes(Model):
     validity = ("Re << 1; immersed sphere-wall or equal spheres (any S/R >= 1e-5), or a "
                 "sphere in a flat film (S < delta <= S + R); no slip")
     order = 4.0
+    saves_fields = True
     reference = ("Taylor-Hood axisymmetric Stokes FEM (scikit-fem, gmsh); force by the "
                  "reaction (dissipation) and by the traction integral")
     presets = {
