@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -30,9 +31,10 @@ EXPECTED_FIELD = {
 }
 
 
-def wc(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess:
+def wc(*args: str, cwd: Path = ROOT, env: dict | None = None) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "wetcontact.cli", *args], cwd=cwd,
-                          capture_output=True, text=True, timeout=600)
+                          capture_output=True, text=True, timeout=600,
+                          env=None if env is None else {**os.environ, **env})
 
 
 def test_every_bad_case_file_is_listed():
@@ -130,3 +132,13 @@ def test_solve_by_tolerance_bridge_uses_the_fe_meniscus():
     case = ROOT / "cases" / "dem-pendular-bridge-100um.toml"
     out = json.loads(wc("solve", str(case), "--tol", "1e-4", "--json").stdout)
     assert out["model"] == "meniscus" and "preset" in out["selection"]
+
+
+def test_json_stdout_is_one_line_even_when_meshes_are_built(tmp_path):
+    """gmsh/meshio must not write to stdout: --json is one line a program can parse."""
+    case = ROOT / "cases" / "brenner-immersed-sphere-wall.toml"
+    r = wc("solve", str(case), "--model", "stokes", "--preset", "fast", "--json",
+           env={"WETCONTACT_CACHE": str(tmp_path / "meshes")})
+    assert r.returncode == 0, r.stderr[-500:]
+    lines = r.stdout.splitlines()
+    assert len(lines) == 1 and json.loads(lines[0])["model"] == "stokes"

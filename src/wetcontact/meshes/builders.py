@@ -38,6 +38,7 @@ import meshio
 import numpy as np
 
 from wetcontact.errors import InputError, SolverError
+from wetcontact.meshes.io import read_msh
 
 SizeFn = Callable[[float, float], float]
 
@@ -135,7 +136,7 @@ def _mesh_and_read(gmsh, size: SizeFn, groups: dict[str, list[int]], surface: in
     os.close(fd)
     try:
         gmsh.write(tmp)
-        mesh = meshio.read(tmp)
+        mesh = read_msh(tmp)
     finally:
         Path(tmp).unlink(missing_ok=True)
     return mesh

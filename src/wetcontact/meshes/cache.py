@@ -25,7 +25,7 @@ from skfem import MeshTri2
 
 from wetcontact.errors import InputError
 from wetcontact.meshes import builders
-from wetcontact.meshes.io import to_skfem
+from wetcontact.meshes.io import read_msh, to_skfem
 
 MESH_VERSION = 3
 """Bump when a builder changes the mesh it produces for the same parameters."""
@@ -88,7 +88,7 @@ def get_meshio(builder: str, cache: str | Path | None = None,
     path = d / f"{builder}-{mesh_key(builder, **params)}.msh"
     if path.exists():
         try:
-            return meshio.read(path), True
+            return read_msh(path), True
         except Exception:  # a corrupt cache file is rebuilt, not trusted
             path.unlink(missing_ok=True)
     m = BUILDERS[builder](**params)

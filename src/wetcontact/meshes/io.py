@@ -6,6 +6,8 @@ second-order mesh to facets, so the named groups are matched here by their end v
 
 from __future__ import annotations
 
+import contextlib
+import io
 from pathlib import Path
 
 import meshio
@@ -13,6 +15,13 @@ import numpy as np
 from skfem import MeshTri2
 
 from wetcontact.errors import SolverError
+
+
+def read_msh(path: str | Path) -> meshio.Mesh:
+    """``meshio.read`` of a gmsh file, with meshio's stray blank line on stdout swallowed
+    (it would corrupt the CLI's ``--json`` output and tables)."""
+    with contextlib.redirect_stdout(io.StringIO()):
+        return meshio.read(path)
 
 
 def to_skfem(m: meshio.Mesh) -> MeshTri2:
