@@ -142,3 +142,45 @@ def test_json_stdout_is_one_line_even_when_meshes_are_built(tmp_path):
     assert r.returncode == 0, r.stderr[-500:]
     lines = r.stdout.splitlines()
     assert len(lines) == 1 and json.loads(lines[0])["model"] == "stokes"
+
+
+BRIDGE_CASE = """
+name = "{name}"
+[geometry]
+kind = "sphere-wall"
+radius = 1.0e-3
+[liquid]
+viscosity = 1.0e-3
+surface_tension = 0.072
+density = 998.0
+contact_angle = {angle}
+[amount]
+bridge_volume = {volume}
+[motion]
+velocity = 0.0
+gaps = {gaps}
+"""
+
+
+@pytest.mark.parametrize("name, angle, volume, gaps, words", [
+    ("too-much-liquid", 20.0, 2.0e-9, "[1.0e-6]", "volume"),
+    ("no-bridge-angles", 170.0, 1.0e-11, "[1.0e-6]", "angle"),
+    ("beyond-rupture", 20.0, 1.0e-11, "[5.0e-4, 8.0e-4]", "rupture"),
+])
+def test_meniscus_bad_input_exit_2(tmp_path, name, angle, volume, gaps, words):
+    case = tmp_path / f"{name}.toml"
+    case.write_text(BRIDGE_CASE.format(name=name, angle=angle, volume=volume, gaps=gaps))
+    r = wc("solve", str(case), "--model", "meniscus")
+    assert r.returncode == 2, r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in r.stderr
+    assert words in lines[0].lower()
+
+
+def test_meniscus_partly_beyond_rupture_is_explicit_zero(tmp_path):
+    case = tmp_path / "partly.toml"
+    case.write_text(BRIDGE_CASE.format(name="partly", angle=20.0, volume=1.0e-11,
+                                       gaps="[1.0e-5, 8.0e-4]"))
+    out = json.loads(wc("solve", str(case), "--model", "meniscus", "--json").stdout)
+    assert out["bridge_exists"] == [1.0, 0.0]
+    assert out["force_capillary"][0] < 0 and out["force_capillary"][1] == 0.0
