@@ -383,7 +383,8 @@ class Stokes(Model):
             try:
                 from tqdm import tqdm
 
-                iterator = tqdm(iterator, desc="stokes", leave=False)
+                # disable=None: no bar when stderr is not a terminal (CI logs, pipes)
+                iterator = tqdm(iterator, desc="stokes", leave=False, disable=None)
             except ImportError:  # pragma: no cover
                 pass
         for i in iterator:
