@@ -566,22 +566,23 @@ def penetration_run(problem: FilmProblem, gaps: Sequence[float],
                      rhs_evaluations=int(info.get("steps", 0)), wall_time_s=wall)
 
 
-def _banded_jacobian(problem: FilmProblem, y: np.ndarray, s: float,
-                     f0: np.ndarray) -> np.ndarray:
-    """Finite-difference Jacobian of ``problem.rate_gap`` in LAPACK band storage (2, 2).
+def _banded_jacobian(rate: Callable[[np.ndarray], np.ndarray], y: np.ndarray,
+                     f0: np.ndarray, film_thickness: float) -> np.ndarray:
+    """Finite-difference Jacobian of ``rate`` (pentadiagonal) in LAPACK band storage (2, 2).
 
-    Five colour groups (cells j = c mod 5 perturbed together); entry (i, j) is stored at
+    Five colour groups (cells j = c mod 5 perturbed together): column j is read from rows
+    j-2..j+2 of the group's difference quotient, and entry (i, j) is stored at
     ``ab[2 + i - j, j]`` as :func:`scipy.linalg.solve_banded` expects.
     """
-    n = problem.cells
-    eps = 1e-7 * np.maximum(np.abs(y), problem.film_thickness * 1e-3)
+    n = y.size
+    eps = 1e-7 * np.maximum(np.abs(y), film_thickness * 1e-3)
     ab = np.zeros((5, n))
     cols = np.arange(n)
     for c in range(5):
         idx = cols[c::5]
         yp = y.copy()
         yp[idx] += eps[idx]
-        dq = problem.rate_gap(yp, s) - f0
+        dq = rate(yp) - f0
         for o in range(-2, 3):
             j = idx[(idx + o >= 0) & (idx + o < n)]
             ab[2 + o, j] = dq[j + o] / eps[j]
@@ -606,7 +607,8 @@ def _bdf2_newton(problem: FilmProblem, rhs: np.ndarray, guess: np.ndarray, s1: f
     for it in range(1, maxiter + 1):
         f0 = problem.rate_gap(y, s1)
         res = y - rhs - beta_dt * f0
-        ab = -beta_dt * _banded_jacobian(problem, y, s1, f0)
+        ab = -beta_dt * _banded_jacobian(lambda yy: problem.rate_gap(yy, s1), y, f0,
+                                         problem.film_thickness)
         ab[2] += 1.0
         dy = solve_banded((2, 2), ab, -res, check_finite=False)
         y = y + dy
@@ -809,26 +811,12 @@ def newton_euler_step(problem: FilmProblem, h: np.ndarray, t: float, dt: float,
 
 def _fd_jacobian(problem: FilmProblem, y: np.ndarray, t: float,
                  f0: np.ndarray) -> sp.csc_matrix:
-    """Finite-difference Jacobian of ``problem.rate`` on the pentadiagonal pattern.
-
-    Five colour groups (cells j = c mod 5 perturbed together): column j of the Jacobian
-    is read from rows j-2..j+2 of the group's difference quotient.
-    """
-    n = problem.cells
-    eps = 1e-7 * np.maximum(np.abs(y), problem.film_thickness * 1e-3)
-    cols = np.arange(n)
-    diags = {o: np.zeros(n - abs(o)) for o in range(-2, 3)}
-    for c in range(5):
-        idx = cols[c::5]
-        yp = y.copy()
-        yp[idx] += eps[idx]
-        dq = problem.rate(yp, t) - f0
-        for o in range(-2, 3):
-            j = idx[(idx + o >= 0) & (idx + o < n)]
-            # entry (j + o, j) lies on diagonal -o at position min(j, j + o)
-            diags[o][np.minimum(j, j + o)] = dq[j + o] / eps[j]
-    return sp.diags([diags[o] for o in range(-2, 3)], [-o for o in range(-2, 3)],
-                    format="csc")
+    """Finite-difference Jacobian of ``problem.rate`` on the pentadiagonal pattern, sparse:
+    the band storage of :func:`_banded_jacobian` read as diagonals (row r holds offset
+    2 - r in scipy's ``dia`` convention)."""
+    ab = _banded_jacobian(lambda yy: problem.rate(yy, t), y, f0, problem.film_thickness)
+    n = y.size
+    return sp.dia_matrix((ab, [2, 1, 0, -1, -2]), shape=(n, n)).tocsc()
 
 
 # ---- reference checks ---------------------------------------------------------------
