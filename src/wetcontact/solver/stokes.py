@@ -380,13 +380,10 @@ class Stokes(Model):
         files: list[str] = []
         iterator = range(n)
         if n > 20:
-            try:
-                from tqdm import tqdm
+            from tqdm import tqdm
 
-                # disable=None: no bar when stderr is not a terminal (CI logs, pipes)
-                iterator = tqdm(iterator, desc="stokes", leave=False, disable=None)
-            except ImportError:  # pragma: no cover
-                pass
+            # disable=None: no bar when stderr is not a terminal (CI logs, pipes)
+            iterator = tqdm(iterator, desc="stokes", leave=False, disable=None)
         for i in iterator:
             t0 = time.perf_counter()
             s = float(gaps[i] / R)

@@ -490,6 +490,18 @@ class RunResult:
         return max(abs(v - self.volume0) for v in vols) / self.volume0
 
 
+def _run_gaps(problem: FilmProblem, gaps: Sequence[float]) -> np.ndarray:
+    """The output gaps of a penetration run as floats, checked: each in (0, delta], and
+    the sphere approaching (velocity > 0)."""
+    delta, v = problem.film_thickness, problem.velocity
+    out = np.asarray(gaps, dtype=float)
+    if v <= 0:
+        raise InputError(f"thinfilm: velocity = {v!r}; allowed: > 0 m/s (approach)")
+    if np.any(out <= 0) or np.any(out > delta * (1 + 1e-12)):
+        raise InputError(f"thinfilm: gaps must lie in (0, delta = {delta:g}] m")
+    return out
+
+
 def penetration_run(problem: FilmProblem, gaps: Sequence[float],
                     profile_gaps: Sequence[float] = (), rtol: float = 1e-7,
                     progress: bool = False) -> RunResult:
@@ -513,11 +525,7 @@ def penetration_run(problem: FilmProblem, gaps: Sequence[float],
         Show py-pde's progress bar (tqdm).
     """
     delta, v = problem.film_thickness, problem.velocity
-    gaps = np.asarray(gaps, dtype=float)
-    if v <= 0:
-        raise InputError(f"thinfilm: velocity = {v!r}; allowed: > 0 m/s (approach)")
-    if np.any(gaps <= 0) or np.any(gaps > delta * (1 + 1e-12)):
-        raise InputError(f"thinfilm: gaps must lie in (0, delta = {delta:g}] m")
+    gaps = _run_gaps(problem, gaps)
     order = np.argsort(-gaps)
     times = (delta - gaps[order]) / v
     times = np.maximum(times, 0.0)
@@ -646,11 +654,7 @@ def implicit_run(problem: FilmProblem, gaps: Sequence[float],
     reached have ``reached = False``, zero forces and the state at the minimum gap.
     """
     delta, v0 = problem.film_thickness, problem.velocity
-    gaps = np.asarray(gaps, dtype=float)
-    if v0 <= 0:
-        raise InputError(f"thinfilm: velocity = {v0!r}; allowed: > 0 m/s (approach)")
-    if np.any(gaps <= 0) or np.any(gaps > delta * (1 + 1e-12)):
-        raise InputError(f"thinfilm: gaps must lie in (0, delta = {delta:g}] m")
+    gaps = _run_gaps(problem, gaps)
     if mass is not None and not (math.isfinite(mass) and mass > 0):
         raise InputError(f"thinfilm: mass = {mass!r}; allowed: > 0 kg or None")
     targets = sorted({float(g) for g in gaps}, reverse=True)
