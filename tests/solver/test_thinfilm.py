@@ -34,14 +34,18 @@ def film_problem(ca_star: float, cells: int, delta: float = 1e-5, penetration: f
                           penetration=penetration, **kw)
 
 
-def water_meniscus(cells: int = 600, v: float = 0.5, angle_deg: float = 20.0,
-                   **kw) -> tf.FilmProblem:
-    """The glass-2mm-water-film case (R = 1 mm, delta = 100 um) with the wetting meniscus."""
+def water_meniscus(cells: int | None = None, v: float = 0.5, angle_deg: float = 20.0,
+                   wetting_width: float = 0.2, **kw) -> tf.FilmProblem:
+    """The glass-2mm-water-film case (R = 1 mm, delta = 100 um) with the wetting meniscus;
+    ``cells`` defaults to the resolution :func:`~thinfilm.auto_cells` gives lambda."""
     opts = {"contact": "meniscus", **kw}
+    if cells is None:
+        cells = tf.auto_cells(R, 1e-4, wetting_width)
     return tf.FilmProblem(radius=R, viscosity=ETA, surface_tension=SIGMA, density=998.0,
                           gravity=0.0, film_thickness=1e-4, velocity=v, cells=cells,
                           domain=3 * math.sqrt(4 * R * 1e-4),
-                          angle_sphere=math.radians(angle_deg), **opts)
+                          angle_sphere=math.radians(angle_deg),
+                          wetting_width=wetting_width, **opts)
 
 
 def film_scene(scene_factory, delta=1e-4, v=1.0, eta=1e-3, gaps=None):
@@ -129,6 +133,23 @@ def test_slow_approach_wetted_zone_matches_lubrication():
     # slow limit: the film barely moves, the contact stays inside the flat-film radius
     rw_flat = math.sqrt(2 * R * (prob.film_thickness - gaps[-1]))
     assert res.snapshots[-1].wetted_radius < rw_flat
+
+
+@pytest.mark.slow
+def test_slow_approach_wetting_meniscus_matches_lubrication():
+    """Default contact (wetting meniscus, lambda = 0.05), water case at 0.05 m/s (Ca* =
+    0.21): the viscous force of the wetted zone equals the lubrication model's with the
+    same wetted radius and boundary pressure within 1 % once the meniscus has formed."""
+    d = 1e-4
+    gaps = d * np.array([1.0, 0.3, 0.1, 0.03, 0.01])
+    prob = water_meniscus(v=0.05, wetting_width=0.05)
+    res = tf.implicit_run(prob, gaps, rtol=1e-4)
+    for snap in res.snapshots[1:]:
+        visc, bnd = _reynolds(prob, snap)
+        assert snap.force_viscous == pytest.approx(visc, rel=1e-2), snap.gap
+        assert bnd == pytest.approx(math.pi * snap.wetted_radius**2 * snap.edge_pressure,
+                                    rel=1e-12)
+        assert snap.edge_pressure < 0  # suction
 
 
 def test_reynolds_quadrature_matches_closed_form():
@@ -280,41 +301,76 @@ def test_nonwetting_meniscus_limit_is_the_tangential_contact():
                            plain.rate_gap(h, 5e-5))
 
 
-def test_meniscus_suction_matches_the_static_bridge_of_the_wetted_volume():
-    """Water case, theta_s = 20 deg: the capillary part is suction and, once the meniscus
-    has formed (S <= 0.3 delta), equals the force of the finite-element Young-Laplace
-    bridge (``meniscus``, independent) holding the same wetted volume within 5 %.
-    Tolerance: measured 0.3-2.4 %; the thin-film model drops the meridian curvature of
-    the inner meniscus and uses small slopes (sphere slope at r_w about 0.7)."""
+def _meniscus_runs(widths: tuple[float, ...], gaps: np.ndarray, v: float = 0.5,
+                   ) -> dict[float, tuple[tf.FilmProblem, tf.RunResult]]:
+    """Water case, wetting meniscus, at each wetting width lambda (auto resolution)."""
+    out = {}
+    for lam in widths:
+        prob = water_meniscus(v=v, wetting_width=lam)
+        out[lam] = (prob, tf.implicit_run(prob, gaps, rtol=1e-4, profile_gaps=gaps))
+    return out
+
+
+@pytest.mark.slow
+def test_meniscus_converges_as_the_wetting_width_is_refined():
+    """lambda = 0.2, 0.1, 0.05 (cells 1800, 3600, 7200): the capillary part and the wetted
+    radius converge at first order (measured: successive differences shrink by 0.41-0.46,
+    orders 1.1-1.3), and the viscous part converges to the Reynolds force of the wetted
+    zone (same r_w, independent quadrature): -11, -2.7, -0.4 % at S = 0.1 delta."""
+    d = 1e-4
+    gaps = d * np.array([1.0, 0.5, 0.1, 0.03])
+    runs = _meniscus_runs((0.2, 0.1, 0.05), gaps)
+    for k in range(1, len(gaps)):
+        snaps = [runs[lam][1].snapshots[k] for lam in (0.2, 0.1, 0.05)]
+        for attr in ("force_capillary", "wetted_radius"):
+            vals = [getattr(sn, attr) for sn in snaps]
+            d1, d2 = abs(vals[1] - vals[0]), abs(vals[2] - vals[1])
+            assert d2 < 0.6 * d1, (attr, gaps[k])
+            assert 0.7 < observed_order([0.2, 0.1], [d1, d2]) < 1.8, (attr, gaps[k])
+        prob = runs[0.05][0]
+        errs = [abs(sn.force_viscous / tf.reynolds_wetted_force(prob, sn.gap,
+                                                                sn.wetted_radius) - 1)
+                for sn in snaps]
+        assert errs[2] < errs[1] < errs[0], gaps[k]
+        if gaps[k] <= 0.1 * d:
+            assert errs[2] < 0.01, gaps[k]
+
+
+@pytest.mark.slow
+def test_meniscus_suction_against_the_static_bridge_of_the_wetted_volume():
+    """Water case, theta_s = 20 deg, default lambda = 0.05: the capillary part is suction
+    and stays within 15 % of the force of the finite-element Young-Laplace bridge
+    (``meniscus``, independent) holding the same wetted volume. Measured -6 to -11 %
+    (-7.5 to -12 % at lambda = 0.025): a model error, not a numerical one; the
+    small-slope film has no inner meniscus with slopes of order one. The tangential
+    (non-wetting) contact gives a repulsive capillary part instead."""
     from wetcontact.solver.meniscus import Bridge, solve_volume
 
-    prob = water_meniscus()
-    d = prob.film_thickness
-    gaps = d * np.array([1.0, 0.3, 0.1, 0.01])
-    res = tf.implicit_run(prob, gaps, rtol=1e-4, profile_gaps=gaps)
+    d = 1e-4
+    gaps = d * np.array([1.0, 0.5, 0.1, 0.03])
+    prob, res = _meniscus_runs((0.05,), gaps)[0.05]
     assert res.volume_drift < 1e-8
     bridge = Bridge(radius=R, contact_angle1=math.radians(20), contact_angle2=0.0,
                     surface_tension=SIGMA)
     for snap in res.snapshots[1:]:
-        assert snap.force_capillary < 0, snap.gap
         h = res.profiles[snap.gap]
         g = prob.gap(prob.r_c, snap.gap)
         f, _ = prob.wetted_fraction(h, g)
-        vol = float(np.dot(prob.vol, f * np.minimum(h, g)))
-        ref = solve_volume(bridge, snap.gap, vol)
+        ref = solve_volume(bridge, snap.gap, float(np.dot(prob.vol, f * np.minimum(h, g))))
         assert ref.exists
-        assert snap.force_capillary == pytest.approx(ref.force, rel=0.05), snap.gap
-    # the tangential (non-wetting) contact gives a repulsive capillary part instead
+        assert -0.15 < snap.force_capillary / ref.force - 1 < 0.0, snap.gap
     tang = tf.implicit_run(water_meniscus(contact="tangential"), gaps, rtol=1e-4)
     assert all(s.force_capillary > 0 for s in tang.snapshots[1:])
 
 
 def test_meniscus_force_converges_with_the_grid():
-    """Capillary part on 300 and 600 cells within 1 % (measured 0.4 %)."""
+    """lambda = 0.2: capillary part on 1800 (auto) and 3600 cells within 1 % (measured
+    0.02 %), and suction."""
     d = 1e-4
     gaps = d * np.array([1.0, 0.1, 0.01])
     caps = [np.array([s.force_capillary for s in tf.implicit_run(
-        water_meniscus(cells=n), gaps, rtol=1e-4).snapshots[1:]]) for n in (300, 600)]
+        water_meniscus(cells=n), gaps, rtol=1e-4).snapshots[1:]]) for n in (1800, 3600)]
+    assert np.all(caps[1] < 0)
     assert np.all(np.abs(caps[0] / caps[1] - 1) < 0.01)
 
 
