@@ -58,7 +58,8 @@ Contact at the wetted edge (setting ``contact``):
   wetted radius 694.0, 686.0, 678.9, 675.6, 674.0 um, and the viscous part approaches the
   Reynolds force of the wetted zone (same r_w) from -17 % to -11, -2.7, -0.4, -0.1 %.
   Presets: lambda = 0.2 (fast), 0.05 (default: about 2 % on the capillary part and
-  0.5 % on r_w from the lambda -> 0 limit), 0.025 (accurate, about 1 %). Model error,
+  0.5 % on r_w at S = 0.1 delta from the lambda -> 0 limit, at most 4 % of
+  |F_visc| + |F_cap| along the whole penetration), 0.025 (accurate, half that). Model error,
   apart from lambda: the converged suction is 6-12 % weaker than the static
   finite-element bridge (``meniscus``) holding the same wetted volume, because the
   small-slope film cannot represent the inner meniscus, whose slopes are of order one
@@ -107,13 +108,15 @@ counts were erratic); it also couples the sphere's inertia, m dv/dt = -F.
 
 Declared order: 2, measured in :meth:`ThinFilm.convergence_data` on the decay rate of a
 J0 mode against the analytic leveling rate (the spatial operator's order against an exact
-reference, cheap enough for the generic test). The benchmark measures the force of a full
-penetration against a 2400-cell run (``benchmarks/results/thinfilm.json``): with the
-default meniscus contact, whose diffuse edge spans several cells, it converges at order
-2.07 (6.7 / 1.4 / 0.34 / 0.09 % at 150 / 300 / 600 / 1200 cells), consistent with the
-declaration; with the tangential contact only at about 0.7 (5.2 ... 1.3 %), because its
-edge is a kink located inside a cell (an error of the contact model, not of the bulk
-operator).
+reference, cheap enough for the generic test). The benchmark
+(``benchmarks/results/thinfilm.json``) measures the total force of a full penetration of
+the water case: with the meniscus contact, refining lambda with its cells, against the
+first-order extrapolation 2 F(0.025) - F(0.05): max error 19.5 / 9.5 / 3.9 / 2.0 % of
+|F_visc| + |F_cap| at lambda = 0.2 / 0.1 / 0.05 / 0.025 (1.7 / 4.6 / 16 / 166 s),
+observed order 1.13 in lambda (the last two points are tied by the extrapolation); with
+the tangential contact against a 2400-cell run, order about 0.7 in dr (5.2 ... 1.3 %),
+because its edge is a kink located inside a cell (an error of the contact model, not of
+the bulk operator).
 
 Sources: Oron, Davis & Bankoff (1997) Rev. Mod. Phys. 69, 931 (thin-film equation);
 Pitois, Moucheront & Chateau (2000) J. Colloid Interface Sci. 231, 26 (finite-liquid
