@@ -76,10 +76,15 @@ def _case_rows(scene: Scene, quick: bool) -> tuple[list[dict], str | None, dict]
     return rows, None, inertial
 
 
-def _stability(out: Path) -> list[dict]:
-    bench = ROOT / "benchmarks" / "results" / "thinfilm.json"
-    if bench.exists():
-        return json.loads(bench.read_text())["stability"]["rows"]
+def _bench() -> dict | None:
+    """The thin-film benchmark's results (``benchmarks/results/thinfilm.json``), if run."""
+    path = ROOT / "benchmarks" / "results" / "thinfilm.json"
+    return json.loads(path.read_text()) if path.exists() else None
+
+
+def _stability(bench: dict | None) -> list[dict]:
+    if bench is not None:
+        return bench["stability"]["rows"]
     rows = []
     for n in (16, 32, 64):
         free = tf._leveling_problem(n)
@@ -91,12 +96,11 @@ def _stability(out: Path) -> list[dict]:
     return rows
 
 
-def _width_study() -> list[str]:
+def _width_study(bench: dict | None) -> list[str]:
     """Markdown lines: force error against the wetting width lambda (benchmark JSON)."""
-    bench = ROOT / "benchmarks" / "results" / "thinfilm.json"
-    if not bench.exists():
+    if bench is None:
         return []
-    wp = json.loads(bench.read_text()).get("work_precision", {})
+    wp = bench.get("work_precision", {})
     if wp.get("order_variable") != "wetting_width":
         return []
     md = ["Contact regularisation (`benchmarks/bench_thinfilm.py`, water case, full "
@@ -169,7 +173,8 @@ def section(out: Path, quick: bool) -> str:
             w = csv.DictWriter(fh, fieldnames=list(rows[0]))
             w.writeheader()
             w.writerows(rows)
-    stab = _stability(out)
+    bench = _bench()
+    stab = _stability(bench)
     _plots(out, stab)
 
     md = ["## Thin film: sphere squeezing a liquid layer (model `thinfilm`)", "",
@@ -198,7 +203,7 @@ def section(out: Path, quick: bool) -> str:
         md.append(f"Inertial run, {name} (m = {1e6 * ine['mass']:.2f} mg, v0 = {ine['v0']:g} "
                   f"m/s): {stop}; speed at the smallest gap {ine['v_end']:.3f} m/s.")
         md.append("")
-    md.extend(_width_study())
+    md.extend(_width_study(bench))
     md.append("Stability and validity: `thinfilm_stability_validity.png`, "
               "`thinfilm_validity.csv`.")
     if rows:
