@@ -198,9 +198,18 @@ class Model:
             case=scene.name, model=self.name, gap=curve.gap,
             force_viscous=curve.force_viscous, force_capillary=curve.force_capillary,
             extras=curve.extras, error_estimate=curve.error_estimate, diagnostics=diag,
-            settings={"preset": preset, **{k: _jsonable(v) for k, v in opts.items()}},
+            settings=self.settings_for(preset, **settings),
             provenance=provenance(),
         )
+
+    def settings_for(self, preset: str = "default", **settings: Any) -> dict[str, Any]:
+        """The ``settings`` a curve computed at ``preset`` with ``settings`` will carry.
+
+        It is known before the solve, so the store's content key of a point can be found
+        without running the model (sweeps reuse stored points by it).
+        """
+        opts = {**self.presets[preset], **settings}
+        return {"preset": preset, **{k: _jsonable(v) for k, v in opts.items()}}
 
     def _force(self, scene: Scene, preset: str, **opts: Any) -> ForceCurve:
         raise NotImplementedError
