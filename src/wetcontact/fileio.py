@@ -1,0 +1,60 @@
+"""Safe file names and atomic writes for everything the package writes.
+
+A case or study name comes from a user's file and may hold path separators, ``..``, control
+characters or thousands of characters; :func:`safe_stem` turns it into a file stem that
+stays inside the folder it is joined to. :func:`atomic_write_text` writes through a
+temporary sibling, fsyncs it and renames it over the target, so a reader (or a process
+killed mid-write, or a full disk) sees either the old complete file or the new one.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import os
+import re
+import tempfile
+from pathlib import Path
+
+MAX_STEM = 100
+
+
+def safe_stem(name: str) -> str:
+    """A file stem for ``name``: ``[A-Za-z0-9._-]`` only, no leading dot, at most 100 chars.
+
+    Characters outside the set become ``_``; a stem that had to be changed or shortened
+    gets an 8-character hash of the original name, so two different names never share
+    a stem.
+    """
+    stem = re.sub(r"[^A-Za-z0-9._-]", "_", name).lstrip(".") or "_"
+    if stem == name and len(stem) <= MAX_STEM:
+        return stem
+    tag = hashlib.sha256(name.encode("utf-8", "surrogatepass")).hexdigest()[:8]
+    return f"{stem[:MAX_STEM - 9]}-{tag}"
+
+
+def atomic_write_text(path: str | Path, text: str) -> None:
+    """Write ``text`` to ``path`` atomically (temporary sibling, fsync, ``os.replace``).
+
+    The file gets the mode a plain ``open(path, "w")`` would give (``0o666`` less the
+    umask). On any error the temporary file is removed and the old file is untouched.
+    """
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.chmod(tmp, 0o666 & ~_umask())
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+        raise
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
