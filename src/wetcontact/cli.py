@@ -1,29 +1,41 @@
 """The ``wetcontact`` command.
 
-Exit codes: 0 success, 2 bad input (one line on stderr, no traceback), 1 solver failure.
+Exit codes: 0 success, 2 bad input or a path the user must change (one line on stderr, no
+traceback), 1 a solver failure or an unexpected error (one line; ``--debug`` or
+``WETCONTACT_DEBUG=1`` shows the traceback), 130 interrupted.
 """
 
 from __future__ import annotations
 
 import argparse
+import errno
 import json
+import os
 import sys
+import threading
+import time
+import traceback
 from pathlib import Path
 
-from wetcontact.errors import InputError, SolverError
+from wetcontact import __version__
+from wetcontact.errors import InputError, SolverError, short_repr
 
 
 class _Parser(argparse.ArgumentParser):
     """argparse with one-line errors and exit code 2."""
 
     def error(self, message: str) -> None:  # type: ignore[override]
-        sys.stderr.write(f"{self.prog}: error: {message} (see --help)\n")
+        sys.stderr.write(f"{self.prog}: error: {short_repr(message, quote=False, limit=300)} "
+                         "(see --help)\n")
         raise SystemExit(2)
 
 
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="wetcontact", description="High-fidelity reference forces for wet "
                 "particle contacts, and the error tables of DEM force closures.")
+    p.add_argument("--version", action="version", version=f"wetcontact {__version__}")
+    p.add_argument("--debug", action="store_true", help="show the traceback of a failure "
+                   "(or set WETCONTACT_DEBUG=1)")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     run = sub.add_parser("run", help="regenerate reference curves, error tables and the "
@@ -58,30 +70,91 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of the ``wetcontact`` command."""
-    args = build_parser().parse_args(argv)
-    try:
-        if args.command == "models":
-            return _models()
-        if args.command == "solve":
-            return _solve(args)
-        if args.command == "run":
-            from wetcontact.report import run_all
+    """Entry point of the ``wetcontact`` command: the one error boundary.
 
-            run_all(cases=args.cases, out=args.out,
-                    mode="quick" if args.quick else "full" if args.full else "default",
-                    resume=args.resume)
-            return 0
-    except InputError as exc:
-        sys.stderr.write(f"wetcontact: error: {exc}\n")
-        return 2
-    except SolverError as exc:
-        sys.stderr.write(f"wetcontact: solver failed: {exc}\n")
-        return 1
+    Every failure leaves as exit 2 (bad input, a user's path) or 1 (a solver failure, an
+    unexpected error) with one line on stderr saying what to do; ``--debug`` (or the
+    environment variable ``WETCONTACT_DEBUG=1``) adds the traceback.
+    """
+    argv = list(sys.argv[1:] if argv is None else argv)
+    end = argv.index("--") if "--" in argv else len(argv)
+    debug = "--debug" in argv[:end] or os.environ.get("WETCONTACT_DEBUG", "") not in ("", "0")
+    argv = [a for i, a in enumerate(argv) if i >= end or a != "--debug"]  # anywhere on the line
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as exc:  # --help, --version, or a usage error already printed
+        return exc.code if isinstance(exc.code, int) else 2
+    try:
+        return _dispatch(args)
     except KeyboardInterrupt:
         sys.stderr.write("wetcontact: interrupted; everything saved before is in the store\n")
         return 130
-    return 2
+    except BaseException as exc:  # noqa: BLE001 - the boundary: every failure is one line
+        if isinstance(exc, SystemExit):
+            raise
+        code, line = error_line(exc)
+        if debug:
+            traceback.print_exc(file=sys.stderr)
+        sys.stderr.write(line + "\n")
+        return code
+
+
+def _dispatch(args: argparse.Namespace) -> int:
+    if args.command == "models":
+        return _models()
+    if args.command == "solve":
+        return _solve(args)
+    if args.command == "run":
+        from wetcontact.report import run_all
+
+        run_all(cases=args.cases, out=args.out,
+                mode="quick" if args.quick else "full" if args.full else "default",
+                resume=args.resume)
+        return 0
+    raise InputError(f"unknown command {args.command!r}; see wetcontact --help")
+
+
+#: errors a user fixes by choosing another path (exit 2), and the hint for each
+_PATH_ERRORS: dict[int, str] = {
+    errno.EEXIST: "choose a new name or remove it",
+    errno.ENOENT: "check the path",
+    errno.EACCES: "choose a folder you can write to",
+    errno.EPERM: "choose a folder you can write to",
+    errno.EROFS: "choose a folder on a writable file system",
+    errno.ENOTDIR: "a part of the path is a file, not a folder",
+    errno.EISDIR: "give a file, not a folder",
+    errno.ENOSPC: "free some space or choose another folder; files written before are complete",
+    errno.EDQUOT: "free some space or choose another folder; files written before are complete",
+    errno.ENAMETOOLONG: "use a shorter path or name",
+}
+
+
+def error_line(exc: BaseException) -> tuple[int, str]:
+    """Exit code and the one line a user sees for ``exc`` (no traceback)."""
+    if isinstance(exc, InputError):
+        return 2, f"wetcontact: error: {_one_line(exc)}"
+    if isinstance(exc, SolverError):
+        return 1, f"wetcontact: solver failed: {_one_line(exc)}"
+    if isinstance(exc, OSError):
+        where = " ".join(repr(str(f)) if len(str(f)) <= 200 else repr(f"{str(f)[:200]}...")
+                         for f in (exc.filename, exc.filename2) if f is not None)
+        what = exc.strerror or _one_line(exc) or type(exc).__name__
+        if exc.errno in _PATH_ERRORS:
+            return 2, (f"wetcontact: error: {where + ': ' if where else ''}{what}; "
+                       f"{_PATH_ERRORS[exc.errno]}")
+        return 1, (f"wetcontact: error: {where + ': ' if where else ''}{what} "
+                   f"({type(exc).__name__}); rerun with --debug for the traceback")
+    if isinstance(exc, MemoryError):
+        return 1, ("wetcontact: error: out of memory; use fewer gaps or a coarser preset "
+                   "(rerun with --debug for the traceback)")
+    return 1, (f"wetcontact: internal error ({type(exc).__name__}: {_one_line(exc)}); "
+               "rerun with --debug for the traceback and report it")
+
+
+def _one_line(exc: BaseException, limit: int = 300) -> str:
+    """The exception's message on one line, at most ``limit`` characters."""
+    text = " ".join(str(exc).split())
+    return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
 def _models() -> int:
@@ -119,12 +192,18 @@ def _solve(args: argparse.Namespace) -> int:
         if not model.saves_fields:
             raise InputError(f"--save-fields: model '{model.name}' has no fields to save; "
                              "use a field solver (stokes)")
-        opts["save_fields"] = str(args.save_fields)
-    curve = model.force(scene, preset=preset, **opts)
+        opts["save_fields"] = str(writable_folder(args.save_fields, "--save-fields"))
+    with Progress(f"{scene.name} with model '{model.name}'"):
+        curve = model.force(scene, preset=preset, **opts)
     if args.json:
         out = curve.to_json_dict()
         out["selection"] = why
-        print(json.dumps(out))
+        try:
+            text = json.dumps(out, allow_nan=False)
+        except ValueError:  # a NaN in settings/diagnostics: never printed silently
+            raise SolverError(f"model '{model.name}' returned a non-finite value in its "
+                              "diagnostics; rerun with --debug and report it") from None
+        print(text)
     else:
         print(f"# case {scene.name}  model {model.name} ({why}), preset {preset}, "
               f"{curve.diagnostics.get('wall_time_s', 0):.3g} s")
@@ -135,6 +214,79 @@ def _solve(args: argparse.Namespace) -> int:
         for i in range(curve.gap.size):
             print("  ".join(f"{c[i]:>14.6e}" for _, c in cols))
     return 0
+
+
+def writable_folder(path: Path, flag: str) -> Path:
+    """``path`` as an existing folder the process can write to, checked before any solve.
+
+    Creates it (and its parents) when missing; a file in the way, a missing permission or a
+    full disk is an :class:`InputError` naming ``flag`` and the path.
+    """
+    from wetcontact.fileio import atomic_write_text
+
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise InputError(f"{flag} {str(path)!r}: exists and is not a folder; give a folder")
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        probe = path / ".wetcontact-write-test"
+        atomic_write_text(probe, "")
+        probe.unlink()
+    except OSError as exc:
+        raise InputError(f"{flag} {str(path)!r}: cannot write there "
+                         f"({exc.strerror or type(exc).__name__}); choose a writable folder"
+                         ) from None
+    return path
+
+
+#: seconds between progress lines on a non-terminal stderr (a spinner refreshes faster)
+PROGRESS_EVERY = 5.0
+_SPIN = "|/-\\"
+
+
+class Progress:
+    """Progress of a slow call on stderr, never on stdout (so ``--json`` stays clean).
+
+    On a terminal: a spinner line with the elapsed time, redrawn in place and erased at the
+    end. Otherwise (logs, pipes): one line every :data:`PROGRESS_EVERY` seconds. A call
+    shorter than that prints nothing.
+    """
+
+    def __init__(self, what: str, stream=None):
+        self.what, self.stream = what, stream if stream is not None else sys.stderr
+        self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._loop, daemon=True)
+        self._drawn = False
+
+    def __enter__(self) -> Progress:
+        self.t0 = time.monotonic()
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._stop.set()
+        self._thread.join()
+        if self._drawn:
+            self.stream.write("\r\x1b[K")
+            self.stream.flush()
+
+    def _loop(self) -> None:
+        every = min(PROGRESS_EVERY, 0.25) if self.tty else PROGRESS_EVERY
+        first, spin = PROGRESS_EVERY if not self.tty else min(PROGRESS_EVERY, 1.0), 0
+        if self._stop.wait(first):
+            return
+        while True:
+            dt = time.monotonic() - self.t0
+            if self.tty:
+                self.stream.write(f"\rwetcontact: solving {self.what} {_SPIN[spin % 4]} "
+                                  f"{dt:.0f} s\x1b[K")
+                self._drawn, spin = True, spin + 1
+            else:
+                self.stream.write(f"wetcontact: still solving {self.what}, {dt:.0f} s\n")
+            self.stream.flush()
+            if self._stop.wait(every):
+                return
 
 
 if __name__ == "__main__":

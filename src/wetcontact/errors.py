@@ -6,6 +6,26 @@ The CLI maps them to exit codes: :class:`InputError` (and its subclasses) to 2,
 
 from __future__ import annotations
 
+MAX_SHOWN = 120
+
+
+def short_repr(value: object, quote: bool = True, limit: int = MAX_SHOWN) -> str:
+    """``repr(value)`` (or ``str`` with ``quote=False``) on one line, at most ``limit`` chars.
+
+    A hostile value (a list of millions of gaps, a 5000-character name, a string with
+    newlines) must not turn a one-line error into pages: long text is cut in the middle
+    with the total length shown, and line breaks are escaped.
+    """
+    if isinstance(value, list | tuple | dict) and len(value) > 8:
+        text = f"{type(value).__name__} of {len(value)} items"
+    else:
+        text = repr(value) if quote else str(value)
+    text = text.encode("unicode_escape").decode("ascii") if not text.isprintable() else text
+    if len(text) > limit:
+        half = (limit - 20) // 2
+        text = f"{text[:half]}...({len(text)} chars)...{text[-half:]}"
+    return text
+
 
 class InputError(ValueError):
     """Bad input: a case file, a CLI flag or a call argument outside its allowed range."""
@@ -28,8 +48,9 @@ class CaseError(InputError):
 
     def __init__(self, source: str, field: str, value: object, allowed: str):
         self.source, self.field, self.value, self.allowed = source, field, value, allowed
-        shown = "missing" if value is None else f"= {value!r}"
-        super().__init__(f"{source}: {field} {shown}; allowed: {allowed}")
+        shown = "missing" if value is None else f"= {short_repr(value)}"
+        super().__init__(f"{short_repr(source, quote=False)}: {short_repr(field, quote=False)} "
+                         f"{shown}; allowed: {allowed}")
 
 
 class ValidityError(InputError):

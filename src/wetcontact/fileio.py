@@ -14,6 +14,7 @@ import hashlib
 import os
 import re
 import tempfile
+from collections.abc import Iterator
 from pathlib import Path
 
 MAX_STEM = 100
@@ -40,7 +41,7 @@ def atomic_write_text(path: str | Path, text: str) -> None:
     umask). On any error the temporary file is removed and the old file is untouched.
     """
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name[:50]}.", suffix=".tmp", dir=path.parent)
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as fh:
             fh.write(text)
@@ -48,10 +49,40 @@ def atomic_write_text(path: str | Path, text: str) -> None:
             os.fsync(fh.fileno())
         os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
+    except BaseException as exc:
+        _forget(tmp, path, exc)
         raise
+
+
+@contextlib.contextmanager
+def atomic_output(path: str | Path) -> Iterator[Path]:
+    """A temporary sibling of ``path`` (same suffix) for a writer that wants a file name.
+
+    For libraries that write by name (meshio, matplotlib): write to the yielded path; on a
+    normal exit it is fsynced, given the umask mode and renamed over ``path``; on an error
+    it is removed and ``path`` is untouched.
+    """
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name[:50]}.", suffix=f".tmp{path.suffix}",
+                               dir=path.parent)
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        with open(tmp, "rb+") as fh:
+            os.fsync(fh.fileno())
+        os.chmod(tmp, 0o666 & ~_umask())
+        os.replace(tmp, path)
+    except BaseException as exc:
+        _forget(tmp, path, exc)
+        raise
+
+
+def _forget(tmp: str, path: Path, exc: BaseException) -> None:
+    """Remove the temporary; an error about it names the target the user asked for."""
+    with contextlib.suppress(FileNotFoundError):
+        os.unlink(tmp)
+    if isinstance(exc, OSError) and exc.filename is not None and str(exc.filename) == str(tmp):
+        exc.filename = str(path)
 
 
 def _umask() -> int:

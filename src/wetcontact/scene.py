@@ -46,6 +46,12 @@ _SCHEMA: dict[str, dict[str, bool]] = {
     "fidelity": {"tolerance": False, "model": False},
 }
 _TABLES = {k for k in _SCHEMA if k}
+#: most gaps a case may ask for, as a list or as a ``{start, stop, points}`` table
+MAX_GAPS = 100_000
+#: longest case name; names become file stems (see :func:`wetcontact.fileio.safe_stem`)
+MAX_NAME = 200
+#: longest description or source text
+MAX_TEXT = 100_000
 
 
 @dataclass(frozen=True)
@@ -174,6 +180,9 @@ def load_case(path: str | Path) -> Scene:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise CaseError(src, "(syntax)", str(exc), "valid TOML") from None
+    except RecursionError:
+        raise CaseError(src, "(syntax)", "nesting too deep", "valid TOML of moderate "
+                        "nesting depth") from None
     return scene_from_dict(data, source=src)
 
 
@@ -188,8 +197,10 @@ def scene_from_dict(data: Mapping[str, Any], source: str = "<dict>") -> Scene:
     part = data.get("particle", {})
 
     name = data["name"]
-    if not isinstance(name, str) or not name.strip():
-        raise CaseError(source, "name", name, "a non-empty string")
+    if (not isinstance(name, str) or not name.strip() or len(name) > MAX_NAME
+            or not name.isprintable()):
+        raise CaseError(source, "name", name, f"a non-empty printable string of at most "
+                        f"{MAX_NAME} characters")
 
     kind = g["kind"]
     if kind not in ("sphere-wall", "sphere-sphere"):
@@ -255,8 +266,8 @@ def scene_from_dict(data: Mapping[str, Any], source: str = "<dict>") -> Scene:
         if not isinstance(model, str) or not model:
             raise CaseError(source, "fidelity.model", model, "a registered model name")
     for key in ("description", "source"):
-        if key in data and not isinstance(data[key], str):
-            raise CaseError(source, key, data[key], "a string")
+        if key in data and (not isinstance(data[key], str) or len(data[key]) > MAX_TEXT):
+            raise CaseError(source, key, data[key], f"a string of at most {MAX_TEXT} characters")
     return Scene(
         name=name, kind=kind, radius=radius, radius2=radius2, viscosity=eta,
         surface_tension=sigma, density=rho, gravity=gravity, contact_angle_sphere=th_s,
@@ -303,7 +314,10 @@ def _num(source: str, name: str, value: Any, lo: float, hi: float, unit: str,
     allowed = f"a number in {bracket}{lo:g}, {hi:g}] {unit}".rstrip()
     if isinstance(value, bool) or not isinstance(value, int | float):
         raise CaseError(source, name, value, allowed)
-    x = float(value)
+    try:
+        x = float(value)
+    except OverflowError:  # an integer beyond the float range
+        raise CaseError(source, name, value, allowed) from None
     if not math.isfinite(x) or x > hi or x < lo or (lo_open and x == lo):
         raise CaseError(source, name, value, allowed)
     return x
@@ -311,7 +325,7 @@ def _num(source: str, name: str, value: Any, lo: float, hi: float, unit: str,
 
 def _angle(source: str, name: str, value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float) or not (
-        0.0 <= float(value) < 180.0
+        0.0 <= value < 180.0  # False for NaN; exact for any int, however large
     ):
         raise CaseError(source, name, value, "a number in [0, 180) degrees")
     return math.radians(float(value))
@@ -354,8 +368,8 @@ def _validate_gaps(source: str, gaps: Any, radius: float) -> tuple[float, ...]:
         start = _num(source, "motion.gaps.start", gaps["start"], 0.0, 100 * radius, "m")
         stop = _num(source, "motion.gaps.stop", gaps["stop"], 0.0, 100 * radius, "m")
         n = gaps["points"]
-        if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 100_000:
-            raise CaseError(source, "motion.gaps.points", n, "an integer in [1, 100000]")
+        if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_GAPS:
+            raise CaseError(source, "motion.gaps.points", n, f"an integer in [1, {MAX_GAPS}]")
         spacing = gaps.get("spacing", "log")
         if spacing == "log":
             arr = np.geomspace(start, stop, n)
@@ -364,9 +378,13 @@ def _validate_gaps(source: str, gaps: Any, radius: float) -> tuple[float, ...]:
         else:
             raise CaseError(source, "motion.gaps.spacing", spacing, "'log' or 'linear'")
         return tuple(float(x) for x in arr)
+    if isinstance(gaps, np.ndarray) and gaps.ndim != 1:
+        raise CaseError(source, "motion.gaps", f"an array of shape {gaps.shape}",
+                        "a 1-D list of gaps")
     if isinstance(gaps, list | tuple | np.ndarray):
-        if len(gaps) == 0:
-            raise CaseError(source, "motion.gaps", list(gaps), "a non-empty list")
+        if not 1 <= len(gaps) <= MAX_GAPS:  # before touching an entry: cheap for any size
+            raise CaseError(source, "motion.gaps", f"a list of {len(gaps)} gaps",
+                            f"a list of 1 to {MAX_GAPS} gaps (as for points in the table form)")
         out = []
         for i, s in enumerate(gaps):
             out.append(_num(source, f"motion.gaps[{i}]", s if not isinstance(s, np.floating)

@@ -70,11 +70,19 @@ def to_skfem(m: meshio.Mesh) -> MeshTri2:
 
 def write_vtu(path: Path, mesh: MeshTri2, point_data: dict[str, np.ndarray],
               scale: float = 1.0) -> Path:
-    """Write a VTU (ParaView) file: the mesh vertices (times ``scale``) and vertex fields."""
+    """Write a VTU (ParaView) file: the mesh vertices (times ``scale``) and vertex fields.
+
+    Atomic (:func:`wetcontact.fileio.atomic_output`): a killed writer or a full disk leaves
+    the old file or none, never a truncated one.
+    """
+    from wetcontact.fileio import atomic_output
+
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     nv = int(mesh.t.max()) + 1  # vertices come first in a quadratic skfem mesh
     p = mesh.p[:, :nv]
     pts = np.column_stack([p.T * scale, np.zeros(nv)])
-    meshio.Mesh(pts, [("triangle", mesh.t.T)], point_data=point_data).write(path)
+    with atomic_output(path) as tmp:
+        meshio.Mesh(pts, [("triangle", mesh.t.T)], point_data=point_data).write(
+            tmp, file_format="vtu")
     return path

@@ -184,7 +184,9 @@ def _solve_filling_angle(volume: float, gap: float, radius: float, theta_s: floa
     vol = toroidal_volume(grid, gap, radius, theta_s, theta_w, kind)
     ok = (xc - r1) > 0.0
     f = np.where(ok, vol - volume, -np.inf)
-    idx = np.nonzero((f[:-1] < 0.0) & (f[1:] >= 0.0) & ok[1:])[0]
+    # a sign change between two grid points that both have a positive neck radius; the
+    # volume is not meaningful (and may change sign) where the neck radius is negative
+    idx = np.nonzero((f[:-1] < 0.0) & ok[:-1] & (f[1:] >= 0.0) & ok[1:])[0]
     if idx.size == 0:
         raise SolverError(
             f"toroidal: no bridge of volume {volume:.6g} m3 at gap {gap:.6g} m "
@@ -754,8 +756,11 @@ class Toroidal(_CapillaryClosure):
 
     def check(self, scene: Scene) -> None:
         super().check(scene)
+        gap = min(scene.gaps)
+        if gap >= self.rupture_distance(scene):
+            return  # every gap past rupture: zero force, nothing to solve
         try:
-            self.attraction(scene, np.array([min(scene.gaps)]))
+            self.attraction(scene, np.array([gap]))
         except SolverError as exc:
             raise ValidityError(self.name, str(exc), use_instead="meniscus") from None
 

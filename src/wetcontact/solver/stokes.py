@@ -279,12 +279,13 @@ def _mesh_for(scene: Scene, s: float, res: Resolution, method: str, cache: Any
 
 def _save_fields(out: Path, scene: Scene, i: int, sol: StokesSolution) -> Path:
     """Velocity (m/s) and pressure (Pa) at the mesh vertices, SI coordinates, to VTU."""
+    from wetcontact.fileio import safe_stem
     from wetcontact.meshes.io import write_vtu
 
     R, v, eta = scene.radius, scene.velocity, scene.viscosity
     nd = sol.basis_u.nodal_dofs
     vel = np.column_stack([sol.u[nd[0]], sol.u[nd[1]], np.zeros(nd.shape[1])]) * v
-    path = Path(out) / f"stokes-{scene.name}-{i:03d}.vtu"
+    path = Path(out) / f"stokes-{safe_stem(scene.name)}-{i:03d}.vtu"
     return write_vtu(path, sol.mesh, {"velocity": vel, "pressure": sol.p * eta * v / R},
                      scale=R)
 
