@@ -192,6 +192,19 @@ def test_debug_flag_and_env_show_the_traceback(monkeypatch):
     assert code == 1 and "Traceback" in err
 
 
+def test_a_warning_is_one_line(monkeypatch):
+    def warns() -> int:
+        import warnings
+
+        warnings.warn("overflow encountered in exp", RuntimeWarning, stacklevel=1)
+        return 0
+
+    monkeypatch.setattr(cli, "_models", warns)
+    code, out, err = run_cli(["models"])
+    assert code == 0 and err.count("\n") == 1
+    assert err.startswith("wetcontact: warning: RuntimeWarning: overflow encountered in exp")
+
+
 def test_argument_errors_return_2_in_process():
     code, out, err = run_cli(["solve", "--no-such-flag"])
     assert code == 2 and len(err.strip().splitlines()) == 1
@@ -384,6 +397,22 @@ def test_every_fast_model_past_rupture_gives_a_curve_or_a_one_line_error(name):
     assert np.all(np.isfinite(curve.force_total))
 
 
+@pytest.mark.parametrize("volume, gap", [(1e-16, 1.0), (1e-20, 1e-3), (1e-24, 0.5)])
+def test_lubrication_tiny_bridge_far_apart_is_the_parallel_disk_squeeze(volume, gap):
+    """Found by the property tests: a bridge far smaller than its gap gave 'non-finite
+    pressure' (the ln h grading degenerates when h is flat over the wetted zone). The gap
+    varies by < 1e-9 relative there, so the parallel-disk squeeze film
+    F = 3 pi eta v r_w^4 / (2 S^3), with pi r_w^2 S = V, holds to about 1e-9."""
+    data = {**IMMERSED, "geometry": {"kind": "sphere-wall", "radius": 1.0},
+            "amount": {"bridge_volume": volume},
+            "motion": {"velocity": 0.1, "gaps": [gap, 2 * gap]}}
+    curve = get_model("lubrication").force(scene_from_dict(data))
+    s = np.array([gap, 2 * gap])
+    xi = volume / (np.pi * s)
+    ref = 3 * np.pi * 1e-3 * 0.1 * xi**2 / (2 * s**3)
+    assert np.allclose(curve.force_viscous, ref, rtol=1e-6, atol=0.0)
+
+
 # ---- 5. progress on stderr for a slow model ------------------------------------------------
 
 
@@ -408,6 +437,50 @@ def test_slow_solve_prints_progress_lines_on_stderr_not_stdout(tmp_path, monkeyp
     assert json.loads(out)["force_viscous"] == [1.0]
     lines = err.strip().splitlines()
     assert len(lines) >= 2 and all("still solving" in ln and _Slow.name in ln for ln in lines)
+
+
+class _Tty(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def test_progress_on_a_terminal_is_one_redrawn_line_erased_at_the_end(monkeypatch):
+    monkeypatch.setattr(cli, "PROGRESS_EVERY", 0.1)
+    stream = _Tty()
+    with cli.Progress("case with model 'x'", stream=stream):
+        time.sleep(0.5)
+    text = stream.getvalue()
+    assert "\n" not in text and text.count("\r") >= 3 and text.endswith("\r\x1b[K")
+    assert "solving case with model 'x'" in text
+
+
+class _NanDiag(_Slow):
+    name = "nan-diagnostics-test-model"
+
+    def _force(self, scene, preset, **opts):
+        return ForceCurve(case=scene.name, model=self.name, gap=scene.gap_array,
+                          force_viscous=np.ones(scene.gap_array.size), force_capillary=None,
+                          diagnostics={"residual": float("nan")})
+
+
+def test_a_nan_in_diagnostics_never_reaches_json_stdout(tmp_path, monkeypatch):
+    import wetcontact.models as models
+
+    monkeypatch.setitem(models.MODELS, _NanDiag.name, _NanDiag())
+    case = _case(tmp_path, IMMERSED)
+    code, out, err = run_cli(["solve", str(case), "--model", _NanDiag.name, "--json"])
+    assert code == 1 and out == "" and "non-finite" in err
+    assert len(err.strip().splitlines()) == 1
+
+
+def test_debug_flag_works_after_the_subcommand(monkeypatch):
+    def boom() -> int:
+        raise ZeroDivisionError("x")
+
+    monkeypatch.setattr(cli, "_models", boom)
+    monkeypatch.delenv("WETCONTACT_DEBUG", raising=False)
+    code, _, err = run_cli(["models", "--debug"])
+    assert code == 1 and "Traceback" in err
 
 
 def test_fast_solve_prints_nothing_on_stderr(tmp_path):
@@ -617,6 +690,14 @@ def test_generated_argument_lists_keep_the_contract(argv):
 def test_generated_case_files_keep_the_contract_many(case, data):
     COUNTER["cases"] += 1
     _run_in_sandbox(case[0], lambda path, out: _solve_argv(data.draw, path, out, case[1]))
+
+
+@pytest.mark.slow
+@settings(max_examples=2000, deadline=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(case=physical_cases(), as_json=st.booleans())
+def test_generated_physical_scenes_keep_the_contract_many(case, as_json):
+    test_generated_physical_scenes_keep_the_contract.hypothesis.inner_test(case, as_json)
 
 
 def test_report_the_count():

@@ -15,6 +15,7 @@ import sys
 import threading
 import time
 import traceback
+import warnings
 from pathlib import Path
 
 from wetcontact import __version__
@@ -85,7 +86,9 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit as exc:  # --help, --version, or a usage error already printed
         return exc.code if isinstance(exc.code, int) else 2
     try:
-        return _dispatch(args)
+        with warnings.catch_warnings():
+            warnings.showwarning = _warning_line
+            return _dispatch(args)
     except KeyboardInterrupt:
         sys.stderr.write("wetcontact: interrupted; everything saved before is in the store\n")
         return 130
@@ -151,7 +154,14 @@ def error_line(exc: BaseException) -> tuple[int, str]:
                "rerun with --debug for the traceback and report it")
 
 
-def _one_line(exc: BaseException, limit: int = 300) -> str:
+def _warning_line(message: Warning | str, category: type[Warning], filename: str,
+                  lineno: int, file: object = None, line: str | None = None) -> None:
+    """A warning (e.g. numpy's overflow) as one line on stderr, not two with source code."""
+    sys.stderr.write(f"wetcontact: warning: {category.__name__}: {_one_line(message)} "
+                     f"({Path(filename).name}:{lineno})\n")
+
+
+def _one_line(exc: BaseException | Warning | str, limit: int = 300) -> str:
     """The exception's message on one line, at most ``limit`` characters."""
     text = " ".join(str(exc).split())
     return text if len(text) <= limit else text[:limit - 3] + "..."

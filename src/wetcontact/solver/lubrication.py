@@ -42,7 +42,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, ClassVar, Literal
 
 import numpy as np
@@ -330,6 +330,8 @@ def _mapping(profile: GapProfile, xi_w: np.ndarray, s: np.ndarray
     if profile.shape in ("sphere-wall", "parabolic"):
         edge = profile.h_of_xi(xi_w, profile.gap)[:, None]
         big_l = np.log(edge / gap)
+        if np.any(big_l < _FLAT):  # a wetted zone tiny against 2RS: uniform in xi instead
+            return _flat_mapping(profile, xi_w, s, big_l[:, 0] < _FLAT)
         e = np.exp(s * big_l)
         rise = gap * np.expm1(s * big_l)                 # h - S without cancellation
         dh_ds = gap * big_l * e
@@ -344,6 +346,26 @@ def _mapping(profile: GapProfile, xi_w: np.ndarray, s: np.ndarray
     xi = xi0 * np.expm1(s * big_l)
     xi_s = xi0 * big_l * np.exp(s * big_l)
     return xi, xi_s, profile.h_of_xi(xi, gap)
+
+
+#: ln(h_edge/S) below which the ln-h grading degenerates (dh/ds -> 0): the gap is flat over
+#: the wetted zone to 1e-9 and a mapping uniform in xi is used for those gaps
+_FLAT = 1e-9
+
+
+def _flat_mapping(profile: GapProfile, xi_w: np.ndarray, s: np.ndarray, flat: np.ndarray
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_mapping` with ``xi = xi_w s`` on the gaps marked ``flat`` (a bridge far
+    smaller than its gap, e.g. past rupture), the ln-h grading on the others."""
+    gap = profile.gap[:, None]
+    xi = xi_w[:, None] * s
+    out = [xi, np.broadcast_to(xi_w[:, None], xi.shape).copy(), profile.h_of_xi(xi, gap)]
+    if not flat.all():
+        sub = replace(profile, gap=profile.gap[~flat])
+        graded = _mapping(sub, xi_w[~flat], s[0])
+        for arr, part in zip(out, graded, strict=True):
+            arr[~flat] = part
+    return out[0], out[1], out[2]
 
 
 def _solve_level(profile: GapProfile, xi_w: np.ndarray, n: int, eta: float, v: float,
