@@ -8,6 +8,7 @@ traceback), 1 a solver failure or an unexpected error (one line; ``--debug`` or
 from __future__ import annotations
 
 import argparse
+import contextlib
 import errno
 import json
 import os
@@ -92,6 +93,10 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         sys.stderr.write("wetcontact: interrupted; everything saved before is in the store\n")
         return 130
+    except BrokenPipeError:  # the reader of stdout went away (| head): stop quietly
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
     except BaseException as exc:  # noqa: BLE001 - the boundary: every failure is one line
         if isinstance(exc, SystemExit):
             raise
