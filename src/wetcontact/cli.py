@@ -97,9 +97,7 @@ def main(argv: list[str] | None = None) -> int:
         with contextlib.suppress(OSError, ValueError, AttributeError):
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
-    except BaseException as exc:  # noqa: BLE001 - the boundary: every failure is one line
-        if isinstance(exc, SystemExit):
-            raise
+    except Exception as exc:  # noqa: BLE001 - the boundary: every failure is one line
         code, line = error_line(exc)
         if debug:
             traceback.print_exc(file=sys.stderr)
@@ -131,8 +129,8 @@ _PATH_ERRORS: dict[int, str] = {
     errno.EROFS: "choose a folder on a writable file system",
     errno.ENOTDIR: "a part of the path is a file, not a folder",
     errno.EISDIR: "give a file, not a folder",
-    errno.ENOSPC: "free some space or choose another folder; files written before are complete",
-    errno.EDQUOT: "free some space or choose another folder; files written before are complete",
+    errno.ENOSPC: "free some space or choose another folder",
+    getattr(errno, "EDQUOT", errno.ENOSPC): "free some space or choose another folder",
     errno.ENAMETOOLONG: "use a shorter path or name",
 }
 
