@@ -417,6 +417,24 @@ def _save_fields(out: Path, scene: Scene, i: int, sol: StokesSolution) -> Path:
                      scale=R)
 
 
+INSTEAD = {"immersed": ("cox-brenner", "brenner", "vinogradova", "lubrication", "reynolds"),
+           "film": ("thinfilm", "lubrication", "reynolds-finite"),
+           "bridge": ("lubrication", "reynolds-finite")}
+"""Viscous models to name when ``stokes`` refuses a scene, most faithful first, per amount."""
+
+
+def _instead(scene: Scene) -> str | None:
+    """The first model of :data:`INSTEAD` that accepts ``scene`` (``None`` if none does), so
+    a refusal never points to a model that refuses the same scene."""
+    from wetcontact.models import load_all
+
+    models = load_all()
+    for name in INSTEAD[scene.amount]:
+        if name in models and models[name].applicable(scene) is None:
+            return name
+    return None
+
+
 # ---- the registered model -----------------------------------------------------------------
 
 
@@ -460,23 +478,23 @@ class Stokes(Model):
         if s.min() < MIN_GAP:
             raise ValidityError(self.name, f"S/R = {s.min():.3g} < {MIN_GAP:g}: the graded "
                                 "mesh cannot resolve the gap to the preset's accuracy",
-                                "cox-brenner")
+                                _instead(scene))
         if scene.amount == "bridge":
             raise ValidityError(self.name, "a liquid bridge needs the meniscus profile of the "
                                 "finite-element meniscus solver, which is not available yet",
-                                "lubrication")
+                                _instead(scene))
         if scene.kind == "sphere-sphere":
             q = scene.radius2 / scene.radius
             if not RADIUS_RATIO[0] <= q <= RADIUS_RATIO[1]:
                 raise ValidityError(self.name, f"radius ratio R2/R = {q:.3g} outside the "
                                     f"meshed range [{RADIUS_RATIO[0]:g}, {RADIUS_RATIO[1]:g}]",
-                                    "lubrication")
+                                    _instead(scene))
         if scene.amount == "film":
             d = scene.film_thickness / scene.radius
             if np.any((s < d) & (d > s + 1.0)):
                 raise ValidityError(self.name, f"film thickness delta/R = {d:g} reaches above "
                                     "the sphere's equator at some gap (allowed S < delta <= "
-                                    "S + R)", "thinfilm")
+                                    "S + R)", _instead(scene))
 
     def convergence_data(self) -> tuple[np.ndarray, np.ndarray]:
         """Relative force error against Brenner's series under uniform refinement.
