@@ -15,7 +15,7 @@ import meshio
 import numpy as np
 import pytest
 
-from wetcontact.errors import SolverError, ValidityError
+from wetcontact.errors import InputError, SolverError, ValidityError
 from wetcontact.meshes.builders import Resolution
 from wetcontact.meshes.cache import get_mesh
 from wetcontact.models import get_model
@@ -219,8 +219,12 @@ def test_film_approaches_lubrication_as_the_film_thins(model, scene_factory):
 
 def test_film_gap_above_the_film_has_no_force(model, scene_factory):
     sc = _scene(scene_factory, gaps=(0.01, 0.06), film_thickness=0.05 * R)
-    f = model.force(sc, preset="fast").force_viscous
+    curve = model.force(sc, preset="fast")
+    f = curve.force_viscous
     assert f[0] > 0 and f[1] == 0.0
+    assert curve.settings["film_top"] == "flat"  # which free-surface model was used
+    with pytest.raises(InputError, match="film_top"):
+        model.force(sc, preset="fast", film_top="meniscus")
 
 
 def test_save_fields_writes_vtu(model, scene_factory, tmp_path):

@@ -417,6 +417,13 @@ def _save_fields(out: Path, scene: Scene, i: int, sol: StokesSolution) -> Path:
                      scale=R)
 
 
+FILM_TOPS = {"flat": "flat, traction-free film surface z = delta outside the sphere: the "
+                     "fast-impact limit (the surface has no time to form a meniscus)"}
+"""Film-surface models of the film domain (recorded in a result's ``settings``). The
+quasi-static meniscus top (the static meniscus joining the flat film far away) is not built
+yet: it needs gravity (with zero Laplace pressure at infinity and no gravity the meniscus is
+a catenoid, which never becomes flat)."""
+
 INSTEAD = {"immersed": ("cox-brenner", "brenner", "vinogradova", "lubrication", "reynolds"),
            "film": ("thinfilm", "lubrication", "reynolds-finite"),
            "bridge": ("lubrication", "reynolds-finite")}
@@ -451,7 +458,8 @@ class Stokes(Model):
     the unit problem. Options: ``method`` (``"symmetry"``: equal spheres solved as one
     sphere approaching a shear-free plane at speed v/2 and gap S/2, used when the spheres
     are mirror images (equal radii and slip lengths), else the full mesh; ``"full"``: both
-    spheres meshed), ``save_fields`` (a directory for VTU files), ``cache`` (mesh cache
+    spheres meshed), ``film_top`` (the film surface model, :data:`FILM_TOPS`; recorded in
+    the settings), ``save_fields`` (a directory for VTU files), ``cache`` (mesh cache
     directory), and the mesh resolution keys of :class:`~wetcontact.meshes.builders.Resolution`.
     """
 
@@ -466,9 +474,12 @@ class Stokes(Model):
     reference = ("Taylor-Hood axisymmetric Stokes FEM (scikit-fem, gmsh); force by the "
                  "reaction (dissipation) and by the traction integral")
     presets = {
-        "fast": {"n_gap": 3, "h_sphere": 0.08, "growth": 0.25, "far": 1.0e3, "n_film": 4},
-        "default": {"n_gap": 4, "h_sphere": 0.05, "growth": 0.15, "far": 1.0e3, "n_film": 6},
-        "accurate": {"n_gap": 8, "h_sphere": 0.02, "growth": 0.08, "far": 1.0e3, "n_film": 8},
+        "fast": {"n_gap": 3, "h_sphere": 0.08, "growth": 0.25, "far": 1.0e3, "n_film": 4,
+                     "film_top": "flat"},
+        "default": {"n_gap": 4, "h_sphere": 0.05, "growth": 0.15, "far": 1.0e3, "n_film": 6,
+                     "film_top": "flat"},
+        "accurate": {"n_gap": 8, "h_sphere": 0.02, "growth": 0.08, "far": 1.0e3, "n_film": 8,
+                     "film_top": "flat"},
     }
     error_bound = {"fast": 1e-3, "default": 1e-4, "accurate": 1e-5}
     """Relative error bound of the immersed force per preset (measured, benchmarks/)."""
@@ -518,9 +529,12 @@ class Stokes(Model):
 
     def _force(self, scene: Scene, preset: str, method: str = "symmetry",
                save_fields: str | None = None, cache: str | None = None,
-               intorder: int = 4, **res_opts: Any) -> ForceCurve:
+               intorder: int = 4, film_top: str = "flat", **res_opts: Any) -> ForceCurve:
         if method not in ("symmetry", "full"):
             raise InputError(f"model 'stokes': method = {method!r}; allowed: 'symmetry', 'full'")
+        if film_top not in FILM_TOPS:
+            raise InputError(f"model 'stokes': film_top = {film_top!r}; allowed: "
+                             + ", ".join(repr(k) for k in FILM_TOPS))
         res = Resolution(**res_opts)
         R, eta, v = scene.radius, scene.viscosity, scene.velocity
         gaps = scene.gap_array
