@@ -182,6 +182,36 @@ def test_two_spheres_with_slip_symmetry_and_full_mesh_agree(model, scene_factory
     assert full < one.force_viscous[0] < noslip
 
 
+def test_kinematic_free_surface_reproduces_a_rigid_translation():
+    """Bridge domain, every boundary moving down at unit speed (sphere and wall with Navier
+    slip, the meniscus with the prescribed normal velocity -n_z, the contact-line nodes
+    meeting two normal conditions): the exact solution u = (0, -1), p = 0 is in the
+    discrete space, so the solver must return it to rounding, with no force."""
+    from wetcontact.meshes.builders import sphere_bridge, toroidal_bridge_profile
+    from wetcontact.meshes.io import to_skfem
+
+    gap, th = 0.01, math.radians(20)
+    prof = toroidal_bridge_profile(gap, math.radians(20), contact_angle=th)
+    mesh = to_skfem(sphere_bridge(gap, prof, Resolution(n_gap=3, h_sphere=0.15, growth=0.4,
+                                                         far=1e3), contact_size=1e-3))
+    arc_r = (2 * (1 - math.cos(0.349)) + 2 * gap) / (2 * math.cos(0.349 + th))
+
+    def surface(xy):
+        d = xy - np.array([[prof[0, 0] + arc_r], [0.0]])
+        n = -d / np.hypot(d[0], d[1])  # out of the liquid: towards the arc's centre side
+        return -n[1], n[0], n[1]
+
+    sol = st.solve_stokes(mesh, {"sphere": -1.0, "wall": -1.0},
+                          slip={"sphere": 1e-3, "wall": 1e-3}, surface=surface)
+    nd = sol.basis_u.nodal_dofs
+    assert np.abs(sol.u[nd[0]]).max() < 1e-9
+    assert np.abs(sol.u[nd[1]] + 1.0).max() < 1e-9
+    # pressure: 7e-9 everywhere but 1e-6 at one vertex (a contact-line corner, whose
+    # neighbouring velocities are all prescribed, so its pressure is weakly determined)
+    assert np.abs(sol.p).max() < 1e-5 and np.median(np.abs(sol.p)) < 1e-7
+    assert abs(sol.force_reaction) < 1e-7
+
+
 def test_sign_follows_velocity(model, scene_factory):
     sc = scene_factory(geometry={"kind": "sphere-wall", "radius": R},
                        motion={"velocity": -V, "gaps": [0.1 * R]})

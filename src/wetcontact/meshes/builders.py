@@ -337,7 +337,8 @@ def sphere_film(gap: float, film: float, res: Resolution, extent: float = 30.0) 
         return _mesh_and_read(gmsh, size, groups, surf)
 
 
-def sphere_bridge(gap: float, profile: np.ndarray, res: Resolution) -> meshio.Mesh:
+def sphere_bridge(gap: float, profile: np.ndarray, res: Resolution,
+                  contact_size: float | None = None) -> meshio.Mesh:
     """Unit sphere joined to the wall z = 0 by a liquid bridge with a given meridian.
 
     Parameters
@@ -351,6 +352,9 @@ def sphere_bridge(gap: float, profile: np.ndarray, res: Resolution) -> meshio.Me
         curve is interpolated by a gmsh B-spline through the points.
     res
         Resolution; the size near the meniscus is ``h_sphere``.
+    contact_size
+        Element size at the two contact lines (units of R), growing by ``res.growth`` with
+        the distance from them: resolves a Navier slip length there. ``None``: no grading.
 
     Boundaries ``axis``, ``wall``, ``sphere``, ``free_surface``.
     """
@@ -377,7 +381,17 @@ def sphere_bridge(gap: float, profile: np.ndarray, res: Resolution) -> meshio.Me
         surf = g.addPlaneSurface([g.addCurveLoop([wall, fs, sph, ax])])
         groups = {"axis": [ax], "wall": [wall], "sphere": [sph], "free_surface": [fs]}
         base = _sphere_size(res, c)
-        return _mesh_and_read(gmsh, lambda r, z: min(base(r, z), res.h_sphere), groups, surf)
+        if contact_size is None:
+            return _mesh_and_read(gmsh, lambda r, z: min(base(r, z), res.h_sphere), groups, surf)
+        if not (math.isfinite(contact_size) and 1e-9 <= contact_size <= 1.0):
+            raise InputError(f"contact_size = {contact_size!r}; allowed: [1e-9, 1] R")
+        (r0, z0), (r1, z1) = prof[0], prof[-1]
+
+        def size(r: float, z: float) -> float:
+            d = min(math.hypot(r - r0, z - z0), math.hypot(r - r1, z - z1))
+            return min(base(r, z), res.h_sphere, contact_size + res.growth * d)
+
+        return _mesh_and_read(gmsh, size, groups, surf)
 
 
 def toroidal_bridge_profile(gap: float, half_angle: float, contact_angle: float = math.pi / 6,

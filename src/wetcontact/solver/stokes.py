@@ -68,6 +68,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -85,12 +86,16 @@ from skfem import (
     Functional,
     MeshTri2,
 )
+from skfem.mapping import MappingIsoparametric
 
 from wetcontact.errors import InputError, SolverError, ValidityError
 from wetcontact.meshes.builders import Resolution
 from wetcontact.meshes.cache import get_mesh
 from wetcontact.models import ForceCurve, Model, register
 from wetcontact.scene import Scene
+
+SurfaceMotion = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
+"""Node coordinates (2, n) -> (normal velocity, n_r, n_z) of a free surface."""
 
 MIN_GAP = 1e-5
 """Smallest S/R the solver accepts (below it the graded mesh and the P2 force lose digits)."""
@@ -146,6 +151,12 @@ def traction_z(x):
     return -(szr * n[0] + szz * n[1]) * r
 
 
+@Functional
+def mean_r_weighted(x):
+    """``int f r ds`` on a boundary (with f = 1: the r-weighted length)."""
+    return x["f"] * x.x[0]
+
+
 @BilinearForm
 def navier_slip_form(u, w, x):
     """Navier slip friction on a solid boundary, r-weighted: (eta/b) u_t w_t r, eta = 1.
@@ -193,7 +204,8 @@ class StokesSolution:
 
 
 def solve_stokes(mesh: MeshTri2, sphere_velocity: dict[str, float], intorder: int = 4,
-                 slip: dict[str, float] | None = None) -> StokesSolution:
+                 slip: dict[str, float] | None = None,
+                 surface: SurfaceMotion | None = None) -> StokesSolution:
     """Solve axisymmetric Stokes flow on ``mesh`` with the named boundary conditions.
 
     Parameters
@@ -212,6 +224,13 @@ def solve_stokes(mesh: MeshTri2, sphere_velocity: dict[str, float], intorder: in
         (``"sphere"``, ``"sphere2"``, ``"wall"``); a boundary not named is no-slip. See
         :func:`navier_slip_form`: the normal velocity is the body's, the tangential slip
         velocity ``u_t - U_t = (b/eta) sigma_nt``.
+    surface
+        Kinematic condition on ``free_surface`` (quasi-static meniscus): a function of the
+        node coordinates (2, n) returning the prescribed normal velocity and the unit normal
+        (n_r, n_z) there; the tangential traction stays zero. At a contact line the node
+        takes the velocity meeting both normal conditions (free surface and solid). The
+        pressure constant is then fixed by a zero mean (r-weighted) pressure on the free
+        surface. Without it the free surface is traction-free.
     """
     t0 = time.perf_counter()
     names = set(mesh.boundaries)
@@ -249,10 +268,9 @@ def solve_stokes(mesh: MeshTri2, sphere_velocity: dict[str, float], intorder: in
     body = np.zeros(nu)
     frames: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = {}
     if slip:
-        pinned = np.concatenate([dofs(nm, "u^1") for nm in names
-                                 if nm not in slip and nm != "free_surface"])
+        pinned = pinned_dofs(bu, names, slip)
         for name, b in slip.items():
-            fb = FacetBasis(mesh, eu, facets=mesh.boundaries[name], intorder=intorder)
+            fb = _facet_basis(mesh, eu, name, intorder)
             Mb = navier_slip_form.assemble(fb, friction=1.0 / b)
             ub = np.zeros(nu)
             ub[dofs(name, "u^2")] = velocity.get(name, 0.0)
@@ -267,18 +285,37 @@ def solve_stokes(mesh: MeshTri2, sphere_velocity: dict[str, float], intorder: in
         moving_z[name] = dofs(name, "u^2")
         if name not in slip:
             fixed += [dofs(name, "u^1"), moving_z[name]]
-    for name, (ir, iz, _, _) in frames.items():
-        # rotated nodes: dof ir carries u_n (fixed to U.n), dof iz carries u_t (free);
-        # nodes shared with the axis or a no-slip boundary stay fully fixed
-        keep = np.setdiff1d(np.concatenate([dofs(name, "u^1"), dofs(name, "u^2")]),
-                            np.concatenate([ir, iz]))
-        fixed += [ir, keep]
+    # normal-constrained nodes: name -> (ir, iz, n_r, n_z, u_n)
+    normal: dict[str, tuple[np.ndarray, ...]] = {
+        name: (ir, iz, nr, nz, velocity.get(name, 0.0) * nz)
+        for name, (ir, iz, nr, nz) in frames.items()}
+    if surface is not None:
+        if "free_surface" not in names:
+            raise SolverError("a free-surface motion is given but the mesh has no "
+                              "'free_surface'")
+        ir, iz = dofs("free_surface", "u^1"), dofs("free_surface", "u^2")
+        un, nr, nz = (np.asarray(a, dtype=float) for a in surface(bu.doflocs[:, ir]))
+        keep = ~np.isin(ir, pinned_dofs(bu, names, slip | {"free_surface": 0.0}))
+        normal["free_surface"] = (ir[keep], iz[keep], nr[keep], nz[keep], un[keep])
+    for name in frames:
+        # nodes of a slip boundary shared with the axis or a no-slip boundary stay fixed
+        ir, iz = normal[name][:2]
+        fixed.append(np.setdiff1d(np.concatenate([dofs(name, "u^1"), dofs(name, "u^2")]),
+                                  np.concatenate([ir, iz])))
     # set moving values last: sphere dofs on the axis keep their u_z
     for name, vel in sphere_velocity.items():
         x[moving_z[name]] = vel
+    corners = _corner_velocities(normal)
+    for ir, iz, ur, uz in corners:
+        x[ir], x[iz] = ur, uz
+        fixed += [ir, iz]
     T = sp.identity(nu + npr, format="csr")
-    if frames:
-        ir, iz, nr, nz = (np.concatenate(a) for a in zip(*frames.values(), strict=True))
+    if normal:
+        # rotated nodes: dof ir carries u_n (fixed), dof iz carries u_t (free)
+        ir, iz, nr, nz, un = (np.concatenate(a) for a in zip(*normal.values(), strict=True))
+        done = np.isin(ir, np.concatenate([c[0] for c in corners])) if corners else (
+            np.zeros(ir.size, dtype=bool))
+        ir, iz, nr, nz, un = ir[~done], iz[~done], nr[~done], nz[~done], un[~done]
         rows = np.concatenate([ir, ir, iz, iz])
         cols = np.concatenate([ir, iz, ir, iz])
         vals = np.concatenate([nr, -nz, nz, nr])  # u_r = nr u_n - nz u_t, u_z = nz u_n + nr u_t
@@ -286,10 +323,10 @@ def solve_stokes(mesh: MeshTri2, sphere_velocity: dict[str, float], intorder: in
         T = sp.csr_matrix((np.concatenate([vals, np.ones(other.size)]),
                            (np.concatenate([rows, other]), np.concatenate([cols, other]))),
                           shape=(nu + npr, nu + npr))
-        uz = np.zeros(ir.size)
-        for name, (jr, _, _, jnz) in frames.items():
-            uz[np.isin(ir, jr)] = velocity.get(name, 0.0) * jnz
-        x[ir], x[iz] = uz, 0.0  # u_n = U . n = U_z n_z on a body moving along the axis
+        x[ir], x[iz] = un, 0.0
+        fixed.append(ir)
+    if surface is not None:
+        fixed.append(np.array([nu + _corner_vertex(mesh, "sphere", "free_surface")]))
     if "free_surface" not in names and "far" in names:
         far_p = bp.get_dofs("far").all()
         fixed.append(np.array([nu + far_p[0]]))
@@ -311,6 +348,13 @@ def solve_stokes(mesh: MeshTri2, sphere_velocity: dict[str, float], intorder: in
         raise SolverError("Stokes linear solve returned non-finite values (singular system?)")
     x = T @ x
     t2 = time.perf_counter()
+    if surface is not None:
+        # the free surface's mean pressure is ambient (0): the O(Ca) shape change of a
+        # volume-conserving meniscus takes up no net normal stress; the pin at the contact
+        # line (where the slip-regularised pressure is large) only removed the null space
+        fbp = _facet_basis(mesh, ElementTriP1(), "free_surface", intorder)
+        mean = mean_r_weighted.assemble(fbp, f=fbp.interpolate(x[nu:]))
+        x[nu:] -= mean / mean_r_weighted.assemble(fbp, f=1.0)
     u, p = x[:nu], x[nu:]
     res = K[:nu] @ x
     dz = moving_z["sphere"]
@@ -326,7 +370,7 @@ def solve_stokes(mesh: MeshTri2, sphere_velocity: dict[str, float], intorder: in
     # the imposed motion (exact for one moving body, and for two mirror-image bodies)
     v_s = sphere_velocity["sphere"]
     f_diss = -diss / v_s / len(sphere_velocity) if v_s else float("nan")
-    fb = FacetBasis(mesh, eu, facets=mesh.boundaries["sphere"], intorder=intorder)
+    fb = _facet_basis(mesh, eu, "sphere", intorder)
     fbp = fb.with_element(ElementTriP1())
     f_trac = 2.0 * math.pi * float(traction_z.assemble(fb, u=fb.interpolate(u),
                                                         p=fbp.interpolate(p)))
@@ -335,6 +379,73 @@ def solve_stokes(mesh: MeshTri2, sphere_velocity: dict[str, float], intorder: in
                           force_reaction=f_reac, force_traction=f_trac,
                           force_dissipation=f_diss, ndofs=nu + npr, nelements=mesh.t.shape[1],
                           timings={"assemble": t1 - t0, "solve": t2 - t1, "post": t3 - t2})
+
+
+class _Isoparametric(MappingIsoparametric):
+    """scikit-fem's isoparametric mapping with a relative tolerance in ``invF``.
+
+    The stock Newton inversion stops at an absolute 1e-12 in reference coordinates, which
+    rounding cannot reach on elements 1e-5 times smaller than their distance from the
+    origin (contact-line and tiny-gap grading); 1e-9 is still far below what quadrature
+    needs.
+    """
+
+    def invF(self, x, tind=None, newton_max_iters=50, newton_tol=1e-9):
+        return super().invF(x, tind=tind, newton_max_iters=newton_max_iters,
+                            newton_tol=newton_tol)
+
+
+def _facet_basis(mesh: MeshTri2, elem: Any, name: str, intorder: int) -> FacetBasis:
+    """Facet basis on the named boundary (with the tolerant mapping)."""
+    mapping = _Isoparametric(mesh, mesh.elem(), mesh.bndelem)
+    return FacetBasis(mesh, elem, mapping=mapping, facets=mesh.boundaries[name],
+                      intorder=intorder)
+
+
+def pinned_dofs(bu: Basis, names: set[str], slip: dict[str, float]) -> np.ndarray:
+    """u_r dofs of the boundaries that fix both components or u_r (axis, far, no-slip solids,
+    the symmetry plane): nodes there are never turned to a normal-tangential frame."""
+    out = [bu.get_dofs(nm).all("u^1") for nm in names if nm not in slip and nm != "free_surface"]
+    return np.concatenate(out) if out else np.empty(0, dtype=np.int64)
+
+
+def _corner_velocities(normal: dict[str, tuple[np.ndarray, ...]]
+                       ) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
+    """Nodes with two normal conditions (a contact line: a solid and the free surface).
+
+    The velocity there solves ``n1 . u = u_n1``, ``n2 . u = u_n2`` (the contact line moves
+    along the solid at the speed the free surface imposes). Returns, per pair of
+    boundaries, (ir, iz, u_r, u_z) of the shared nodes.
+    """
+    out = []
+    keys = list(normal)
+    for i, a in enumerate(keys):
+        for b in keys[i + 1:]:
+            ia, ib = normal[a], normal[b]
+            common, ka, kb = np.intersect1d(ia[0], ib[0], return_indices=True)
+            if common.size == 0:
+                continue
+            n1r, n1z, u1 = ia[2][ka], ia[3][ka], ia[4][ka]
+            n2r, n2z, u2 = ib[2][kb], ib[3][kb], ib[4][kb]
+            det = n1r * n2z - n1z * n2r
+            if np.any(np.abs(det) < 1e-8):
+                raise SolverError(f"contact line between '{a}' and '{b}' with parallel "
+                                  "normals (contact angle 0 or 180 deg): velocity undefined")
+            ur = (u1 * n2z - u2 * n1z) / det
+            uz = (n1r * u2 - n2r * u1) / det
+            out.append((common, ia[1][ka], ur, uz))
+    return out
+
+
+def _corner_vertex(mesh: MeshTri2, a: str, b: str) -> int:
+    """The mesh vertex shared by boundaries ``a`` and ``b`` (e.g. a contact line)."""
+    va = np.unique(mesh.facets[:, mesh.boundaries[a]])
+    vb = np.unique(mesh.facets[:, mesh.boundaries[b]])
+    common = np.intersect1d(va, vb)
+    if common.size != 1:
+        raise SolverError(f"boundaries '{a}' and '{b}' share {common.size} vertices, "
+                          "expected 1 (a contact line)")
+    return int(common[0])
 
 
 def _slip_frame(bu: Basis, name: str, ir: np.ndarray, iz: np.ndarray, pinned: np.ndarray
