@@ -112,6 +112,35 @@ def test_bridge_mesh_follows_the_toroidal_profile():
         builders.sphere_bridge(gap, prof[::-1], COARSE)
 
 
+def test_bridge_mesh_graded_towards_the_contact_lines():
+    """contact_size: edges at both contact lines are about that size (for a slip length)."""
+    gap, b, th = 0.01, math.radians(20), math.radians(20)
+    prof = builders.toroidal_bridge_profile(gap, b, contact_angle=th)
+    mesh = to_skfem(builders.sphere_bridge(gap, prof, COARSE, contact_size=1e-4))
+    plain = to_skfem(builders.sphere_bridge(gap, prof, COARSE))
+    fs = mesh.boundaries["free_surface"]
+    ends = mesh.p[:, mesh.facets[:, fs]]
+    length = np.hypot(*(ends[:, 1] - ends[:, 0]))
+    for corner in (prof[0], prof[-1]):
+        near = np.hypot(*(ends[:, 0] - corner[:, None])) < 1e-9
+        near |= np.hypot(*(ends[:, 1] - corner[:, None])) < 1e-9
+        assert near.sum() == 1 and 0.3e-4 < length[near][0] < 3e-4
+    assert mesh.t.shape[1] > plain.t.shape[1]
+    with pytest.raises(InputError, match="contact_size"):
+        builders.sphere_bridge(gap, prof, COARSE, contact_size=0.0)
+
+
+def test_unequal_sphere_mesh_has_both_radii_and_the_gap_grading():
+    mesh = to_skfem(builders.sphere_sphere(0.01, COARSE, radius2=2.0))
+    r, z = _facet_points(mesh, "sphere2")
+    np.testing.assert_allclose(np.hypot(r, z + 2.005), 2.0, atol=1e-9)
+    r, z = _facet_points(mesh, "sphere")
+    np.testing.assert_allclose(np.hypot(r, z - 1.005), 1.0, atol=1e-9)
+    assert gap_elements(mesh, -0.005, 0.005) >= 2 * COARSE.n_gap
+    with pytest.raises(InputError, match="radius ratio"):
+        builders.sphere_sphere(0.01, COARSE, radius2=100.0)
+
+
 def test_cache_hit_and_key(cache):
     k1 = mesh_key("sphere_wall", gap=0.1, res=COARSE, plane="wall")
     assert k1 != mesh_key("sphere_wall", gap=0.1000001, res=COARSE, plane="wall")

@@ -15,11 +15,11 @@ import meshio
 import numpy as np
 import pytest
 
-from wetcontact.errors import SolverError, ValidityError
+from wetcontact.errors import InputError, SolverError, ValidityError
 from wetcontact.meshes.builders import Resolution
 from wetcontact.meshes.cache import get_mesh
 from wetcontact.models import get_model
-from wetcontact.reduced_models.viscous import brenner_lambda, two_sphere_lambda
+from wetcontact.reduced_models.viscous import brenner_lambda, slip_factor, two_sphere_lambda
 from wetcontact.solver import stokes as st
 
 R, ETA, V = 1.0e-3, 1.0e-3, 0.1
@@ -35,9 +35,12 @@ def _cache(tmp_path_factory, monkeypatch):
     monkeypatch.setenv("WETCONTACT_CACHE", str(tmp_path_factory.getbasetemp() / "cache"))
 
 
-def _scene(factory, kind="sphere-wall", gaps=(1e-3,), **amount):
-    return factory(geometry={"kind": kind, "radius": R},
-                   liquid={"viscosity": ETA, "surface_tension": 0.072, "density": 998.0},
+def _scene(factory, kind="sphere-wall", gaps=(1e-3,), radius2=None, slip=(0.0, 0.0),
+           **amount):
+    geometry = {"kind": kind, "radius": R} | ({"radius2": radius2 * R} if radius2 else {})
+    return factory(geometry=geometry,
+                   liquid={"viscosity": ETA, "surface_tension": 0.072, "density": 998.0,
+                           "slip_length_sphere": slip[0] * R, "slip_length_wall": slip[1] * R},
                    amount=amount or {"immersed": True},
                    motion={"velocity": V, "gaps": [g * R for g in gaps]})
 
@@ -50,6 +53,88 @@ def test_isolated_sphere_stokes_drag():
     assert k == pytest.approx(1 + 2.25e-4, rel=1e-6)  # the correction is not negligible
     assert sol.force_reaction / (6 * math.pi * k) == pytest.approx(1.0, abs=1e-4)
     assert sol.force_traction / (6 * math.pi * k) == pytest.approx(1.0, abs=1e-3)
+
+
+@pytest.mark.parametrize("b", [1e-3, 0.1, 10.0])
+def test_isolated_sphere_with_navier_slip_basset_drag(b):
+    """Basset (1888): F = 6 pi eta a U (1 + 2b/a)/(1 + 3b/a), exact for any slip length.
+
+    The container correction is the Stokeslet's first reflection, K = 1 + (9/4)(a/L) lambda
+    with lambda the Basset factor (error O((a/L)^2) = 1e-8 at L = 1e4 a). The reaction
+    equals the dissipation (viscous plus slip friction) for the discrete solution.
+    """
+    res = Resolution(h_sphere=0.05, growth=0.15, far=1e4)
+    sol = st.solve_stokes(get_mesh("isolated_sphere", res=res), {"sphere": -1.0},
+                          slip={"sphere": b})
+    lam = (1 + 2 * b) / (1 + 3 * b)
+    k = 1 + 2.25 * lam / res.far
+    assert sol.force_reaction / (6 * math.pi * lam * k) == pytest.approx(1.0, abs=1e-4)
+    assert sol.force_dissipation == pytest.approx(sol.force_reaction, rel=1e-9)
+    assert sol.force_traction == pytest.approx(sol.force_reaction, rel=3e-3)
+
+
+@pytest.mark.parametrize("both", [True, False])
+def test_slip_tends_to_vinogradova_as_the_gap_closes(model, scene_factory, both):
+    """b = S on the wall (and the sphere): F / [f*(S, b) 6 pi eta R^2 v / S] -> 1.
+
+    Vinogradova's (1995) factor is the lubrication limit; the FEM's departure from it is
+    the O(S/R ln) outer correction, so it must fall by a decade with S/R (measured order
+    0.89: 3.2e-2, 4.3e-3, 5.4e-4 at S/R = 1e-2, 1e-3, 1e-4 for both surfaces).
+    """
+    dev = []
+    for s in (1e-2, 1e-3):
+        sc = _scene(scene_factory, gaps=(s,), slip=(s if both else 0.0, s))
+        f = model.force(sc, preset="fast").force_viscous[0]
+        lub = 6 * math.pi * ETA * R**2 * V / (s * R) * slip_factor(s, s, 2 if both else 1)
+        dev.append(f / lub - 1.0)
+    assert 0 < dev[1] < 0.2 * dev[0]
+    assert dev[1] < 6e-3
+    # the slip effect itself is large: f* = 0.52 (both) / 0.71 (one surface) at b = S
+    assert slip_factor(1e-3, 1e-3, 2 if both else 1) < 0.75
+
+
+@pytest.mark.parametrize("beta", [0.5, 2.0])
+def test_unequal_spheres_against_jeffrey_onishi(model, scene_factory, beta):
+    """F/(6 pi eta a1 v) - [g1/xi + g2 ln(1/xi) + g3 xi ln(1/xi)] tends to a constant.
+
+    Jeffrey & Onishi (1984), xi = 2S/(a1 + a2), beta = a2/a1: g1 = 2 beta^2/(1 + beta)^3,
+    g2 = beta (1 + 7 beta + beta^2)/(5 (1 + beta)^3), g3 = (1 + 18 beta - 29 beta^2 +
+    18 beta^3 + beta^4)/(42 (1 + beta)^3). Between S/R = 1e-2 and 1e-3 the ln term changes
+    by g2 ln 10 (0.65 at beta = 2): a wrong singular coefficient shows as a drift of the
+    remainder; measured drift 4e-4.
+    """
+    g1 = 2 * beta**2 / (1 + beta) ** 3
+    g2 = beta * (1 + 7 * beta + beta**2) / (5 * (1 + beta) ** 3)
+    g3 = (1 + 18 * beta - 29 * beta**2 + 18 * beta**3 + beta**4) / (42 * (1 + beta) ** 3)
+    rest = []
+    sc = _scene(scene_factory, kind="sphere-sphere", gaps=(1e-2, 1e-3), radius2=beta)
+    curve = model.force(sc, preset="fast")
+    assert curve.diagnostics["method"] == "full"
+    for s, f in zip((1e-2, 1e-3), curve.force_viscous, strict=True):
+        xi = 2 * s / (1 + beta)
+        sing = g1 / xi + g2 * math.log(1 / xi) + g3 * xi * math.log(1 / xi)
+        rest.append(f / (6 * math.pi * ETA * R * V) - sing)
+    assert abs(rest[1] - rest[0]) < 0.02 * g2 * math.log(10)
+
+
+def test_unequal_spheres_far_field(model, scene_factory):
+    """Far apart, each sphere feels the other's Stokeslet: F1 = 6 pi eta a1 (v/2)
+    (1 + (3/2) a2/d + O(d^-2)), d the centre distance (method of reflections)."""
+    beta, s = 2.0, 100.0
+    curve = model.force(_scene(scene_factory, kind="sphere-sphere", gaps=(s,), radius2=beta),
+                        preset="fast")
+    d = 1 + beta + s
+    ratio = curve.force_viscous[0] / (6 * math.pi * ETA * R * V / 2)
+    assert (ratio - 1) * d / (1.5 * beta) == pytest.approx(1.0, abs=0.03)
+
+
+def test_unequal_spheres_equal_radius_limit_is_the_series(model, scene_factory):
+    """R2 = 1.001 R through the unequal-sphere mesh: the equal-sphere series within 1e-3."""
+    s = 0.1
+    f = model.force(_scene(scene_factory, kind="sphere-sphere", gaps=(s,), radius2=1.001),
+                    preset="fast").force_viscous[0]
+    ref = 6 * math.pi * ETA * R * (V / 2) * two_sphere_lambda(s)
+    assert f / ref == pytest.approx(1.0, abs=2e-3)
 
 
 @pytest.mark.parametrize("s", [1e-4, 1e-3, 0.1, 1.0, 10.0])
@@ -81,6 +166,52 @@ def test_two_spheres_symmetry_and_full_mesh_against_series(model, scene_factory,
     assert full / half == pytest.approx(1.0, abs=1e-3)
 
 
+def test_two_spheres_with_slip_symmetry_and_full_mesh_agree(model, scene_factory):
+    """Equal slip on equal spheres: the shear-free-plane half problem equals the full mesh;
+    unequal slip lengths are solved on the full mesh (no mirror symmetry)."""
+    scene = _scene(scene_factory, kind="sphere-sphere", gaps=(0.01,), slip=(0.01, 0.01))
+    half = model.force(scene, preset="fast", method="symmetry")
+    full = model.force(scene, preset="fast", method="full").force_viscous[0]
+    assert half.diagnostics["method"] == "symmetry"
+    assert full / half.force_viscous[0] == pytest.approx(1.0, abs=1e-3)
+    noslip = model.force(_scene(scene_factory, kind="sphere-sphere", gaps=(0.01,)),
+                         preset="fast").force_viscous[0]
+    one = model.force(_scene(scene_factory, kind="sphere-sphere", gaps=(0.01,),
+                             slip=(0.01, 0.0)), preset="fast")
+    assert one.diagnostics["method"] == "full"
+    assert full < one.force_viscous[0] < noslip
+
+
+def test_kinematic_free_surface_reproduces_a_rigid_translation():
+    """Bridge domain, every boundary moving down at unit speed (sphere and wall with Navier
+    slip, the meniscus with the prescribed normal velocity -n_z, the contact-line nodes
+    meeting two normal conditions): the exact solution u = (0, -1), p = 0 is in the
+    discrete space, so the solver must return it to rounding, with no force."""
+    from wetcontact.meshes.builders import sphere_bridge, toroidal_bridge_profile
+    from wetcontact.meshes.io import to_skfem
+
+    gap, th = 0.01, math.radians(20)
+    prof = toroidal_bridge_profile(gap, math.radians(20), contact_angle=th)
+    mesh = to_skfem(sphere_bridge(gap, prof, Resolution(n_gap=3, h_sphere=0.15, growth=0.4,
+                                                         far=1e3), contact_size=1e-3))
+    arc_r = (2 * (1 - math.cos(0.349)) + 2 * gap) / (2 * math.cos(0.349 + th))
+
+    def surface(xy):
+        d = xy - np.array([[prof[0, 0] + arc_r], [0.0]])
+        n = -d / np.hypot(d[0], d[1])  # out of the liquid: towards the arc's centre side
+        return -n[1], n[0], n[1]
+
+    sol = st.solve_stokes(mesh, {"sphere": -1.0, "wall": -1.0},
+                          slip={"sphere": 1e-3, "wall": 1e-3}, surface=surface)
+    nd = sol.basis_u.nodal_dofs
+    assert np.abs(sol.u[nd[0]]).max() < 1e-9
+    assert np.abs(sol.u[nd[1]] + 1.0).max() < 1e-9
+    # pressure: 7e-9 everywhere but 1e-6 at one vertex (a contact-line corner, whose
+    # neighbouring velocities are all prescribed, so its pressure is weakly determined)
+    assert np.abs(sol.p).max() < 1e-5 and np.median(np.abs(sol.p)) < 1e-7
+    assert abs(sol.force_reaction) < 1e-7
+
+
 def test_sign_follows_velocity(model, scene_factory):
     sc = scene_factory(geometry={"kind": "sphere-wall", "radius": R},
                        motion={"velocity": -V, "gaps": [0.1 * R]})
@@ -90,6 +221,8 @@ def test_sign_follows_velocity(model, scene_factory):
 def test_refuses_tiny_gap_and_bridge(model, scene_factory):
     with pytest.raises(ValidityError, match="S/R"):
         model.force(_scene(scene_factory, gaps=(5e-6,)))
+    with pytest.raises(ValidityError, match="radius ratio"):
+        model.force(_scene(scene_factory, kind="sphere-sphere", gaps=(0.01,), radius2=20.0))
     with pytest.raises(ValidityError, match="lubrication"):
         model.force(_scene(scene_factory, gaps=(0.01,), bridge_volume=1e-12))
 
@@ -116,8 +249,12 @@ def test_film_approaches_lubrication_as_the_film_thins(model, scene_factory):
 
 def test_film_gap_above_the_film_has_no_force(model, scene_factory):
     sc = _scene(scene_factory, gaps=(0.01, 0.06), film_thickness=0.05 * R)
-    f = model.force(sc, preset="fast").force_viscous
+    curve = model.force(sc, preset="fast")
+    f = curve.force_viscous
     assert f[0] > 0 and f[1] == 0.0
+    assert curve.settings["film_top"] == "flat"  # which free-surface model was used
+    with pytest.raises(InputError, match="film_top"):
+        model.force(sc, preset="fast", film_top="meniscus")
 
 
 def test_save_fields_writes_vtu(model, scene_factory, tmp_path):

@@ -206,24 +206,30 @@ def sphere_wall(gap: float, res: Resolution, plane: str = "wall") -> meshio.Mesh
         return _mesh_and_read(gmsh, _sphere_size(res, c), groups, surf)
 
 
-def sphere_sphere(gap: float, res: Resolution) -> meshio.Mesh:
-    """Two unit spheres at surface gap ``gap`` (= S/R), centres at z = +-(1 + gap/2).
+def sphere_sphere(gap: float, res: Resolution, radius2: float = 1.0) -> meshio.Mesh:
+    """Unit sphere above a sphere of radius ``radius2`` (= R2/R) at surface gap ``gap``.
 
-    Domain: the half disc r >= 0 of radius L = ``res.far`` minus both spheres. Boundaries
-    ``axis``, ``sphere`` (upper), ``sphere2`` (lower), ``far``. The plane z = 0 is not a
-    boundary: this is the full problem, the check on the symmetric half domain.
+    The gap's mid-point is the origin: the upper sphere's centre is at z = 1 + gap/2, the
+    lower one's at z = -(radius2 + gap/2) (equal spheres: +-(1 + gap/2)). Domain: the half
+    disc r >= 0 of radius L = ``res.far`` minus both spheres. Boundaries ``axis``,
+    ``sphere`` (upper, radius 1), ``sphere2`` (lower), ``far``. The plane z = 0 is not a
+    boundary: this is the full problem (for equal spheres the check on the symmetric half
+    domain). Size field: :func:`_two_sphere_size`.
     """
     _check_gap(gap)
-    c = 1.0 + 0.5 * gap
-    L = max(res.far, 100.0 * (c + 1.0))
+    a2 = float(radius2)
+    if not (math.isfinite(a2) and 0.05 <= a2 <= 20.0):
+        raise InputError(f"mesh radius ratio R2/R = {radius2!r}; allowed: [0.05, 20]")
+    c1, c2 = 1.0 + 0.5 * gap, -(a2 + 0.5 * gap)
+    L = max(res.far, 100.0 * max(c1 + 1.0, a2 - c2))
     with _Gmsh("sphere_sphere") as gmsh:
         g = gmsh.model.geo
         o = g.addPoint(0, 0, 0)
         pfb, pw, pft = g.addPoint(0, -L, 0), g.addPoint(L, 0, 0), g.addPoint(0, L, 0)
-        pc1, pb1, pt1, pe1 = (g.addPoint(0, c, 0), g.addPoint(0, c - 1, 0),
-                              g.addPoint(0, c + 1, 0), g.addPoint(1, c, 0))
-        pc2, pb2, pt2, pe2 = (g.addPoint(0, -c, 0), g.addPoint(0, -c - 1, 0),
-                              g.addPoint(0, -c + 1, 0), g.addPoint(1, -c, 0))
+        pc1, pb1, pt1, pe1 = (g.addPoint(0, c1, 0), g.addPoint(0, c1 - 1, 0),
+                              g.addPoint(0, c1 + 1, 0), g.addPoint(1, c1, 0))
+        pc2, pb2, pt2, pe2 = (g.addPoint(0, c2, 0), g.addPoint(0, c2 - a2, 0),
+                              g.addPoint(0, c2 + a2, 0), g.addPoint(a2, c2, 0))
         far1 = g.addCircleArc(pfb, o, pw)
         far2 = g.addCircleArc(pw, o, pft)
         ax_top = g.addLine(pft, pt1)
@@ -235,8 +241,32 @@ def sphere_sphere(gap: float, res: Resolution) -> meshio.Mesh:
         surf = g.addPlaneSurface([loop])
         groups = {"axis": [ax_top, ax_gap, ax_bot], "sphere": [s1a, s1b],
                   "sphere2": [s2a, s2b], "far": [far1, far2]}
-        up, lo = _sphere_size(res, c, (0.0,)), _sphere_size(res, -c, (0.0,))
-        return _mesh_and_read(gmsh, lambda r, z: min(up(r, z), lo(r, z)), groups, surf)
+        return _mesh_and_read(gmsh, _two_sphere_size(res, c1, c2, a2), groups, surf)
+
+
+def _two_sphere_size(res: Resolution, c1: float, c2: float, a2: float) -> SizeFn:
+    """Size field of a unit sphere at (0, c1) above a sphere of radius a2 at (0, c2).
+
+    Size = min over the spheres of ``h_i + growth d_i`` (d_i the distance to sphere i,
+    h_i = h_sphere min(1, a_i): a smaller sphere gets proportionally smaller elements), and
+    in the gap column (r < min(1, a2), c2 <= z <= c1) ``h(r)/(2 n_gap + 0.6)`` with the
+    local gap ``h(r) = c1 - sqrt(1 - r^2) - c2 - sqrt(a2^2 - r^2)``: n_gap elements per half
+    gap, as for one sphere facing a plane (equal spheres: the same field as
+    ``min`` of two :func:`_sphere_size`).
+    """
+    h2 = res.h_sphere * min(1.0, a2)
+    r_col = min(1.0, a2)
+
+    def size(r: float, z: float) -> float:
+        d1 = abs(math.hypot(r, z - c1) - 1.0)
+        d2 = abs(math.hypot(r, z - c2) - a2)
+        s = min(_grown(res, d1), h2 + res.growth * d2)
+        if r < r_col and c2 <= z <= c1:
+            h = c1 - math.sqrt(1.0 - r * r) - c2 - math.sqrt(a2 * a2 - r * r)
+            s = min(s, max(h, 0.0) / (2 * res.n_gap + 0.6))
+        return s
+
+    return size
 
 
 def isolated_sphere(res: Resolution) -> meshio.Mesh:
@@ -307,7 +337,8 @@ def sphere_film(gap: float, film: float, res: Resolution, extent: float = 30.0) 
         return _mesh_and_read(gmsh, size, groups, surf)
 
 
-def sphere_bridge(gap: float, profile: np.ndarray, res: Resolution) -> meshio.Mesh:
+def sphere_bridge(gap: float, profile: np.ndarray, res: Resolution,
+                  contact_size: float | None = None) -> meshio.Mesh:
     """Unit sphere joined to the wall z = 0 by a liquid bridge with a given meridian.
 
     Parameters
@@ -321,6 +352,9 @@ def sphere_bridge(gap: float, profile: np.ndarray, res: Resolution) -> meshio.Me
         curve is interpolated by a gmsh B-spline through the points.
     res
         Resolution; the size near the meniscus is ``h_sphere``.
+    contact_size
+        Element size at the two contact lines (units of R), growing by ``res.growth`` with
+        the distance from them: resolves a Navier slip length there. ``None``: no grading.
 
     Boundaries ``axis``, ``wall``, ``sphere``, ``free_surface``.
     """
@@ -347,7 +381,17 @@ def sphere_bridge(gap: float, profile: np.ndarray, res: Resolution) -> meshio.Me
         surf = g.addPlaneSurface([g.addCurveLoop([wall, fs, sph, ax])])
         groups = {"axis": [ax], "wall": [wall], "sphere": [sph], "free_surface": [fs]}
         base = _sphere_size(res, c)
-        return _mesh_and_read(gmsh, lambda r, z: min(base(r, z), res.h_sphere), groups, surf)
+        if contact_size is None:
+            return _mesh_and_read(gmsh, lambda r, z: min(base(r, z), res.h_sphere), groups, surf)
+        if not (math.isfinite(contact_size) and 1e-9 <= contact_size <= 1.0):
+            raise InputError(f"contact_size = {contact_size!r}; allowed: [1e-9, 1] R")
+        (r0, z0), (r1, z1) = prof[0], prof[-1]
+
+        def size(r: float, z: float) -> float:
+            d = min(math.hypot(r - r0, z - z0), math.hypot(r - r1, z - z1))
+            return min(base(r, z), res.h_sphere, contact_size + res.growth * d)
+
+        return _mesh_and_read(gmsh, size, groups, surf)
 
 
 def toroidal_bridge_profile(gap: float, half_angle: float, contact_angle: float = math.pi / 6,
