@@ -313,6 +313,7 @@ class Stokes(Model):
                 "sphere in a flat film (S < delta <= S + R); no slip")
     order = 4.0
     saves_fields = True
+    reference_rank = {"viscous": 30}
     reference = ("Taylor-Hood axisymmetric Stokes FEM (scikit-fem, gmsh); force by the "
                  "reaction (dissipation) and by the traction integral")
     presets = {
