@@ -171,46 +171,63 @@ def test_swap_replaces_the_whole_folder(tmp_path):
     assert (out / "README.md").read_text() == "new"
 
 
-_KILL_SCRIPT = """
+_KILL_SCRIPT = f"""
+CHEAP = {CHEAP!r}
 import sys, wetcontact.report as r
 from wetcontact.models import load_all
 m = load_all()
 r.SECTIONS = ()
-r.load_all = lambda: {n: m[n] for n in %r}
+r.load_all = lambda: {{n: m[n] for n in CHEAP}}
 r.run_all(cases=sys.argv[1], out=sys.argv[2], progress=False, bench=None)
 print("done", flush=True)
-""" % (CHEAP,)
+"""
 
 
 def test_killed_run_leaves_the_old_or_the_new_report(tmp_path):
-    """SIGKILL at several moments of a run: README.md and the files it links are always
-    one complete report, the old one or the new one, never a mix."""
+    """SIGKILL while the new report is half written (its curves folder exists in the staging
+    folder), and at a few other moments: README.md and the files it links are always one
+    complete report, the old one or the new one, never a mix."""
     cases = _case_dir(tmp_path, "k1", "k2")
     out = tmp_path / "out"
     out.mkdir()
     (out / "README.md").write_text("OLD REPORT\n")
     (out / "old-only.csv").write_text("old\n")
+    staging = tmp_path / ".out.partial"
     env = {**os.environ, "PYTHONPATH": str(SRC.parent)}
-    outcomes = set()
-    for delay in (0.5, 1.5, 2.5, 3.0, 3.5, 4.5, 6.0):
-        p = subprocess.Popen([sys.executable, "-c", _KILL_SCRIPT, str(cases), str(out)],
-                             env=env, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
-                             start_new_session=True)
-        time.sleep(delay)
-        os.killpg(p.pid, signal.SIGKILL)
-        p.wait()
+
+    def start():
+        return subprocess.Popen([sys.executable, "-c", _KILL_SCRIPT, str(cases), str(out)],
+                                env=env, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                                start_new_session=True)
+
+    def check() -> str:
         files = sorted(f.name for f in out.iterdir())
         text = (out / "README.md").read_text()
         if text == "OLD REPORT\n":
             assert files == ["README.md", "old-only.csv"]
-            outcomes.add("old")
-        else:
-            assert "old-only.csv" not in files and "## Provenance" in text
-            for link in ("curves/k1.png", "curves/k2.csv", "closure_errors.csv"):
-                assert (out / link).stat().st_size > 0
-            outcomes.add("new")
-            break
-    assert outcomes  # at least one kill landed; which side depends on the machine's speed
+            return "old"
+        assert "old-only.csv" not in files and "## Provenance" in text
+        for link in ("curves/k1.png", "curves/k2.csv", "closure_errors.csv"):
+            assert (out / link).stat().st_size > 0
+        return "new"
+
+    p = start()
+    t0 = time.monotonic()
+    while not (staging / "curves").exists() and p.poll() is None:
+        assert time.monotonic() - t0 < 120
+        time.sleep(0.01)
+    os.killpg(p.pid, signal.SIGKILL)
+    p.wait()
+    assert check() == "old"  # killed mid-report: the old report, whole
+    for delay in (0.3, 2.0):
+        p = start()
+        time.sleep(delay)
+        os.killpg(p.pid, signal.SIGKILL)
+        p.wait()
+        check()
+    p = start()
+    assert p.wait(timeout=120) == 0
+    assert check() == "new"
 
 
 # ---- what a user sees ---------------------------------------------------------------------
@@ -240,20 +257,29 @@ def test_case_plot_colours_never_repeat_and_forces_are_signed():
     from matplotlib.colors import to_hex
 
     names = sorted(load_all())  # every registered model in one plot
-    res = _case_result(names)
-    fig = report.case_figure(res)
-    ax = fig.axes[0]
-    lines = [ln for ln in ax.get_lines() if ln.get_label().endswith(")")]
-    colour = {}
-    for ln in lines:
-        colour.setdefault(ln.get_label().split(" (")[0], set()).add(to_hex(ln.get_color()))
-    assert all(len(c) == 1 for c in colour.values())
+    fig = report.case_figure(_case_result(names))
+    assert len(fig.axes) == 2  # viscous and capillary panels
+    colour, markers = {}, {}
+    for ax in fig.axes:
+        for ln in ax.get_lines():
+            if ln.get_label().startswith("_"):
+                continue
+            colour.setdefault(ln.get_label(), set()).add(to_hex(ln.get_color()))
+    assert sorted(colour) == names and all(len(c) == 1 for c in colour.values())
     flat = [next(iter(c)) for c in colour.values()]
-    assert len(set(flat)) == len(flat) == len(names)
-    assert len({ln.get_marker() for ln in lines}) == len(names)
-    assert ax.get_yscale() == "symlog"
-    assert min(float(np.min(ln.get_ydata())) for ln in lines) < 0  # attraction shown below 0
-    title = ax.get_title()
+    assert len(set(flat)) == len(flat)  # no colour repeats within the figure
+    # sign marks: capillary attraction (F < 0) with open markers, viscous F > 0 filled
+    cap, visc = fig.axes[1], fig.axes[0]
+    opens = [ln for ln in cap.get_lines() if ln.get_markerfacecolor() == "none"
+             and len(ln.get_xdata())]
+    assert len(opens) == len(names)
+    assert not any(ln.get_markerfacecolor() == "none" and len(ln.get_xdata())
+                   for ln in visc.get_lines())
+    for ln in cap.get_lines():
+        if ln.get_marker() not in (None, "None", ""):
+            markers.setdefault(ln.get_marker(), set()).add(to_hex(ln.get_color()))
+    assert all(len(c) == 1 for c in markers.values()) and len(markers) == len(names)
+    title = fig.get_suptitle()
     assert "V = 1e-13 m^3" in title and "theta = 20/20 deg" in title
     film = report.scene_label(scene_from_dict({
         **copy.deepcopy(BRIDGE), "geometry": {"kind": "sphere-wall", "radius": 1e-3},

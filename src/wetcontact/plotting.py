@@ -20,15 +20,18 @@ COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e
            "#800000", "#008080", "#ff00ff", "#4b0082", "#9acd32", "#ffd700")
 MARKERS = ("o", "s", "^", "v", "D", "P", "X", "*", "<", ">", "h", "p", "d", "8", "H",
            "1", "2", "3", "4", "+")
+LINESTYLES = ("-", "--", "-.", ":", (0, (5, 1, 1, 1, 1, 1)))
 
 
 def styles(names: Sequence[str]) -> dict[str, dict[str, Any]]:
-    """A distinct colour and marker per name (in the order given); ValueError past 20."""
+    """A distinct colour and marker, and a line style, per name (in the order given; the
+    keyword arguments of ``Axes.plot``); ValueError past 20 names."""
     names = list(dict.fromkeys(names))
     if len(names) > len(COLOURS):
         raise ValueError(f"{len(names)} series in one plot; at most {len(COLOURS)} distinct "
                          "colours")
-    return {n: {"color": COLOURS[i], "marker": MARKERS[i]} for i, n in enumerate(names)}
+    return {n: {"color": COLOURS[i], "marker": MARKERS[i],
+                "linestyle": LINESTYLES[i % len(LINESTYLES)]} for i, n in enumerate(names)}
 
 
 def pyplot() -> Any:

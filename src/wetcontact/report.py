@@ -177,33 +177,48 @@ def scene_label(sc: Scene) -> str:
 
 
 def case_figure(res: CaseResult):  # noqa: ANN201 - a matplotlib Figure
-    """Signed forces of every model against the gap: log gap, symmetric-log force (attraction
-    below zero); one colour and marker per model, solid viscous, dashed capillary."""
-    from wetcontact.plotting import pyplot, styles, symlog_threshold
+    """|F| of every model against the gap on log axes, one panel per force component, with
+    the sign marked: filled markers where F > 0 (pushes the surfaces apart), open markers
+    where F < 0 (attraction); F = 0 (no liquid, past rupture) is not drawn. One colour and
+    marker per model, the same in both panels."""
+    from matplotlib.lines import Line2D
+
+    from wetcontact.plotting import pyplot, styles
 
     plt = pyplot()
-    fig, ax = plt.subplots(figsize=(7.5, 5))
     names = sorted(res.curves)
     st = styles(names)
-    drawn = []
-    for name in names:
-        c = res.curves[name]
-        for comp, ls in (("viscous", "-"), ("capillary", "--")):
+    comps = [c for c in ("viscous", "capillary")
+             if any(getattr(cv, f"force_{c}") is not None for cv in res.curves.values())]
+    fig, axes = plt.subplots(len(comps), 1, figsize=(7.5, 3.2 * len(comps) + 1.0),
+                             sharex=True, squeeze=False, layout="constrained")
+    for ax, comp in zip(axes[:, 0], comps, strict=True):
+        handles = []
+        for k, name in enumerate(names):
+            c = res.curves[name]
             f = getattr(c, f"force_{comp}")
-            if f is not None and np.any(f != 0):
-                ax.plot(c.gap, f, ls, ms=4 if c.gap.size < 50 else 0, markevery=max(
-                    1, c.gap.size // 25), label=f"{name} ({comp})", **st[name])
-                drawn.append(f)
-    ax.set_xscale("log")
-    ax.set_yscale("symlog", linthresh=symlog_threshold(drawn))
-    ax.axhline(0.0, color="k", lw=0.6)
+            if f is None or not np.any(f != 0):
+                continue
+            g, a, sgn = c.gap[f != 0], np.abs(f[f != 0]), np.sign(f[f != 0])
+            sty = st[name]
+            ax.plot(g, a, ls=sty["linestyle"], color=sty["color"], lw=1.2, label=name)
+            every = max(1, g.size // 20)
+            pick = slice(k % every, None, every)  # stagger markers of overlapping curves
+            for sign, face in ((1, sty["color"]), (-1, "none")):
+                sel = sgn[pick] == sign
+                ax.plot(g[pick][sel], a[pick][sel], ls="none", ms=4, marker=sty["marker"],
+                        color=sty["color"], markerfacecolor=face)
+            handles.append(Line2D([], [], ls=sty["linestyle"], color=sty["color"],
+                                  marker=sty["marker"], ms=4, label=name))
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_ylabel(f"|F {comp}| (N)")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(handles=handles, fontsize=6, loc="best", ncol=2,
+                  title="filled: F > 0 (apart), open: F < 0 (attraction)", title_fontsize=6)
+    axes[-1, 0].set_xlabel("surface gap S (m)")
     sc = res.scene
-    ax.set_xlabel("surface gap S (m)")
-    ax.set_ylabel("axial force F (N), > 0 pushes apart (symlog)")
-    ax.set_title(f"{sc.name}\n{scene_label(sc)}", fontsize=8)
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=6, loc="best", ncol=2)
-    fig.tight_layout()
+    fig.suptitle(f"{sc.name}\n{scene_label(sc)}", fontsize=8)
     return fig
 
 

@@ -247,7 +247,7 @@ def closures_figure(rows: list[dict]):  # noqa: ANN201 - a matplotlib Figure
             if sel:
                 fr = sorted({r["S/S_c"] for r in sel})
                 mx = [np.max([r["rel_error"] for r in sel if r["S/S_c"] == f]) for f in fr]
-                ax.semilogy(fr, np.maximum(mx, 1e-6), "-", ms=5, label=name, **st[name])
+                ax.semilogy(fr, np.maximum(mx, 1e-6), ms=5, label=name, **st[name])
         ax.set_title(f"{kind}, R = {R * 1e3:g} mm, sigma = {SIGMA:g} N/m", fontsize=9)
         ax.set_xlabel("S / S_c (FE)")
         ax.grid(True, which="both", alpha=0.3)
