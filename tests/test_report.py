@@ -329,3 +329,17 @@ def test_capillary_figures_have_distinct_styles_and_nothing_clipped():
     cols = [to_hex(ln.get_color()) for ln in fig.axes[0].get_lines()]
     assert len(set(cols)) == len(cols) == len(CLOSURES)
     assert not clipped_texts(fig)
+
+
+def test_thinfilm_figure_ticks_do_not_overlap():
+    import json
+
+    from wetcontact.tables.thinfilm import stability_figure, validity_map
+
+    bench = ROOT / "benchmarks" / "results" / "thinfilm.json"
+    stab = json.loads(bench.read_text())["stability"]["rows"]
+    dr, ca = np.geomspace(1e-3, 0.5, 12), np.geomspace(1e-6, 10, 12)
+    fig = stability_figure(stab, dr, ca, validity_map(dr, ca))
+    assert overlapping_ticks(fig.axes[0]) == 0 and not clipped_texts(fig)
+    fig = stability_figure(None, dr, ca, validity_map(dr, ca))  # no benchmark: says so
+    assert "no benchmark" in " ".join(t.get_text() for t in fig.axes[0].texts)

@@ -74,10 +74,16 @@ def clipped_texts(fig: Any) -> list[str]:
 
 
 def overlapping_ticks(ax: Any) -> int:
-    """Number of adjacent x tick labels of ``ax`` whose boxes overlap."""
+    """Number of adjacent x tick labels (major and minor) of ``ax`` whose boxes overlap."""
     fig = ax.figure
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()
-    boxes = sorted((t.get_window_extent(renderer) for t in ax.get_xticklabels()
-                    if t.get_visible() and t.get_text()), key=lambda b: b.x0)
+    boxes = sorted((t.get_window_extent(renderer) for t in ax.get_xticklabels(which="both")
+                    if t.get_visible() and t.get_text()
+                    and _inside(ax, t.get_position()[0])), key=lambda b: b.x0)
     return sum(a.x1 > b.x0 + 0.5 for a, b in zip(boxes, boxes[1:], strict=False))
+
+
+def _inside(ax: Any, x: float) -> bool:
+    lo, hi = sorted(ax.get_xlim())
+    return lo <= x <= hi

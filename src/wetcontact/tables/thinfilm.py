@@ -154,7 +154,27 @@ def _width_study(bench: dict | None) -> list[str]:
 
 
 def _plots(out: Path, stab: list[dict] | None) -> None:
-    from wetcontact.plotting import pyplot, save
+    from wetcontact.plotting import save
+
+    dr_r = np.geomspace(1e-3, 0.5, 120)
+    ca = np.geomspace(1e-6, 10, 120)
+    reasons = validity_map(dr_r, ca)
+    save(stability_figure(stab, dr_r, ca, reasons), out / "thinfilm_stability_validity.png")
+    with (out / "thinfilm_validity.csv").open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["delta_over_R", "Ca", "valid", "reason"])
+        for j, x in list(enumerate(dr_r))[::10]:
+            for i, c in list(enumerate(ca))[::10]:
+                reason = reasons[i][j]
+                w.writerow([f"{x:.4g}", f"{c:.4g}", reason is None, reason or ""])
+
+
+def stability_figure(stab: list[dict] | None, dr_r: np.ndarray, ca: np.ndarray,
+                     reasons: list[list[str | None]]):  # noqa: ANN201 - a matplotlib Figure
+    """Largest stable dt against dr (benchmark rows) and the validity map in (delta/R, Ca)."""
+    from matplotlib.ticker import NullFormatter
+
+    from wetcontact.plotting import pyplot
 
     plt = pyplot()
     fig, (a, b) = plt.subplots(1, 2, figsize=(10, 4))
@@ -169,12 +189,10 @@ def _plots(out: Path, stab: list[dict] | None) -> None:
     else:
         a.text(0.5, 0.5, "no benchmark results given\n(benchmarks/bench_thinfilm.py)",
                ha="center", va="center", transform=a.transAxes)
+    a.xaxis.set_minor_formatter(NullFormatter())  # minor labels overlapped
     a.set_xlabel("dr (m)")
     a.set_ylabel("largest stable dt (s)")
     a.set_title("stability (free water film, 10 um)")
-    dr_r = np.geomspace(1e-3, 0.5, 120)
-    ca = np.geomspace(1e-6, 10, 120)
-    reasons = validity_map(dr_r, ca)
     ok = np.array([[r is None for r in row] for row in reasons])
     b.contourf(dr_r, ca, ok.astype(float), levels=[-0.5, 0.5, 1.5],
                colors=["#f4b6b6", "#b6e3b6"])
@@ -184,14 +202,7 @@ def _plots(out: Path, stab: list[dict] | None) -> None:
     b.set_ylabel("Ca = eta v/sigma")
     b.set_title("thin-film validity (green: runs; red: refused)")
     fig.tight_layout()
-    save(fig, out / "thinfilm_stability_validity.png")
-    with (out / "thinfilm_validity.csv").open("w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["delta_over_R", "Ca", "valid", "reason"])
-        for j, x in list(enumerate(dr_r))[::10]:
-            for i, c in list(enumerate(ca))[::10]:
-                reason = reasons[i][j]
-                w.writerow([f"{x:.4g}", f"{c:.4g}", reason is None, reason or ""])
+    return fig
 
 
 def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
