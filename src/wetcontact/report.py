@@ -538,7 +538,7 @@ def _readme(results: list[CaseResult], stems: dict[str, str], table: str, sectio
         "- thin-film benchmark: not given (no stability map or wetting-width study)",
         "- sweeps: " + "; ".join(f"{name}: {n} points in {t:.1f} s" for name, n, t in stats.stages)
         + f"; {len(stats.computed)} curves computed, {stats.reused} reused from the store, "
-        f"{stats.failed} failed, none computed twice",
+        f"{stats.failed} failed, {len(stats.computed_twice)} computed twice",
         f"- total wall time {wall:.1f} s; every curve with its settings and provenance is in "
         "`reference.h5`.",
         "",

@@ -20,7 +20,6 @@ into ``out`` and returns the Markdown section. The FEM uses the ``default`` pres
 from __future__ import annotations
 
 import csv
-import time
 from pathlib import Path
 from typing import Any
 
@@ -98,7 +97,6 @@ def _fmt(x: float) -> str:
 
 def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
     """Write ``stokes_errors.csv`` into ``out`` and return the Markdown section."""
-    t0 = time.perf_counter()
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     preset = _preset(ctx)
@@ -154,7 +152,6 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
     lines += ["", (f"Immersed: the Reynolds closure is within {100 * worst:.1f} % of the FEM for "
                    f"S/R <= 0.1 and fails beyond; in a film (delta/R = 0.01) the finite-liquid "
                    f"factor stays within {100 * max(fl):.0f} % of the FEM over S/delta in "
-                   f"[{film[0]['s_over_delta']:g}, {film[-1]['s_over_delta']:g}] "
-                   f"({time.perf_counter() - t0:.0f} s).") if fl else
+                   f"[{film[0]['s_over_delta']:g}, {film[-1]['s_over_delta']:g}].") if fl else
               f"Immersed: Reynolds within {100 * worst:.1f} % for S/R <= 0.1."]
     return "\n".join(lines) + "\n"
