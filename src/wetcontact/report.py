@@ -176,7 +176,7 @@ def scene_label(sc: Scene) -> str:
     return f"{sc.kind}, {geom}, {amount}{th}, v = {sc.velocity:g} m/s"
 
 
-def case_figure(res: CaseResult):  # noqa: ANN201 - a matplotlib Figure
+def case_figure(res: CaseResult):
     """|F| of every model against the gap on log axes, one panel per force component, with
     the sign marked: filled markers where F > 0 (pushes the surfaces apart), open markers
     where F < 0 (attraction); F = 0 (no liquid, past rupture) is not drawn. One colour and

@@ -84,7 +84,7 @@ def _rupture(result: SweepResult, kind: str, vs: float, th: float) -> float | No
     return None if curve is None else float(curve.extras["rupture_distance"][0])
 
 
-def _series_points(result: SweepResult, ctx: StudyContext):  # noqa: ANN202
+def _series_points(result: SweepResult, ctx: StudyContext):
     """Per series: (kind, V*, theta, S_c, gaps, FE point, {closure: point})."""
     series, fracs = _grid(ctx.quick)
     for kind, vs, th in series:
@@ -233,7 +233,7 @@ def _plot(out: Path, rows: list[dict]) -> None:
     save(closures_figure(rows), out / "capillary_closures.png")
 
 
-def closures_figure(rows: list[dict]):  # noqa: ANN201 - a matplotlib Figure
+def closures_figure(rows: list[dict]):
     """Max relative error over (V*, theta) against S/S_c, one colour and marker per closure."""
     from wetcontact.plotting import pyplot, styles
 
@@ -263,7 +263,7 @@ def _plot_regions(out: Path, reg: list[dict]) -> None:
     save(regions_figure(reg), out / "capillary_regions.png")
 
 
-def regions_figure(reg: list[dict]):  # noqa: ANN201 - a matplotlib Figure
+def regions_figure(reg: list[dict]):
     """Heat maps of the S/S_c reach within 5 %: closures down, (V*, theta) across."""
     import matplotlib
 

@@ -134,7 +134,7 @@ def _chart(path: Path, recs: list[dict[str, float | str]]) -> None:
     save(chart_figure(recs), path)
 
 
-def chart_figure(recs: list[dict[str, float | str]]):  # noqa: ANN201 - a matplotlib Figure
+def chart_figure(recs: list[dict[str, float | str]]):
     """|error| of both closures against S/R: one colour per delta/R (never repeated), the
     closure by line style and marker; a filled marker where the closure over-predicts
     (error > 0), an open one where it under-predicts."""

@@ -170,7 +170,7 @@ def _plots(out: Path, stab: list[dict] | None) -> None:
 
 
 def stability_figure(stab: list[dict] | None, dr_r: np.ndarray, ca: np.ndarray,
-                     reasons: list[list[str | None]]):  # noqa: ANN201 - a matplotlib Figure
+                     reasons: list[list[str | None]]):
     """Largest stable dt against dr (benchmark rows) and the validity map in (delta/R, Ca)."""
     from matplotlib.ticker import NullFormatter
 
