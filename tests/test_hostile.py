@@ -262,8 +262,6 @@ def test_case_name_with_path_separators_stays_in_the_fields_folder(tmp_path):
     assert len(files) == 1 and files[0].suffix == ".vtu" and files[0].name.startswith("stokes-")
 
 
-@pytest.mark.xfail(strict=True, reason="owner: report helper - report.write_case_outputs joins "
-                   "the raw case name into curves/<name>.png|csv; use fileio.safe_stem")
 def test_report_curve_files_stay_in_curves_for_a_traversal_name(tmp_path):
     from wetcontact.report import CaseResult, write_case_outputs
 

@@ -48,11 +48,16 @@ def build_parser() -> argparse.ArgumentParser:
     mode.add_argument("--quick", action="store_true", help="smoke run: fast presets, fewer "
                       "points (about a minute)")
     mode.add_argument("--full", action="store_true", help="accurate presets and full studies")
-    run.add_argument("--out", type=Path, default=Path("reports"), help="output folder "
-                     "(default: reports/)")
+    run.add_argument("--out", type=Path, default=None, help="output folder (default: "
+                     "reports/; with --quick: reports-quick/, so a smoke run never "
+                     "overwrites the committed report)")
     run.add_argument("--cases", type=Path, default=Path("cases"), help="case folder "
                      "(default: cases/)")
     run.add_argument("--resume", action="store_true", help="reuse curves already in the store")
+    run.add_argument("--bench", type=Path, default=Path("benchmarks/results/thinfilm.json"),
+                     help="thin-film benchmark JSON for the stability map and the wetting-"
+                     "width study (default: benchmarks/results/thinfilm.json; the section "
+                     "says so when it is absent)")
 
     solve = sub.add_parser("solve", help="solve one case file", description="Solve one case "
                            "with a named model, or with the cheapest model meeting a tolerance.")
@@ -115,7 +120,7 @@ def _dispatch(args: argparse.Namespace) -> int:
 
         run_all(cases=args.cases, out=args.out,
                 mode="quick" if args.quick else "full" if args.full else "default",
-                resume=args.resume)
+                resume=args.resume, bench=args.bench)
         return 0
     raise InputError(f"unknown command {args.command!r}; see wetcontact --help")
 

@@ -153,6 +153,10 @@ class Model:
         range, measured in the tests or benchmarks (used by model selection).
     saves_fields : bool
         True for field solvers that accept ``save_fields=DIR`` (VTU output).
+    reference_rank : dict
+        Component -> rank of the model as the reference for that component (higher is
+        trusted more; absent: never a reference). :func:`wetcontact.compare.reference_for`
+        picks the highest-ranked curve present; nothing else keeps a list of references.
     """
 
     name: ClassVar[str] = ""
@@ -164,6 +168,7 @@ class Model:
     cost: ClassVar[float] = 1e-6
     error_bound: ClassVar[Mapping[str, float]] = {}
     saves_fields: ClassVar[bool] = False
+    reference_rank: ClassVar[Mapping[str, int]] = {}
     presets: ClassVar[Mapping[str, Mapping[str, Any]]] = {p: {} for p in PRESETS}
 
     def check(self, scene: Scene) -> None:

@@ -11,28 +11,40 @@ hand.
 
 from __future__ import annotations
 
+import contextlib
 import csv
+import ctypes
+import ctypes.util
+import errno
 import importlib
 import importlib.util
+import math
+import os
 import platform
+import shutil
 import sys
+import threading
 import time
-from dataclasses import dataclass
+from collections.abc import Iterator
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from wetcontact.compare import CSV_FIELDS, compare, reference_for
 from wetcontact.errors import InputError, SolverError
-from wetcontact.models import ForceCurve, Model, load_all, provenance
+from wetcontact.fileio import safe_stem
+from wetcontact.models import ForceCurve, get_model, load_all, provenance
 from wetcontact.scene import Scene, load_case
 from wetcontact.store import Store
+from wetcontact.sweep import Outcome, Point, SweepResult, sweep
+from wetcontact.tables import StudyContext
 
 PRESET_OF_MODE = {"quick": "fast", "default": "default", "full": "accurate"}
 # Study sections, in report order; a module that is not present is skipped.
 SECTIONS = ("lubrication", "stokes", "thinfilm", "capillary_closures")
-# Reference model for a component, best first, when the exact series does not apply.
-VISCOUS_REFERENCES = ("brenner", "stokes", "thinfilm", "lubrication")
-CAPILLARY_REFERENCES = ("meniscus",)
+DEFAULT_BENCH = Path("benchmarks/results/thinfilm.json")
+PROGRESS_EVERY_S = float(os.environ.get("WETCONTACT_PROGRESS_S", "5"))
 
 
 @dataclass
@@ -42,6 +54,29 @@ class CaseResult:
     scene: Scene
     curves: dict[str, ForceCurve]
     failures: dict[str, str]
+
+
+@dataclass
+class RunStats:
+    """What the sweeps of one run did: every computed key once, the reused, the failed."""
+
+    computed: list[str] = field(default_factory=list)
+    reused: int = 0
+    failed: int = 0
+    stages: list[tuple[str, int, float]] = field(default_factory=list)
+
+    def add(self, stage: str, result: SweepResult) -> None:
+        """Count the distinct points of one sweep (a duplicate point is one outcome)."""
+        seen: dict[str, Outcome] = {o.key: o for o in result.outcomes}
+        self.computed += [k for k, o in seen.items() if o.status == "computed"]
+        self.reused += sum(o.status == "reused" for o in seen.values())
+        self.failed += sum(o.status == "failed" for o in seen.values())
+        self.stages.append((stage, len(seen), result.wall_time_s))
+
+    @property
+    def computed_twice(self) -> list[str]:
+        """Keys computed more than once in this run (must be empty)."""
+        return sorted({k for k in self.computed if self.computed.count(k) > 1})
 
 
 def load_cases(folder: Path) -> list[Scene]:
@@ -55,91 +90,56 @@ def load_cases(folder: Path) -> list[Scene]:
     dup = {n for n in names if names.count(n) > 1}
     if dup:
         raise InputError(f"{folder}: case names must be unique; repeated: {sorted(dup)}")
+    stems = [safe_stem(n) for n in names]
+    if len(set(stems)) != len(stems):  # pragma: no cover - safe_stem hashes altered names
+        raise InputError(f"{folder}: two case names map to one file name")
     return scenes
 
 
-def compute_cases(scenes: list[Scene], store: Store, preset: str, resume: bool,
-                  progress: bool = True) -> list[CaseResult]:
-    """Every applicable model on every scene, each curve saved to ``store`` when done."""
-    from tqdm import tqdm
-
+def case_points(scenes: list[Scene], preset: str) -> list[Point]:
+    """Every registered model that applies to each scene, at ``preset`` where it has it."""
     models = load_all()
-    tasks = [(sc, m) for sc in scenes for m in models.values() if m.applicable(sc) is None]
-    results = {sc.name: CaseResult(sc, {}, {}) for sc in scenes}
-    bar = tqdm(tasks, desc="curves", unit="curve", file=sys.stderr,
-                disable=None if progress else True)  # None: off when stderr is no TTY
-    for sc, m in bar:
-        bar.set_postfix_str(f"{sc.name[:28]} / {m.name}")
-        res = results[sc.name]
-        try:
-            curve = _cached(store, sc, m, preset) if resume else None
-            if curve is None:
-                curve = m.force(sc, preset=_preset_for(m, preset))
-                store.save(sc, curve)
-            res.curves[m.name] = curve
-        except Exception as exc:  # noqa: BLE001 - one failing model must not stop the job
-            msg = str(exc) if isinstance(exc, SolverError | InputError) else (
-                f"{type(exc).__name__}: {exc}")
-            res.failures[m.name] = msg
-            bar.write(f"wetcontact: {sc.name} / {m.name}: {msg}", file=sys.stderr)
-    return list(results.values())
+    return [Point(sc, m.name, preset) for sc in scenes for m in models.values()
+            if m.applicable(sc) is None]
 
 
-def _preset_for(model: Model, preset: str) -> str:
-    return preset if preset in model.presets else "default"
-
-
-def _cached(store: Store, sc: Scene, m: Model, preset: str) -> ForceCurve | None:
-    settings = {"preset": _preset_for(m, preset), **m.presets[_preset_for(m, preset)]}
-    return store.get(sc, m.name, settings)
+def case_results(scenes: list[Scene], points: list[Point], result: SweepResult
+                 ) -> list[CaseResult]:
+    """The swept curves (and failures) grouped by case."""
+    by_key = {o.key: o for o in result.outcomes}
+    res = {sc.name: CaseResult(sc, {}, {}) for sc in scenes}
+    for p in points:
+        o = by_key[p.key]
+        if o.curve is not None:
+            res[p.scene.name].curves[p.model] = o.curve
+        else:
+            res[p.scene.name].failures[p.model] = o.reason
+    return list(res.values())
 
 
 # ---- closure comparison -----------------------------------------------------------------
 
 
-def reference_for(res: CaseResult, component: str) -> str | None:
-    """Name of the reference curve for a component, or ``None`` if none was computed."""
-    names = VISCOUS_REFERENCES if component == "viscous" else CAPILLARY_REFERENCES
-    return next((n for n in names if n in res.curves), None)
-
-
 def error_rows(results: list[CaseResult]) -> list[dict[str, object]]:
-    """One row per (case, component, closure): error statistics against the reference.
-
-    Relative error ``|F - F_ref| / |F_ref|`` over the gaps where the reference force is not
-    zero; gaps where the reference is zero (no liquid, past rupture) but the closure is not
-    are counted as ``spurious``.
-    """
-    models = load_all()
+    """One row per (case, component, closure): :func:`wetcontact.compare.compare` against the
+    case's reference (the highest ``reference_rank`` among its curves)."""
     rows: list[dict[str, object]] = []
     for res in results:
         for comp in ("viscous", "capillary"):
-            ref_name = reference_for(res, comp)
+            ref_name = reference_for(res.curves, comp)
             if ref_name is None:
                 continue
-            ref = getattr(res.curves[ref_name], f"force_{comp}")
-            scale = np.max(np.abs(ref))
-            nz = np.abs(ref) > 1e-12 * scale if scale > 0 else np.zeros(ref.shape, bool)
             for name, curve in res.curves.items():
-                f = getattr(curve, f"force_{comp}")
-                if name == ref_name or f is None or models[name].level != 0:
+                if (name == ref_name or getattr(curve, f"force_{comp}") is None
+                        or get_model(name).level != 0):
                     continue
-                rel = np.abs(f[nz] - ref[nz]) / np.abs(ref[nz])
-                rows.append({
-                    "case": res.scene.name, "component": comp, "closure": name,
-                    "reference": ref_name, "points": int(nz.sum()),
-                    "max_rel_error": float(rel.max()) if rel.size else float("nan"),
-                    "mean_rel_error": float(rel.mean()) if rel.size else float("nan"),
-                    "p95_rel_error": float(np.percentile(rel, 95)) if rel.size else float("nan"),
-                    "spurious": int(np.sum(~nz & (np.abs(f) > 0))),
-                })
+                rows.append(compare(curve, res.curves[ref_name], comp).as_row())
     return rows
 
 
 def write_error_table(rows: list[dict[str, object]], out: Path) -> str:
     """Write ``closure_errors.csv`` and return the Markdown table."""
-    cols = ["case", "component", "closure", "reference", "points", "max_rel_error",
-            "mean_rel_error", "p95_rel_error", "spurious"]
+    cols = list(CSV_FIELDS)
     with open(out / "closure_errors.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=cols)
         w.writeheader()
@@ -161,33 +161,77 @@ def _pct(x: object) -> str:
 # ---- per-case outputs -------------------------------------------------------------------
 
 
-def write_case_outputs(res: CaseResult, out: Path) -> None:
-    """``curves/<case>.png`` (|F| against gap, every model) and ``curves/<case>.csv``."""
-    import matplotlib
+def scene_label(sc: Scene) -> str:
+    """One line with what sets a case's forces: geometry, liquid amount, angles, speed."""
+    geom = (f"R = {sc.radius:g} m" if sc.kind == "sphere-wall"
+            else f"R1 = {sc.radius:g} m, R2 = {sc.radius2:g} m")
+    if sc.amount == "film":
+        amount = f"film delta = {sc.film_thickness:g} m"
+    elif sc.amount == "bridge":
+        amount = f"bridge V = {sc.bridge_volume:g} m^3"
+    else:
+        amount = "immersed"
+    th = (f", theta = {math.degrees(sc.contact_angle_sphere):g}/"
+          f"{math.degrees(sc.contact_angle_wall):g} deg" if sc.amount != "immersed" else "")
+    return f"{sc.kind}, {geom}, {amount}{th}, v = {sc.velocity:g} m/s"
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+
+def case_figure(res: CaseResult):
+    """|F| of every model against the gap on log axes, one panel per force component, with
+    the sign marked: filled markers where F > 0 (pushes the surfaces apart), open markers
+    where F < 0 (attraction); F = 0 (no liquid, past rupture) is not drawn. One colour and
+    marker per model, the same in both panels."""
+    from matplotlib.lines import Line2D
+
+    from wetcontact.plotting import pyplot, styles
+
+    plt = pyplot()
+    names = sorted(res.curves)
+    st = styles(names)
+    comps = [c for c in ("viscous", "capillary")
+             if any(getattr(cv, f"force_{c}") is not None for cv in res.curves.values())]
+    fig, axes = plt.subplots(len(comps), 1, figsize=(7.5, 3.2 * len(comps) + 1.0),
+                             sharex=True, squeeze=False, layout="constrained")
+    for ax, comp in zip(axes[:, 0], comps, strict=True):
+        handles = []
+        for k, name in enumerate(names):
+            c = res.curves[name]
+            f = getattr(c, f"force_{comp}")
+            if f is None or not np.any(f != 0):
+                continue
+            g, a, sgn = c.gap[f != 0], np.abs(f[f != 0]), np.sign(f[f != 0])
+            sty = st[name]
+            ax.plot(g, a, ls=sty["linestyle"], color=sty["color"], lw=1.2, label=name)
+            every = max(1, g.size // 20)
+            pick = slice(k % every, None, every)  # stagger markers of overlapping curves
+            for sign, face in ((1, sty["color"]), (-1, "none")):
+                sel = sgn[pick] == sign
+                ax.plot(g[pick][sel], a[pick][sel], ls="none", ms=4, marker=sty["marker"],
+                        color=sty["color"], markerfacecolor=face)
+            handles.append(Line2D([], [], ls=sty["linestyle"], color=sty["color"],
+                                  marker=sty["marker"], ms=4, label=name))
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_ylabel(f"|F {comp}| (N)")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(handles=handles, fontsize=6, loc="best", ncol=2,
+                  title="filled: F > 0 (apart), open: F < 0 (attraction)", title_fontsize=6)
+    axes[-1, 0].set_xlabel("surface gap S (m)")
+    sc = res.scene
+    fig.suptitle(f"{sc.name}\n{scene_label(sc)}", fontsize=8)
+    return fig
+
+
+def write_case_outputs(res: CaseResult, out: Path) -> str:
+    """``curves/<stem>.png`` (signed F against gap, every model) and ``curves/<stem>.csv``;
+    the stem is :func:`~wetcontact.fileio.safe_stem` of the case name (returned)."""
+    from wetcontact.plotting import save
 
     folder = out / "curves"
     folder.mkdir(parents=True, exist_ok=True)
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    for name, c in sorted(res.curves.items()):
-        for comp, style in (("viscous", "-"), ("capillary", "--")):
-            f = getattr(c, f"force_{comp}")
-            if f is not None and np.any(f != 0):
-                ax.loglog(c.gap, np.abs(f), style, marker="." if c.gap.size < 50 else None,
-                          label=f"{name} ({comp})")
-    sc = res.scene
-    ax.set_xlabel("surface gap S (m)")
-    ax.set_ylabel("|axial force| (N)")
-    ax.set_title(f"{sc.name}\n{sc.kind}, {sc.amount}, R = {sc.radius:g} m, v = {sc.velocity:g} "
-                 "m/s", fontsize=9)
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, loc="best")
-    fig.tight_layout()
-    fig.savefig(folder / f"{sc.name}.png", dpi=110)
-    plt.close(fig)
-    with open(folder / f"{sc.name}.csv", "w", newline="") as fh:
+    stem = safe_stem(res.scene.name)
+    save(case_figure(res), folder / f"{stem}.png")
+    with open(folder / f"{stem}.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["model", "gap_m", "force_viscous_N", "force_capillary_N", "force_total_N"])
         for name, c in sorted(res.curves.items()):
@@ -196,66 +240,253 @@ def write_case_outputs(res: CaseResult, out: Path) -> None:
                             "" if c.force_viscous is None else f"{c.force_viscous[i]:.9e}",
                             "" if c.force_capillary is None else f"{c.force_capillary[i]:.9e}",
                             f"{c.force_total[i]:.9e}"])
+    return stem
 
 
 # ---- the job ----------------------------------------------------------------------------
 
 
-def run_all(cases: Path = Path("cases"), out: Path = Path("reports"), mode: str = "default",
-            resume: bool = False, progress: bool = True) -> Path:
+class _Heartbeat:
+    """A line on stderr every ``every`` seconds saying what the run is doing (when stderr is
+    not a terminal: logs and CI see progress; a terminal has the sweep's bar)."""
+
+    def __init__(self, enabled: bool, every: float = PROGRESS_EVERY_S):
+        self.enabled = enabled and not sys.stderr.isatty()
+        self.every, self.phase, self.t0 = every, "starting", time.perf_counter()
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._loop, daemon=True)
+
+    def _loop(self) -> None:
+        while not self._stop.wait(self.every):
+            sys.stderr.write(f"wetcontact run: {self.phase} "
+                             f"({time.perf_counter() - self.t0:.0f} s)\n")
+            sys.stderr.flush()
+
+    def __enter__(self) -> _Heartbeat:
+        if self.enabled:
+            self._thread.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._stop.set()
+        if self.enabled:
+            self._thread.join()
+
+
+@contextlib.contextmanager
+def _locked(out: Path) -> Iterator[None]:
+    """Hold ``.<out>.lock`` beside ``out``; a second run on the same folder exits 2."""
+    import fcntl
+
+    lock = out.parent / f".{out.name}.lock"
+    fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o666)
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise InputError(f"{out}: another 'wetcontact run' is writing this report; wait "
+                             "for it or pass another --out") from None
+        yield
+    finally:
+        os.close(fd)
+
+
+_RENAME_EXCHANGE = 2
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Atomically swap two directories (Linux ``renameat2(RENAME_EXCHANGE)``); False when
+    the system cannot."""
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+        fn = libc.renameat2
+    except (OSError, AttributeError):
+        return False
+    at_fdcwd = -100
+    rc = fn(at_fdcwd, os.fsencode(a), at_fdcwd, os.fsencode(b), _RENAME_EXCHANGE)
+    if rc == 0:
+        return True
+    err = ctypes.get_errno()
+    if err in (errno.ENOSYS, errno.EINVAL, errno.ENOTSUP):
+        return False
+    raise OSError(err, os.strerror(err), str(b))
+
+
+def swap_in(staging: Path, out: Path) -> None:
+    """Replace the folder ``out`` by ``staging`` so that a reader, or a run killed at any
+    moment, sees either the whole old report or the whole new one.
+
+    With ``renameat2(RENAME_EXCHANGE)`` the swap is one atomic step; elsewhere ``out`` is
+    first renamed to ``.<out>.old`` (restored by the next run if the kill came between the
+    two renames, see :func:`_recover`).
+    """
+    old = out.parent / f".{out.name}.old"
+    if not out.exists():
+        os.rename(staging, out)
+    elif _exchange(staging, out):
+        shutil.rmtree(staging)
+    else:
+        shutil.rmtree(old, ignore_errors=True)
+        os.rename(out, old)
+        os.rename(staging, out)
+        shutil.rmtree(old)
+    _fsync_dir(out.parent)
+
+
+def _recover(out: Path) -> None:
+    """Undo a swap killed between its two renames (``out`` gone, ``.<out>.old`` there)."""
+    old = out.parent / f".{out.name}.old"
+    if old.exists() and not out.exists():
+        os.rename(old, out)
+    shutil.rmtree(old, ignore_errors=True)
+
+
+def _fsync_dir(path: Path) -> None:
+    with contextlib.suppress(OSError):
+        fd = os.open(path, os.O_RDONLY)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+
+
+def _sections() -> list[tuple[str, object]]:
+    out = []
+    for name in SECTIONS:
+        mod_name = f"wetcontact.tables.{name}"
+        if importlib.util.find_spec(mod_name) is not None:
+            out.append((name, importlib.import_module(mod_name)))
+    return out
+
+
+def _merged(*results: SweepResult) -> SweepResult:
+    return SweepResult([o for r in results for o in r.outcomes], results[0].store,
+                       sum(r.wall_time_s for r in results))
+
+
+def build(scenes: list[Scene], out: Path, store: Store, mode: str, ctx: StudyContext,
+          progress: bool = True, beat: _Heartbeat | None = None) -> tuple[Path, RunStats]:
+    """Sweep the report's studies into ``store`` and render the report into ``out``.
+
+    Stage 1 sweeps the cases (every applicable model) and every section's ``points``;
+    stage 2 the sections' ``derived_points`` (axes computed from stage-1 curves). The
+    renderers then take the curves from the sweep results; nothing is solved twice (the
+    store's content key: a point of stage 2 already swept in stage 1 is reused).
+    """
+    beat = beat or _Heartbeat(False)
+    stats = RunStats()
+    sections = _sections()
+    cpoints = case_points(scenes, PRESET_OF_MODE[mode])
+    stage1 = cpoints + [p for _, mod in sections for p in mod.points(ctx)]
+    beat.phase = f"stage 1: sweeping {len(stage1)} points (cases and studies)"
+    r1 = sweep(stage1, store, progress=progress)
+    stats.add("cases and studies", r1)
+    stage2 = [p for _, mod in sections if hasattr(mod, "derived_points")
+              for p in mod.derived_points(ctx, r1)]
+    beat.phase = f"stage 2: sweeping {len(stage2)} points (derived axes)"
+    r2 = sweep(stage2, store, progress=progress) if stage2 else None
+    if r2 is not None:
+        stats.add("derived axes", r2)
+    result = r1 if r2 is None else _merged(r1, r2)
+
+    beat.phase = "drawing the case plots"
+    results = case_results(scenes, cpoints, r1)
+    stems = {r.scene.name: write_case_outputs(r, out) for r in results}
+    table = write_error_table(error_rows(results), out)
+    rendered, failed = [], []
+    for name, mod in sections:
+        beat.phase = f"rendering the {name} section"
+        ts = time.perf_counter()
+        try:
+            md = mod.section(out, result, ctx)
+        except Exception as exc:  # noqa: BLE001 - report it, write the rest
+            failed.append(f"{name}: {type(exc).__name__}: {exc}")
+            md = f"## {name}\n\nThis section failed: {exc}\n"
+        took = time.perf_counter() - ts
+        rendered.append(md.rstrip() + f"\n\n_Section rendered in {took:.1f} s._")
+
+    failures = [f"{r.scene.name} / {m}: {msg}" for r in results for m, msg in r.failures.items()]
+    readme = _readme(results, stems, table, rendered, failures, mode, stats,
+                     time.perf_counter() - beat.t0, ctx)
+    path = out / "README.md"
+    path.write_text(readme)
+    if failed or failures:
+        raise SolverError(f"{len(failures)} curve(s) and {len(failed)} report section(s) "
+                          f"failed (listed in {path}): " + "; ".join(failed + failures)[:500])
+    return path, stats
+
+
+def run_all(cases: Path = Path("cases"), out: Path | None = None, mode: str = "default",
+            resume: bool = False, progress: bool = True,
+            bench: Path | None = DEFAULT_BENCH) -> Path:
     """Regenerate ``out`` from the cases; return the path of ``out/README.md``.
+
+    The report is built in ``.<out>.partial`` beside ``out`` (with its store) and swapped in
+    when complete: a run killed at any moment leaves the old report whole. Two runs on one
+    ``out`` at once: the second exits with an :class:`InputError`.
 
     Parameters
     ----------
     cases
         Folder of TOML case files.
     out
-        Output folder (created).
+        Output folder; default ``reports/``, or ``reports-quick/`` for ``mode="quick"`` (a
+        smoke run never overwrites the committed report unless asked to).
     mode
         ``"quick"`` (fast presets, smoke studies), ``"default"`` or ``"full"`` (accurate).
     resume
-        Reuse curves already in ``out/reference.h5`` instead of recomputing them.
+        Reuse the curves of a killed run (its ``.<out>.partial`` store) or of ``out``'s
+        ``reference.h5`` instead of recomputing them.
+    bench
+        The thin-film benchmark's JSON (stability map, wetting-width study); the default is
+        relative to the working directory (the repository root); ``None`` or a missing
+        default file: the section says the benchmark was not given.
     """
     if mode not in PRESET_OF_MODE:
         raise InputError(f"mode = {mode!r}; allowed: " + ", ".join(PRESET_OF_MODE))
-    t0 = time.perf_counter()
+    if out is None:
+        out = Path("reports-quick" if mode == "quick" else "reports")
+    from wetcontact.tables.thinfilm import load_bench
+
+    bench_data = None
+    if bench is not None and (Path(bench).exists() or Path(bench) != DEFAULT_BENCH):
+        bench_data = load_bench(bench)
     scenes = load_cases(cases)
-    out.mkdir(parents=True, exist_ok=True)
-    store_path = out / "reference.h5"
-    if not resume and store_path.exists():
-        store_path.unlink()
-    store = Store(store_path)
-    results = compute_cases(scenes, store, PRESET_OF_MODE[mode], resume, progress)
-    for res in results:
-        write_case_outputs(res, out)
-    table = write_error_table(error_rows(results), out)
-
-    sections, failed = [], []
-    for name in SECTIONS:
-        mod_name = f"wetcontact.tables.{name}"
-        if importlib.util.find_spec(mod_name) is None:
-            continue
-        ts = time.perf_counter()
+    out = Path(out).absolute()
+    if out.exists() and not out.is_dir():
+        raise InputError(f"--out {out}: exists and is not a folder")
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"--out {out}: cannot create its parent ({exc.strerror})") from None
+    ctx = StudyContext(quick=mode == "quick", scenes=tuple(scenes), bench=bench_data,
+                       bench_path="" if bench_data is None else str(bench))
+    with _locked(out), _Heartbeat(progress) as beat:
+        _recover(out)
+        staging = out.parent / f".{out.name}.partial"
+        if not resume:
+            shutil.rmtree(staging, ignore_errors=True)
+        staging.mkdir(exist_ok=True)
+        for stale in (p for p in staging.iterdir() if p.name != "reference.h5"):
+            shutil.rmtree(stale) if stale.is_dir() else stale.unlink()
+        store_path = staging / "reference.h5"
+        if resume and not store_path.exists() and (out / "reference.h5").exists():
+            shutil.copyfile(out / "reference.h5", store_path)
+        store = Store(store_path)
         try:
-            md = importlib.import_module(mod_name).section(out, mode == "quick")
-        except Exception as exc:  # noqa: BLE001 - report it, write the rest
-            failed.append(f"{name}: {type(exc).__name__}: {exc}")
-            md = f"## {name}\n\nThis section failed: {exc}\n"
-        took = time.perf_counter() - ts
-        sections.append(md.rstrip() + f"\n\n_Section computed in {took:.1f} s._")
-
-    failures = [f"{r.scene.name} / {m}: {msg}" for r in results for m, msg in r.failures.items()]
-    readme = _readme(results, table, sections, failures, mode, time.perf_counter() - t0)
-    path = out / "README.md"
-    path.write_text(readme)
-    if failed or failures:
-        raise SolverError(f"{len(failures)} curve(s) and {len(failed)} report section(s) "
-                          f"failed (listed in {path}): " + "; ".join(failed + failures)[:500])
-    return path
+            path, _ = build(scenes, staging, store, mode, ctx, progress, beat)
+        except SolverError:
+            beat.phase = "swapping the report in"
+            swap_in(staging, out)  # a complete report that lists its failures
+            raise
+        beat.phase = "swapping the report in"
+        swap_in(staging, out)
+    return out / path.name
 
 
-def _readme(results: list[CaseResult], table: str, sections: list[str], failures: list[str],
-            mode: str, wall: float) -> str:
+def _readme(results: list[CaseResult], stems: dict[str, str], table: str, sections: list[str],
+            failures: list[str], mode: str, stats: RunStats, wall: float,
+            ctx: StudyContext) -> str:
     prov = provenance()
     lines = [
         "# wetcontact reference report",
@@ -271,15 +502,16 @@ def _readme(results: list[CaseResult], table: str, sections: list[str], failures
         "|---|---|---|---|---|---|",
     ]
     for r in results:
-        n = r.scene.name
+        n, stem = r.scene.name, stems[r.scene.name]
         lines.append(f"| {n} | {r.scene.kind} | {r.scene.amount} | "
-                     f"{', '.join(sorted(r.curves))} | [png](curves/{n}.png) | "
-                     f"[csv](curves/{n}.csv) |")
+                     f"{', '.join(sorted(r.curves))} | [png](curves/{stem}.png) | "
+                     f"[csv](curves/{stem}.csv) |")
     lines += [
         "",
         "## Closure errors against the reference of each case",
         "",
-        "Reference: the exact series (`brenner`) for immersed sphere-wall and equal-sphere "
+        "Reference: the curve of the highest `reference_rank` the models declare: the exact "
+        "series (`brenner`) for immersed sphere-wall and equal-sphere "
         "cases, else the highest-fidelity solver that ran (`stokes`, `thinfilm`, "
         "`lubrication` for the viscous force; `meniscus` for the capillary force). "
         "Relative errors over the gaps where the reference is non-zero; `spurious` counts "
@@ -302,6 +534,11 @@ def _readme(results: list[CaseResult], table: str, sections: list[str], failures
         f"- Python {prov['python']} on {platform.machine()} with "
         + ", ".join(f"{k} {prov[k]}" for k in ("numpy", "scipy", "scikit_fem", "py_pde", "gmsh",
                                               "meshio", "h5py")),
+        f"- thin-film benchmark: `{ctx.bench_path}`" if ctx.bench_path else
+        "- thin-film benchmark: not given (no stability map or wetting-width study)",
+        "- sweeps: " + "; ".join(f"{name}: {n} points in {t:.1f} s" for name, n, t in stats.stages)
+        + f"; {len(stats.computed)} curves computed, {stats.reused} reused from the store, "
+        f"{stats.failed} failed, {len(stats.computed_twice)} computed twice",
         f"- total wall time {wall:.1f} s; every curve with its settings and provenance is in "
         "`reference.h5`.",
         "",

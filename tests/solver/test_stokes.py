@@ -289,9 +289,13 @@ def test_error_table_section_quick(tmp_path):
     """The report section writes its CSV and a Markdown table whose FEM column is small."""
     import csv
 
-    from wetcontact.tables.stokes import section
+    from wetcontact.store import Store
+    from wetcontact.sweep import sweep
+    from wetcontact.tables import StudyContext
+    from wetcontact.tables.stokes import points, section
 
-    md = section(tmp_path, quick=True)
+    ctx = StudyContext(quick=True)
+    md = section(tmp_path, sweep(points(ctx), Store(tmp_path / "s.h5"), progress=False), ctx)
     assert md.startswith("## ") and "| immersed |" in md and "| film |" in md
     rows = list(csv.DictReader((tmp_path / "stokes_errors.csv").open()))
     imm = [r for r in rows if r["case"] == "immersed"]

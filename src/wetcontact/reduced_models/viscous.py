@@ -357,6 +357,7 @@ class Brenner(Model):
     component = "viscous"
     validity = "immersed; sphere-wall or equal spheres; any S/R (exact Stokes flow, Re << 1)"
     reference = "Brenner (1961); Maude (1961)"
+    reference_rank = {"viscous": 40}  # exact series: the best viscous reference
     cost = 1e-4  # up to ~2000 series terms per gap at S/R = 1e-4
 
     def check(self, scene: Scene) -> None:

@@ -646,6 +646,7 @@ class Lubrication(Model):
     level: ClassVar[int] = 1
     component: ClassVar[str] = "viscous"
     order: ClassVar[float | None] = 6.0
+    reference_rank: ClassVar[dict[str, int]] = {"viscous": 10}
     reference: ClassVar[str] = ("Reynolds equation, axisymmetric squeeze film; finite liquid "
                                 "Pitois et al. 2000; Navier slip Vinogradova 1995")
     validity: ClassVar[str] = ("thin wetted gap (film or bridge) with r_w <= (sqrt 3/2) R_min "

@@ -1179,6 +1179,7 @@ class MeniscusModel(Model):
         "gravity optional"
     )
     order: ClassVar[float | None] = 4.0
+    reference_rank: ClassVar[dict[str, int]] = {"capillary": 30}
     reference: ClassVar[str] = (
         "Young-Laplace equation; P2 Petrov-Galerkin FE (Gauss collocation), Newton; "
         "Lambert et al. (2008) force decomposition; Maddocks (1987) stability at folds"

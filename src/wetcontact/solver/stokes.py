@@ -593,6 +593,7 @@ class Stokes(Model):
                 "on either surface")
     order = 4.0
     saves_fields = True
+    reference_rank = {"viscous": 30}
     reference = ("Taylor-Hood axisymmetric Stokes FEM (scikit-fem, gmsh); force by the "
                  "reaction (dissipation) and by the traction integral")
     presets = {

@@ -1002,6 +1002,7 @@ class ThinFilm(Model):
                 f"Ca* = 3 eta v R^2/(sigma delta^2) <= {CA_STAR_MAX:g}; approach (v > 0)")
     order = 2.0
     order_tolerance = 0.3
+    reference_rank = {"viscous": 20}  # its capillary part is not compared with closures
     reference = ("thin-film equation (Oron, Davis & Bankoff 1997) with a penalty "
                  "obstacle; limits: Pitois et al. 2000")
     presets = {

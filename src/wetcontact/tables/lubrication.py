@@ -8,7 +8,8 @@ over S/R in [1e-4, 0.1] and delta/R in [1e-3, 0.3]:
 - finite-liquid closure ``6 pi eta R^2 v / S (1 - S/H)^2`` (Pitois et al. 2000) with
   H = delta (film) or ``H = sqrt(S^2 + V/(pi R))`` (bridge);
 
-each as the relative error ``F_closure / F_lubrication - 1``.
+each as the signed error ``F_closure / F_lubrication - 1`` of
+:func:`wetcontact.compare.compare`. ``points(ctx)`` is the study, ``section`` renders it.
 """
 
 from __future__ import annotations
@@ -19,29 +20,16 @@ from pathlib import Path
 
 import numpy as np
 
-from wetcontact.models import load_all
-from wetcontact.scene import scene_from_dict
+from wetcontact.compare import compare
+from wetcontact.scene import Scene, scene_from_dict
+from wetcontact.sweep import Point, SweepResult
+from wetcontact.tables import StudyContext
 
 R, ETA, V = 1.0e-3, 1.0e-3, 0.1
-
-try:  # the lead's closures; the same formulas inline if that module is absent
-    from wetcontact.reduced_models.viscous import (
-        bridge_edge_gap,
-        finite_liquid_factor,
-        reynolds_force,
-    )
-except ImportError:  # pragma: no cover
-    def reynolds_force(eta, r_star, v, gap):  # type: ignore[no-redef]
-        return 6.0 * np.pi * eta * r_star**2 * v / np.asarray(gap)
-
-    def finite_liquid_factor(gap, edge_gap):  # type: ignore[no-redef]
-        return (1.0 - np.minimum(np.asarray(gap) / edge_gap, 1.0)) ** 2
-
-    def bridge_edge_gap(gap, volume, r_eff):  # type: ignore[no-redef]
-        return np.sqrt(np.asarray(gap) ** 2 + volume / (np.pi * r_eff))
+MODELS = ("lubrication", "reynolds", "reynolds-finite")
 
 
-def _scene(gaps: np.ndarray, amount: dict[str, float]):
+def _scene(gaps: np.ndarray, amount: dict[str, float]) -> Scene:
     return scene_from_dict({
         "name": "lubrication-table",
         "geometry": {"kind": "sphere-wall", "radius": R},
@@ -51,12 +39,11 @@ def _scene(gaps: np.ndarray, amount: dict[str, float]):
     })
 
 
-def rows(quick: bool) -> list[dict[str, float | str]]:
-    """One record per (case, delta/R, S/R): the model and both closures side by side."""
-    model = load_all()["lubrication"]
+def _grid(quick: bool) -> list[tuple[str, float, Scene]]:
+    """(case, delta/R, scene) of the study: film of thickness delta or bridge V = pi R delta^2."""
     s_over_r = np.geomspace(1e-4, 0.1, 4 if quick else 13)
     d_over_r = [1e-3, 1e-2, 0.3] if quick else [1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3]
-    out: list[dict[str, float | str]] = []
+    out = []
     for case in ("film", "bridge"):
         for d in d_over_r:
             delta = d * R
@@ -66,33 +53,45 @@ def rows(quick: bool) -> list[dict[str, float | str]]:
                 if gaps.size == 0:
                     continue
                 amount = {"film_thickness": delta}
-                edge = np.full(gaps.shape, delta)
             else:
-                vol = math.pi * R * delta**2
-                amount = {"bridge_volume": vol}
-                edge = bridge_edge_gap(gaps, vol, R)
-            curve = model.force(_scene(gaps, amount))
-            f_rey = reynolds_force(ETA, R, V, gaps)
-            f_fin = f_rey * finite_liquid_factor(gaps, edge)
-            for i, s in enumerate(gaps):
-                f = curve.force_viscous[i]
-                out.append({
-                    "case": case, "delta_over_R": d, "S_over_R": s / R,
-                    "wetted_radius_over_R": curve.extras["wetted_radius"][i] / R,
-                    "F_lubrication_N": f, "F_reynolds_N": float(f_rey[i]),
-                    "F_finite_liquid_N": float(f_fin[i]),
-                    "err_reynolds": float(f_rey[i] / f - 1.0),
-                    "err_finite_liquid": float(f_fin[i] / f - 1.0),
-                    "model_error_estimate": float(curve.error_estimate[i]),
-                })
+                amount = {"bridge_volume": math.pi * R * delta**2}
+            out.append((case, d, _scene(gaps, amount)))
     return out
 
 
-def section(out: Path, quick: bool) -> str:
+def points(ctx: StudyContext) -> list[Point]:
+    """The lubrication model and both closures on every scene of the grid."""
+    return [Point(sc, m) for _, _, sc in _grid(ctx.quick) for m in MODELS]
+
+
+def rows(result: SweepResult, ctx: StudyContext) -> list[dict[str, float | str]]:
+    """One record per (case, delta/R, S/R): the model and both closures side by side."""
+    out: list[dict[str, float | str]] = []
+    for case, d, sc in _grid(ctx.quick):
+        curve, rey, fin = (result.curve(Point(sc, m)) for m in MODELS)
+        if curve is None or rey is None or fin is None:
+            continue
+        e_rey = compare(rey, curve, "viscous")
+        e_fin = compare(fin, curve, "viscous")
+        for i, s in enumerate(curve.gap):
+            out.append({
+                "case": case, "delta_over_R": d, "S_over_R": s / R,
+                "wetted_radius_over_R": curve.extras["wetted_radius"][i] / R,
+                "F_lubrication_N": curve.force_viscous[i],
+                "F_reynolds_N": float(rey.force_viscous[i]),
+                "F_finite_liquid_N": float(fin.force_viscous[i]),
+                "err_reynolds": e_rey.signed_at(s),
+                "err_finite_liquid": e_fin.signed_at(s),
+                "model_error_estimate": float(curve.error_estimate[i]),
+            })
+    return out
+
+
+def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
     """Write ``lubrication_errors.csv`` (and a PNG chart) into ``out``; return Markdown."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    recs = rows(quick)
+    recs = rows(result, ctx)
     path = out / "lubrication_errors.csv"
     with path.open("w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(recs[0]))
@@ -130,26 +129,48 @@ def section(out: Path, quick: bool) -> str:
 
 
 def _chart(path: Path, recs: list[dict[str, float | str]]) -> None:
-    try:
-        import matplotlib
+    from wetcontact.plotting import save
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:  # pragma: no cover
-        return
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
+    save(chart_figure(recs), path)
+
+
+def chart_figure(recs: list[dict[str, float | str]]):
+    """|error| of both closures against S/R: one colour per delta/R (never repeated), the
+    closure by line style and marker; a filled marker where the closure over-predicts
+    (error > 0), an open one where it under-predicts."""
+    from matplotlib.lines import Line2D
+
+    from wetcontact.plotting import COLOURS, pyplot
+
+    plt = pyplot()
+    deltas = sorted({float(r["delta_over_R"]) for r in recs})
+    colour = dict(zip(deltas, COLOURS, strict=False))
+    kinds = (("err_finite_liquid", "(1-S/H)^2", "-", "o"), ("err_reynolds", "Reynolds", "--",
+                                                            "s"))
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2), sharey=True)
     for ax, case in zip(axes, ("film", "bridge"), strict=True):
-        for d in sorted({r["delta_over_R"] for r in recs if r["case"] == case}):
+        for d in deltas:
             sel = [r for r in recs if r["case"] == case and r["delta_over_R"] == d]
-            s = [r["S_over_R"] for r in sel]
-            ax.loglog(s, [abs(float(r["err_finite_liquid"])) + 1e-16 for r in sel], "-o", ms=3,
-                      label=f"(1-S/H)^2, delta/R={d:g}")
-            ax.loglog(s, [abs(float(r["err_reynolds"])) + 1e-16 for r in sel], "--", lw=1,
-                      label=f"Reynolds, delta/R={d:g}")
-        ax.set_title(case)
+            if not sel:
+                continue
+            s = np.array([float(r["S_over_R"]) for r in sel])
+            for col, _, ls, mk in kinds:
+                e = np.array([float(r[col]) for r in sel])
+                ax.loglog(s, np.abs(e) + 1e-16, ls, color=colour[d], lw=1)
+                pos = e > 0
+                ax.loglog(s[pos], np.abs(e[pos]) + 1e-16, mk, color=colour[d], ms=4, ls="none")
+                ax.loglog(s[~pos], np.abs(e[~pos]) + 1e-16, mk, color=colour[d], ms=4,
+                          ls="none", markerfacecolor="none")
+        ax.set_title(f"{case} (R = {R * 1e3:g} mm, v = {V:g} m/s)", fontsize=9)
         ax.set_xlabel("S/R")
+        ax.grid(True, which="both", alpha=0.3)
     axes[0].set_ylabel("|F_closure / F_lubrication - 1|")
-    axes[1].legend(fontsize=6)
+    handles = [Line2D([], [], color=colour[d], lw=2, label=f"delta/R = {d:g}") for d in deltas]
+    handles += [Line2D([], [], color="k", ls=ls, marker=mk, ms=4, label=lab)
+                for _, lab, ls, mk in kinds]
+    handles += [Line2D([], [], color="k", marker="o", ls="none", label="filled: over-predicts"),
+                Line2D([], [], color="k", marker="o", ls="none", markerfacecolor="none",
+                       label="open: under-predicts")]
+    axes[1].legend(handles=handles, fontsize=6, loc="best")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    return fig

@@ -11,25 +11,25 @@ the relative errors do not depend on these by linearity):
   finite-liquid closure ``reynolds-finite`` (factor (1 - S/delta)^2, Pitois et al. 2000) and
   ``lubrication`` against the FEM.
 
-Error = closure / FEM - 1. ``section(out, quick)`` writes ``stokes_errors.csv`` into ``out``
-and returns the Markdown section. The FEM uses the ``default`` preset (``fast`` with
+Error = closure / FEM - 1 (the signed error of :func:`wetcontact.compare.compare`).
+``points(ctx)`` is the study; ``section(out, result, ctx)`` writes ``stokes_errors.csv``
+into ``out`` and returns the Markdown section. The FEM uses the ``default`` preset (``fast`` with
 ``quick``); the accurate sweep is in ``benchmarks/bench_stokes.py``.
 """
 
 from __future__ import annotations
 
 import csv
-import math
-import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from wetcontact.errors import InputError, ValidityError
-from wetcontact.models import load_all
-from wetcontact.reduced_models.viscous import brenner_lambda
+from wetcontact.compare import compare
+from wetcontact.models import get_model
 from wetcontact.scene import Scene, scene_from_dict
+from wetcontact.sweep import Point, SweepResult
+from wetcontact.tables import StudyContext
 
 R, ETA, V = 1.0e-3, 1.0e-3, 0.1
 CLOSURES = ("reynolds", "cox-brenner", "reynolds-finite", "lubrication")
@@ -45,56 +45,79 @@ def _scene(gaps: list[float], film: float | None = None) -> Scene:
     })
 
 
-def _closure(models: dict[str, Any], name: str, scene: Scene) -> np.ndarray:
-    """Closure force (N) at the scene's gaps; NaN where the model is absent or not valid."""
-    n = scene.gap_array.size
-    if name not in models:
-        return np.full(n, np.nan)
-    try:
-        return np.asarray(models[name].force(scene).force_viscous, dtype=float)
-    except (ValidityError, InputError):
-        return np.full(n, np.nan)
+def _studies(quick: bool) -> list[tuple[str, float | None, list[float], Scene]]:
+    """(case, delta/R or None, S/R or S/delta values, scene) of both studies."""
+    s_imm = [1e-3, 0.1, 1.0] if quick else [1e-4, 1e-3, 1e-2, 0.1, 1.0, 10.0]
+    out: list[tuple[str, float | None, list[float], Scene]] = [
+        ("immersed", None, s_imm, _scene([s * R for s in s_imm]))]
+    ratios = [0.1, 0.5, 0.9] if quick else [0.01, 0.1, 0.3, 0.5, 0.7, 0.9]
+    studies = [(0.01, ratios)] + [(d, [0.5]) for d in ([0.04] if quick else [0.1, 0.03, 0.003])]
+    for d, rs in studies:
+        out.append(("film", d, rs, _scene([r * d * R for r in rs], film=d * R)))
+    return out
+
+
+def _preset(ctx: StudyContext) -> str:
+    return "fast" if ctx.quick else "default"
+
+
+def _closure_points(scene: Scene) -> dict[str, Point]:
+    """The closures that apply to ``scene`` (the others are shown as n/a)."""
+    return {c: Point(scene, c) for c in CLOSURES if get_model(c).applicable(scene) is None}
+
+
+def points(ctx: StudyContext) -> list[Point]:
+    """The FEM, Brenner's series (immersed) and every applicable closure on each scene."""
+    pts = []
+    for case, _, _, sc in _studies(ctx.quick):
+        pts.append(Point(sc, "stokes", _preset(ctx)))
+        if case == "immersed":
+            pts.append(Point(sc, "brenner"))
+        pts.extend(_closure_points(sc).values())
+    return pts
+
+
+def _errors(result: SweepResult, sc: Scene, fem: Any) -> dict[str, Any]:
+    """Closure name -> its comparison with the FEM (None: refused or failed)."""
+    out = {}
+    for c in CLOSURES:
+        p = _closure_points(sc).get(c)
+        curve = None if p is None else result.curve(p)
+        out[c] = None if curve is None else compare(curve, fem, "viscous")
+    return out
+
+
+def _signed(rec: Any, gap: float) -> float:
+    return float("nan") if rec is None else rec.signed_at(gap)
 
 
 def _fmt(x: float) -> str:
     return "n/a" if not np.isfinite(x) else f"{x:+.2e}"
 
 
-def section(out: Path, quick: bool) -> str:
+def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
     """Write ``stokes_errors.csv`` into ``out`` and return the Markdown section."""
-    t0 = time.perf_counter()
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    models = load_all()
-    fem = models["stokes"]
-    preset = "fast" if quick else "default"
+    preset = _preset(ctx)
     rows: list[dict[str, Any]] = []
-
-    s_imm = [1e-3, 0.1, 1.0] if quick else [1e-4, 1e-3, 1e-2, 0.1, 1.0, 10.0]
-    sc = _scene([s * R for s in s_imm])
-    f_fem = fem.force(sc, preset=preset)
-    exact = 6 * math.pi * ETA * R * V * brenner_lambda(np.array(s_imm))
-    closures = {c: _closure(models, c, sc) for c in CLOSURES}
-    for i, s in enumerate(s_imm):
-        f = f_fem.force_viscous[i]
-        rows.append({"case": "immersed", "s_over_r": s, "delta_over_r": "", "s_over_delta": "",
-                     "force_fem": f, "fem_vs_exact": f / exact[i] - 1,
-                     **{f"err_{c}": closures[c][i] / f - 1 for c in CLOSURES}})
-
-    studies: list[tuple[float, list[float]]] = []
-    ratios = [0.1, 0.5, 0.9] if quick else [0.01, 0.1, 0.3, 0.5, 0.7, 0.9]
-    studies.append((0.01, ratios))
-    for d in ([0.04] if quick else [0.1, 0.03, 0.003]):
-        studies.append((d, [0.5]))
-    for d, rs in studies:
-        sc = _scene([r * d * R for r in rs], film=d * R)
-        f_fem = fem.force(sc, preset=preset)
-        closures = {c: _closure(models, c, sc) for c in CLOSURES}
-        for i, r in enumerate(rs):
-            f = f_fem.force_viscous[i]
-            rows.append({"case": "film", "s_over_r": r * d, "delta_over_r": d,
-                         "s_over_delta": r, "force_fem": f, "fem_vs_exact": float("nan"),
-                         **{f"err_{c}": closures[c][i] / f - 1 for c in CLOSURES}})
+    for case, d, ratios, sc in _studies(ctx.quick):
+        fem = result.curve(Point(sc, "stokes", preset))
+        if fem is None:
+            continue
+        errs = _errors(result, sc, fem)
+        exact = None
+        if case == "immersed":
+            ref = result.curve(Point(sc, "brenner"))
+            exact = None if ref is None else compare(fem, ref, "viscous")
+        for i, r in enumerate(ratios):
+            g = fem.gap[i]
+            rows.append({"case": case, "s_over_r": r if d is None else r * d,
+                         "delta_over_r": "" if d is None else d,
+                         "s_over_delta": "" if d is None else r,
+                         "force_fem": fem.force_viscous[i],
+                         "fem_vs_exact": _signed(exact, g),
+                         **{f"err_{c}": _signed(errs[c], g) for c in CLOSURES}})
 
     path = out / "stokes_errors.csv"
     with path.open("w", newline="") as fh:
@@ -129,7 +152,6 @@ def section(out: Path, quick: bool) -> str:
     lines += ["", (f"Immersed: the Reynolds closure is within {100 * worst:.1f} % of the FEM for "
                    f"S/R <= 0.1 and fails beyond; in a film (delta/R = 0.01) the finite-liquid "
                    f"factor stays within {100 * max(fl):.0f} % of the FEM over S/delta in "
-                   f"[{film[0]['s_over_delta']:g}, {film[-1]['s_over_delta']:g}] "
-                   f"({time.perf_counter() - t0:.0f} s).") if fl else
+                   f"[{film[0]['s_over_delta']:g}, {film[-1]['s_over_delta']:g}].") if fl else
               f"Immersed: Reynolds within {100 * worst:.1f} % for S/R <= 0.1."]
     return "\n".join(lines) + "\n"

@@ -1,18 +1,20 @@
 """Report section: thin-film force curves of the film cases against the viscous closures.
 
-For each film case in ``cases/`` (``*film*.toml``, amount = film) the ``thinfilm`` model
+For each film case given to ``wetcontact run`` (amount = film) the ``thinfilm`` model
 (default: wetting meniscus with the case's contact angle) is run from S = delta to the
 smallest gap; its viscous part is compared with the Reynolds closure ``6 pi eta R^2 v/S``
 and the finite-film closure ``6 pi eta R^2 v/S (1 - S/delta)^2`` (Pitois et al. 2000,
 PHYSICS.md section 1), its capillary part with the sphere-plane contact limit
 ``-2 pi R sigma (cos theta_s + 1)`` (the film wets the wall; PHYSICS.md section 2) that DEM
-capillary closures reduce to at contact. With the case's particle density the sphere is
-also run under its own inertia (speed at the smallest gap, minimum gap reached). Cases
-outside the thin-film validity are listed with the solver's reason. Also written: the
-stability map (largest stable dt against dr of the explicit and implicit integrators,
-from ``benchmarks/results/thinfilm.json`` when present, else a small computation), the
-convergence of the force in the wetting width lambda (from the same JSON) and the
-validity region in (delta/R, Ca).
+capillary closures reduce to at contact (all errors: the signed error of
+:func:`wetcontact.compare.compare`, closure/thinfilm - 1). With the case's particle
+density the sphere is also run under its own inertia (speed at the smallest gap, minimum
+gap reached). Cases outside the thin-film validity are listed with the solver's reason.
+Also written: the stability map (largest stable dt against dr of the explicit and
+implicit integrators) and
+the convergence of the force in the wetting width lambda, both from the benchmark JSON
+given to ``run`` (``--bench``, default ``benchmarks/results/thinfilm.json``; without it the
+section says so), and the validity region in (delta/R, Ca) from the model's ``check``.
 """
 
 from __future__ import annotations
@@ -21,45 +23,84 @@ import csv
 import json
 import math
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from wetcontact.errors import ValidityError
-from wetcontact.models import MODELS, load_all
-from wetcontact.scene import Scene, load_case
-from wetcontact.solver import thinfilm as tf
+from wetcontact.compare import compare
+from wetcontact.errors import InputError, ValidityError
+from wetcontact.models import closure_curve, get_model
+from wetcontact.scene import Scene, scene_from_dict
+from wetcontact.sweep import Point, SweepResult
+from wetcontact.tables import StudyContext
 
-ROOT = Path(__file__).resolve().parents[3]
+CLOSURES = ("reynolds", "reynolds-finite")
 
 
-def _closures(scene: Scene, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
-    """Reynolds and finite-film viscous closures (N) at gaps ``s``; capillary contact limit."""
-    assert scene.film_thickness is not None
-    reyn = 6 * math.pi * scene.viscosity * scene.radius**2 * scene.velocity / s
+def load_bench(path: str | Path) -> dict[str, Any]:
+    """The thin-film benchmark's results (``benchmarks/results/thinfilm.json``)."""
+    path = Path(path)
+    try:
+        return json.loads(path.read_text())
+    except (OSError, ValueError) as exc:
+        raise InputError(f"{path}: not a readable benchmark JSON ({exc}); run "
+                         "benchmarks/bench_thinfilm.py or pass --bench") from None
+
+
+def _film_scenes(ctx: StudyContext) -> list[Scene]:
+    return [sc for sc in ctx.scenes if sc.amount == "film"]
+
+
+def _refusal(scene: Scene) -> str | None:
+    """Why the thin-film model refuses ``scene`` (its ValidityError's reason), or None."""
+    try:
+        get_model("thinfilm").check(scene)
+    except ValidityError as exc:
+        return exc.reason
+    return None
+
+
+def _case_points(scene: Scene, ctx: StudyContext) -> dict[str, Point]:
+    """The thin-film run (and inertial run) of a film case and the closures on its gaps."""
+    if ctx.quick:
+        scene = scene.with_gaps(np.geomspace(scene.gap_array.max(), scene.gap_array.min(),
+                                             10).tolist())
+    preset = "fast" if ctx.quick else "default"
+    pts = {"thinfilm": Point(scene, "thinfilm", preset)}
+    if scene.particle_density is not None and not ctx.quick:
+        pts["inertial"] = Point(scene, "thinfilm", preset, settings={"inertia": True})
+    pts.update({c: Point(scene, c) for c in CLOSURES})
+    return pts
+
+
+def points(ctx: StudyContext) -> list[Point]:
+    """Every film case the thin-film model accepts, with the closures on the same gaps."""
+    return [p for sc in _film_scenes(ctx) if _refusal(sc) is None
+            for p in _case_points(sc, ctx).values()]
+
+
+def _contact_limit(scene: Scene, curve: Any) -> Any:
+    """The capillary contact limit ``-2 pi R sigma (cos theta_s + 1)`` as a curve."""
     cap = -2 * math.pi * scene.radius * scene.surface_tension * (
         math.cos(scene.contact_angle_sphere) + 1.0)
-    return reyn, reyn * (1 - s / scene.film_thickness) ** 2, cap
+    return closure_curve(scene.with_gaps(curve.gap.tolist()), "contact-limit",
+                         capillary=np.full(curve.gap.shape, cap))
 
 
-def _case_rows(scene: Scene, quick: bool) -> tuple[list[dict], str | None, dict]:
-    model = MODELS["thinfilm"]
-    try:
-        model.check(scene)
-    except ValidityError as exc:
-        return [], exc.reason, {}
-    gaps = scene.gap_array
-    if quick:
-        gaps = np.geomspace(gaps.max(), gaps.min(), 10)
-    preset = "fast" if quick else "default"
-    curve = model.force(scene, gaps=gaps, preset=preset)
+def _case_rows(scene: Scene, result: SweepResult, ctx: StudyContext) -> tuple[list[dict], dict]:
+    pts = _case_points(scene, ctx)
+    curve = result.curve(pts["thinfilm"])
+    if curve is None:
+        return [], {}
     inertial: dict = {}
-    if scene.particle_density is not None and not quick:
-        ic = model.force(scene, gaps=gaps, preset=preset, inertia=True)
+    ic = result.curve(pts["inertial"]) if "inertial" in pts else None
+    if ic is not None:
         inertial = {"v_end": float(ic.extras["sphere_speed"][-1]),
                     "reached_all": bool(np.all(ic.extras["reached"] == 1.0)),
                     "min_gap": float(ic.diagnostics["min_gap_m"]),
                     "mass": float(ic.diagnostics["mass_kg"])}
-    reyn, fin, cap = _closures(scene, curve.gap)
+    reyn, fin = (compare(result.curve(pts[c]), curve, "viscous") for c in CLOSURES)
+    cap = compare(_contact_limit(scene, curve), curve, "capillary")
     rows = []
     for i, s in enumerate(curve.gap):
         fv = curve.force_viscous[i]
@@ -69,31 +110,31 @@ def _case_rows(scene: Scene, quick: bool) -> tuple[list[dict], str | None, dict]
                      "force_thinfilm_N": curve.force_total[i], "force_viscous_N": fv,
                      "force_capillary_N": curve.force_capillary[i],
                      "wetted_radius_m": curve.extras["wetted_radius"][i],
-                     "err_reynolds": reyn[i] / fv - 1, "err_finite_film": fin[i] / fv - 1,
-                     "err_capillary_contact": cap / curve.force_capillary[i] - 1,
+                     "err_reynolds": reyn.signed_at(s), "err_finite_film": fin.signed_at(s),
+                     "err_capillary_contact": cap.signed_at(s),
                      "volume_drift": curve.diagnostics["volume_drift"],
                      "wall_time_s": curve.diagnostics["wall_time_s"]})
-    return rows, None, inertial
+    return rows, inertial
 
 
-def _bench() -> dict | None:
-    """The thin-film benchmark's results (``benchmarks/results/thinfilm.json``), if run."""
-    path = ROOT / "benchmarks" / "results" / "thinfilm.json"
-    return json.loads(path.read_text()) if path.exists() else None
+def validity_map(delta_over_r: np.ndarray, ca: np.ndarray) -> list[list[str | None]]:
+    """The thin-film model's verdict on a (Ca, delta/R) grid, through its public ``check``.
 
-
-def _stability(bench: dict | None) -> list[dict]:
-    if bench is not None:
-        return bench["stability"]["rows"]
-    rows = []
-    for n in (16, 32, 64):
-        free = tf._leveling_problem(n)
-        h0 = free.film_thickness * (1 + 1e-3 * np.cos(np.pi * free.r_c / free.domain))
-        dt_e = tf.explicit_stable_dt(free, h0, steps=200, bisections=16, lo=1e-12, hi=1.0)
-        dt_i = tf.implicit_stable_dt(free, h0, [dt_e * 10.0**k for k in (2, 4, 6)], steps=5)
-        rows.append({"cells": n, "dr_free_m": free.dr, "explicit_free_dt_s": dt_e,
-                     "implicit_free_dt_s": dt_i})
-    return rows
+    Each point is a scene with R = sigma = eta = 1 (so Ca = v and
+    Ca* = 3 Ca/(delta/R)^2 exactly); entry [i][j] is the refusal reason at
+    (ca[i], delta_over_r[j]) or None where the model runs.
+    """
+    base = {"name": "validity-map", "geometry": {"kind": "sphere-wall", "radius": 1.0},
+            "liquid": {"viscosity": 1.0, "surface_tension": 1.0, "density": 1000.0}}
+    out = []
+    for c in ca:
+        row = []
+        for x in delta_over_r:
+            sc = scene_from_dict({**base, "amount": {"film_thickness": float(x)},
+                                  "motion": {"velocity": float(c), "gaps": [0.5 * float(x)]}})
+            row.append(_refusal(sc))
+        out.append(row)
+    return out
 
 
 def _width_study(bench: dict | None) -> list[str]:
@@ -112,26 +153,47 @@ def _width_study(bench: dict | None) -> list[str]:
     return [*md, ""]
 
 
-def _plots(out: Path, stab: list[dict]) -> None:
-    import matplotlib
+def _plots(out: Path, stab: list[dict] | None) -> None:
+    from wetcontact.plotting import save
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, (a, b) = plt.subplots(1, 2, figsize=(10, 4))
-    dr = [r["dr_free_m"] for r in stab]
-    a.loglog(dr, [r["explicit_free_dt_s"] for r in stab], "o-", label="explicit Euler")
-    a.loglog(dr, [r["implicit_free_dt_s"] for r in stab], "s--",
-             label="Newton backward Euler (largest tried)")
-    a.loglog(dr, stab[0]["explicit_free_dt_s"] * (np.array(dr) / dr[0]) ** 4, "k:",
-             label="dr^4")
-    a.set_xlabel("dr (m)")
-    a.set_ylabel("largest stable dt (s)")
-    a.legend(fontsize=7)
-    a.set_title("stability (free water film, 10 um)")
     dr_r = np.geomspace(1e-3, 0.5, 120)
     ca = np.geomspace(1e-6, 10, 120)
-    ok = np.array([[tf.validity_reason(x, c, 3 * c / x**2) is None for x in dr_r] for c in ca])
+    reasons = validity_map(dr_r, ca)
+    save(stability_figure(stab, dr_r, ca, reasons), out / "thinfilm_stability_validity.png")
+    with (out / "thinfilm_validity.csv").open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["delta_over_R", "Ca", "valid", "reason"])
+        for j, x in list(enumerate(dr_r))[::10]:
+            for i, c in list(enumerate(ca))[::10]:
+                reason = reasons[i][j]
+                w.writerow([f"{x:.4g}", f"{c:.4g}", reason is None, reason or ""])
+
+
+def stability_figure(stab: list[dict] | None, dr_r: np.ndarray, ca: np.ndarray,
+                     reasons: list[list[str | None]]):
+    """Largest stable dt against dr (benchmark rows) and the validity map in (delta/R, Ca)."""
+    from matplotlib.ticker import NullFormatter
+
+    from wetcontact.plotting import pyplot
+
+    plt = pyplot()
+    fig, (a, b) = plt.subplots(1, 2, figsize=(10, 4))
+    if stab:
+        dr = [r["dr_free_m"] for r in stab]
+        a.loglog(dr, [r["explicit_free_dt_s"] for r in stab], "o-", label="explicit Euler")
+        a.loglog(dr, [r["implicit_free_dt_s"] for r in stab], "s--",
+                 label="Newton backward Euler (largest tried)")
+        a.loglog(dr, stab[0]["explicit_free_dt_s"] * (np.array(dr) / dr[0]) ** 4, "k:",
+                 label="dr^4")
+        a.legend(fontsize=7)
+    else:
+        a.text(0.5, 0.5, "no benchmark results given\n(benchmarks/bench_thinfilm.py)",
+               ha="center", va="center", transform=a.transAxes)
+    a.xaxis.set_minor_formatter(NullFormatter())  # minor labels overlapped
+    a.set_xlabel("dr (m)")
+    a.set_ylabel("largest stable dt (s)")
+    a.set_title("stability (free water film, 10 um)")
+    ok = np.array([[r is None for r in row] for row in reasons])
     b.contourf(dr_r, ca, ok.astype(float), levels=[-0.5, 0.5, 1.5],
                colors=["#f4b6b6", "#b6e3b6"])
     b.set_xscale("log")
@@ -140,32 +202,23 @@ def _plots(out: Path, stab: list[dict]) -> None:
     b.set_ylabel("Ca = eta v/sigma")
     b.set_title("thin-film validity (green: runs; red: refused)")
     fig.tight_layout()
-    fig.savefig(out / "thinfilm_stability_validity.png", dpi=110)
-    plt.close(fig)
-    with (out / "thinfilm_validity.csv").open("w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["delta_over_R", "Ca", "valid", "reason"])
-        for x in dr_r[::10]:
-            for c in ca[::10]:
-                reason = tf.validity_reason(x, c, 3 * c / x**2)
-                w.writerow([f"{x:.4g}", f"{c:.4g}", reason is None, reason or ""])
+    return fig
 
 
-def section(out: Path, quick: bool) -> str:
+def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
     """Write the thin-film CSV/PNG files into ``out``; return the Markdown section."""
-    load_all()
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    cases = sorted((ROOT / "cases").glob("*film*.toml"))
-    scenes = [sc for sc in (load_case(p) for p in cases) if sc.amount == "film"]
     rows: list[dict] = []
     refused: list[tuple[str, str]] = []
     inertial: dict[str, dict] = {}
-    for sc in scenes:
-        r, reason, ine = _case_rows(sc, quick)
-        rows.extend(r)
+    for sc in _film_scenes(ctx):
+        reason = _refusal(sc)
         if reason:
             refused.append((sc.name, reason))
+            continue
+        r, ine = _case_rows(sc, result, ctx)
+        rows.extend(r)
         if ine:
             inertial[sc.name] = {**ine, "v0": sc.velocity}
     if rows:
@@ -173,8 +226,8 @@ def section(out: Path, quick: bool) -> str:
             w = csv.DictWriter(fh, fieldnames=list(rows[0]))
             w.writeheader()
             w.writerows(rows)
-    bench = _bench()
-    stab = _stability(bench)
+    bench = ctx.bench
+    stab = bench["stability"]["rows"] if bench is not None else None
     _plots(out, stab)
 
     md = ["## Thin film: sphere squeezing a liquid layer (model `thinfilm`)", "",
@@ -204,6 +257,9 @@ def section(out: Path, quick: bool) -> str:
                   f"m/s): {stop}; speed at the smallest gap {ine['v_end']:.3f} m/s.")
         md.append("")
     md.extend(_width_study(bench))
+    if bench is None:
+        md += ["No thin-film benchmark results were given (`wetcontact run --bench`, from "
+               "`benchmarks/bench_thinfilm.py`): no stability map or wetting-width study.", ""]
     md.append("Stability and validity: `thinfilm_stability_validity.png`, "
               "`thinfilm_validity.csv`.")
     if rows:

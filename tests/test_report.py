@@ -1,0 +1,345 @@
+"""The report job (``wetcontact run``): sweeps into the store, renderers, a report swapped in
+whole, the output lock, progress lines, safe file names and the figures' styles."""
+
+from __future__ import annotations
+
+import ast
+import copy
+import io
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import wetcontact.report as report
+from wetcontact.models import ForceCurve, load_all
+from wetcontact.plotting import clipped_texts, overlapping_ticks
+from wetcontact.scene import scene_from_dict
+from wetcontact.store import Store
+from wetcontact.tables import StudyContext
+
+ROOT = Path(__file__).resolve().parents[1]
+SRC = ROOT / "src" / "wetcontact"
+BRIDGE = {
+    "name": "tiny-bridge",
+    "geometry": {"kind": "sphere-sphere", "radius": 1e-4, "radius2": 1e-4},
+    "liquid": {"viscosity": 1e-3, "surface_tension": 0.072, "density": 998.0,
+               "contact_angle": 20.0},
+    "amount": {"bridge_volume": 1e-13},
+    "motion": {"velocity": 0.01, "gaps": [1e-6, 5e-6, 2e-5]},
+}
+CHEAP = ("toroidal", "willett", "reynolds", "reynolds-finite", "lubrication")
+
+
+def _bridge(name="tiny-bridge", **over):
+    d = copy.deepcopy(BRIDGE)
+    d["name"] = name
+    d.update(over)
+    return scene_from_dict(d)
+
+
+@pytest.fixture
+def cheap(monkeypatch):
+    """Cases get closures and lubrication only, no study sections: a report in seconds."""
+    models = load_all()
+    monkeypatch.setattr(report, "SECTIONS", ())
+    monkeypatch.setattr(report, "load_all", lambda: {n: models[n] for n in CHEAP})
+
+
+def _case_dir(tmp_path, *names):
+    folder = tmp_path / "cases"
+    folder.mkdir()
+    for n in names:
+        text = (f'name = "{n}"\n[geometry]\nkind = "sphere-sphere"\nradius = 1e-4\n'
+                'radius2 = 1e-4\n[liquid]\nviscosity = 1e-3\nsurface_tension = 0.072\n'
+                'density = 998.0\ncontact_angle = 20.0\n[amount]\nbridge_volume = 1e-13\n'
+                '[motion]\nvelocity = 0.01\ngaps = [1e-6, 5e-6, 2e-5]\n')
+        (folder / f"{abs(hash(n))}.toml").write_text(text)
+    return folder
+
+
+# ---- the data path ----------------------------------------------------------------------
+
+
+def test_no_model_is_run_twice_and_a_rerun_computes_nothing(tmp_path, cheap):
+    scenes = [_bridge("a"), _bridge("b", amount={"bridge_volume": 2e-13})]
+    store = Store(tmp_path / "s.h5")
+    out1 = tmp_path / "r1"
+    out1.mkdir()
+    _, st1 = report.build(scenes, out1, store, "default", StudyContext(scenes=tuple(scenes)))
+    assert st1.computed_twice == [] and len(st1.computed) == 2 * len(CHEAP)
+    assert len(store) == len(st1.computed)  # every computed curve saved, once
+    out2 = tmp_path / "r2"
+    out2.mkdir()
+    _, st2 = report.build(scenes, out2, store, "default", StudyContext(scenes=tuple(scenes)))
+    assert st2.computed == [] and st2.reused == len(st1.computed)
+    a, b = ((o / "closure_errors.csv").read_text() for o in (out1, out2))
+    assert a == b
+
+
+def test_closure_table_goes_through_compare(tmp_path, cheap):
+    """The table row equals compare() of directly solved curves against the ranked
+    reference (lubrication: the only declared viscous reference here)."""
+    import csv
+
+    from wetcontact.compare import compare
+
+    sc = _bridge()
+    out = tmp_path / "r"
+    out.mkdir()
+    report.build([sc], out, Store(tmp_path / "s.h5"), "default", StudyContext(scenes=(sc,)))
+    rows = list(csv.DictReader((out / "closure_errors.csv").open()))
+    models = load_all()
+    ref = models["lubrication"].force(sc)
+    for name in ("reynolds", "reynolds-finite"):
+        row = next(r for r in rows if r["closure"] == name)
+        rec = compare(models[name].force(sc), ref, "viscous")
+        assert row["reference"] == "lubrication" and int(row["points"]) == rec.points == 3
+        assert float(row["max_rel_error"]) == rec.max_rel_error
+        assert float(row["gap_of_max_m"]) == rec.gap_of_max
+    assert not any(r["component"] == "capillary" for r in rows)  # no meniscus: no reference
+
+
+def test_renderers_never_solve_nor_read_the_repository():
+    """Tables and report import no solver module and no repository path."""
+    for path in [SRC / "report.py", *sorted((SRC / "tables").glob("*.py"))]:
+        tree = ast.parse(path.read_text())
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and node.module:
+                assert not node.module.startswith("wetcontact.solver"), (path, node.module)
+            if isinstance(node, ast.Import):
+                assert not any(a.name.startswith("wetcontact.solver") for a in node.names)
+        text = path.read_text()
+        assert "__file__" not in text and "ROOT" not in text, path
+        assert '"cases"' not in text.replace('Path("cases")', ""), path
+
+
+def test_quick_run_defaults_to_a_scratch_folder(tmp_path, cheap, monkeypatch):
+    from wetcontact.cli import build_parser
+
+    assert build_parser().parse_args(["run", "--quick"]).out is None
+    monkeypatch.chdir(tmp_path)
+    cases = _case_dir(tmp_path, "q")
+    path = report.run_all(cases=cases, mode="quick", progress=False, bench=None)
+    assert path == (tmp_path / "reports-quick" / "README.md").absolute()
+    assert not (tmp_path / "reports").exists()
+
+
+# ---- the report is swapped in whole, under a lock ---------------------------------------
+
+
+def test_case_name_cannot_escape_the_curves_folder(tmp_path, cheap):
+    sc = _bridge("../../x")
+    out = tmp_path / "deep" / "out"
+    out.mkdir(parents=True)
+    report.build([sc], out, Store(tmp_path / "s.h5"), "default", StudyContext(scenes=(sc,)))
+    written = {p.relative_to(tmp_path) for p in tmp_path.rglob("*") if p.is_file()}
+    assert all(str(p).startswith(("deep/out/", "s.h5")) for p in written), written
+    stems = [p.name for p in (out / "curves").iterdir()]
+    assert len(stems) == 2 and all(not s.startswith(".") and "/" not in s for s in stems)
+    assert f"curves/{Path(stems[0]).stem}" in (out / "README.md").read_text()
+
+
+def test_second_run_on_the_same_folder_is_refused(tmp_path, cheap):
+    from wetcontact.errors import InputError
+
+    cases = _case_dir(tmp_path, "l")
+    out = tmp_path / "out"
+    with report._locked(out.absolute()), pytest.raises(InputError, match="another"):
+        report.run_all(cases=cases, out=out, progress=False, bench=None)
+    assert report.run_all(cases=cases, out=out, progress=False, bench=None).exists()
+
+
+def test_swap_replaces_the_whole_folder(tmp_path):
+    out, new = tmp_path / "out", tmp_path / ".out.partial"
+    out.mkdir()
+    (out / "README.md").write_text("old")
+    (out / "only-old.csv").write_text("x")
+    new.mkdir()
+    (new / "README.md").write_text("new")
+    report.swap_in(new, out)
+    assert sorted(p.name for p in out.iterdir()) == ["README.md"]
+    assert (out / "README.md").read_text() == "new" and not new.exists()
+    # a swap killed between the fallback's two renames is undone by the next run
+    os.rename(out, tmp_path / ".out.old")
+    report._recover(out)
+    assert (out / "README.md").read_text() == "new"
+
+
+_KILL_SCRIPT = f"""
+CHEAP = {CHEAP!r}
+import sys, wetcontact.report as r
+from wetcontact.models import load_all
+m = load_all()
+r.SECTIONS = ()
+r.load_all = lambda: {{n: m[n] for n in CHEAP}}
+r.run_all(cases=sys.argv[1], out=sys.argv[2], progress=False, bench=None)
+print("done", flush=True)
+"""
+
+
+def test_killed_run_leaves_the_old_or_the_new_report(tmp_path):
+    """SIGKILL while the new report is half written (its curves folder exists in the staging
+    folder), and at a few other moments: README.md and the files it links are always one
+    complete report, the old one or the new one, never a mix."""
+    cases = _case_dir(tmp_path, "k1", "k2")
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "README.md").write_text("OLD REPORT\n")
+    (out / "old-only.csv").write_text("old\n")
+    staging = tmp_path / ".out.partial"
+    env = {**os.environ, "PYTHONPATH": str(SRC.parent)}
+
+    def start():
+        return subprocess.Popen([sys.executable, "-c", _KILL_SCRIPT, str(cases), str(out)],
+                                env=env, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                                start_new_session=True)
+
+    def check() -> str:
+        files = sorted(f.name for f in out.iterdir())
+        text = (out / "README.md").read_text()
+        if text == "OLD REPORT\n":
+            assert files == ["README.md", "old-only.csv"]
+            return "old"
+        assert "old-only.csv" not in files and "## Provenance" in text
+        for link in ("curves/k1.png", "curves/k2.csv", "closure_errors.csv"):
+            assert (out / link).stat().st_size > 0
+        return "new"
+
+    p = start()
+    t0 = time.monotonic()
+    while not (staging / "curves").exists() and p.poll() is None:
+        assert time.monotonic() - t0 < 120
+        time.sleep(0.01)
+    os.killpg(p.pid, signal.SIGKILL)
+    p.wait()
+    assert check() == "old"  # killed mid-report: the old report, whole
+    for delay in (0.3, 2.0):
+        p = start()
+        time.sleep(delay)
+        os.killpg(p.pid, signal.SIGKILL)
+        p.wait()
+        check()
+    p = start()
+    assert p.wait(timeout=120) == 0
+    assert check() == "new"
+
+
+# ---- what a user sees ---------------------------------------------------------------------
+
+
+def test_progress_line_every_few_seconds_when_stderr_is_not_a_terminal(monkeypatch):
+    buf = io.StringIO()
+    monkeypatch.setattr(sys, "stderr", buf)
+    with report._Heartbeat(True, every=0.05) as beat:
+        beat.phase = "stage 1: sweeping 3 points"
+        time.sleep(0.32)
+    lines = buf.getvalue().splitlines()
+    assert len(lines) >= 3 and all(ln.startswith("wetcontact run: stage 1") for ln in lines)
+
+
+def _case_result(names, negative=True):
+    curves = {}
+    gap = np.geomspace(1e-6, 1e-4, 8)
+    for k, n in enumerate(names):
+        cap = -(k + 1) * 1e-4 / (1 + gap / 1e-5) if negative else None
+        curves[n] = ForceCurve(case="c", model=n, gap=gap, force_viscous=(k + 1) * 1e-9 / gap,
+                               force_capillary=cap)
+    return report.CaseResult(_bridge(), curves, {})
+
+
+def test_case_plot_colours_never_repeat_and_forces_are_signed():
+    from matplotlib.colors import to_hex
+
+    names = sorted(load_all())  # every registered model in one plot
+    fig = report.case_figure(_case_result(names))
+    assert len(fig.axes) == 2  # viscous and capillary panels
+    colour, markers = {}, {}
+    for ax in fig.axes:
+        for ln in ax.get_lines():
+            if ln.get_label().startswith("_"):
+                continue
+            colour.setdefault(ln.get_label(), set()).add(to_hex(ln.get_color()))
+    assert sorted(colour) == names and all(len(c) == 1 for c in colour.values())
+    flat = [next(iter(c)) for c in colour.values()]
+    assert len(set(flat)) == len(flat)  # no colour repeats within the figure
+    # sign marks: capillary attraction (F < 0) with open markers, viscous F > 0 filled
+    cap, visc = fig.axes[1], fig.axes[0]
+    opens = [ln for ln in cap.get_lines() if ln.get_markerfacecolor() == "none"
+             and len(ln.get_xdata())]
+    assert len(opens) == len(names)
+    assert not any(ln.get_markerfacecolor() == "none" and len(ln.get_xdata())
+                   for ln in visc.get_lines())
+    for ln in cap.get_lines():
+        if ln.get_marker() not in (None, "None", ""):
+            markers.setdefault(ln.get_marker(), set()).add(to_hex(ln.get_color()))
+    assert all(len(c) == 1 for c in markers.values()) and len(markers) == len(names)
+    title = fig.get_suptitle()
+    assert "V = 1e-13 m^3" in title and "theta = 20/20 deg" in title
+    film = report.scene_label(scene_from_dict({
+        **copy.deepcopy(BRIDGE), "geometry": {"kind": "sphere-wall", "radius": 1e-3},
+        "amount": {"film_thickness": 1e-4}, "motion": {"velocity": 0.01, "gaps": [5e-5]}}))
+    assert "film delta = 0.0001 m" in film
+    assert not clipped_texts(fig)
+
+
+def test_lubrication_chart_one_colour_per_film_thickness():
+    from matplotlib.colors import to_hex
+
+    from wetcontact.tables.lubrication import chart_figure
+
+    recs = [{"case": c, "delta_over_R": d, "S_over_R": s, "err_reynolds": 0.1 * s,
+             "err_finite_liquid": -0.01 * s} for c in ("film", "bridge")
+            for d in (1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3) for s in (1e-4, 1e-3)]
+    fig = chart_figure(recs)
+    for ax in fig.axes:
+        by_delta = {}
+        for ln in ax.get_lines():
+            if ln.get_xydata().size:
+                by_delta.setdefault(to_hex(ln.get_color()), set()).add(
+                    round(float(ln.get_xydata()[0, 0]), 12))
+        assert len(by_delta) == 6  # 0.001 and 0.3 no longer share a colour
+
+
+def test_capillary_figures_have_distinct_styles_and_nothing_clipped():
+    from matplotlib.colors import to_hex
+
+    from wetcontact.tables.capillary_closures import (
+        CLOSURES,
+        KINDS,
+        closures_figure,
+        regions_figure,
+    )
+
+    pairs = [(v, t) for v in (1e-4, 1e-3, 1e-2, 0.1) for t in (0.0, 25.0, 50.0)]
+    reg = [{"closure": c, "kind": k, "V*": v, "theta_deg": t, "reach_1pct": 0.1,
+            "reach_5pct": 0.4} for c in CLOSURES for k in KINDS for v, t in pairs]
+    fig = regions_figure(reg)
+    assert not clipped_texts(fig)
+    assert overlapping_ticks(fig.axes[1]) == 0
+    rows = [{"closure": c, "kind": k, "V*": 0.01, "theta_deg": 0.0, "S/S_c": f,
+             "rel_error": 0.01 * (i + 1)} for i, c in enumerate(CLOSURES) for k in KINDS
+            for f in (0.0, 0.5)]
+    fig = closures_figure(rows)
+    cols = [to_hex(ln.get_color()) for ln in fig.axes[0].get_lines()]
+    assert len(set(cols)) == len(cols) == len(CLOSURES)
+    assert not clipped_texts(fig)
+
+
+def test_thinfilm_figure_ticks_do_not_overlap():
+    import json
+
+    from wetcontact.tables.thinfilm import stability_figure, validity_map
+
+    bench = ROOT / "benchmarks" / "results" / "thinfilm.json"
+    stab = json.loads(bench.read_text())["stability"]["rows"]
+    dr, ca = np.geomspace(1e-3, 0.5, 12), np.geomspace(1e-6, 10, 12)
+    fig = stability_figure(stab, dr, ca, validity_map(dr, ca))
+    assert overlapping_ticks(fig.axes[0]) == 0 and not clipped_texts(fig)
+    fig = stability_figure(None, dr, ca, validity_map(dr, ca))  # no benchmark: says so
+    assert "no benchmark" in " ".join(t.get_text() for t in fig.axes[0].texts)
