@@ -578,9 +578,9 @@ def main(argv: list[str] | None = None) -> int:
     b = sub.add_parser("bounds", help="measure the closures' error-bound tables")
     b.add_argument("--quick", action="store_true")
     b.add_argument("--seed", type=int, default=20261123)
-    f = sub.add_parser("fit", help="refit one closure family on its default design")
-    f.add_argument("family", choices=sorted(FAMILIES))
-    f.add_argument("--out", type=Path, required=True)
+    f = sub.add_parser("fit", help="refit closure families on their default designs")
+    f.add_argument("family", choices=sorted(FAMILIES) + ["all"])
+    f.add_argument("--out", type=Path, required=True, help="JSON file (a folder for 'all')")
     f.add_argument("--train", type=int, default=30)
     f.add_argument("--held-out", type=int, default=16)
     args = p.parse_args(argv)
@@ -590,10 +590,14 @@ def main(argv: list[str] | None = None) -> int:
         data = measure_bounds(seed=args.seed, quick=args.quick, progress=True)
         print(f"wrote {DATA_PATH} ({len(data['tables'])} tables, {data['wall_time_s']} s)")
     else:
-        cal = run_family(args.family, args.out, args.train, args.held_out)
-        ho = cal.held_out
-        print(f"{cal.family}: held-out max {ho['before']['max']:.3g} -> {ho['after']['max']:.3g}"
-              f" (goal 1/3: {'met' if cal.goal_met else 'NOT met'}); wrote {args.out}")
+        names = sorted(FAMILIES) if args.family == "all" else [args.family]
+        for name in names:
+            out = args.out / f"{name}.json" if args.family == "all" else args.out
+            cal = run_family(name, out, args.train, args.held_out)
+            ho = cal.held_out
+            print(f"{cal.family}: held-out max {ho['before']['max']:.3g} -> "
+                  f"{ho['after']['max']:.3g} (goal 1/3: "
+                  f"{'met' if cal.goal_met else 'NOT met'}); wrote {out}", flush=True)
     return 0
 
 

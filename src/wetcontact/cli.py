@@ -113,13 +113,15 @@ def _solve(args: argparse.Namespace) -> int:
     name = args.model or (scene.model if args.tol is None else None)
     names: dict[str, str | None] = {}
     if name:
-        model, preset, why = get_model(name), args.preset or "default", "requested"
+        preset, why = args.preset or "default", "requested"
         opts = {}
         if coefficients is not None:
             from wetcontact.calibrate import load_coefficients
 
             model = load_coefficients(coefficients, family=name)
             why = f"coefficients from {coefficients}"
+        else:
+            model = get_model(name)
         if args.save_fields is not None:
             if not model.saves_fields:
                 raise InputError(f"--save-fields: model '{model.name}' has no fields to "
