@@ -75,7 +75,7 @@ def test_calibration_files_and_refitted_model(finite_liquid_run, tmp_path, capsy
     res, files, _ = finite_liquid_run
     js, parity, errors = files
     data = json.loads(js.read_text())
-    assert data["family"] == "finite-liquid" and len(data["coefficients"]) == 6
+    assert data["family"] == "finite-liquid" and len(data["coefficients"]) == 10
     assert data["domain"]["delta_over_r"][0] == pytest.approx(1e-3)
     assert parity.stat().st_size > 5000 and errors.stat().st_size > 5000
     model = cal.load_coefficients(js, family="finite-liquid")

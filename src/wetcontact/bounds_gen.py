@@ -39,7 +39,7 @@ SPURIOUS = 1.0e3
 BIN_FLOOR = 1.0e-6
 DATA_PATH = Path(__file__).resolve().parent / "reduced_models" / "data" / "bounds.json"
 
-IMMERSED_CLOSURES = ("reynolds", "cox-brenner", "schaeffer")
+IMMERSED_CLOSURES = ("reynolds", "cox-brenner", "schaeffer", "calibrated-viscous")
 CAPILLARY_CLOSURES = ("bagheri", "willett", "willett-simple", "mikami", "toroidal", "lambert",
                       "rabinovich")
 S_OVER_SC_EDGES = [0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.2, 1.5, 3.0]
@@ -133,7 +133,7 @@ def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
     for amount, kind in (("film", "sphere-wall"), ("bridge", "sphere-wall"),
                          ("bridge", "sphere-sphere")):
         rows: dict[str, list[np.ndarray]] = {k: [] for k in ("p", "ratio", "x", "rf", "fast",
-                                                            "default")}
+                                                            "default", "cv")}
         for _ in range(n_scenes):
             x = np.concatenate([rng.uniform(lo, hi, per_bin)
                                 for lo, hi in zip(h_edges[:-1], h_edges[1:], strict=True)])
@@ -161,6 +161,14 @@ def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
             rows["x"].append(x)
             rows["rf"].append(rel_error(get_model("reynolds-finite").force(scene)
                                         .force_viscous, ref))
+            cv = np.full(x.shape, np.nan)  # calibrated-viscous: inside its domain only
+            inside = (x >= 0.01) & (x <= 0.95)
+            if inside.any():
+                sub = scene.with_gaps(np.asarray(gaps)[inside].tolist())
+                if get_model("calibrated-viscous").applicable(sub) is None:
+                    cv[inside] = rel_error(get_model("calibrated-viscous").force(sub)
+                                           .force_viscous, ref[inside])
+            rows["cv"].append(cv)
             for pr in ("fast", "default"):
                 rows[pr].append(rel_error(got[pr], ref))
         cat = {k: np.concatenate(v) for k, v in rows.items()}
@@ -175,6 +183,12 @@ def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
             edges.append([1.0, 10.0])
         out.append(_table("reynolds-finite", "viscous", kind, amount,
                           "lubrication (accurate, n = 256)", axes, edges, coords, cat["rf"]))
+        ok = np.isfinite(cat["cv"])
+        if ok.any():
+            out.append(_table("calibrated-viscous", "viscous", kind, amount,
+                              "lubrication (n = 256): the project's best reference for films "
+                              "and bridges", axes, edges, [c[ok] for c in coords],
+                              cat["cv"][ok]))
         for pr in ("fast", "default"):
             out.append(_table(f"lubrication:{pr}", "viscous", kind, amount,
                               "lubrication (n = 256): discretisation only; the thin-gap "

@@ -20,9 +20,9 @@ Families (:data:`FAMILIES`; the published coefficients are the starting point):
     Bagheri, Roy & Poeschel (2024) eqs. 24-30, 23 coefficients.
 ``lian-rupture``
     ``S_c/R = (a + b theta) V*^(1/3) + c V*^(2/3)`` (Lian et al. 1993: a = 1, b = 1/2, c = 0).
-``finite-liquid``
-    Reynolds force times ``(1 - x)^p (1 + d (c0 + c1 x + c2 x^2) + d^2 (c3 + c4 x))``,
-    x = S/H, d = H/R*, replacing Pitois' ``(1 - S/H)^2`` (p = 2, c = 0).
+``finite-liquid`` (films), ``finite-liquid-bridge-sw`` / ``-ss`` (bridges)
+    Reynolds force times a factor replacing Pitois' ``(1 - S/H)^2``
+    (:func:`finite_liquid_form`, 10 coefficients).
 
 The fit minimises the relative error by least squares, then by Lawson's reweighting
 toward the minimax solution (scipy.optimize.least_squares).
@@ -123,14 +123,22 @@ def lian_form(k: np.ndarray, x: Arrays) -> np.ndarray:
 
 
 def finite_liquid_form(k: np.ndarray, x: Arrays) -> np.ndarray:
-    """Viscous force (N): Reynolds times
-    ``(1 - x)^p (1 + d (c0 + c1 x + c2 x^2) + d^2 (c3 + c4 x))``, x = S/H, d = H/R*
-    (the sphere's departure from the parabolic gap is O(H/R*); Pitois: p = 2, c = 0)."""
+    """Viscous force (N): Reynolds times the finite-liquid factor
+
+    ``(1 - x)^p [1 + d (c0 + c1 u + c2 x + c3 x u) + d^2 (c4 + c5 u + c6 x)
+    + d^3 (c7 + c8 u)]``, u = sqrt(x),
+
+    with x = S/H and d = kappa H/R*, kappa = R*^3 (1/R1^3 + 1/R2^3) (1 for a wall): the
+    surfaces' departure from the parabolic gap is ``kappa H/(2 R*)`` relative to H at the
+    wetted edge. Pitois et al. (2000): p = 2, c = 0. Coefficients ``k = (p, c0, ..., c8)``.
+    """
     xx = np.clip(x["gap"] / x["edge_gap"], 0.0, 1.0)
-    d = x["edge_gap"] / x["r_star"]
-    fac = (1.0 - xx) ** k[0] * (1.0 + d * (k[1] + k[2] * xx + k[3] * xx**2)
-                                + d**2 * (k[4] + k[5] * xx))
-    return visc.reynolds_force(x["viscosity"], x["r_star"], x["velocity"], x["gap"]) * fac
+    u = np.sqrt(xx)
+    d = x.get("kappa", 1.0) * x["edge_gap"] / x["r_star"]
+    poly = (1.0 + d * (k[1] + k[2] * u + k[3] * xx + k[4] * xx * u)
+            + d**2 * (k[5] + k[6] * u + k[7] * xx) + d**3 * (k[8] + k[9] * u))
+    return (visc.reynolds_force(x["viscosity"], x["r_star"], x["velocity"], x["gap"])
+            * (1.0 - xx) ** k[0] * poly)
 
 
 # ---- families ---------------------------------------------------------------------------
@@ -206,9 +214,18 @@ FAMILIES: dict[str, Family] = {f.name: f for f in (
            ("v_star", "theta_deg"), {"v_star": (1e-4, 0.1, "log"),
                                       "theta_deg": (0.0, 50.0, "lin")}, equal=True),
     Family("finite-liquid", "finite-liquid factor replacing (1 - S/H)^2 (films)",
-           finite_liquid_form, np.array([2.0, 0.0, 0.0, 0.0, 0.0, 0.0]), "sphere-wall", "film",
+           finite_liquid_form, np.array([2.0] + [0.0] * 9), "sphere-wall", "film",
            "viscous", ("delta_over_r", "s_over_h"),
            {"delta_over_r": (1e-3, 0.1, "log"), "s_over_h": (0.01, 0.95, "lin")}),
+    Family("finite-liquid-bridge-sw", "finite-liquid factor, bridge on a wall",
+           finite_liquid_form, np.array([2.0] + [0.0] * 9), "sphere-wall",
+           "bridge", "viscous", ("v_star", "s_over_h"),
+           {"v_star": (1e-4, 0.1, "log"), "s_over_h": (0.01, 0.95, "lin")}),
+    Family("finite-liquid-bridge-ss", "finite-liquid factor, bridge between two spheres",
+           finite_liquid_form, np.array([2.0] + [0.0] * 9), "sphere-sphere",
+           "bridge", "viscous", ("v_star", "s_over_h", "radius_ratio"),
+           {"v_star": (1e-4, 0.1, "log"), "radius_ratio": (1.0, 10.0, "log"),
+            "s_over_h": (0.01, 0.95, "lin")}),
 )}
 
 
@@ -243,7 +260,17 @@ def scene_inputs(family: Family, scene: Scene) -> dict[str, np.ndarray]:
     x = {"gap": g, "radius": full(scene.radius), "sigma": full(scene.surface_tension),
          "viscosity": full(scene.viscosity), "velocity": full(scene.velocity),
          "r_star": full(scene.reduced_radius)}
+    x["kappa"] = full(1.0)
+    if scene.kind == "sphere-sphere":
+        x["kappa"] = full(scene.reduced_radius**3 * (scene.radius**-3 + scene.radius2**-3))
+        x["r_small"] = full(min(scene.radius, scene.radius2))
+        x["radius_ratio"] = full(max(scene.radius, scene.radius2) / min(scene.radius,
+                                                                       scene.radius2))
+    else:
+        x["r_small"] = full(scene.radius)
+        x["radius_ratio"] = full(1.0)
     if scene.amount == "bridge":
+        x["edge_gap"] = visc.bridge_edge_gap(g, scene.bridge_volume, scene.reduced_radius)
         th = cap.mean_contact_angle(scene.contact_angle_sphere, scene.contact_angle_wall)
         x["theta"] = full(th)
         x["volume"] = full(scene.bridge_volume)
@@ -257,15 +284,16 @@ def scene_inputs(family: Family, scene: Scene) -> dict[str, np.ndarray]:
 
 def domain_coords(family: Family, x: Arrays) -> dict[str, np.ndarray]:
     """The family's domain coordinates of inputs ``x``."""
-    c: dict[str, np.ndarray] = {}
+    c: dict[str, np.ndarray] = {"radius_ratio": x["radius_ratio"]}
     if "volume" in x:
-        c["v_star"] = x["volume"] / x["radius"] ** 3
+        c["v_star"] = x["volume"] / x["r_small"] ** 3
         c["theta_deg"] = np.degrees(x["theta"])
         if family.rupture_of is not None:
             c["s_over_sc"] = x["gap"] / family.rupture_of(x)
     if "edge_gap" in x:
-        c["delta_over_r"] = x["edge_gap"] / x["radius"]
         c["s_over_h"] = x["gap"] / x["edge_gap"]
+        if "volume" not in x:
+            c["delta_over_r"] = x["edge_gap"] / x["radius"]
     return c
 
 
@@ -332,7 +360,16 @@ def _references(family: Family, configs: list[dict[str, float]], gaps_per: int,
         x_rel = (np.linspace(s_lo, s_hi, gaps_per) if seed is None
                  else np.sort(rng.uniform(s_lo, s_hi, gaps_per)))
         try:
-            if family.amount == "bridge":
+            if family.amount == "bridge" and family.target == "viscous":
+                ratio = c.get("radius_ratio", 1.0)
+                r2 = R * ratio if family.kind == "sphere-sphere" else None
+                rstar = R if r2 is None else R * r2 / (R + r2)
+                v = c["v_star"] * R**3
+                gaps = x_rel * np.sqrt(v / (math.pi * rstar)) / np.sqrt(1 - x_rel**2)
+                scene = make_scene(family.kind, {"bridge_volume": v}, gaps, r2)
+                out.append((scene, get_model("lubrication").force(scene, n=256, levels=3)
+                            .force_viscous))
+            elif family.amount == "bridge":
                 th = c["theta_deg"]
                 r2 = R if family.kind == "sphere-sphere" else None
                 base = make_scene(family.kind, {"bridge_volume": c["v_star"] * R**3},
@@ -394,7 +431,8 @@ def error_summary(family: Family, k: np.ndarray, pts: Points) -> dict[str, Any]:
     """max / mean / 95th percentile of the relative error and where the maximum sits."""
     e = rel_errors(family, k, pts)
     i = int(np.argmax(e))
-    where = {kk: float(v[i]) for kk, v in domain_coords(family, pts.inputs).items()}
+    coords = domain_coords(family, pts.inputs)
+    where = {a: float(coords[a][i]) for a in family.domain_axes if a in coords}
     return {"max": float(e.max()), "mean": float(e.mean()),
             "p95": float(np.percentile(e, 95)), "max_at": where}
 
@@ -571,6 +609,72 @@ def load_coefficients(path: Path | str, family: str | None = None) -> Calibrated
     return CalibratedClosure(fam, k, dom, str(path))
 
 
+# ---- shipped calibrated closures ------------------------------------------------------------
+
+DATA_DIR = Path(__file__).resolve().parent / "reduced_models" / "data"
+
+
+def fit_immersed(kind: str, degree: int = 48, s_range: tuple[float, float] = (1e-5, 100.0),
+                 n_held_out: int = 4000, seed: int = 101) -> dict[str, Any]:
+    """Chebyshev interpolation of ``q = lambda s/(1 + s)`` (wall) or
+    ``lambda 2s/(1 + 2s)`` (equal spheres) in log s at Chebyshev points, and its held-out
+    relative error against the exact series at seeded log-uniform points."""
+    from wetcontact.reduced_models.calibrated import immersed_lambda
+
+    lo, hi = math.log(s_range[0]), math.log(s_range[1])
+    t = np.cos(np.pi * (np.arange(degree + 1) + 0.5) / (degree + 1))
+    s = np.exp(0.5 * (t * (hi - lo) + lo + hi))
+    exact = visc.brenner_lambda if kind == "sphere-wall" else visc.two_sphere_lambda
+    q = exact(s) * (s / (1 + s) if kind == "sphere-wall" else 2 * s / (1 + 2 * s))
+    coef = np.polynomial.chebyshev.chebfit(t, q, degree)
+    table = {"immersed": {kind: {"log_range": [lo, hi], "chebyshev": coef.tolist()}}}
+    rng = np.random.default_rng(seed)
+    sh = np.exp(rng.uniform(lo, hi, n_held_out))
+    err = np.abs(immersed_lambda(sh, kind, table) / exact(sh) - 1.0)
+    i = int(np.argmax(err))
+    return {"log_range": [lo, hi], "chebyshev": coef.tolist(),
+            "held_out": {"points": n_held_out, "seed": seed, "reference": "brenner (exact)",
+                         "max": float(err.max()), "mean": float(err.mean()),
+                         "p95": float(np.percentile(err, 95)), "max_at_s_over_r": float(sh[i])}}
+
+
+def generate_calibrated_viscous(out: Path | None = None, n_train: int = 40,
+                                n_held_out: int = 24) -> dict[str, Any]:
+    """Write ``data/calibrated_viscous.json``: immersed Chebyshev tables and the film
+    factor refitted against lubrication, each with its held-out error table."""
+    t0 = time.perf_counter()
+    data: dict[str, Any] = {"generated_by": "python -m wetcontact.calibrate viscous",
+                            "immersed": {k: fit_immersed(k) for k in ("sphere-wall",
+                                                                      "sphere-sphere")}}
+    fam = FAMILIES["finite-liquid"]
+    train = reference_points(fam, design(fam, n_train), gaps_per=10)
+    held = reference_points(fam, design(fam, n_held_out, seed=303), gaps_per=8, seed=303)
+    c = calibrate(fam, train, held, held_out_seed=303)
+    data["film"] = {"coefficients": c.coefficients.tolist(),
+                    "domain": {k: list(v) for k, v in c.domain.items()},
+                    "reference": "lubrication (n = 256): the project's best film reference",
+                    "train": c.train, "held_out": c.held_out}
+    for kind, name in (("sphere-wall", "finite-liquid-bridge-sw"),
+                       ("sphere-sphere", "finite-liquid-bridge-ss")):
+        fam = FAMILIES[name]
+        train = reference_points(fam, design(fam, n_train), gaps_per=10)
+        held = reference_points(fam, design(fam, n_held_out, seed=404), gaps_per=8, seed=404)
+        c = calibrate(fam, train, held, held_out_seed=404)
+        data.setdefault("bridge", {})[kind] = {
+            "coefficients": c.coefficients.tolist(),
+            "domain": {k: list(v) for k, v in c.domain.items()},
+            "reference": "lubrication (n = 256): the project's best bridge viscous reference "
+                         "(whole volume between the surfaces)",
+            "train": c.train, "held_out": c.held_out}
+    data["wall_time_s"] = round(time.perf_counter() - t0, 1)
+    out = out or DATA_DIR / "calibrated_viscous.json"
+    out.write_text(json.dumps(data, indent=1) + "\n")
+    from wetcontact.reduced_models.calibrated import viscous_table
+
+    viscous_table.cache_clear()
+    return data
+
+
 def main(argv: list[str] | None = None) -> int:
     """``python -m wetcontact.calibrate bounds|fit ...``."""
     p = argparse.ArgumentParser(prog="python -m wetcontact.calibrate")
@@ -583,8 +687,19 @@ def main(argv: list[str] | None = None) -> int:
     f.add_argument("--out", type=Path, required=True, help="JSON file (a folder for 'all')")
     f.add_argument("--train", type=int, default=30)
     f.add_argument("--held-out", type=int, default=16)
+    sub.add_parser("viscous", help="regenerate the calibrated-viscous closure")
     args = p.parse_args(argv)
-    if args.command == "bounds":
+    if args.command == "viscous":
+        data = generate_calibrated_viscous()
+        for k, v in data["immersed"].items():
+            print(f"immersed {k}: held-out max {v['held_out']['max']:.3g}")
+        for label, d in (("film", data["film"]), *(
+                (f"bridge {k}", v) for k, v in data["bridge"].items())):
+            ho = d["held_out"]
+            print(f"{label}: held-out max {ho['before']['max']:.3g} (Pitois) -> "
+                  f"{ho['after']['max']:.3g}")
+        print(f"{data['wall_time_s']} s")
+    elif args.command == "bounds":
         from wetcontact.bounds_gen import DATA_PATH, measure_bounds
 
         data = measure_bounds(seed=args.seed, quick=args.quick, progress=True)
