@@ -109,3 +109,23 @@ def test_bad_coefficient_files_are_input_errors(tmp_path) -> None:
     bad.write_text(json.dumps({"family": "nope", "coefficients": [], "domain": {}}))
     with pytest.raises(InputError, match="allowed"):
         cal.load_coefficients(bad)
+
+
+def test_points_from_a_sweep(tmp_path) -> None:
+    """Reference points from the sweep interface (store-backed) equal a direct solve."""
+    from wetcontact.store import Store
+    from wetcontact.sweep import Point, sweep
+
+    fam = cal.FAMILIES["finite-liquid"]
+    scenes = [make_scene("sphere-wall", {"film_thickness": d}, [0.2 * d, 0.6 * d])
+              for d in (1e-5, 4e-5)]
+    res = sweep([Point(sc, "lubrication", "accurate") for sc in scenes],
+                Store(tmp_path / "ref.h5"), progress=False)
+    pts = cal.points_from_curves(fam, [(o.point.scene, o.curve) for o in res.outcomes])
+    assert len(pts) == 4 and np.all(pts.y > 0)
+    direct = np.concatenate([cal.get_model("lubrication").force(sc, preset="accurate")
+                             .force_viscous for sc in scenes])
+    np.testing.assert_allclose(pts.y, direct, rtol=1e-12)
+    with pytest.raises(InputError, match="allowed: sphere-wall film"):
+        cal.points_from_curves(fam, [(make_scene("sphere-wall", {"immersed": True}, [1e-5]),
+                                      res.outcomes[0].curve)])

@@ -39,7 +39,7 @@ import json
 import math
 import sys
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -389,6 +389,40 @@ def _references(family: Family, configs: list[dict[str, float]], gaps_per: int,
         except (InputError, SolverError):
             continue
     return out
+
+
+def points_from_curves(family: Family, pairs: Iterable[tuple[Scene, ForceCurve]]) -> Points:
+    """Reference points from solved curves, e.g. a sweep's outcomes
+    (``(o.point.scene, o.curve) for o in result.outcomes if o.curve``): the attraction
+    (capillary families), ``rupture_distance`` (rupture) or the viscous force, at the gaps
+    where it is non-zero. Curves of another scene class are an :class:`InputError`."""
+    rows, ys = [], []
+    for scene, curve in pairs:
+        if scene.kind != family.kind or scene.amount != family.amount or (
+                family.equal and not scene.equal_spheres):
+            raise InputError(f"calibrate {family.name}: scene '{scene.name}' is "
+                             f"{scene.kind} {scene.amount}; allowed: {family.kind} "
+                             f"{family.amount}" + (" (equal spheres)" if family.equal else ""))
+        x = scene_inputs(family, scene)
+        if family.target == "rupture":
+            if "rupture_distance" not in curve.extras:
+                raise InputError(f"calibrate {family.name}: model '{curve.model}' gives no "
+                                 "rupture_distance")
+            y = curve.extras["rupture_distance"][:1]
+            x = {k: v[:1] for k, v in x.items()}
+        else:
+            f = curve.force_viscous if family.target == "viscous" else curve.force_capillary
+            if f is None:
+                raise InputError(f"calibrate {family.name}: model '{curve.model}' gives no "
+                                 f"{family.target} force")
+            y = f if family.target == "viscous" else -f
+        keep = y > 0
+        rows.append({k: v[keep] for k, v in x.items()})
+        ys.append(np.asarray(y)[keep])
+    if not rows or not sum(len(y) for y in ys):
+        raise InputError(f"calibrate {family.name}: no reference point with a non-zero value")
+    return Points({k: np.concatenate([r[k] for r in rows]) for k in rows[0]},
+                  np.concatenate(ys))
 
 
 # ---- fitting and reporting ---------------------------------------------------------------
