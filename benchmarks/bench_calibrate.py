@@ -95,7 +95,8 @@ def chart(per_point: dict[str, float], regen: float) -> None:
     ax.barh(names, [per_point[n] * 1e9 for n in names], color="C0")
     ax.set_xscale("log")
     ax.set_xlabel("ns per point (vectorised, 1e5 points; brenner 1e3)")
-    ax.set_title(f"closure evaluation cost; calibrated-viscous regenerated in {regen:.0f} s")
+    ax.set_title(f"closure evaluation cost per point\n(calibrated-viscous regenerated in "
+                 f"{regen:.0f} s)", fontsize=10)
     fig.tight_layout()
     fig.savefig(RESULTS / "calibrate.png", dpi=110)
     plt.close(fig)

@@ -548,8 +548,10 @@ def write_calibration(cal: Calibration, held_out: Points, out: Path) -> list[Pat
     fig, axs = plt.subplots(1, 2, figsize=(10, 4), sharex=True, sharey=True)
     vmax = max(float(e_before.max()), 1e-12)
     for axx, e, title in ((axs[0], e_before, "published"), (axs[1], e_after, "refitted")):
-        sc = axx.scatter(coords[ax_names[0]], coords[ax_names[1]] if len(ax_names) > 1
-                         else e, c=np.log10(np.maximum(e, 1e-8)), s=14, cmap="viridis",
+        o = np.argsort(e)  # largest errors drawn last (on top) where points coincide
+        sc = axx.scatter(coords[ax_names[0]][o], (coords[ax_names[1]] if len(ax_names) > 1
+                                                  else e)[o],
+                         c=np.log10(np.maximum(e[o], 1e-8)), s=14, cmap="viridis",
                          vmin=np.log10(vmax) - 4, vmax=np.log10(vmax))
         axx.set(xlabel=ax_names[0], ylabel=ax_names[1] if len(ax_names) > 1 else "error",
                 title=f"{title}: max {e.max():.2g}")
