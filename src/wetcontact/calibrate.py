@@ -25,7 +25,8 @@ Families (:data:`FAMILIES`; the published coefficients are the starting point):
     (:func:`finite_liquid_form`, 10 coefficients).
 
 The fit minimises the relative error by least squares, then by Lawson's reweighting
-toward the minimax solution (scipy.optimize.least_squares).
+toward the minimax solution (scipy.optimize.least_squares), then (up to 25 coefficients)
+polishes the maximum directly in epigraph form (SLSQP).
 
 ``python -m wetcontact.calibrate bounds`` regenerates the closures' measured error-bound
 tables (:mod:`wetcontact.bounds_gen`); ``python -m wetcontact.calibrate fit FAMILY --out
@@ -458,7 +459,34 @@ def fit(family: Family, train: Points, lawson_iterations: int = 12) -> np.ndarra
             best, best_max = k.copy(), float(e.max())
         w = w * (e + 1e-3 * e.max()) / np.mean(e + 1e-3 * e.max())
         w /= w.mean()
+    if best.size <= 25:
+        best = _minimax_polish(family, train, best)
     return best
+
+
+def _minimax_polish(family: Family, train: Points, k0: np.ndarray) -> np.ndarray:
+    """Minimise the maximum relative error directly: ``min t`` subject to
+    ``-t <= r_i(k) <= t`` (SLSQP, epigraph form), from ``k0``; kept only if it is better."""
+    from scipy.optimize import minimize
+
+    e0 = float(rel_errors(family, k0, train).max())
+    scale = np.where(np.abs(k0) > 0, np.abs(k0), 1.0)
+
+    def r(z: np.ndarray) -> np.ndarray:
+        with np.errstate(all="ignore"):
+            v = family.form(z[:-1] * scale, train.inputs) / train.y - 1.0
+        return np.where(np.isfinite(v), v, 1e3)
+
+    z0 = np.append(k0 / scale, e0)
+    cons = [{"type": "ineq", "fun": lambda z: z[-1] - r(z)},
+            {"type": "ineq", "fun": lambda z: z[-1] + r(z)}]
+    try:
+        sol = minimize(lambda z: z[-1], z0, method="SLSQP", constraints=cons,
+                       options={"maxiter": 300, "ftol": 1e-12})
+    except (ValueError, np.linalg.LinAlgError):
+        return k0
+    k = sol.x[:-1] * scale
+    return k if float(rel_errors(family, k, train).max()) < e0 else k0
 
 
 def error_summary(family: Family, k: np.ndarray, pts: Points) -> dict[str, Any]:
@@ -565,14 +593,37 @@ def write_calibration(cal: Calibration, held_out: Points, out: Path) -> list[Pat
 
 
 def run_family(name: str, out: Path, n_train: int = 30, n_held_out: int = 16,
-               seed: int = 7919) -> Calibration:
-    """Default design for one family: grid training set, seeded held-out set, files."""
+               seed: int = 7919, reuse: bool = False) -> Calibration:
+    """Default design for one family: grid training set, seeded held-out set, files.
+
+    The reference points are saved beside the JSON (``*_points.npz``); ``reuse`` refits
+    from them instead of solving again."""
     fam = get_family(name)
-    train = reference_points(fam, design(fam, n_train), gaps_per=8)
-    held = reference_points(fam, design(fam, n_held_out, seed=seed), gaps_per=6, seed=seed)
+    cache = out.with_name(out.stem + "_points.npz")
+    if reuse and cache.is_file():
+        train, held = load_points(cache)
+    else:
+        train = reference_points(fam, design(fam, n_train), gaps_per=8)
+        held = reference_points(fam, design(fam, n_held_out, seed=seed), gaps_per=6,
+                                seed=seed)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        np.savez_compressed(cache, **{f"train_{k}": v for k, v in train.inputs.items()},
+                            train_y=train.y, **{f"held_{k}": v for k, v in held.inputs.items()},
+                            held_y=held.y)
     cal = calibrate(fam, train, held, held_out_seed=seed)
     write_calibration(cal, held, out)
     return cal
+
+
+def load_points(path: Path) -> tuple[Points, Points]:
+    """Training and held-out points saved by :func:`run_family`."""
+    with np.load(path) as z:
+        parts = {}
+        for tag in ("train", "held"):
+            inputs = {k[len(tag) + 1:]: z[k] for k in z.files
+                      if k.startswith(tag + "_") and k != f"{tag}_y"}
+            parts[tag] = Points(inputs, z[f"{tag}_y"])
+    return parts["train"], parts["held"]
 
 
 # ---- refitted closures as models -----------------------------------------------------------
@@ -723,6 +774,7 @@ def main(argv: list[str] | None = None) -> int:
     f.add_argument("--out", type=Path, required=True, help="JSON file (a folder for 'all')")
     f.add_argument("--train", type=int, default=30)
     f.add_argument("--held-out", type=int, default=16)
+    f.add_argument("--reuse", action="store_true", help="refit from the saved points")
     sub.add_parser("viscous", help="regenerate the calibrated-viscous closure")
     args = p.parse_args(argv)
     if args.command == "viscous":
@@ -744,7 +796,7 @@ def main(argv: list[str] | None = None) -> int:
         names = sorted(FAMILIES) if args.family == "all" else [args.family]
         for name in names:
             out = args.out / f"{name}.json" if args.family == "all" else args.out
-            cal = run_family(name, out, args.train, args.held_out)
+            cal = run_family(name, out, args.train, args.held_out, reuse=args.reuse)
             ho = cal.held_out
             print(f"{cal.family}: held-out max {ho['before']['max']:.3g} -> "
                   f"{ho['after']['max']:.3g} (goal 1/3: "
