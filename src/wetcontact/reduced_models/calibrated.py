@@ -71,7 +71,8 @@ class CalibratedViscous(Model):
     validity = ("immersed sphere-wall or equal spheres, S/R in [1e-5, 100]; film on a wall, "
                 "delta/R in [1e-3, 0.1], and bridges (wall, or spheres of radius ratio 1-10), "
                 "V/R_small^3 in [1e-4, 0.1]: S/H in [0.01, 0.95] (against lubrication)")
-    reference = "calibrated here: Brenner (1961) series; lubrication for films"
+    reference = "calibrated here: Brenner (1961) series; lubrication for films and bridges"
+    cost = 3e-6  # a 48-term Chebyshev sum: about 3x a one-line closure (bench_calibrate)
 
     def check(self, scene: Scene) -> None:
         table = viscous_table()
