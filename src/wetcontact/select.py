@@ -22,7 +22,8 @@ tolerance there:
   than the finite-element bridge of the same volume) from the README's verification table.
 
 If no candidate meets the tolerance for a component, the one with the smallest bound is
-used and the choice says so (``met = False``). Both models run, and one curve is returned:
+used (a costlier one only if it cuts the bound by :data:`FALLBACK_RATIO`) and the choice
+says so (``met = False``). Both models run, and one curve is returned:
 ``force_viscous`` from the viscous choice, ``force_capillary`` from the capillary one, and
 the per-component bounds as extras ``error_estimate_viscous`` / ``error_estimate_capillary``
 (``error_estimate`` is their maximum per gap).
@@ -48,6 +49,8 @@ EXACT_BOUND = 1e-12
 #: error: viscous 0.9 % against lubrication, suction 11 % against the FE bridge (README)
 THINFILM_BOUND = {"fast": (0.17, 0.27), "default": (0.05, 0.15), "accurate": (0.03, 0.13)}
 COMPONENTS = ("viscous", "capillary")
+#: when nothing meets the tolerance, a costlier model must cut the bound by this factor
+FALLBACK_RATIO = 1.5
 
 
 @dataclass(frozen=True)
@@ -176,10 +179,11 @@ def choose(scene: Scene, tolerance: float, preset: str | None = None) -> Selecti
                     choices[comp] = Choice(comp, m, p, b, ref, True,
                                            f"bound {worst:.2g} <= {tolerance:g} ({ref})")
                     break
-                if best is None or worst < float(best.bound.max()):
+                # fallback: the smallest bound, unless a cheaper one is within FALLBACK_RATIO
+                if best is None or worst * FALLBACK_RATIO < float(best.bound.max()):
                     best = Choice(comp, m, p, b, ref, False,
-                                  f"no model meets {tolerance:g}; smallest bound {worst:.2g} "
-                                  f"({ref})")
+                                  f"no model meets {tolerance:g}; running one with bound "
+                                  f"{worst:.2g} ({ref})")
             if comp in choices:
                 break
         if comp not in choices:
