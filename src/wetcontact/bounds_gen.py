@@ -5,9 +5,10 @@ the maximum relative error per bin on seeded points spread over the bin, against
 independent reference, times a safety factor :data:`MARGIN` (the selection test checks the
 bounds on other seeded points):
 
-- immersed viscous closures (``reynolds``, ``cox-brenner``, ``schaeffer``) against the exact
-  Brenner series, sphere-wall and equal spheres, binned in log S/R over [1e-5, 100];
-- ``reynolds-finite`` against ``lubrication`` (accurate preset): films over
+- immersed viscous closures (``reynolds``, ``cox-brenner`` up to S/R = 1, ``schaeffer``,
+  ``calibrated-viscous``) against the exact Brenner series, sphere-wall and equal spheres,
+  binned in log S/R over [1e-5, 100];
+- ``reynolds-finite`` and ``calibrated-viscous`` against ``lubrication`` (256 cells): films over
   delta/R in [1e-3, 0.1], bridges over V/R_small^3 in [1e-4, 0.1], radius ratio 1-10,
   binned in S/H; and ``lubrication``'s own fast/default presets against its accurate one;
 - capillary closures against ``meniscus`` (default preset, 1e-6): sphere-wall and

@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from wetcontact.errors import InputError, ValidityError
+from wetcontact.errors import InputError
 from wetcontact.models import PRESETS, ForceCurve, Model, load_all, provenance
 from wetcontact.reduced_models import bounds
 from wetcontact.scene import Scene
@@ -188,9 +188,9 @@ def choose(scene: Scene, tolerance: float, preset: str | None = None) -> Selecti
                 break
         if comp not in choices:
             if best is None:
-                raise ValidityError("select", f"no registered model computes the {comp} "
-                                    f"force of scene '{scene.name}' with a known error bound ("
-                                    + "; ".join(why_not[:4]) + ")")
+                raise InputError(f"scene '{scene.name}': no applicable model computes the "
+                                 f"{comp} force with a measured error bound ("
+                                 + "; ".join(why_not[:4]) + "); give --model instead")
             choices[comp] = best
     return Selection(float(tolerance), choices)
 
