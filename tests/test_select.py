@@ -8,6 +8,7 @@ bound tables (``python -m wetcontact.calibrate bounds``) never used.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 
@@ -184,3 +185,14 @@ def test_cli_tol_names_both_models(tmp_path, capsys) -> None:
     assert out["model_viscous"] and out["model_capillary"]
     assert out["force_viscous"] is not None and out["force_capillary"] is not None
     assert len(out["error_estimate_viscous"]) == 3 and len(out["error_estimate_capillary"]) == 3
+
+
+def test_tables_do_not_cover_slip_or_gravity() -> None:
+    """The bounds were measured without slip and gravity: such scenes get no closure bound."""
+    base = make_scene("sphere-wall", {"film_thickness": 1e-5}, [2e-6, 5e-6])
+    slip = dataclasses.replace(base, slip_length_wall=1e-7)
+    assert bounds.measured_bound("reynolds-finite", "viscous", base) is not None
+    assert bounds.measured_bound("reynolds-finite", "viscous", slip) is None
+    bridge = make_scene("sphere-wall", {"bridge_volume": 1e-11}, [1e-6], theta=(10.0, 10.0))
+    heavy = dataclasses.replace(bridge, gravity=9.81)
+    assert select.choose(heavy, 0.5).choices["capillary"].model.name == "meniscus"

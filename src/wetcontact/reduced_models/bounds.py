@@ -78,8 +78,13 @@ class Table:
     equal_spheres: bool = False
 
     def covers(self, scene: Scene) -> bool:
-        """True if the scene is of this table's class."""
+        """True if the scene is of this table's class (every table was measured without
+        slip, the capillary ones without gravity)."""
         if scene.kind != self.kind or scene.amount != self.amount:
+            return False
+        if scene.slip_length_sphere > 0 or scene.slip_length_wall > 0:
+            return False
+        if self.component == "capillary" and scene.gravity != 0:
             return False
         return not (self.equal_spheres and not scene.equal_spheres)
 
