@@ -114,6 +114,8 @@ def component_bound(model: Model, preset: str, component: str,
     if model.component not in (component, "both"):
         return f"does not model the {component} force"
     if model.name == "brenner":
+        if scene.slip_length_sphere > 0 or scene.slip_length_wall > 0:
+            return "no-slip series; the scene has slip"
         return np.full(n, EXACT_BOUND), "exact series (summation accuracy)"
     if model.level == 0:
         if preset != "default":
