@@ -542,7 +542,8 @@ def calibrate(family: Family, train: Points, held_out: Points,
                   "after": error_summary(family, k, held_out)},
         extra={"kind": family.kind, "amount": family.amount, "target": family.target,
                "equal_spheres": family.equal, "description": family.description,
-               "reference": "meniscus" if family.amount == "bridge" else "lubrication (n=256)"})
+               "reference": ("lubrication (n=256)" if family.target == "viscous"
+                             else "meniscus")})
 
 
 def write_calibration(cal: Calibration, held_out: Points, out: Path) -> list[Path]:
