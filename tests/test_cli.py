@@ -88,6 +88,8 @@ def test_solve_by_tolerance_picks_cheapest_adequate_model():
     out = json.loads(wc("solve", str(case), "--tol", "0.005", "--json").stdout)
     assert out["model"] == "schaeffer"  # 0.3 % fit beats 0.5 %; reynolds does not
     out = json.loads(wc("solve", str(case), "--tol", "1e-6", "--json").stdout)
+    assert out["model"] == "calibrated-viscous"  # measured 5e-9, claimed at the 1e-6 floor
+    out = json.loads(wc("solve", str(case), "--tol", "1e-7", "--json").stdout)
     assert out["model"] == "brenner"
 
 
