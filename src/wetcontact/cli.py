@@ -65,8 +65,11 @@ def build_parser() -> argparse.ArgumentParser:
     solve.add_argument("--model", help="model name (see `wetcontact models`)")
     solve.add_argument("--preset", choices=("fast", "default", "accurate"), default=None,
                        help="resolution preset (default: default)")
-    solve.add_argument("--tol", type=float, help="relative tolerance: pick the cheapest model "
-                       "that meets it")
+    solve.add_argument("--tol", type=float, help="relative tolerance: pick, per force "
+                       "component, the cheapest model whose measured bound meets it")
+    solve.add_argument("--coefficients", type=Path, default=None, metavar="FILE.json",
+                       help="refitted coefficients of the closure family given by --model "
+                       "(from calibration); outside their domain the model refuses")
     solve.add_argument("--json", action="store_true", help="print one JSON object")
     solve.add_argument("--save-fields", type=Path, default=None, metavar="DIR",
                        help="write solution fields (VTU) where the model supports it")
@@ -188,42 +191,66 @@ def _models() -> int:
 
 
 def _solve(args: argparse.Namespace) -> int:
+    from wetcontact import select
     from wetcontact.models import get_model
     from wetcontact.scene import load_case
-    from wetcontact.select import choose_model
 
     scene = load_case(args.case)
     if args.model and args.tol is not None:
         raise InputError("--model and --tol: give one, not both")
+    coefficients = getattr(args, "coefficients", None)
+    if coefficients is not None and not args.model:
+        raise InputError("--coefficients needs --model FAMILY (the closure family they fit)")
     name = args.model or (scene.model if args.tol is None else None)
+    names: dict[str, str | None] = {}
     if name:
-        model, preset, why = get_model(name), args.preset or "default", "requested"
+        preset, why = args.preset or "default", "requested"
+        opts = {}
+        if coefficients is not None:
+            from wetcontact.calibrate import load_coefficients
+
+            model = load_coefficients(coefficients, family=name)
+            why = f"coefficients from {coefficients}"
+        else:
+            model = get_model(name)
+        if args.save_fields is not None:
+            if not model.saves_fields:
+                raise InputError(f"--save-fields: model '{model.name}' has no fields to "
+                                 "save; use a field solver (stokes)")
+            opts["save_fields"] = str(writable_folder(args.save_fields, "--save-fields"))
+        with Progress(f"{scene.name} with model '{model.name}'"):
+            curve = model.force(scene, preset=preset, **opts)
+        for comp, arr in (("viscous", curve.force_viscous),
+                          ("capillary", curve.force_capillary)):
+            names[comp] = model.name if arr is not None else None
     else:
         tol = args.tol if args.tol is not None else scene.tolerance
         if tol is None:
             raise InputError(f"{args.case}: no model: give --model, --tol, or fidelity.model / "
                              "fidelity.tolerance in the case file")
-        choice = choose_model(scene, tol)
-        model, preset, why = choice.model, args.preset or choice.preset, choice.reason
-    opts = {}
-    if args.save_fields is not None:
-        if not model.saves_fields:
-            raise InputError(f"--save-fields: model '{model.name}' has no fields to save; "
-                             "use a field solver (stokes)")
-        opts["save_fields"] = str(writable_folder(args.save_fields, "--save-fields"))
-    with Progress(f"{scene.name} with model '{model.name}'"):
-        curve = model.force(scene, preset=preset, **opts)
+        if args.save_fields is not None:
+            raise InputError("--save-fields needs --model (a field solver, e.g. stokes)")
+        with Progress(f"{scene.name} (models chosen per force component at tol {tol:g})"):
+            curve, sel = select.solve(scene, tol, preset=args.preset)
+        preset, why = args.preset or "per component", sel.reason
+        names = {c: (sel.choices[c].model.name if c in sel.choices else None)
+                 for c in select.COMPONENTS}
+        for ch in sel.choices.values():
+            if not ch.met:
+                sys.stderr.write(f"wetcontact: warning: {ch.component} force: {ch.reason}\n")
     if args.json:
         out = curve.to_json_dict()
+        out["model_viscous"] = names.get("viscous")
+        out["model_capillary"] = names.get("capillary")
         out["selection"] = why
         try:
             text = json.dumps(out, allow_nan=False)
         except ValueError:  # a NaN in settings/diagnostics: never printed silently
-            raise SolverError(f"model '{model.name}' returned a non-finite value in its "
+            raise SolverError(f"model '{curve.model}' returned a non-finite value in its "
                               "diagnostics; rerun with --debug and report it") from None
         print(text)
     else:
-        print(f"# case {scene.name}  model {model.name} ({why}), preset {preset}, "
+        print(f"# case {scene.name}  model {curve.model} ({why}), preset {preset}, "
               f"{curve.diagnostics.get('wall_time_s', 0):.3g} s")
         cols = [("gap_m", curve.gap), ("F_viscous_N", curve.force_viscous),
                 ("F_capillary_N", curve.force_capillary), ("F_total_N", curve.force_total)]

@@ -1,60 +1,251 @@
-""""Model no more than a scene needs": the cheapest model that meets a tolerance.
+""""Model no more than a scene needs", chosen per force component.
 
-Candidates are the registered models that apply to the scene, cheapest first (lowest
-level, then lowest declared ``cost`` per gap). A closure is accepted when its a-priori
-error estimate, evaluated along the scene's gaps, stays below the tolerance everywhere;
-a solver (level >= 1) when its declared accuracy at a preset meets it (attribute
-``error_bound``: preset name -> relative error). If nothing qualifies, the
-highest-fidelity applicable model is returned with the reason.
+A scene needs a viscous force (immersed, or any liquid with a non-zero approach speed) and
+a capillary force (films and bridges). For each needed component the candidates are the
+registered models that apply to the scene and model that component, cheapest first (level,
+then declared ``cost``, then preset fast -> accurate). A candidate is eligible when its
+**error bound for that component** is known at every gap of the scene and at most the
+tolerance there:
+
+- closures (level 0): the measured held-out tables of
+  :mod:`wetcontact.reduced_models.bounds` (outside their bins: not eligible); ``brenner`` is
+  the exact series (1e-12, summation accuracy);
+- ``stokes``: its measured preset accuracy on immersed scenes; on films it has no free
+  surface (no suction, no deformation), a model error not measured, so it is not eligible;
+- ``lubrication``: its fast/default presets measured against a 256-cell solution (tables);
+  for films and bridges the thin-gap Reynolds model is the project's best viscous reference
+  (labelled in the bound's reference);
+- ``meniscus``: its preset accuracy against the shooting solution (static bridge);
+- ``thinfilm``: discretisation (first order in the wetting width lambda: at most 4 % of the
+  force at the default lambda = 0.05) plus its measured model error (viscous part within
+  0.9 % of ``lubrication`` on the wetted zone; the small-slope meniscus pulls 6-11 % less
+  than the finite-element bridge of the same volume) from the README's verification table.
+
+If no candidate meets the tolerance for a component, the one with the smallest bound is
+used (a costlier one only if it cuts the bound by :data:`FALLBACK_RATIO`) and the choice
+says so (``met = False``). Both models run, and one curve is returned:
+``force_viscous`` from the viscous choice, ``force_capillary`` from the capillary one, and
+the per-component bounds as extras ``error_estimate_viscous`` / ``error_estimate_capillary``
+(``error_estimate`` is their maximum per gap).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from wetcontact.errors import InputError
-from wetcontact.models import Model, load_all
+from wetcontact.models import PRESETS, ForceCurve, Model, load_all, provenance
+from wetcontact.reduced_models import bounds
 from wetcontact.scene import Scene
+
+#: exact series (Brenner 1961): summation accuracy, 1e-15 measured against a 40-digit sum
+EXACT_BOUND = 1e-12
+#: thinfilm per preset: (viscous, capillary) relative bounds; lambda = 0.2 / 0.05 / 0.025
+#: gives <= 16 / 4 / 2 % (first order in lambda, 4 % measured at 0.05), plus the model
+#: error: viscous 0.9 % against lubrication, suction 11 % against the FE bridge (README)
+THINFILM_BOUND = {"fast": (0.17, 0.27), "default": (0.05, 0.15), "accurate": (0.03, 0.13)}
+COMPONENTS = ("viscous", "capillary")
+#: when nothing meets the tolerance, a costlier model must cut the bound by this factor
+FALLBACK_RATIO = 1.5
 
 
 @dataclass(frozen=True)
 class Choice:
-    """The selected model, the preset to run it at, and why."""
+    """The model chosen for one force component, its preset, bound and why.
 
+    Attributes
+    ----------
+    component
+        ``"viscous"`` or ``"capillary"``.
+    model, preset
+        The model and the preset to run it at.
+    bound
+        Relative error bound of that component per gap (finite, > 0).
+    reference
+        What the bound was measured against.
+    met
+        True if ``bound <= tolerance`` at every gap.
+    reason
+        One line for the user.
+    """
+
+    component: str
     model: Model
     preset: str
+    bound: np.ndarray
+    reference: str
+    met: bool
     reason: str
 
 
-def choose_model(scene: Scene, tolerance: float) -> Choice:
-    """Cheapest applicable model whose error estimate is below ``tolerance``.
+@dataclass(frozen=True)
+class Selection:
+    """One :class:`Choice` per component the scene needs."""
+
+    tolerance: float
+    choices: dict[str, Choice]
+
+    @property
+    def reason(self) -> str:
+        return "; ".join(f"{c}: {ch.model.name} ({ch.preset}) {ch.reason}"
+                         for c, ch in self.choices.items())
+
+
+def needed_components(scene: Scene) -> tuple[str, ...]:
+    """The force components the scene has: viscous if immersed or moving, capillary if a
+    free surface is present (film or bridge)."""
+    out = []
+    if scene.amount == "immersed" or scene.velocity != 0.0:
+        out.append("viscous")
+    if scene.amount in ("film", "bridge"):
+        out.append("capillary")
+    return tuple(out)
+
+
+def component_bound(model: Model, preset: str, component: str,
+                    scene: Scene) -> tuple[np.ndarray, str] | str:
+    """Relative error bound per gap of ``model`` at ``preset`` for ``component``, and the
+    reference it was measured against; or the reason there is none."""
+    n = scene.gap_array.size
+    if model.component not in (component, "both"):
+        return f"does not model the {component} force"
+    if model.name == "brenner":
+        if scene.slip_length_sphere > 0 or scene.slip_length_wall > 0:
+            return "no-slip series; the scene has slip"
+        return np.full(n, EXACT_BOUND), "exact series (summation accuracy)"
+    if model.level == 0:
+        if preset != "default":
+            return "closures have one preset"
+        sc = None
+        if component == "capillary":
+            sc = float(model.rupture_distance(scene))  # type: ignore[attr-defined]
+        got = bounds.measured_bound(model.name, component, scene, sc)
+        if got is None:
+            return "no measured error table for this kind of scene"
+        if not np.all(np.isfinite(got[0])):
+            return "some gaps lie outside the measured domain"
+        return got
+    if model.name == "lubrication":
+        got = bounds.measured_bound(f"lubrication:{preset}", component, scene)
+        if got is None or not np.all(np.isfinite(got[0])):
+            return f"preset '{preset}' not measured on this scene"
+        return got
+    if model.name == "thinfilm":
+        b = THINFILM_BOUND[preset][0 if component == "viscous" else 1]
+        return np.full(n, b), "discretisation + small-slope model error (README)"
+    if model.name == "stokes":
+        if scene.amount != "immersed":
+            return "rigid flat free surface: model error (no suction) not measured"
+        return (np.full(n, float(model.error_bound[preset])),
+                "Brenner's series (measured preset accuracy)")
+    if preset in model.error_bound:
+        return np.full(n, float(model.error_bound[preset])), "declared preset accuracy"
+    return f"no error bound at preset '{preset}'"
+
+
+def choose(scene: Scene, tolerance: float, preset: str | None = None) -> Selection:
+    """Per component, the cheapest applicable model whose bound meets ``tolerance``.
 
     Parameters
     ----------
     scene
         The scene to solve.
     tolerance
-        Requested relative accuracy of the force, in (0, 1).
+        Requested relative accuracy of each force component, in (0, 1).
+    preset
+        Restrict solvers to this preset (closures always run at ``default``).
     """
-    if not 0.0 < tolerance < 1.0:
+    if not (isinstance(tolerance, float | int) and 0.0 < tolerance < 1.0):
         raise InputError(f"tolerance = {tolerance!r}; allowed: (0, 1) relative")
-    applicable = [m for m in load_all().values() if m.applicable(scene) is None]
-    if not applicable:
-        raise InputError(f"no registered model applies to scene '{scene.name}'")
-    applicable.sort(key=lambda m: (m.level, m.cost, m.name))
-    for m in applicable:
-        if m.level == 0:
-            est = m.force(scene).error_estimate
-            if est is not None and np.all(est <= tolerance):
-                return Choice(m, "default", f"a-priori error {est.max():.2g} <= {tolerance:g}")
-        else:
-            acc = m.error_bound
-            for preset in ("fast", "default", "accurate"):
-                if preset in acc and acc[preset] <= tolerance:
-                    return Choice(m, preset, f"preset '{preset}' accuracy {acc[preset]:.1g} "
-                                  f"<= {tolerance:g}")
-    best = applicable[-1]
-    return Choice(best, "accurate" if best.level else "default",
-                  f"no model guarantees {tolerance:g}; using the highest-fidelity one")
+    models = sorted((m for m in load_all().values() if m.applicable(scene) is None),
+                    key=lambda m: (m.level, m.cost, m.name))
+    choices: dict[str, Choice] = {}
+    for comp in needed_components(scene):
+        best: Choice | None = None
+        why_not = []
+        for m in models:
+            presets = ["default"] if m.level == 0 else [
+                p for p in PRESETS if p in m.presets and (preset is None or p == preset)]
+            for p in presets:
+                got = component_bound(m, p, comp, scene)
+                if isinstance(got, str):
+                    why_not.append(f"{m.name}: {got}")
+                    continue
+                b, ref = got
+                worst = float(b.max())
+                if worst <= tolerance:
+                    choices[comp] = Choice(comp, m, p, b, ref, True,
+                                           f"bound {worst:.2g} <= {tolerance:g} ({ref})")
+                    break
+                # fallback: the smallest bound, unless a cheaper one is within FALLBACK_RATIO
+                if best is None or worst * FALLBACK_RATIO < float(best.bound.max()):
+                    best = Choice(comp, m, p, b, ref, False,
+                                  f"no model meets {tolerance:g}; running one with bound "
+                                  f"{worst:.2g} ({ref})")
+            if comp in choices:
+                break
+        if comp not in choices:
+            if best is None:
+                raise InputError(f"scene '{scene.name}': no applicable model computes the "
+                                 f"{comp} force with a measured error bound ("
+                                 + "; ".join(why_not[:4]) + "); give --model instead")
+            choices[comp] = best
+    return Selection(float(tolerance), choices)
+
+
+def solve(scene: Scene, tolerance: float, preset: str | None = None
+          ) -> tuple[ForceCurve, Selection]:
+    """Choose per component (:func:`choose`), run the chosen models, return one curve."""
+    sel = choose(scene, tolerance, preset)
+    runs: dict[tuple[str, str], ForceCurve] = {}
+    for ch in sel.choices.values():
+        key = (ch.model.name, ch.preset)
+        if key not in runs:
+            runs[key] = ch.model.force(scene, preset=ch.preset)
+    return combine(scene, sel, runs), sel
+
+
+def combine(scene: Scene, sel: Selection, runs: dict[tuple[str, str], ForceCurve]
+            ) -> ForceCurve:
+    """One curve from the per-component runs (module docstring)."""
+    parts: dict[str, ForceCurve] = {c: runs[(ch.model.name, ch.preset)]
+                                    for c, ch in sel.choices.items()}
+    fv = parts["viscous"].force_viscous if "viscous" in parts else None
+    fc = parts["capillary"].force_capillary if "capillary" in parts else None
+    extras: dict[str, np.ndarray] = {}
+    for c in ("viscous", "capillary"):  # capillary extras win on a shared name
+        if c in parts:
+            extras.update(parts[c].extras)
+    for c, ch in sel.choices.items():
+        extras[f"error_estimate_{c}"] = ch.bound
+    est = np.max([ch.bound for ch in sel.choices.values()], axis=0)
+    names = list(dict.fromkeys(ch.model.name for ch in sel.choices.values()))
+    wall = math.fsum(float(r.diagnostics.get("wall_time_s", 0.0)) for r in runs.values())
+    diag: dict[str, Any] = {"wall_time_s": wall}
+    settings: dict[str, Any] = {"tolerance": sel.tolerance}
+    for c, ch in sel.choices.items():
+        diag[c] = _plain({k: v for k, v in parts[c].diagnostics.items() if k != "wall_time_s"})
+        settings[c] = _plain({"model": ch.model.name, **parts[c].settings})
+    if fv is None and fc is None:
+        raise InputError(f"scene '{scene.name}' needs no force component")
+    return ForceCurve(case=scene.name, model="+".join(names), gap=scene.gap_array,
+                      force_viscous=fv, force_capillary=fc, extras=extras,
+                      error_estimate=est, diagnostics=diag, settings=settings,
+                      provenance=provenance())
+
+
+def _plain(v: Any) -> Any:
+    """JSON-ready copy: numpy arrays and scalars to lists and Python numbers."""
+    if isinstance(v, dict):
+        return {k: _plain(x) for k, x in v.items()}
+    if isinstance(v, list | tuple):
+        return [_plain(x) for x in v]
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    if isinstance(v, np.generic):
+        return v.item()
+    return v

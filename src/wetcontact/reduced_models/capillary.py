@@ -31,7 +31,7 @@ from scipy.optimize import brentq
 
 from wetcontact.errors import InputError, SolverError, ValidityError
 from wetcontact.models import ForceCurve, Model, register
-from wetcontact.reduced_models import rupture
+from wetcontact.reduced_models import bounds, rupture
 from wetcontact.reduced_models._checks import angle, non_negative, positive
 from wetcontact.scene import Scene
 
@@ -732,8 +732,10 @@ class _CapillaryClosure(Model):
                 extras[key] = full
         note = self.soft_note(scene)
         diag = {"outside_stated_validity": note} if note else {}
+        est = bounds.estimate_or_none(self.name, "capillary", scene, sc)
         return ForceCurve(case=scene.name, model=self.name, gap=gap, force_viscous=None,
-                          force_capillary=-force, extras=extras, diagnostics=diag)
+                          force_capillary=-force, extras=extras, diagnostics=diag,
+                          error_estimate=est)
 
 
 @register

@@ -1,0 +1,106 @@
+"""Calibrated closures: evaluation cost per point (1e5 points) and regeneration time.
+
+Writes ``benchmarks/results/calibrate.json`` and ``calibrate.png``. Run:
+``python benchmarks/bench_calibrate.py``. Medians of a few runs on a shared 2-core
+machine: read them as orders of magnitude. The shipped ``calibrated-viscous`` table is
+regenerated into a temporary file (the package data is not touched); the bound tables'
+regeneration time is the one recorded in ``bounds.json`` when it was generated.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _common import RESULTS, median_time, write_json  # noqa: E402
+
+from wetcontact import calibrate as cal  # noqa: E402
+from wetcontact.models import load_all  # noqa: E402
+from wetcontact.reduced_models import bounds  # noqa: E402
+from wetcontact.reduced_models.calibrated import immersed_lambda, viscous_table  # noqa: E402
+from wetcontact.reduced_models.viscous import brenner_lambda, schaeffer_lambda  # noqa: E402
+
+N = 100_000
+
+
+def main() -> None:
+    load_all()
+    rng = np.random.default_rng(1)
+    table = viscous_table()
+    assert table is not None, "run python -m wetcontact.calibrate viscous first"
+    s = np.exp(rng.uniform(np.log(1e-5), np.log(100), N))
+    film = {"gap": rng.uniform(0.01, 0.95, N) * 1e-5, "edge_gap": np.full(N, 1e-5),
+            "r_star": np.full(N, 1e-3), "viscosity": np.full(N, 1e-3),
+            "velocity": np.full(N, 0.1), "kappa": np.ones(N)}
+    vol = np.exp(rng.uniform(np.log(1e-13), np.log(1e-10), N))
+    bridge = {"gap": rng.uniform(0, 1e-4, N), "volume": vol, "r_closure": np.full(N, 1e-3),
+              "radius": np.full(N, 1e-3), "sigma": np.full(N, 0.072),
+              "theta": rng.uniform(0, 0.8, N)}
+    k_film = np.asarray(table["film"]["coefficients"])
+    cases = {
+        "calibrated-viscous (immersed wall, Chebyshev)":
+            lambda: immersed_lambda(s, "sphere-wall", table),
+        "calibrated-viscous (film factor)": lambda: cal.finite_liquid_form(k_film, film),
+        "schaeffer (published fit)": lambda: schaeffer_lambda(s),
+        "willett form (48 coefficients)":
+            lambda: cal.willett_form(cal.WILLETT_PUBLISHED.ravel(), bridge),
+        "bagheri form (23 coefficients)":
+            lambda: cal.bagheri_form(cal.BAGHERI_PUBLISHED, bridge),
+        "mikami form (8 coefficients)":
+            lambda: cal.mikami_form(np.array(cal.FAMILIES["mikami-pw"].published), bridge),
+    }
+    per_point = {}
+    for name, fn in cases.items():
+        t, _ = median_time(fn, repeats=7, warmup=1)
+        per_point[name] = t / N
+    s_small = s[:1000]
+    t, _ = median_time(lambda: brenner_lambda(s_small), repeats=3, warmup=1)
+    per_point["brenner (exact series, 1e3 points)"] = t / s_small.size
+
+    with tempfile.TemporaryDirectory() as tmp:
+        t0 = time.perf_counter()
+        data = cal.generate_calibrated_viscous(Path(tmp) / "cv.json")
+        regen = time.perf_counter() - t0
+    viscous_table.cache_clear()
+    path = bounds.resources.files("wetcontact.reduced_models") / "data" / bounds.DATA_FILE
+    bounds_time = json.loads(path.read_text()).get("wall_time_s") if path.is_file() else None
+    held = {f"immersed {k}": v["held_out"]["max"] for k, v in data["immersed"].items()}
+    held["film (vs lubrication)"] = data["film"]["held_out"]["after"]["max"]
+    for k, v in data["bridge"].items():
+        held[f"bridge {k} (vs lubrication)"] = v["held_out"]["after"]["max"]
+    out = {"points": N, "seconds_per_point": per_point,
+           "regenerate_calibrated_viscous_s": regen,
+           "regenerate_bounds_s_recorded": bounds_time,
+           "calibrated_viscous_held_out_max": held,
+           "calibrated_capillary": "not built (see README: selection and calibration)"}
+    write_json("calibrate", out)
+    chart(per_point, regen)
+    print(json.dumps(out, indent=1))
+
+
+def chart(per_point: dict[str, float], regen: float) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names = list(per_point)
+    fig, ax = plt.subplots(figsize=(8, 3.8))
+    ax.barh(names, [per_point[n] * 1e9 for n in names], color="C0")
+    ax.set_xscale("log")
+    ax.set_xlabel("ns per point (vectorised, 1e5 points; brenner 1e3)")
+    ax.set_title(f"closure evaluation cost per point\n(calibrated-viscous regenerated in "
+                 f"{regen:.0f} s)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(RESULTS / "calibrate.png", dpi=110)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()

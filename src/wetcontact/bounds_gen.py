@@ -1,0 +1,284 @@
+"""Measure the closures' error-bound tables (``reduced_models/data/bounds.json``).
+
+Run ``python -m wetcontact.calibrate bounds`` (or :func:`measure_bounds`). Every table is
+the maximum relative error per bin on seeded points spread over the bin, against an
+independent reference, times a safety factor :data:`MARGIN` (the selection test checks the
+bounds on other seeded points):
+
+- immersed viscous closures (``reynolds``, ``cox-brenner`` up to S/R = 1, ``schaeffer``,
+  ``calibrated-viscous``) against the exact Brenner series, sphere-wall and equal spheres,
+  binned in log S/R over [1e-5, 100];
+- ``reynolds-finite`` and ``calibrated-viscous`` against ``lubrication`` (256 cells): films over
+  delta/R in [1e-3, 0.1], bridges over V/R_small^3 in [1e-4, 0.1], radius ratio 1-10,
+  binned in S/H; and ``lubrication``'s own fast/default presets against its accurate one;
+- capillary closures against ``meniscus`` (default preset, 1e-6): sphere-wall and
+  sphere-sphere (radius ratio 1-10), V/R_small^3 in [1e-4, 0.1], each contact angle
+  0-70 deg, binned in the larger contact angle and in S over the closure's own rupture
+  distance (to 3 S_c: past rupture a zero force is exact only if the reference ruptured too).
+
+Relative error per gap: ``|F - F_ref| / |F_ref|``; where the reference is zero (ruptured)
+it is 0 if the closure is zero too and :data:`SPURIOUS` otherwise.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from wetcontact.errors import InputError, SolverError
+from wetcontact.models import get_model, load_all
+from wetcontact.scene import Scene, scene_from_dict
+
+MARGIN = 1.25
+SPURIOUS = 1.0e3
+#: a bin whose measured errors were all zero (both forces zero past rupture) claims this
+BIN_FLOOR = 1.0e-6
+DATA_PATH = Path(__file__).resolve().parent / "reduced_models" / "data" / "bounds.json"
+
+IMMERSED_CLOSURES = ("reynolds", "cox-brenner", "schaeffer", "calibrated-viscous")
+CAPILLARY_CLOSURES = ("bagheri", "willett", "willett-simple", "mikami", "toroidal", "lambert",
+                      "rabinovich")
+S_OVER_SC_EDGES = [0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.2, 1.5, 3.0]
+THETA_EDGES = [0.0, 20.0, 40.0, 55.0, 70.0]
+R = 1.0e-3
+
+
+def make_scene(kind: str, amount: dict[str, Any], gaps: Any, radius2: float | None = None,
+               theta: tuple[float, float] = (0.0, 0.0), velocity: float = 0.1,
+               name: str = "bounds") -> Scene:
+    """A water-like scene with R = 1 mm (every table is in dimensionless coordinates)."""
+    geom: dict[str, Any] = {"kind": kind, "radius": R}
+    if radius2 is not None:
+        geom["radius2"] = radius2
+    a, b = theta
+    other = "contact_angle_wall" if kind == "sphere-wall" else "contact_angle_sphere2"
+    liquid = {"viscosity": 1e-3, "surface_tension": 0.072, "density": 998.0,
+              "contact_angle_sphere": a, other: b}
+    return scene_from_dict({"name": name, "geometry": geom, "liquid": liquid,
+                            "amount": amount,
+                            "motion": {"velocity": velocity, "gaps": [float(g) for g in gaps]}})
+
+
+def rel_error(f: np.ndarray, ref: np.ndarray) -> np.ndarray:
+    """``|f - ref|/|ref|``; 0 where both vanish, :data:`SPURIOUS` where only ref does."""
+    f, ref = np.asarray(f, float), np.asarray(ref, float)
+    out = np.full(f.shape, SPURIOUS)
+    nz = ref != 0
+    out[nz] = np.abs(f[nz] - ref[nz]) / np.abs(ref[nz])
+    out[~nz & (f == 0)] = 0.0
+    return out
+
+
+def _binned(coords: list[np.ndarray], edges: list[list[float]], err: np.ndarray
+            ) -> tuple[list, list]:
+    """Max error per bin times MARGIN (None where empty) and the count per bin."""
+    shape = [len(e) - 1 for e in edges]
+    mx = np.full(shape, -1.0)
+    cnt = np.zeros(shape, int)
+    idx = tuple(np.clip(np.searchsorted(e, c, side="right") - 1, 0, len(e) - 2)
+                for c, e in zip(coords, edges, strict=True))
+    np.maximum.at(mx, idx, err)
+    np.add.at(cnt, idx, 1)
+    bound = np.where(cnt > 0, np.clip(mx * MARGIN, BIN_FLOOR, SPURIOUS), np.nan)
+    return (np.vectorize(lambda x: None if np.isnan(x) else float(f"{x:.4g}"),
+                         otypes=[object])(bound).tolist(), cnt.tolist())
+
+
+def _table(model: str, component: str, kind: str, amount: str, reference: str,
+           axes: list[str], edges: list[list[float]], coords: list[np.ndarray],
+           err: np.ndarray, **extra: Any) -> dict[str, Any]:
+    bound, count = _binned(coords, edges, err)
+    finite = err[err < SPURIOUS]
+    return {"model": model, "component": component, "kind": kind, "amount": amount,
+            "reference": reference, "axes": axes, "edges": edges, "bound": bound,
+            "count": count, "measured_max": float(finite.max()) if finite.size else None,
+            **extra}
+
+
+def immersed_tables(rng: np.random.Generator, per_bin: int = 24) -> list[dict[str, Any]]:
+    """Immersed viscous closures against Brenner's exact series (sphere-wall, equal spheres)."""
+    edges = np.geomspace(1e-5, 100.0, 57)
+    s = np.concatenate([edges] + [np.exp(rng.uniform(np.log(lo), np.log(hi), per_bin))
+                                  for lo, hi in zip(edges[:-1], edges[1:], strict=True)])
+    out = []
+    for kind in ("sphere-wall", "sphere-sphere"):
+        scene = make_scene(kind, {"immersed": True}, s * R, R if kind != "sphere-wall" else None)
+        ref = get_model("brenner").force(scene).force_viscous
+        for name in IMMERSED_CLOSURES:
+            m = get_model(name)
+            keep = np.ones(s.shape, bool)
+            if name == "cox-brenner":
+                keep = s <= 1.0
+            if m.applicable(scene.with_gaps((s[keep] * R).tolist())) is not None:
+                continue
+            f = m.force(scene, gaps=s[keep] * R).force_viscous
+            hi = float(s[keep].max())
+            e = [x for x in edges.tolist() if x <= hi * (1 + 1e-12)]
+            out.append(_table(name, "viscous", kind, "immersed", "brenner (exact series)",
+                              ["s_over_r"], [e], [s[keep]], rel_error(f, ref[keep]),
+                              equal_spheres=kind == "sphere-sphere"))
+    return out
+
+
+def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
+                         per_bin: int = 4) -> list[dict[str, Any]]:
+    """``reynolds-finite`` and lubrication's presets against lubrication (accurate, n=256)."""
+    h_edges = np.linspace(0.0, 1.0, 11)
+    lub = get_model("lubrication")
+    out = []
+    for amount, kind in (("film", "sphere-wall"), ("bridge", "sphere-wall"),
+                         ("bridge", "sphere-sphere")):
+        rows: dict[str, list[np.ndarray]] = {k: [] for k in ("p", "ratio", "x", "rf", "fast",
+                                                            "default", "cv")}
+        for _ in range(n_scenes):
+            x = np.concatenate([rng.uniform(lo, hi, per_bin)
+                                for lo, hi in zip(h_edges[:-1], h_edges[1:], strict=True)])
+            x = np.clip(x, 1e-4, 1 - 1e-4)
+            ratio = 1.0 if kind == "sphere-wall" else float(np.exp(rng.uniform(0, np.log(10))))
+            r2 = None if kind == "sphere-wall" else R * ratio
+            if amount == "film":
+                p = float(np.exp(rng.uniform(np.log(1e-3), np.log(0.1))))
+                amt, gaps = {"film_thickness": p * R}, x * p * R
+            else:
+                p = float(np.exp(rng.uniform(np.log(1e-4), np.log(0.1))))
+                v = p * R**3
+                rstar = R * ratio / (1 + ratio)
+                gaps = x * np.sqrt(v / (math.pi * rstar)) / np.sqrt(1 - x**2)
+                amt = {"bridge_volume": v}
+            scene = make_scene(kind, amt, gaps, r2)
+            try:
+                ref = lub.force(scene, n=256, levels=3).force_viscous
+                got = {pr: lub.force(scene, preset=pr).force_viscous
+                       for pr in ("fast", "default")}
+            except (InputError, SolverError):
+                continue
+            rows["p"].append(np.full(x.shape, p))
+            rows["ratio"].append(np.full(x.shape, ratio))
+            rows["x"].append(x)
+            rows["rf"].append(rel_error(get_model("reynolds-finite").force(scene)
+                                        .force_viscous, ref))
+            cv = np.full(x.shape, np.nan)  # calibrated-viscous: inside its domain only
+            inside = (x >= 0.01) & (x <= 0.95)
+            if inside.any():
+                sub = scene.with_gaps(np.asarray(gaps)[inside].tolist())
+                if get_model("calibrated-viscous").applicable(sub) is None:
+                    cv[inside] = rel_error(get_model("calibrated-viscous").force(sub)
+                                           .force_viscous, ref[inside])
+            rows["cv"].append(cv)
+            for pr in ("fast", "default"):
+                rows[pr].append(rel_error(got[pr], ref))
+        cat = {k: np.concatenate(v) for k, v in rows.items()}
+        pname = "delta_over_r" if amount == "film" else "v_star"
+        p_edges = ([1e-3, 1e-2, 0.1] if amount == "film" else [1e-4, 1e-3, 1e-2, 0.1])
+        axes = [pname, "s_over_h"]
+        coords = [cat["p"], cat["x"]]
+        edges = [p_edges, h_edges.tolist()]
+        if kind == "sphere-sphere":
+            axes.append("radius_ratio")
+            coords.append(cat["ratio"])
+            edges.append([1.0, 10.0])
+        out.append(_table("reynolds-finite", "viscous", kind, amount,
+                          "lubrication (accurate, n = 256)", axes, edges, coords, cat["rf"]))
+        ok = np.isfinite(cat["cv"])
+        if ok.any():
+            out.append(_table("calibrated-viscous", "viscous", kind, amount,
+                              "lubrication (n = 256): the project's best reference for films "
+                              "and bridges", axes, edges, [c[ok] for c in coords],
+                              cat["cv"][ok]))
+        for pr in ("fast", "default"):
+            out.append(_table(f"lubrication:{pr}", "viscous", kind, amount,
+                              "lubrication (n = 256): discretisation only; the thin-gap "
+                              "Reynolds model is the project's reference here", axes, edges,
+                              coords, cat[pr]))
+    return out
+
+
+def capillary_tables(rng: np.random.Generator, n_scenes: int = 90,
+                     progress: bool = False) -> list[dict[str, Any]]:
+    """Capillary closures against ``meniscus`` over V/R_small^3 in [1e-4, 0.1], angles
+    0-70 deg, radius ratio 1-10; binned in theta_max and S/S_c(closure)."""
+    men = get_model("meniscus")
+    closures = {n: get_model(n) for n in CAPILLARY_CLOSURES}
+    se = np.asarray(S_OVER_SC_EDGES)
+    out = []
+    for kind in ("sphere-wall", "sphere-sphere"):
+        rows: dict[str, list] = {n: [] for n in closures}
+        th_rows: dict[str, list] = {n: [] for n in closures}
+        x_rows: dict[str, list] = {n: [] for n in closures}
+        vr_rows: dict[str, list] = {n: [] for n in closures}
+        t0 = time.perf_counter()
+        for i in range(n_scenes):
+            ratio = 1.0 if kind == "sphere-wall" else float(np.exp(rng.uniform(0, np.log(10))))
+            r2 = None if kind == "sphere-wall" else R * ratio
+            vstar = float(np.exp(rng.uniform(np.log(1e-4), np.log(0.1))))
+            th = (float(rng.uniform(0, 70)), float(rng.uniform(0, 70)))
+            base = make_scene(kind, {"bridge_volume": vstar * R**3}, [1e-6], r2, th)
+            x = np.concatenate([rng.uniform(lo, hi, 1) for lo, hi in zip(se[:-1], se[1:],
+                                                                          strict=True)])
+            x = np.maximum(x, 1e-3)
+            per_closure = {}
+            gaps_all = []
+            for n, m in closures.items():
+                if m.applicable(base) is not None:
+                    continue
+                sc = m.rupture_distance(base)
+                per_closure[n] = (sc, x * sc)
+                gaps_all.append(x * sc)
+            if not gaps_all:
+                continue
+            gaps = np.unique(np.concatenate(gaps_all))
+            gaps = gaps[gaps <= 100 * R]
+            try:
+                ref = men.force(base, gaps=gaps)
+            except (InputError, SolverError):
+                continue
+            fref = dict(zip(gaps.tolist(), ref.force_capillary.tolist(), strict=True))
+            for n, (_sc, g) in per_closure.items():
+                g = g[g <= 100 * R]
+                try:
+                    f = closures[n].force(base, gaps=g).force_capillary
+                except (InputError, SolverError):
+                    continue
+                rows[n].append(rel_error(f, np.array([fref[v] for v in g.tolist()])))
+                th_rows[n].append(np.full(g.shape, max(th)))
+                x_rows[n].append(g / _sc)
+                vr_rows[n].append(np.array([[vstar, ratio]] * g.size))
+            if progress:
+                print(f"  {kind}: {i + 1}/{n_scenes} scenes, {time.perf_counter() - t0:.0f} s",
+                      flush=True)
+        for n in closures:
+            if not rows[n]:
+                continue
+            axes = ["theta_deg", "s_over_sc", "v_star"]
+            edges = [THETA_EDGES, S_OVER_SC_EDGES, [1e-4, 0.1]]
+            vr = np.concatenate(vr_rows[n])
+            coords = [np.concatenate(th_rows[n]), np.concatenate(x_rows[n]), vr[:, 0]]
+            if kind == "sphere-sphere":
+                axes.append("radius_ratio")
+                edges.append([1.0, 10.0])
+                coords.append(vr[:, 1])
+            out.append(_table(n, "capillary", kind, "bridge", "meniscus (default preset)",
+                              axes, edges, coords, np.concatenate(rows[n])))
+    return out
+
+
+def measure_bounds(seed: int = 20261123, out: Path = DATA_PATH, quick: bool = False,
+                   progress: bool = False) -> dict[str, Any]:
+    """Measure every table and write the JSON (``out``); returns the JSON object."""
+    load_all()
+    rng = np.random.default_rng(seed)
+    t0 = time.perf_counter()
+    tabs = immersed_tables(rng, per_bin=6 if quick else 24)
+    tabs += finite_liquid_tables(rng, n_scenes=6 if quick else 24)
+    tabs += capillary_tables(rng, n_scenes=8 if quick else 90, progress=progress)
+    data = {"generated_by": "python -m wetcontact.calibrate bounds", "seed": seed,
+            "margin": MARGIN, "spurious": SPURIOUS, "quick": quick,
+            "wall_time_s": round(time.perf_counter() - t0, 1), "tables": tabs}
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(data, indent=1) + "\n")
+    return data

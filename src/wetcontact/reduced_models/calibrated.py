@@ -1,0 +1,149 @@
+"""Calibrated closures shipped with the package (level 0): arithmetic and a coefficient table.
+
+``calibrated-viscous``
+    Immersed sphere-wall and equal spheres, S/R in [1e-5, 100]: the exact Stokes correction
+    written as ``lambda = q(t) (1 + s)/s`` (wall, s = S/R) or ``q(t) (1 + 2s)/(2s)`` (equal
+    spheres, the force on each sphere at half the relative speed), with q a Chebyshev series
+    in ``t = (2 ln s - ln s_min - ln s_max)/(ln s_max - ln s_min)``: q tends to 1 at both
+    ends, so a few dozen terms reach the series (Brenner 1961; Maude 1961) to about 1e-9.
+    Films on a wall, delta/R in [1e-3, 0.1], and bridges (H = sqrt(S^2 + V/(pi R*)),
+    V/R_small^3 in [1e-4, 0.1], radius ratio 1-10): the Reynolds force times the refitted
+    finite-liquid factor (:func:`wetcontact.calibrate.finite_liquid_form`), fitted to
+    ``lubrication`` (the project's best film reference; labelled so in the table).
+
+The coefficients and held-out error tables are in ``data/calibrated_viscous.json``,
+written by ``python -m wetcontact.calibrate viscous``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from functools import cache
+from importlib import resources
+from typing import Any
+
+import numpy as np
+
+from wetcontact.errors import ValidityError
+from wetcontact.models import ForceCurve, Model, closure_curve, register
+from wetcontact.reduced_models.bounds import estimate_or_none
+from wetcontact.scene import Scene
+
+VISCOUS_FILE = "calibrated_viscous.json"
+
+
+@cache
+def viscous_table() -> dict[str, Any] | None:
+    """The shipped table, or ``None`` before ``python -m wetcontact.calibrate viscous``."""
+    path = resources.files("wetcontact.reduced_models") / "data" / VISCOUS_FILE
+    return json.loads(path.read_text()) if path.is_file() else None
+
+
+def chebyshev_q(s: np.ndarray, log_range: tuple[float, float], coef: np.ndarray) -> np.ndarray:
+    """``q(t) = sum_k c_k T_k(t)`` by Clenshaw's recurrence, t from ln s mapped to [-1, 1]."""
+    lo, hi = log_range
+    t = (2.0 * np.log(s) - lo - hi) / (hi - lo)
+    b1 = np.zeros_like(t)
+    b2 = np.zeros_like(t)
+    for c in coef[:0:-1]:
+        b1, b2 = 2.0 * t * b1 - b2 + c, b1
+    return t * b1 - b2 + coef[0]
+
+
+def immersed_lambda(s: np.ndarray, kind: str, table: dict[str, Any]) -> np.ndarray:
+    """Calibrated Stokes correction (wall: F = 6 pi eta R v lambda; equal spheres:
+    F = 6 pi eta R (v/2) lambda), from the Chebyshev table."""
+    t = table["immersed"][kind]
+    q = chebyshev_q(s, tuple(t["log_range"]), np.asarray(t["chebyshev"]))
+    if kind == "sphere-wall":
+        return q * (1.0 + s) / s
+    return q * (1.0 + 2.0 * s) / (2.0 * s)
+
+
+@register
+class CalibratedViscous(Model):
+    """Calibrated viscous closure: immersed (Chebyshev in log S/R), films and bridges
+    (refitted finite-liquid factor)."""
+
+    name = "calibrated-viscous"
+    component = "viscous"
+    validity = ("immersed sphere-wall or equal spheres, S/R in [1e-5, 100]; film on a wall, "
+                "delta/R in [1e-3, 0.1], and bridges (wall, or spheres of radius ratio 1-10), "
+                "V/R_small^3 in [1e-4, 0.1]: S/H in [0.01, 0.95] (against lubrication)")
+    reference = "calibrated here: Brenner (1961) series; lubrication for films and bridges"
+    cost = 3e-6  # a 48-term Chebyshev sum: about 3x a one-line closure (bench_calibrate)
+
+    def check(self, scene: Scene) -> None:
+        table = viscous_table()
+        if table is None:
+            raise ValidityError(self.name, "coefficient table not generated (python -m "
+                                "wetcontact.calibrate viscous)", "brenner")
+        if scene.slip_length_sphere > 0 or scene.slip_length_wall > 0:
+            raise ValidityError(self.name, "no slip calibrated", "vinogradova")
+        if scene.amount == "immersed":
+            if scene.kind == "sphere-sphere" and not scene.equal_spheres:
+                raise ValidityError(self.name, "equal spheres only", "reynolds")
+            lo, hi = (math.exp(x) for x in table["immersed"][scene.kind]["log_range"])
+            s = scene.gap_array / scene.radius
+            if s.min() < lo * (1 - 1e-9) or s.max() > hi * (1 + 1e-9):
+                raise ValidityError(self.name, f"S/R from {s.min():.3g} to {s.max():.3g} "
+                                    f"outside the calibrated [{lo:.3g}, {hi:.3g}]", "brenner")
+            return
+        entry = _finite_entry(table, scene)
+        coords = _finite_coords(scene)
+        for k, (lo, hi) in entry["domain"].items():
+            v = coords[k]
+            if v.min() < lo * (1 - 1e-6) or v.max() > hi * (1 + 1e-6):
+                raise ValidityError(self.name, f"{k} from {v.min():.4g} to {v.max():.4g} "
+                                    f"outside the calibrated [{lo:.4g}, {hi:.4g}]",
+                                    "lubrication")
+
+    def _force(self, scene: Scene, preset: str, **opts: Any) -> ForceCurve:
+        from wetcontact.calibrate import finite_liquid_form
+
+        table = viscous_table()
+        assert table is not None
+        s = scene.gap_array
+        eta, r, v = scene.viscosity, scene.radius, scene.velocity
+        if scene.amount == "immersed":
+            lam = immersed_lambda(s / r, scene.kind, table)
+            speed = v if scene.kind == "sphere-wall" else 0.5 * v
+            f = 6.0 * np.pi * eta * r * speed * lam
+        else:
+            n = s.size
+            kappa = 1.0
+            if scene.kind == "sphere-sphere":
+                kappa = scene.reduced_radius**3 * (scene.radius**-3 + scene.radius2**-3)
+            x = {"gap": s, "edge_gap": _edge_gap(scene), "kappa": np.full(n, kappa),
+                 "r_star": np.full(n, scene.reduced_radius), "viscosity": np.full(n, eta),
+                 "velocity": np.full(n, v)}
+            f = finite_liquid_form(np.asarray(_finite_entry(table, scene)["coefficients"]), x)
+        return closure_curve(scene, self.name, viscous=f,
+                             error_estimate=estimate_or_none(self.name, "viscous", scene))
+
+
+def _edge_gap(scene: Scene) -> np.ndarray:
+    """Gap at the wetted edge: the film thickness, or Pitois' bridge edge gap."""
+    s = scene.gap_array
+    if scene.amount == "film":
+        return np.full(s.shape, scene.film_thickness)
+    return np.sqrt(s**2 + scene.bridge_volume / (np.pi * scene.reduced_radius))
+
+
+def _finite_entry(table: dict[str, Any], scene: Scene) -> dict[str, Any]:
+    return table["film"] if scene.amount == "film" else table["bridge"][scene.kind]
+
+
+def _finite_coords(scene: Scene) -> dict[str, np.ndarray]:
+    """Domain coordinates of a film or bridge scene (as in the calibration)."""
+    s = scene.gap_array
+    c = {"s_over_h": s / _edge_gap(scene)}
+    if scene.amount == "film":
+        c["delta_over_r"] = np.full(s.shape, scene.film_thickness / scene.radius)
+    else:
+        rs = scene.radius if scene.kind == "sphere-wall" else min(scene.radius, scene.radius2)
+        rl = scene.radius if scene.kind == "sphere-wall" else max(scene.radius, scene.radius2)
+        c["v_star"] = np.full(s.shape, scene.bridge_volume / rs**3)
+        c["radius_ratio"] = np.full(s.shape, rl / rs)
+    return c
