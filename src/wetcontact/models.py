@@ -11,6 +11,7 @@ capillary attraction is negative.
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -18,7 +19,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from wetcontact.errors import InputError, SolverError
+from wetcontact.errors import InputError, SolverError, ValidityError
 from wetcontact.scene import Scene
 
 PRESETS = ("fast", "default", "accurate")
@@ -171,6 +172,12 @@ class Model:
     reference_rank: ClassVar[Mapping[str, int]] = {}
     presets: ClassVar[Mapping[str, Mapping[str, Any]]] = {p: {} for p in PRESETS}
 
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        """Wrap a subclass's :meth:`check` so its refusal hints stay consistent."""
+        super().__init_subclass__(**kwargs)
+        if "check" in cls.__dict__:
+            cls.check = _consistent_hint(cls.__dict__["check"])  # type: ignore[method-assign]
+
     def check(self, scene: Scene) -> None:
         """Raise :class:`ValidityError` if the scene is outside this model's validity."""
 
@@ -221,6 +228,62 @@ class Model:
 
 
 MODELS: dict[str, Model] = {}
+
+
+def _accepts(model: Model, scene: Scene) -> bool:
+    """True if the model's own (unwrapped) check accepts the scene."""
+    try:
+        getattr(type(model).check, "__wrapped__", type(model).check)(model, scene)
+    except InputError:
+        return False
+    return True
+
+
+def model_instead(scene: Scene, component: str, exclude: str = "") -> str | None:
+    """The most faithful registered model that accepts ``scene`` for ``component``.
+
+    Ranked by the model's ``reference_rank`` for the component, then by fidelity level;
+    ``component = "both"`` takes a model of either component. ``None`` if none accepts.
+    """
+    def serves(m: Model) -> bool:
+        return component == "both" or m.component in (component, "both")
+
+    cands = [m for m in MODELS.values() if m.name != exclude and serves(m)]
+    cands.sort(key=lambda m: (-max(m.reference_rank.values(), default=0), -m.level, m.name))
+    return next((m.name for m in cands if _accepts(m, scene)), None)
+
+
+def _consistent_hint(check: Any) -> Any:
+    """Decorate a model's ``check``: a refusal that names a model which refuses the same
+    scene names instead the most faithful model that accepts it (:func:`model_instead`),
+    or none, so a user is never sent from one refusal to another."""
+    import functools
+
+    @functools.wraps(check)
+    def wrapped(self: Model, scene: Scene) -> None:
+        if getattr(_HINTS, "busy", False):  # a check called while a hint is being repaired
+            check(self, scene)
+            return
+        _HINTS.busy = True
+        try:
+            try:
+                check(self, scene)
+            except ValidityError as exc:
+                alt = exc.use_instead
+                if alt is None or (alt in MODELS and alt != self.name
+                                   and _accepts(MODELS[alt], scene)):
+                    raise
+                alt = model_instead(scene, self.component, exclude=self.name)
+                reason = exc.reason if alt else (
+                    f"{exc.reason}; no registered model of its component covers this scene")
+                raise ValidityError(self.name, reason, alt) from None
+        finally:
+            _HINTS.busy = False
+
+    return wrapped
+
+
+_HINTS = threading.local()
 
 
 def register(cls: type[Model]) -> type[Model]:

@@ -241,7 +241,7 @@ def test_model_rejects_bad_input(scene_factory):
     immersed = scene_factory()
     with pytest.raises(ValidityError, match="stokes"):
         model.force(immersed)
-    film = scene_factory(amount={"film_thickness": 1e-3})
+    film = scene_factory(amount={"film_thickness": 1e-4})
     with pytest.raises(ValidityError, match="thinfilm"):
         model.force(film)
     with pytest.raises(InputError, match="volume too large"):
