@@ -37,7 +37,7 @@ import os
 import shutil
 import tempfile
 import time
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Sequence
 from functools import lru_cache
 from pathlib import Path
 from typing import Any
@@ -115,8 +115,12 @@ def _locked(lock_path: Path, timeout: float, what: str) -> Iterator[None]:
         finally:
             _HELD[key][1] -= 1
         return
-    lock_path.parent.mkdir(parents=True, exist_ok=True)
-    fd = os.open(lock_path, os.O_RDWR | os.O_CREAT, 0o666)
+    try:
+        lock_path.parent.mkdir(parents=True, exist_ok=True)
+        fd = os.open(lock_path, os.O_RDWR | os.O_CREAT, 0o666)
+    except OSError as exc:
+        raise InputError(f"{what}: cannot create the lock file {lock_path} ({exc.strerror}); "
+                         "allowed: a store in a writable folder") from None
     try:
         deadline = time.monotonic() + max(timeout, 0.0)
         while True:
@@ -248,8 +252,8 @@ class Store:
         return self.save_many([(scene, curve)])[0]
 
     def save_many(self, items: Iterable[tuple[Scene, ForceCurve]],
-                  failures: Iterable[tuple[str, Scene, str, dict[str, Any], str]] = ()
-                  ) -> list[str]:
+                  failures: Iterable[tuple[str, Scene, str, dict[str, Any], str]] = (),
+                  keys: Sequence[str] | None = None) -> list[str]:
         """Save several curves (and failure records) in one atomic write; return the keys.
 
         Parameters
@@ -259,10 +263,16 @@ class Store:
         failures
             ``(key, scene, model, settings, reason)`` of points that failed or were refused;
             a failure record never replaces a curve, and a curve replaces its failure record.
+        keys
+            The items' keys when the caller knows them (a sweep's ``Point.key``, made from
+            the same scene, model and settings); computed from each curve otherwise.
         """
         items = list(items)
         failures = list(failures)
-        keys = [curve_key(sc, cv.model, dict(cv.settings)) for sc, cv in items]
+        keys = list(keys) if keys is not None else [
+            curve_key(sc, cv.model, dict(cv.settings)) for sc, cv in items]
+        if len(keys) != len(items):
+            raise ValueError("save_many: one key per item")
         if not items and not failures:
             return keys
         self.path.parent.mkdir(parents=True, exist_ok=True)
@@ -330,6 +340,7 @@ class BatchWriter:
         self.store = store
         self.min_interval = min_interval
         self.pending: list[tuple[Scene, ForceCurve]] = []
+        self.pending_keys: list[str | None] = []
         self.pending_failures: list[tuple[str, Scene, str, dict[str, Any], str]] = []
         self.last = time.monotonic()
         self.interval = min_interval
@@ -337,9 +348,10 @@ class BatchWriter:
         self.write_time = 0.0
         self.writes = 0
 
-    def add(self, scene: Scene, curve: ForceCurve) -> None:
-        """Queue one curve."""
+    def add(self, scene: Scene, curve: ForceCurve, key: str | None = None) -> None:
+        """Queue one curve (with its key if known)."""
         self.pending.append((scene, curve))
+        self.pending_keys.append(key or curve_key(scene, curve.model, dict(curve.settings)))
 
     def add_failure(self, key: str, scene: Scene, model: str, settings: dict[str, Any],
                     reason: str) -> None:
@@ -355,13 +367,13 @@ class BatchWriter:
         """Write every pending curve and failure record in one atomic write."""
         if self.pending or self.pending_failures:
             t0 = time.monotonic()
-            self.store.save_many(self.pending, self.pending_failures)
+            self.store.save_many(self.pending, self.pending_failures, self.pending_keys)
             dt = time.monotonic() - t0
             self.written += len(self.pending)
             self.write_time += dt
             self.writes += 1
             self.interval = max(self.min_interval, 10.0 * dt)
-            self.pending, self.pending_failures = [], []
+            self.pending, self.pending_failures, self.pending_keys = [], [], []
         self.last = time.monotonic()
 
 

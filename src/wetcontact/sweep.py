@@ -31,9 +31,11 @@ import logging
 import math
 import os
 import sys
+import threading
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any, Literal
 
 from wetcontact.errors import InputError, SolverError
@@ -84,14 +86,15 @@ class Point:
         m = get_model(self.model)
         return self.preset if self.preset in m.presets else "default"
 
-    @property
+    @cached_property
     def run_settings(self) -> dict[str, Any]:
         """The settings the curve will carry (known before the solve)."""
         return get_model(self.model).settings_for(self.run_preset, **dict(self.settings))
 
-    @property
+    @cached_property
     def key(self) -> str:
-        """Content key in the store (scene, model, settings, code version)."""
+        """Content key in the store (scene, model, settings, code version); computed once
+        per point (hashing a scene costs about 0.5 ms)."""
         return curve_key(self.scene, self.model, self.run_settings)
 
 
@@ -209,17 +212,25 @@ def _batches(points: Sequence[Point], workers: int) -> list[list[Point]]:
 
 
 class _Progress:
-    """A tqdm bar on a terminal, else a line on stderr every ``every`` seconds."""
+    """A tqdm bar on a terminal, else a line on stderr every ``every`` seconds (from a
+    background thread, so a long point does not silence it)."""
 
     def __init__(self, total: int, enabled: bool, every: float = 5.0):
         self.total, self.done, self.enabled, self.every = total, 0, enabled, every
         self.counts = {"computed": 0, "reused": 0, "failed": 0}
-        self.t0 = self.last = time.monotonic()
+        self.t0 = time.monotonic()
         self.bar = None
+        self.stop = threading.Event()
         if enabled and sys.stderr.isatty():
             from tqdm import tqdm
 
             self.bar = tqdm(total=total, desc="sweep", unit="pt", file=sys.stderr)
+        elif enabled:
+            threading.Thread(target=self._ticker, daemon=True).start()
+
+    def _ticker(self) -> None:
+        while not self.stop.wait(self.every):
+            self.line()
 
     def update(self, status: Status, n: int = 1) -> None:
         self.done += n
@@ -227,18 +238,16 @@ class _Progress:
         if self.bar is not None:
             self.bar.update(n)
             self.bar.set_postfix(self.counts, refresh=False)
-        elif self.enabled and time.monotonic() - self.last >= self.every:
-            self.line()
 
     def line(self) -> None:
-        self.last = time.monotonic()
         c = self.counts
         sys.stderr.write(f"sweep: {self.done}/{self.total} points (computed {c['computed']}, "
                          f"reused {c['reused']}, failed {c['failed']}), "
-                         f"{self.last - self.t0:.0f} s\n")
+                         f"{time.monotonic() - self.t0:.0f} s\n")
         sys.stderr.flush()
 
     def close(self) -> None:
+        self.stop.set()
         if self.bar is not None:
             self.bar.close()
         elif self.enabled:
@@ -309,7 +318,7 @@ def sweep(points: Sequence[Point], store: Store, workers: int | None = None,
         def record(p: Point, k: str, answer: _Answer) -> None:
             curve, reason, keep = answer
             if curve is not None:
-                bw.add(p.scene, curve)
+                bw.add(p.scene, curve, key=k)
                 done[k] = Outcome(p, k, "computed", curve if keep_curves else None)
                 prog.update("computed")
             else:
