@@ -82,6 +82,17 @@ def test_local_dask_cluster_gives_the_in_process_values(tmp_path):
             assert np.array_equal(ca.force_viscous, cb.force_viscous)
 
 
+def test_workers_running_other_code_fail_their_points_unstored(tmp_path, monkeypatch):
+    import wetcontact.sweep as sw
+
+    monkeypatch.setattr(sw, "code_version", lambda: "0.0.0+client")  # workers: the real one
+    st = Store(tmp_path / "r.h5")
+    r = sweep(closure_points(2)[:2], st, workers=2, progress=False)
+    assert r.count("failed") == 2 and r.count("computed") == 0
+    assert all("0.0.0+client" in o.reason and code_version() in o.reason for o in r.outcomes)
+    assert not st.path.exists() or (len(st) == 0 and not st.failures())
+
+
 def test_key_holds_the_code_version_and_a_source_edit_changes_it(tmp_path):
     sc = make_scene()
     assert code_version().startswith(__import__("wetcontact").__version__ + "+")
