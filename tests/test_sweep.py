@@ -141,6 +141,11 @@ def test_batch_writer_writes_in_batches(tmp_path):
     assert not st.path.exists() and len(bw.pending) == 4
     bw.flush()
     assert len(st) == 4 and bw.writes == 1 and bw.interval >= 3600
+    capped = BatchWriter(st, min_interval=3600, max_batch=3)  # a full batch goes at once
+    for p in closure_points(4)[1::3]:
+        capped.add(p.scene, get_model(p.model).force(p.scene))
+        capped.maybe_flush()
+    assert capped.writes == 1 and len(capped.pending) == 1 and len(st) == 7
 
 
 HOLDER = textwrap.dedent("""

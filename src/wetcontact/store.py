@@ -330,15 +330,17 @@ class BatchWriter:
     """Collects curves and failure records and saves them in batches.
 
     A batch is written when :meth:`maybe_flush` finds the last write older than the
-    interval: ``max(min_interval, 10 x the last write's duration)``, so that writes (each a
-    copy of the file) take at most about a tenth of the wall time however large the store
-    grows. :meth:`flush` writes whatever is pending. Whatever was flushed survives a
-    SIGKILL; what is pending is lost and recomputed by the next run.
+    interval, ``max(min_interval, 10 x the last write's duration)``, so that copying a
+    large file stays a small part of the wall time, or when ``max_batch`` curves are
+    pending (results arriving faster than they can be written must not pile up into one
+    huge write). :meth:`flush` writes whatever is pending. Whatever was flushed survives
+    a SIGKILL; what is pending is lost and recomputed by the next run.
     """
 
-    def __init__(self, store: Store, min_interval: float = 2.0):
+    def __init__(self, store: Store, min_interval: float = 2.0, max_batch: int = 2000):
         self.store = store
         self.min_interval = min_interval
+        self.max_batch = max_batch
         self.pending: list[tuple[Scene, ForceCurve]] = []
         self.pending_keys: list[str | None] = []
         self.pending_failures: list[tuple[str, Scene, str, dict[str, Any], str]] = []
@@ -359,8 +361,10 @@ class BatchWriter:
         self.pending_failures.append((key, scene, model, settings, reason))
 
     def maybe_flush(self) -> None:
-        """Write the pending batch if the interval has passed."""
-        if time.monotonic() - self.last >= self.interval:
+        """Write the pending batch if the interval has passed or it holds ``max_batch``
+        curves (a cap on what a SIGKILL can lose and on the client's memory)."""
+        if (time.monotonic() - self.last >= self.interval
+                or len(self.pending) + len(self.pending_failures) >= self.max_batch):
             self.flush()
 
     def flush(self) -> None:
