@@ -91,7 +91,7 @@ def task_overhead(n_tasks: int = 1000) -> dict:
 
     t0 = time.perf_counter()
     cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                           dashboard_address=None, host="127.0.0.1", silence_logs=logging.ERROR)
+                           dashboard_address=None, host="127.0.0.1", silence_logs=logging.CRITICAL)
     client = Client(cluster)
     t1 = time.perf_counter()
     rounds = []

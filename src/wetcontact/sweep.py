@@ -400,6 +400,6 @@ def _dask_client(workers: int | None, scheduler: str | None) -> Iterator[tuple[A
         warnings.filterwarnings("ignore", message="Port .* is already in use")
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                                dashboard_address=None, host="127.0.0.1",
-                               silence_logs=logging.ERROR)
+                               silence_logs=logging.CRITICAL)
     with cluster, Client(cluster) as client:
         yield client, f"local-cluster:{n}"
