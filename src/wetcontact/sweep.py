@@ -20,8 +20,9 @@ sweep.
   up to 50, field solvers one), with at least about four tasks per worker.
 - Small sweeps run in this process without a cluster: ``workers=0``, or ``workers=None``
   when the estimated work (:func:`estimated_seconds`) is below :data:`IN_PROCESS_BELOW`
-  seconds. Starting and stopping a local cluster costs about 2.5 s on 2 cores
-  (measured in ``benchmarks/bench_sweep.py``), more than such a sweep takes.
+  seconds. Starting and stopping a local cluster costs 3.5-6 s on 2 shared cores
+  (``benchmarks/bench_sweep.py``: start 2.2-4.5 s, stop 1.3 s), more than such a sweep
+  takes; a task's round trip costs about 4 ms.
 """
 
 from __future__ import annotations
