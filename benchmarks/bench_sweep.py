@@ -21,12 +21,14 @@ recorded beside each figure: on a shared machine the speed-up is bounded by the 
 the other processes leave free.
 
 Run: ``python benchmarks/bench_sweep.py [--meniscus-points N] [--closure-points N]``
-(defaults 2000 and 100000). Writes ``benchmarks/results/sweep.json`` and ``sweep.png``.
+(defaults 2000 and 100000; 0 keeps that part's figures from the last JSON). Writes
+``benchmarks/results/sweep.json`` and ``sweep.png``.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import statistics
 import subprocess
@@ -165,16 +167,18 @@ def chart(data: dict, path: Path) -> None:
     for i, k in enumerate(kinds):
         r1, r2 = (next(r for r in data[k] if r["workers"] == w) for w in (1, 2))
         gain = r1["wall_time_s"] / r2["wall_time_s"]
-        ax[0].annotate(f"x{gain:.2f}\nload {r2['load_before']:.1f}",
+        writes = r2["store_write_time_s"] / r2["wall_time_s"]
+        ax[0].annotate(f"x{gain:.2f}\nload {r1['load_before']:.0f} / {r2['load_before']:.0f}"
+                       f"\nwrites {writes:.0%}",
                        (i, max(r1["points_per_s"], r2["points_per_s"])), ha="center",
                        va="bottom", fontsize=8)
     ax[0].set_xticks(x, [f"{k}\n({data[k][0]['points']} points)" for k in kinds])
     ax[0].set_yscale("log")
     lo, hi = ax[0].get_ylim()
-    ax[0].set_ylim(lo, hi * 6)  # room for the annotations
+    ax[0].set_ylim(lo, hi * 30)  # room for the annotations
     ax[0].set_ylabel("points per second (end to end)")
     ax[0].set_title("sweep throughput, speed-up 1 -> 2 workers")
-    ax[0].legend(fontsize=8, loc="lower left")
+    ax[0].legend(fontsize=8, loc="upper left")
     wr = data["write_rate"]["batches"]
     ax[1].plot([b["mb_after"] for b in wr], [b["curves_per_s"] for b in wr], "o-")
     ax[1].set_xlabel("store size after the batch (MB)")
@@ -200,8 +204,6 @@ def main() -> None:
     ap.add_argument("--chart-only", action="store_true", help="redraw the chart from the JSON")
     args = ap.parse_args()
     if args.chart_only:
-        import json
-
         chart(json.loads((RESULTS / "sweep.json").read_text()), RESULTS / "sweep.png")
         return
     data: dict = {"definitions": {
@@ -224,7 +226,14 @@ def main() -> None:
         clo = [Point(sc, m) for sc in bridges(args.closure_points // len(CLOSURES),
                                                list(np.geomspace(0.01, 0.4, 10)), seed=2)
                for m in CLOSURES]
+        previous = (json.loads((RESULTS / "sweep.json").read_text())
+                    if (RESULTS / "sweep.json").exists() else {})
         for name, pts in (("meniscus", men), ("closures", clo)):
+            if not pts and name in previous:  # --<name>-points 0: keep the last run's figures
+                data[name] = previous[name]
+                data[f"{name}_speedup"] = previous[f"{name}_speedup"]
+                data[f"{name}_from_previous_run"] = True
+                continue
             data[name] = []
             for w in (1, 2):
                 data[name].append(run_sweep(pts, w, tmp))
