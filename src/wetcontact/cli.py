@@ -74,6 +74,8 @@ def build_parser() -> argparse.ArgumentParser:
     solve.add_argument("--save-fields", type=Path, default=None, metavar="DIR",
                        help="write solution fields (VTU) where the model supports it")
 
+    _add_sweep_parser(sub)
+    _add_export_parser(sub)
     sub.add_parser("models", help="list the registered models", description="Registered "
                    "models with their fidelity level, component and validity range.")
     return p
@@ -118,6 +120,10 @@ def _dispatch(args: argparse.Namespace) -> int:
         return _models()
     if args.command == "solve":
         return _solve(args)
+    if args.command == "sweep":
+        return _sweep(args)
+    if args.command == "export":
+        return _export(args)
     if args.command == "run":
         from wetcontact.report import run_all
 
@@ -332,6 +338,97 @@ class Progress:
             self.stream.flush()
             if self._stop.wait(every):
                 return
+
+
+def _add_sweep_parser(sub: argparse._SubParsersAction) -> None:
+    sw = sub.add_parser("sweep", help="solve a study's points into the store (Dask)",
+                        description="Solve every (scene, model) point of a study file into "
+                        "the HDF5 store on a local Dask cluster (default) or an existing one; "
+                        "points already stored are reused, failures are recorded.")
+    sw.add_argument("study", type=Path, help="TOML study file (cases/studies/)")
+    where = sw.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=_non_negative_int, default=None, metavar="N",
+                       help="local worker processes (default: one per core; 0 = in this "
+                       "process; small sweeps run in this process by default)")
+    where.add_argument("--scheduler", metavar="ADDRESS", help="tcp://HOST:PORT of a running "
+                       "Dask scheduler (dask scheduler / dask worker, dask-jobqueue)")
+    sw.add_argument("--store", type=Path, default=Path("reference.h5"),
+                    help="HDF5 store (default: ./reference.h5)")
+    sw.add_argument("--wait", type=float, default=0.0, metavar="SECONDS",
+                    help="wait this long for another writer of the store (default: 0, "
+                    "exit 2 at once)")
+    sw.add_argument("--retry-failed", action="store_true",
+                    help="solve again the points whose failure is recorded in the store")
+    sw.add_argument("--json", action="store_true", help="end with one JSON object: study, "
+                    "points, computed, reused, failed, store, wall_time_s")
+
+
+def _add_export_parser(sub: argparse._SubParsersAction) -> None:
+    ex = sub.add_parser("export", help="write stored curves for other tools",
+                        description="Export stored reference curves.")
+    fmt = ex.add_subparsers(dest="format", required=True, parser_class=_Parser)
+    c = fmt.add_parser("csv", help="one row per (point, model, gap)", description="One CSV "
+                       "row per (point, model, gap) of a study, a column per axis.")
+    c.add_argument("study", type=Path, help="TOML study file")
+    c.add_argument("--store", type=Path, required=True, help="HDF5 store the sweep wrote")
+    c.add_argument("--out", type=Path, required=True, help="CSV file to write")
+
+
+def _non_negative_int(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        n = -1
+    if n < 0:
+        raise argparse.ArgumentTypeError(f"--workers = {text!r}; allowed: an integer >= 0")
+    return n
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    from wetcontact.store import Store
+    from wetcontact.study import load_study
+    from wetcontact.sweep import sweep
+
+    study = load_study(args.study)
+    if args.wait < 0 or args.wait != args.wait:
+        raise InputError(f"--wait = {args.wait!r}; allowed: seconds >= 0")
+    res = sweep(study.points(), Store(args.store), workers=args.workers,
+                scheduler=args.scheduler, progress=True, retry_failed=args.retry_failed,
+                lock_timeout=args.wait, keep_curves=False)
+    summary = res.summary(study.name)
+    if args.json:
+        print(json.dumps(summary))
+        return 0
+    print(f"study {study.name}: {summary['points']} points, {summary['computed']} computed, "
+          f"{summary['reused']} reused, {summary['failed']} failed in "
+          f"{summary['wall_time_s']:.3g} s ({res.executor}) -> {res.store}")
+    reasons: dict[str, int] = {}
+    for o in res.outcomes:
+        if o.status == "failed":
+            reasons[f"{o.point.model}: {o.reason}"] = reasons.get(
+                f"{o.point.model}: {o.reason}", 0) + 1
+    for why, n in sorted(reasons.items(), key=lambda kv: -kv[1])[:5]:
+        print(f"  failed x{n}: {why}")
+    return 0
+
+
+def _export(args: argparse.Namespace) -> int:
+    if args.format == "csv":
+        from wetcontact.export.csv import write_csv
+        from wetcontact.store import Store
+        from wetcontact.study import load_study
+
+        if not args.store.is_file():
+            raise InputError(f"--store {args.store}: no such store; run `wetcontact sweep` "
+                             "first")
+        if not args.out.parent.is_dir():
+            raise InputError(f"--out {args.out}: the folder {args.out.parent} does not exist")
+        study = load_study(args.study)
+        counts = write_csv(study.points(), study.axes, Store(args.store), args.out)
+        print(f"{args.out}: {counts['rows']} rows ({counts['ok']} ok, {counts['no-bridge']} "
+              f"no-bridge, {counts['failed']} failed, {counts['missing']} missing)")
+        return 0
+    return 2
 
 
 if __name__ == "__main__":

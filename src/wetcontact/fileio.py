@@ -16,6 +16,7 @@ import re
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
+from typing import TextIO
 
 MAX_STEM = 100
 
@@ -40,11 +41,22 @@ def atomic_write_text(path: str | Path, text: str) -> None:
     The file gets the mode a plain ``open(path, "w")`` would give (``0o666`` less the
     umask). On any error the temporary file is removed and the old file is untouched.
     """
+    with atomic_open(path) as fh:
+        fh.write(text)
+
+
+@contextlib.contextmanager
+def atomic_open(path: str | Path, newline: str | None = None) -> Iterator[TextIO]:
+    """A text file to write that replaces ``path`` atomically when the block ends.
+
+    Like :func:`atomic_write_text` for output written piece by piece (a large CSV);
+    if the block raises, ``path`` is untouched and the temporary file removed.
+    """
     path = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name[:50]}.", suffix=".tmp", dir=path.parent)
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
+        with os.fdopen(fd, "w", encoding="utf-8", newline=newline) as fh:
+            yield fh
             fh.flush()
             os.fsync(fh.fileno())
         os.chmod(tmp, 0o666 & ~_umask())

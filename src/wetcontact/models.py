@@ -295,8 +295,17 @@ def register(cls: type[Model]) -> type[Model]:
 
 
 def get_model(name: str) -> Model:
-    """Registered model by name; an :class:`InputError` listing the names otherwise."""
-    load_all()
+    """Registered model by name; an :class:`InputError` listing the names otherwise.
+
+    The closures are imported first and the solvers (scikit-fem, gmsh, py-pde) only when
+    the name is not a closure, so a closure starts without loading them.
+    """
+    if name not in MODELS:
+        import importlib
+
+        importlib.import_module("wetcontact.reduced_models")
+    if name not in MODELS:
+        load_all()
     if name not in MODELS:
         raise InputError(f"model = {name!r}; allowed: " + ", ".join(sorted(MODELS)))
     return MODELS[name]

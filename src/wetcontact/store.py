@@ -8,21 +8,37 @@ library versions, wall time) as JSON.
 Writes are atomic: a write copies the file to a temporary sibling, adds the new groups,
 flushes and fsyncs it, and renames it over the original (``os.replace``). A process killed
 at any moment leaves either the old or the new file, never a torn one, so every curve saved
-before the kill is still readable. Only one process writes (the sweep's client).
+before the kill is still readable. The cost of a write is one copy of the file, so callers
+that save many curves batch them (:class:`BatchWriter`: one write every few seconds, the
+interval growing with the write time so that writing stays below a tenth of the wall time).
+
+One writer at a time: every write, and a whole sweep (:meth:`Store.writer`), holds an
+exclusive ``fcntl`` lock on ``<file>.lock`` beside the store. Another process that wants
+to write waits up to a timeout and then gets :class:`StoreBusyError` (one line naming the
+process holding the lock). Readers need no lock: they see the old or the new file.
+
+The content key includes :func:`code_version` (package version and a hash of the sources
+that produce numbers), so a curve is never reused by another version of the code.
+A point whose model failed or refused is kept under ``/failures/<key>`` with its reason,
+so a rerun knows it without solving again.
 
 A key already present with the same data (arrays equal to 1e-12 relative, allowing for
-round-off between identical runs) is a no-op; with other data it is an error.
+round-off between identical runs) is a no-op; with other data it is an error. The file
+is created with the mode a plain ``open`` would give (0o666 less the umask).
 """
 
 from __future__ import annotations
 
 import contextlib
+import fcntl
 import hashlib
 import json
 import os
 import shutil
 import tempfile
-from collections.abc import Iterable, Iterator
+import time
+from collections.abc import Iterable, Iterator, Sequence
+from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
@@ -30,6 +46,7 @@ import h5py
 import numpy as np
 
 from wetcontact.errors import InputError
+from wetcontact.fileio import _umask
 from wetcontact.models import ForceCurve
 from wetcontact.scene import Scene
 
@@ -41,11 +58,93 @@ class StoreConflictError(InputError):
     """A key is already in the store with different data."""
 
 
-def curve_key(scene: Scene, model: str, settings: dict[str, Any]) -> str:
-    """Content hash of (scene, model, settings): SHA-256 of their canonical JSON."""
-    blob = json.dumps({"scene": scene.to_dict(), "model": model, "settings": settings},
+class StoreBusyError(InputError):
+    """Another process holds the store's write lock (CLI exit 2)."""
+
+
+# Sources whose edits can change a number: the key changes with them.
+_NUMERIC_SOURCES = ("models.py", "scene.py", "solver", "reduced_models", "meshes")
+
+
+@lru_cache(maxsize=1)
+def code_version() -> str:
+    """``<package version>+<hash>``: the version and a SHA-256 of the numeric sources.
+
+    The hash covers ``models.py``, ``scene.py`` and the ``solver``, ``reduced_models`` and
+    ``meshes`` packages (every ``.py`` file, by relative path and content). A clean tree
+    at another commit may carry the same version string, and a dirty tree always does, so
+    the version alone cannot tell two codes apart; edits elsewhere (the report, the CLI)
+    do not invalidate the store.
+    """
+    from wetcontact import __version__
+
+    root = Path(__file__).resolve().parent
+    files: list[Path] = []
+    for name in _NUMERIC_SOURCES:
+        p = root / name
+        files += sorted(p.rglob("*.py")) if p.is_dir() else [p] if p.exists() else []
+    h = hashlib.sha256()
+    for f in files:
+        h.update(f.relative_to(root).as_posix().encode() + b"\0" + f.read_bytes() + b"\0")
+    return f"{__version__}+{h.hexdigest()[:12]}"
+
+
+def curve_key(scene: Scene, model: str, settings: dict[str, Any],
+              version: str | None = None) -> str:
+    """Content hash of (scene, model, settings, code version): SHA-256 of their canonical
+    JSON; ``version`` defaults to :func:`code_version`."""
+    blob = json.dumps({"scene": scene.to_dict(), "model": model, "settings": settings,
+                       "code": version or code_version()},
                       sort_keys=True, separators=(",", ":"), default=str)
     return hashlib.sha256(blob.encode()).hexdigest()[:32]
+
+
+# Locks held by this process, by lock-file path: (file descriptor, depth). ``flock`` locks
+# belong to an open file description, so a second open in the same process would block on
+# itself; nested holders share one descriptor instead.
+_HELD: dict[str, list[int]] = {}
+
+
+@contextlib.contextmanager
+def _locked(lock_path: Path, timeout: float, what: str) -> Iterator[None]:
+    key = str(lock_path.resolve())
+    if key in _HELD:
+        _HELD[key][1] += 1
+        try:
+            yield
+        finally:
+            _HELD[key][1] -= 1
+        return
+    try:
+        lock_path.parent.mkdir(parents=True, exist_ok=True)
+        fd = os.open(lock_path, os.O_RDWR | os.O_CREAT, 0o666)
+    except OSError as exc:
+        raise InputError(f"{what}: cannot create the lock file {lock_path} ({exc.strerror}); "
+                         "allowed: a store in a writable folder") from None
+    try:
+        deadline = time.monotonic() + max(timeout, 0.0)
+        while True:
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                break
+            except BlockingIOError:
+                if time.monotonic() >= deadline:
+                    holder = os.pread(fd, 200, 0).decode(errors="replace").strip()
+                    raise StoreBusyError(
+                        f"{what}: the store is in use by another process ({holder or 'unknown'}"
+                        f"); wait for it to finish or use another --store") from None
+                time.sleep(0.05)
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, f"pid {os.getpid()} since {time.strftime('%H:%M:%S')}".encode(), 0)
+        _HELD[key] = [fd, 1]
+        try:
+            yield
+        finally:
+            del _HELD[key]
+            with contextlib.suppress(OSError):
+                os.ftruncate(fd, 0)
+    finally:
+        os.close(fd)  # closing the descriptor releases the lock
 
 
 class Store:
@@ -57,8 +156,26 @@ class Store:
         HDF5 file, e.g. ``reports/reference.h5``.
     """
 
-    def __init__(self, path: str | Path):
+    def __init__(self, path: str | Path, lock_timeout: float = 60.0):
         self.path = Path(path)
+        self.lock_timeout = lock_timeout
+
+    @property
+    def lock_path(self) -> Path:
+        """The lock file beside the store (``<file>.lock``)."""
+        return self.path.with_name(self.path.name + ".lock")
+
+    def writer(self, timeout: float | None = None) -> contextlib.AbstractContextManager[None]:
+        """Hold the write lock for a block (a whole sweep): other writers wait or fail.
+
+        Parameters
+        ----------
+        timeout
+            Seconds to wait for another writer to finish (default ``lock_timeout``); then
+            :class:`StoreBusyError`.
+        """
+        return _locked(self.lock_path, self.lock_timeout if timeout is None else timeout,
+                       str(self.path))
 
     # ---- reading --------------------------------------------------------------------
     @contextlib.contextmanager
@@ -79,7 +196,15 @@ class Store:
             return [] if f is None or "curves" not in f else sorted(f["curves"])
 
     def __contains__(self, key: str) -> bool:
-        return key in self.keys()
+        with self._open() as f:
+            return f is not None and "curves" in f and key in f["curves"]
+
+    def failures(self) -> dict[str, str]:
+        """Keys of points whose model failed or refused, with the reason."""
+        with self._open() as f:
+            if f is None or "failures" not in f:
+                return {}
+            return {k: str(g.attrs["reason"]) for k, g in f["failures"].items()}
 
     def __len__(self) -> int:
         return len(self.keys())
@@ -104,6 +229,14 @@ class Store:
                     out.append(key)
         return sorted(out)
 
+    def load_many(self, keys: Iterable[str]) -> dict[str, ForceCurve]:
+        """The curves stored under ``keys`` (missing keys are left out), one file open."""
+        with self._open() as f:
+            if f is None or "curves" not in f:
+                return {}
+            grp = f["curves"]
+            return {k: _read_curve(grp[k]) for k in keys if k in grp}
+
     def get(self, scene: Scene, curve_or_model: ForceCurve | str,
             settings: dict[str, Any] | None = None) -> ForceCurve | None:
         """The stored curve for (scene, model, settings), or ``None``."""
@@ -118,20 +251,46 @@ class Store:
         """Save one curve atomically; return its key."""
         return self.save_many([(scene, curve)])[0]
 
-    def save_many(self, items: Iterable[tuple[Scene, ForceCurve]]) -> list[str]:
-        """Save several curves in one atomic write; return their keys."""
+    def save_many(self, items: Iterable[tuple[Scene, ForceCurve]],
+                  failures: Iterable[tuple[str, Scene, str, dict[str, Any], str]] = (),
+                  keys: Sequence[str] | None = None) -> list[str]:
+        """Save several curves (and failure records) in one atomic write; return the keys.
+
+        Parameters
+        ----------
+        items
+            ``(scene, curve)`` pairs.
+        failures
+            ``(key, scene, model, settings, reason)`` of points that failed or were refused;
+            a failure record never replaces a curve, and a curve replaces its failure record.
+        keys
+            The items' keys when the caller knows them (a sweep's ``Point.key``, made from
+            the same scene, model and settings); computed from each curve otherwise.
+        """
         items = list(items)
-        keys = [curve_key(sc, cv.model, dict(cv.settings)) for sc, cv in items]
+        failures = list(failures)
+        keys = list(keys) if keys is not None else [
+            curve_key(sc, cv.model, dict(cv.settings)) for sc, cv in items]
+        if len(keys) != len(items):
+            raise ValueError("save_many: one key per item")
+        if not items and not failures:
+            return keys
         self.path.parent.mkdir(parents=True, exist_ok=True)
+        with self.writer():
+            self._write(keys, items, failures)
+        return keys
+
+    def _write(self, keys: list[str], items: list[tuple[Scene, ForceCurve]],
+               failures: list[tuple[str, Scene, str, dict[str, Any], str]]) -> None:
         fd, tmp = tempfile.mkstemp(prefix=self.path.name + ".", suffix=".tmp",
                                    dir=self.path.parent)
         os.close(fd)
         try:
             if self.path.exists():
                 shutil.copyfile(self.path, tmp)
-                mode = "a"
+                mode, perm = "a", os.stat(self.path).st_mode & 0o777
             else:
-                mode = "w"
+                mode, perm = "w", 0o666 & ~_umask()
             with h5py.File(tmp, mode) as f:
                 grp = f.require_group("curves")
                 changed = False
@@ -140,11 +299,23 @@ class Store:
                         _check_same(self.path, key, grp[key], cv)
                         continue
                     _write_curve(grp.create_group(key), sc, cv)
+                    if "failures" in f and key in f["failures"]:
+                        del f["failures"][key]
+                    changed = True
+                fgrp = f.require_group("failures") if failures else None
+                for key, sc, model, settings, reason in failures:
+                    if key in grp or key in fgrp:
+                        continue
+                    g = fgrp.create_group(key)
+                    g.attrs.update(case=sc.name, model=model, scene=sc.canonical_json(),
+                                   settings=json.dumps(settings, sort_keys=True, default=str),
+                                   reason=reason, code_version=code_version())
                     changed = True
                 f.flush()
             if not changed:
                 os.unlink(tmp)
-                return keys
+                return
+            os.chmod(tmp, perm)
             with open(tmp, "rb+") as fh:
                 os.fsync(fh.fileno())
             os.replace(tmp, self.path)
@@ -153,7 +324,61 @@ class Store:
             with contextlib.suppress(FileNotFoundError):
                 os.unlink(tmp)
             raise
-        return keys
+
+
+class BatchWriter:
+    """Collects curves and failure records and saves them in batches.
+
+    A batch is written when :meth:`maybe_flush` finds the last write older than the
+    interval, ``max(min_interval, 10 x the last write's duration)``, so that copying a
+    large file stays a small part of the wall time, or when ``max_batch`` curves are
+    pending (results arriving faster than they can be written must not pile up into one
+    huge write). :meth:`flush` writes whatever is pending. Whatever was flushed survives
+    a SIGKILL; what is pending is lost and recomputed by the next run.
+    """
+
+    def __init__(self, store: Store, min_interval: float = 2.0, max_batch: int = 2000):
+        self.store = store
+        self.min_interval = min_interval
+        self.max_batch = max_batch
+        self.pending: list[tuple[Scene, ForceCurve]] = []
+        self.pending_keys: list[str | None] = []
+        self.pending_failures: list[tuple[str, Scene, str, dict[str, Any], str]] = []
+        self.last = time.monotonic()
+        self.interval = min_interval
+        self.written = 0
+        self.write_time = 0.0
+        self.writes = 0
+
+    def add(self, scene: Scene, curve: ForceCurve, key: str | None = None) -> None:
+        """Queue one curve (with its key if known)."""
+        self.pending.append((scene, curve))
+        self.pending_keys.append(key or curve_key(scene, curve.model, dict(curve.settings)))
+
+    def add_failure(self, key: str, scene: Scene, model: str, settings: dict[str, Any],
+                    reason: str) -> None:
+        """Queue one failure record."""
+        self.pending_failures.append((key, scene, model, settings, reason))
+
+    def maybe_flush(self) -> None:
+        """Write the pending batch if the interval has passed or it holds ``max_batch``
+        curves (a cap on what a SIGKILL can lose and on the client's memory)."""
+        if (time.monotonic() - self.last >= self.interval
+                or len(self.pending) + len(self.pending_failures) >= self.max_batch):
+            self.flush()
+
+    def flush(self) -> None:
+        """Write every pending curve and failure record in one atomic write."""
+        if self.pending or self.pending_failures:
+            t0 = time.monotonic()
+            self.store.save_many(self.pending, self.pending_failures, self.pending_keys)
+            dt = time.monotonic() - t0
+            self.written += len(self.pending)
+            self.write_time += dt
+            self.writes += 1
+            self.interval = max(self.min_interval, 10.0 * dt)
+            self.pending, self.pending_failures, self.pending_keys = [], [], []
+        self.last = time.monotonic()
 
 
 def _fsync_dir(path: Path) -> None:
@@ -175,6 +400,7 @@ def _write_curve(grp: h5py.Group, scene: Scene, curve: ForceCurve) -> None:
          for k, v in curve.diagnostics.items()}, sort_keys=True, default=str)
     grp.attrs["provenance"] = json.dumps(dict(curve.provenance), sort_keys=True, default=str)
     grp.attrs["wall_time_s"] = float(curve.diagnostics.get("wall_time_s", 0.0))
+    grp.attrs["code_version"] = code_version()
     for name in _ARRAYS:
         val = getattr(curve, name)
         if val is not None:

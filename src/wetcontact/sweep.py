@@ -1,24 +1,59 @@
-"""Parameter sweeps: solve many (scene, model) points into the reference store.
+"""Parameter sweeps: solve many (scene, model) points into the reference store on Dask.
 
-INTERFACE STAGE: this module fixes the call that the report, calibration and export use
-(``sweep(points, store, ...) -> SweepResult``); the body is a serial loop until the Dask
-implementation lands. Only the calling process writes the store; a point already in the
-store under the same content key is reused, never recomputed.
+``sweep(points, store)`` solves every point not yet in the store and returns one
+:class:`Outcome` per point. The work runs on dask.distributed: a local cluster of worker
+processes by default, or an existing cluster given by its scheduler address (started with
+``dask scheduler`` / ``dask worker``, or by dask-jobqueue on SLURM/PBS). Workers only
+compute and return :class:`~wetcontact.models.ForceCurve` objects; this process (the
+client) is the only one that writes the store, in batches of a few seconds
+(:class:`~wetcontact.store.BatchWriter`), holding the store's write lock for the whole
+sweep.
+
+- A point already in the store under the same content key (scene, model, settings, code
+  version) is reused, never recomputed; a point whose model failed or refused it before
+  is reported failed with the stored reason (``retry_failed=True`` solves it again).
+- A point that fails (``SolverError``), is refused (``InputError``, ``ValidityError``) or
+  raises anything else is recorded with its reason and never stops the sweep. Refusals
+  and solver failures are stored as failure records; an unexpected exception or a lost
+  worker is not (the next run tries again).
+- Cheap models are batched many points per task (closures up to 2000, ``lubrication``
+  up to 50, field solvers one), with at least about four tasks per worker.
+- Small sweeps run in this process without a cluster: ``workers=0``, or ``workers=None``
+  when the estimated work (:func:`estimated_seconds`) is below :data:`IN_PROCESS_BELOW`
+  seconds. Starting and stopping a local cluster costs 3.5-6 s on 2 shared cores
+  (``benchmarks/bench_sweep.py``: start 2.2-4.5 s, stop 1.3 s), more than such a sweep
+  takes; a task's round trip costs about 4 ms.
 """
 
 from __future__ import annotations
 
+import contextlib
+import logging
+import math
+import os
+import sys
+import threading
 import time
-from collections.abc import Mapping, Sequence
+import warnings
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any, Literal
 
 from wetcontact.errors import InputError, SolverError
 from wetcontact.models import ForceCurve, get_model
 from wetcontact.scene import Scene
-from wetcontact.store import Store, curve_key
+from wetcontact.store import BatchWriter, Store, code_version, curve_key
 
 Status = Literal["computed", "reused", "failed"]
+
+IN_PROCESS_BELOW = 5.0
+"""Estimated serial seconds under which ``workers=None`` runs in this process."""
+
+# Points per task and estimated seconds per point, by fidelity level (closures,
+# lubrication, thin film, FEM); the estimates only choose in-process vs cluster.
+_BATCH = {0: 2000, 1: 50, 2: 1, 3: 1}
+_SECONDS = {0: 2e-3, 1: 0.05, 2: 5.0, 3: 1.0}
 
 
 @dataclass(frozen=True)
@@ -53,17 +88,25 @@ class Point:
         m = get_model(self.model)
         return self.preset if self.preset in m.presets else "default"
 
-    @property
+    @cached_property
+    def run_settings(self) -> dict[str, Any]:
+        """The settings the curve will carry (known before the solve)."""
+        return get_model(self.model).settings_for(self.run_preset, **dict(self.settings))
+
+    @cached_property
     def key(self) -> str:
-        """Content key in the store (scene, model, settings)."""
-        m = get_model(self.model)
-        return curve_key(self.scene, self.model,
-                         m.settings_for(self.run_preset, **dict(self.settings)))
+        """Content key in the store (scene, model, settings, code version); computed once
+        per point (hashing a scene costs about 0.5 ms)."""
+        return curve_key(self.scene, self.model, self.run_settings)
 
 
 @dataclass(frozen=True)
 class Outcome:
-    """What happened to one point: its curve (None when it failed) and why."""
+    """What happened to one point: its curve (None when it failed) and why.
+
+    ``curve`` is also None for a point that succeeded when the sweep ran with
+    ``keep_curves=False``; :meth:`SweepResult.curve` then reads it from the store.
+    """
 
     point: Point
     key: str
@@ -74,20 +117,53 @@ class Outcome:
 
 @dataclass
 class SweepResult:
-    """All outcomes of a sweep, in the order of the points given."""
+    """All outcomes of a sweep, in the order of the points given.
+
+    Attributes
+    ----------
+    outcomes
+        One per point given (duplicates share the outcome of their key).
+    store
+        Path of the store.
+    wall_time_s
+        Wall time of the whole sweep (s), cluster start-up included.
+    executor
+        ``"in-process"``, ``"local-cluster:<N>"`` or the scheduler address.
+    tasks
+        Number of tasks submitted.
+    write_time_s
+        Time spent writing the store (s).
+    """
 
     outcomes: list[Outcome]
     store: str
     wall_time_s: float
+    executor: str = "in-process"
+    tasks: int = 0
+    write_time_s: float = 0.0
+    _by_key: dict[str, Outcome] = field(default_factory=dict, repr=False)
+
+    def __post_init__(self) -> None:
+        self._by_key = {o.key: o for o in self.outcomes}
 
     def count(self, status: Status) -> int:
-        """Number of points with ``status``."""
-        return sum(o.status == status for o in self.outcomes)
+        """Number of distinct points (keys) with ``status``."""
+        return sum(o.status == status for o in self._by_key.values())
 
     def curve(self, point: Point) -> ForceCurve | None:
-        """The curve of ``point`` (None if it failed)."""
-        key = point.key
-        return next((o.curve for o in self.outcomes if o.key == key), None)
+        """The curve of ``point`` (None if it failed or is not part of this sweep)."""
+        out = self._by_key.get(point.key)
+        if out is None or out.status == "failed":
+            return None
+        return out.curve if out.curve is not None else Store(self.store).load(out.key)
+
+    def summary(self, study: str = "") -> dict[str, Any]:
+        """The ``sweep --json`` object: study, points, computed, reused, failed, store,
+        wall_time_s."""
+        return {"study": study, "points": len(self._by_key),
+                "computed": self.count("computed"), "reused": self.count("reused"),
+                "failed": self.count("failed"), "store": self.store,
+                "wall_time_s": round(self.wall_time_s, 3)}
 
 
 def solve_point(point: Point) -> ForceCurve:
@@ -96,8 +172,94 @@ def solve_point(point: Point) -> ForceCurve:
                                         **dict(point.settings))
 
 
+# A worker's answer per point: (curve, reason, persist the failure?).
+_Answer = tuple[ForceCurve | None, str, bool]
+
+
+def solve_batch(points: Sequence[Point]) -> tuple[str, list[_Answer]]:
+    """Solve a batch of points; return this process's code version and one answer each.
+
+    A refusal or bad value (:class:`InputError`) and a solver failure
+    (:class:`SolverError`) are answers to keep; any other exception is a bug or an
+    accident of the machine and is reported without being kept.
+    """
+    answers: list[_Answer] = []
+    for p in points:
+        try:
+            answers.append((solve_point(p), "", False))
+        except (InputError, SolverError) as exc:
+            answers.append((None, str(exc) or type(exc).__name__, True))
+        except Exception as exc:  # noqa: BLE001 - one bad point never stops a sweep
+            answers.append((None, f"unexpected {type(exc).__name__}: {exc}", False))
+    return code_version(), answers
+
+
+def estimated_seconds(points: Sequence[Point]) -> float:
+    """Rough serial wall time of ``points`` (s), from each model's fidelity level."""
+    return sum(_SECONDS.get(get_model(p.model).level, 1.0) for p in points)
+
+
+def _batches(points: Sequence[Point], workers: int) -> list[list[Point]]:
+    """Tasks: points of one fidelity level together, at most ``_BATCH[level]`` per task
+    and at most ``n / (4 workers)`` so every worker gets several tasks."""
+    by_level: dict[int, list[Point]] = {}
+    for p in points:
+        by_level.setdefault(get_model(p.model).level, []).append(p)
+    out: list[list[Point]] = []
+    for level, pts in sorted(by_level.items()):
+        size = max(1, min(_BATCH.get(level, 1), math.ceil(len(pts) / (4 * max(workers, 1)))))
+        out += [pts[i:i + size] for i in range(0, len(pts), size)]
+    # expensive tasks first so the slowest do not trail at the end
+    return out[::-1]
+
+
+class _Progress:
+    """A tqdm bar on a terminal, else a line on stderr every ``every`` seconds (from a
+    background thread, so a long point does not silence it)."""
+
+    def __init__(self, total: int, enabled: bool, every: float = 5.0):
+        self.total, self.done, self.enabled, self.every = total, 0, enabled, every
+        self.counts = {"computed": 0, "reused": 0, "failed": 0}
+        self.t0 = time.monotonic()
+        self.bar = None
+        self.stop = threading.Event()
+        if enabled and sys.stderr.isatty():
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=total, desc="sweep", unit="pt", file=sys.stderr)
+        elif enabled:
+            threading.Thread(target=self._ticker, daemon=True).start()
+
+    def _ticker(self) -> None:
+        while not self.stop.wait(self.every):
+            self.line()
+
+    def update(self, status: Status, n: int = 1) -> None:
+        self.done += n
+        self.counts[status] += n
+        if self.bar is not None:
+            self.bar.update(n)
+            self.bar.set_postfix(self.counts, refresh=False)
+
+    def line(self) -> None:
+        c = self.counts
+        sys.stderr.write(f"sweep: {self.done}/{self.total} points (computed {c['computed']}, "
+                         f"reused {c['reused']}, failed {c['failed']}), "
+                         f"{time.monotonic() - self.t0:.0f} s\n")
+        sys.stderr.flush()
+
+    def close(self) -> None:
+        self.stop.set()
+        if self.bar is not None:
+            self.bar.close()
+        elif self.enabled:
+            self.line()
+
+
 def sweep(points: Sequence[Point], store: Store, workers: int | None = None,
-          scheduler: str | None = None, progress: bool = True) -> SweepResult:
+          scheduler: str | None = None, progress: bool = True, *,
+          retry_failed: bool = False, keep_curves: bool = True,
+          lock_timeout: float | None = None) -> SweepResult:
     """Solve every point not yet in ``store``, save each curve, return all outcomes.
 
     Parameters
@@ -105,31 +267,140 @@ def sweep(points: Sequence[Point], store: Store, workers: int | None = None,
     points
         The work; duplicates (same key) are solved once.
     store
-        The reference store; only this process writes it.
+        The reference store; only this process writes it, holding its lock throughout.
     workers
-        Number of local worker processes (default: one per core).
+        Local worker processes: ``None`` one per core (or in this process when the
+        estimated work is under :data:`IN_PROCESS_BELOW` s), ``0`` in this process.
     scheduler
         Address ``tcp://host:port`` of a running Dask scheduler instead of a local cluster.
     progress
         Show a progress bar on a terminal, a line every few seconds otherwise.
+    retry_failed
+        Solve again the points whose failure is recorded in the store.
+    keep_curves
+        Keep the curves in the result (``False`` for very large sweeps: curves are read
+        from the store on demand by :meth:`SweepResult.curve`).
+    lock_timeout
+        Seconds to wait for another writer of the store (default: the store's).
+
+    Raises
+    ------
+    StoreBusyError
+        Another process holds the store past ``lock_timeout``.
+    InputError
+        ``workers`` negative, or the scheduler cannot be reached.
     """
     t0 = time.perf_counter()
-    outcomes: list[Outcome] = []
-    done: dict[str, Outcome] = {}
+    if workers is not None and (isinstance(workers, bool) or workers < 0):
+        raise InputError(f"workers = {workers!r}; allowed: an integer >= 0")
+    unique: dict[str, Point] = {}
+    keys = []
     for p in points:
-        key = p.key
-        if key in done:
-            outcomes.append(done[key])
-            continue
-        if key in store:
-            out = Outcome(p, key, "reused", store.load(key))
-        else:
+        k = p.key
+        keys.append(k)
+        unique.setdefault(k, p)
+    done: dict[str, Outcome] = {}
+    bw = BatchWriter(store)
+    executor, n_tasks = "in-process", 0
+    with store.writer(lock_timeout):
+        stored = set(store.keys())
+        known_failures = {} if retry_failed else store.failures()
+        prog = _Progress(len(unique), progress)
+        reused = [k for k in unique if k in stored]
+        curves = store.load_many(reused) if keep_curves else {}
+        for k in reused:
+            done[k] = Outcome(unique[k], k, "reused", curves.get(k))
+        prog.update("reused", len(reused))
+        for k in unique:
+            if k not in done and k in known_failures:
+                done[k] = Outcome(unique[k], k, "failed", None, known_failures[k])
+                prog.update("failed")
+        todo = [p for k, p in unique.items() if k not in done]
+
+        def record(p: Point, k: str, answer: _Answer) -> None:
+            curve, reason, keep = answer
+            if curve is not None:
+                bw.add(p.scene, curve, key=k)
+                done[k] = Outcome(p, k, "computed", curve if keep_curves else None)
+                prog.update("computed")
+            else:
+                if keep:
+                    bw.add_failure(k, p.scene, p.model, p.run_settings, reason)
+                done[k] = Outcome(p, k, "failed", None, reason)
+                prog.update("failed")
+            bw.maybe_flush()
+
+        try:
+            if todo:
+                local = scheduler is None and (workers == 0 or (
+                    workers is None and estimated_seconds(todo) < IN_PROCESS_BELOW))
+                if local:
+                    for p in todo:
+                        record(p, p.key, solve_batch([p])[1][0])
+                else:
+                    executor, n_tasks = _run_dask(todo, workers, scheduler, record)
+        finally:
+            bw.flush()
+            prog.close()
+    outcomes = [done[k] for k in keys]
+    return SweepResult(outcomes, str(store.path), time.perf_counter() - t0, executor,
+                       n_tasks, bw.write_time)
+
+
+def _run_dask(todo: list[Point], workers: int | None, scheduler: str | None,
+              record: Callable[[Point, str, _Answer], None]) -> tuple[str, int]:
+    """Run ``todo`` on a local cluster or at ``scheduler``; feed each answer to ``record``."""
+    from distributed import as_completed
+
+    with _dask_client(workers, scheduler) as (client, label):
+        n = max(1, len(client.scheduler_info().get("workers", {})))
+        tasks = _batches(todo, n)
+        mine = code_version()
+        futures = {client.submit(solve_batch, b, pure=False): b for b in tasks}
+        for fut in as_completed(futures):
+            batch = futures.pop(fut)
             try:
-                curve = solve_point(p)
-                store.save(p.scene, curve)
-                out = Outcome(p, key, "computed", curve)
-            except (InputError, SolverError) as exc:
-                out = Outcome(p, key, "failed", None, str(exc))
-        done[key] = out
-        outcomes.append(out)
-    return SweepResult(outcomes, str(store.path), time.perf_counter() - t0)
+                theirs, answers = fut.result()
+            except Exception as exc:  # noqa: BLE001 - a lost worker fails its points only
+                answers = [(None, f"task failed on the cluster: {type(exc).__name__}: {exc}",
+                            False)] * len(batch)
+            else:
+                if theirs != mine:
+                    answers = [(None, f"worker runs wetcontact {theirs}, this client "
+                                f"{mine}: install the same code on the workers", False)
+                               ] * len(batch)
+            fut.release()
+            for p, a in zip(batch, answers, strict=True):
+                record(p, p.key, a)
+        return label, len(tasks)
+
+
+@contextlib.contextmanager
+def _dask_client(workers: int | None, scheduler: str | None) -> Iterator[tuple[Any, str]]:
+    """A Client on a new LocalCluster (closed on exit) or on an existing scheduler."""
+    from distributed import Client, LocalCluster
+
+    if scheduler is not None:
+        try:
+            client = Client(scheduler, timeout="20s")
+        except (OSError, TimeoutError, ValueError) as exc:
+            raise InputError(f"--scheduler {scheduler}: cannot reach a Dask scheduler "
+                             f"({type(exc).__name__}: {exc}); allowed: the tcp://HOST:PORT "
+                             "a running `dask scheduler` prints") from None
+        with client:
+            try:
+                client.wait_for_workers(1, timeout=60)
+            except TimeoutError:
+                raise InputError(f"--scheduler {scheduler}: no worker joined within 60 s; "
+                                 "start `dask worker " + scheduler + "`") from None
+            yield client, scheduler
+        return
+    n = workers or os.cpu_count() or 1
+    with warnings.catch_warnings():
+        # the scheduler's HTTP endpoint moves to a free port when 8787 is taken; say nothing
+        warnings.filterwarnings("ignore", message="Port .* is already in use")
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               dashboard_address=None, host="127.0.0.1",
+                               silence_logs=logging.CRITICAL)
+    with cluster, Client(cluster) as client:
+        yield client, f"local-cluster:{n}"

@@ -27,7 +27,6 @@ from __future__ import annotations
 from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
-from scipy.optimize import brentq
 
 from wetcontact.errors import InputError, SolverError, ValidityError
 from wetcontact.models import ForceCurve, Model, register
@@ -194,6 +193,7 @@ def _solve_filling_angle(volume: float, gap: float, radius: float, theta_s: floa
             f"{np.nanmax(np.where(ok, vol, np.nan)) if ok.any() else 0.0:.6g} m3 "
             "or the gap is beyond the toroid's existence")
     i = int(idx[0])
+    from scipy.optimize import brentq  # here, not at import: `solve` with a closure starts fast
 
     def resid(b: float) -> float:
         return float(toroidal_volume(b, gap, radius, theta_s, theta_w, kind)) - volume

@@ -1,0 +1,1 @@
+"""Writers that turn the reference store into files other tools read (CSV, ...)."""

@@ -1,0 +1,74 @@
+"""``wetcontact export csv``: a study's stored curves as one flat CSV table.
+
+One row per (point, model, gap). Columns: one per study axis, named by its field path
+(e.g. ``liquid.contact_angle``, in the units of the study file), then ``model``, ``gap``
+(m), ``force_viscous``, ``force_capillary``, ``force_total`` (N, positive = pushing the
+surfaces apart), ``status`` and ``reason``. A component the model does not compute is an
+empty cell, not zero. ``status`` is ``ok``; ``no-bridge`` at a gap past the bridge's
+rupture (force 0 by definition); ``failed`` (the model failed or refused the point:
+``reason`` says why; forces empty); or ``missing`` (not in the store: run
+``wetcontact sweep`` first). Numbers are written at full precision (shortest repr that
+reads back to the same double).
+"""
+
+from __future__ import annotations
+
+import csv
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from wetcontact.fileio import atomic_open
+from wetcontact.models import ForceCurve
+from wetcontact.store import Store
+from wetcontact.sweep import Point
+
+FIXED_COLUMNS = ("model", "gap", "force_viscous", "force_capillary", "force_total",
+                 "status", "reason")
+
+
+def _cell(x: float | None) -> str:
+    return "" if x is None else repr(float(x))
+
+
+def write_csv(points: Sequence[Point], axes: Sequence[str], store: Store,
+              out: str | Path) -> dict[str, int]:
+    """Write the rows of ``points`` from ``store`` to ``out`` (atomically).
+
+    Returns
+    -------
+    dict
+        Row counts by status (``ok``, ``no-bridge``, ``failed``, ``missing``) and ``rows``.
+    """
+    keys = [p.key for p in points]
+    curves = store.load_many(set(keys))
+    failures = store.failures()
+    counts = {"ok": 0, "no-bridge": 0, "failed": 0, "missing": 0, "rows": 0}
+    with atomic_open(out, newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow([*axes, *FIXED_COLUMNS])
+        for p, k in zip(points, keys, strict=True):
+            head = [p.axes.get(a, "") for a in axes]
+            curve = curves.get(k)
+            if curve is None:
+                status = "failed" if k in failures else "missing"
+                reason = failures.get(k, "not in the store: run `wetcontact sweep` first")
+                for g in p.scene.gaps:
+                    w.writerow([*head, p.model, _cell(g), "", "", "", status, reason])
+                counts[status] += len(p.scene.gaps)
+                continue
+            for row, status in _curve_rows(curve):
+                w.writerow([*head, p.model, *row, status, ""])
+                counts[status] += 1
+    counts["rows"] = sum(v for k, v in counts.items() if k != "rows")
+    return counts
+
+
+def _curve_rows(curve: ForceCurve):
+    exists = curve.extras.get("bridge_exists")
+    fv, fc, ft = curve.force_viscous, curve.force_capillary, curve.force_total
+    for i, g in enumerate(curve.gap):
+        status = "no-bridge" if exists is not None and not np.asarray(exists)[i] else "ok"
+        yield ([_cell(g), _cell(None if fv is None else fv[i]),
+                _cell(None if fc is None else fc[i]), _cell(ft[i])], status)

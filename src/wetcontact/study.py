@@ -1,0 +1,432 @@
+r"""Study files: a base case plus axes -> points (scene x model).
+
+A study file (``cases/studies/*.toml``) names a base case file, the models to run and the
+fields to vary; every point is the base case with those fields replaced, solved by each
+model::
+
+    name = "bridge-sphere-plate"
+    description = "what the study is for"
+    base = "../dem-pendular-bridge-100um.toml"   # a case file, relative to this file
+    models = ["meniscus", "willett"]
+    preset = "default"                           # optional: fast, default, accurate
+    [axes]                                       # the full grid of all axes
+    "liquid.contact_angle" = [0.0, 20.0, 40.0]   # any case-file field path: a list ...
+    "amount.bridge_volume" = { start = 1e-13, stop = 1e-11, points = 6, spacing = "log" }
+    [set]                                        # optional: fields set on every point
+    "motion.gap_over_rupture" = { start = 0.02, stop = 0.98, points = 20, spacing = "linear" }
+
+With ``[sample] method = "latin-hypercube", points = N, seed = S`` the axes are ranges
+``{ min, max, spacing }`` and the N points are a seeded Latin hypercube over them (a
+held-out set that does not sit on any calibration grid): axis ``j`` of point ``i`` is
+``u = (pi_j(i) + U_ij)/N`` with ``pi_j`` a random permutation of ``0..N-1`` and ``U``
+uniform on [0, 1) (McKay, Beckman & Conover 1979), mapped linearly or logarithmically
+onto [min, max].
+
+Derived dimensionless fields may be used wherever a field path is (axes or ``[set]``);
+each sets a case-file field from the point's other values:
+
+====================================  ===============================================
+``geometry.radius_ratio``             ``geometry.radius2 = value x radius``
+``amount.volume_over_radius3``        ``amount.bridge_volume = value x radius^3``
+``amount.film_over_radius``           ``amount.film_thickness = value x radius``
+``motion.capillary_number``           ``motion.velocity = value x surface_tension / viscosity``
+``motion.gap_over_radius``            ``motion.gaps = value x radius``
+``motion.gap_over_rupture``           ``motion.gaps = value x S_c``
+====================================  ===============================================
+
+``S_c`` is the rupture distance of the point's bridge from the finite-element
+Young-Laplace solution (:func:`wetcontact.solver.meniscus.rupture_distance` at the
+``fast`` preset's resolution, relative accuracy about 1e-5). Gap fields take one value
+per point as an axis, or a list / range in ``[set]`` (every point gets that many gaps).
+Setting one ``amount`` field removes the base's other amount; setting
+``liquid.contact_angle`` removes per-surface angles and setting a per-surface angle
+splits the base's ``contact_angle`` into both.
+
+Every error is one :class:`~wetcontact.errors.CaseError` naming the study file, the key,
+the value and the allowed range; an invalid generated scene is reported against the axis
+(or ``set`` entry) that produced the bad value.
+"""
+
+from __future__ import annotations
+
+import copy
+import itertools
+import math
+import re
+import tomllib
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from wetcontact.errors import CaseError, InputError
+from wetcontact.models import PRESETS, get_model
+from wetcontact.scene import _SCHEMA, Scene, scene_from_dict
+from wetcontact.sweep import Point
+
+MAX_SCENES = 100_000
+MAX_POINTS = 1_000_000
+_KEYS = ("name", "description", "source", "base", "models", "preset", "axes", "set",
+         "sample")
+_AMOUNTS = ("film_thickness", "bridge_volume", "immersed")
+_PER_SURFACE = ("contact_angle_sphere", "contact_angle_wall", "contact_angle_sphere2")
+
+
+def _rupture_gaps(case: dict[str, Any], value: Any) -> Any:
+    sc = scene_from_dict(case, source="<study point>")
+    if sc.bridge_volume is None:
+        raise InputError("needs a bridge (amount.bridge_volume) to define a rupture distance")
+    sc_rupture = _rupture_distance(sc.radius, sc.radius2 if sc.kind == "sphere-sphere" else
+                                   None, sc.contact_angle_sphere, sc.contact_angle_wall,
+                                   sc.surface_tension, sc.bridge_volume)
+    return _scaled(value, sc_rupture)
+
+
+@lru_cache(maxsize=4096)
+def _rupture_distance(r1: float, r2: float | None, th1: float, th2: float, sigma: float,
+                      volume: float) -> float:
+    from wetcontact.solver.meniscus import Bridge, rupture_distance
+
+    n_el = int(get_model("meniscus").presets["fast"]["n_elements"])
+    bridge = Bridge(radius=r1, radius2=r2, contact_angle1=th1, contact_angle2=th2,
+                    surface_tension=sigma)
+    return float(rupture_distance(bridge, volume, n_elements=n_el))
+
+
+def _scaled(value: Any, scale: float) -> Any:
+    if isinstance(value, list | tuple):
+        return [float(v) * scale for v in value]
+    return float(value) * scale
+
+
+# Derived field -> (case-file field it sets, function(case dict, value) -> field value).
+DERIVED: dict[str, tuple[str, Callable[[dict[str, Any], Any], Any]]] = {
+    "geometry.radius_ratio": ("geometry.radius2",
+                              lambda c, v: float(v) * c["geometry"]["radius"]),
+    "amount.volume_over_radius3": ("amount.bridge_volume",
+                                   lambda c, v: float(v) * c["geometry"]["radius"] ** 3),
+    "amount.film_over_radius": ("amount.film_thickness",
+                                lambda c, v: float(v) * c["geometry"]["radius"]),
+    "motion.capillary_number": ("motion.velocity", lambda c, v: float(v)
+                                * c["liquid"]["surface_tension"] / c["liquid"]["viscosity"]),
+    "motion.gap_over_radius": ("motion.gaps",
+                               lambda c, v: _scaled(v, c["geometry"]["radius"])),
+    "motion.gap_over_rupture": ("motion.gaps", _rupture_gaps),
+}
+"""Derived dimensionless fields, applied in this order after the plain fields."""
+
+
+@dataclass(frozen=True)
+class Study:
+    """A validated study: its points are built (and checked) when it is loaded.
+
+    Attributes
+    ----------
+    name, description
+        From the study file.
+    source
+        The study file.
+    base
+        The base case file.
+    models
+        Model names, each run on every scene.
+    preset
+        Resolution preset of every point.
+    axes
+        Axis field paths, in file order (the columns of ``export csv``).
+    scenes
+        ``(axis values, scene)`` per point of the design, grid order (first axis slowest)
+        or sample order.
+    """
+
+    name: str
+    description: str
+    source: Path
+    base: Path
+    models: tuple[str, ...]
+    preset: str
+    axes: tuple[str, ...]
+    scenes: tuple[tuple[Mapping[str, Any], Scene], ...] = field(repr=False)
+
+    def points(self) -> list[Point]:
+        """Every (scene, model) point, scene-major, with ``axes`` filled."""
+        return [Point(scene=sc, model=m, preset=self.preset, axes=dict(ax))
+                for ax, sc in self.scenes for m in self.models]
+
+
+def load_study(path: str | Path) -> Study:
+    """Read and validate a study file and build its points.
+
+    Raises
+    ------
+    CaseError
+        A missing file, TOML syntax error, unknown key, bad axis, or a generated scene
+        outside the case-file ranges: file, key, value and allowed range in one line.
+    """
+    path = Path(path)
+    src = str(path)
+    data = _read_toml(src, path, "an existing TOML study file")
+    for key in data:
+        if key not in _KEYS:
+            raise CaseError(src, key, data[key], "known keys: " + ", ".join(_KEYS))
+    for key in ("name", "base", "models"):
+        if key not in data:
+            raise CaseError(src, key, None, "required")
+    name = data["name"]
+    if not isinstance(name, str) or not name.strip():
+        raise CaseError(src, "name", name, "a non-empty string")
+    for key in ("description", "source"):
+        if not isinstance(data.get(key, ""), str):
+            raise CaseError(src, key, data[key], "a string")
+    models = _models(src, data["models"])
+    preset = data.get("preset", "default")
+    if preset not in PRESETS:
+        raise CaseError(src, "preset", preset, ", ".join(PRESETS))
+    base_path, base = _base(src, path, data["base"])
+    fixed = _table(src, data, "set")
+    axes = _table(src, data, "axes")
+    for p in [*fixed, *axes]:
+        _check_path(src, p, "set" if p in fixed else "axes")
+    both = sorted(set(fixed) & set(axes))
+    if both:
+        raise CaseError(src, f"set.{both[0]}", fixed[both[0]], "a field in [set] or in "
+                        "[axes], not both")
+    fixed = {p: _set_value(src, p, v) for p, v in fixed.items()}
+    if "sample" in data:
+        designs = _sample(src, data["sample"], axes)
+    else:
+        designs = _grid(src, axes)
+    if len(designs) * len(models) > MAX_POINTS:
+        raise CaseError(src, "axes", f"{len(designs)} scenes x {len(models)} models",
+                        f"at most {MAX_POINTS} points")
+    scenes = tuple((ax, _scene(src, base_path, base, fixed, ax)) for ax in designs)
+    return Study(name=name, description=data.get("description", ""), source=path,
+                 base=base_path, models=models, preset=preset, axes=tuple(axes),
+                 scenes=scenes)
+
+
+# ---- parts of a study file ----------------------------------------------------------
+
+
+def _read_toml(src: str, path: Path, allowed: str) -> dict[str, Any]:
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise CaseError(src, "(file)", None, allowed) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise CaseError(src, "(file)", type(exc).__name__, "a readable UTF-8 TOML file") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise CaseError(src, "(syntax)", str(exc), "valid TOML") from None
+
+
+def _models(src: str, models: Any) -> tuple[str, ...]:
+    if not isinstance(models, list) or not models or len(models) > 100:
+        raise CaseError(src, "models", models, "a non-empty list of model names")
+    for i, m in enumerate(models):
+        if not isinstance(m, str):
+            raise CaseError(src, f"models[{i}]", m, "a model name")
+        try:
+            get_model(m)
+        except InputError:
+            from wetcontact.models import MODELS
+
+            raise CaseError(src, f"models[{i}]", m, ", ".join(sorted(MODELS))) from None
+    if len(set(models)) != len(models):
+        raise CaseError(src, "models", models, "each model once")
+    return tuple(models)
+
+
+def _base(src: str, path: Path, base: Any) -> tuple[Path, dict[str, Any]]:
+    if not isinstance(base, str) or not base or len(base) > 4096 or "\0" in base:
+        raise CaseError(src, "base", base, "a case file path relative to the study file")
+    base_path = path.parent / base
+    data = _read_toml(src, base_path, f"an existing case file ({base_path} not found)")
+    scene_from_dict(data, source=str(base_path))  # the base alone must be valid
+    return base_path, data
+
+
+def _table(src: str, data: Mapping[str, Any], key: str) -> dict[str, Any]:
+    val = data.get(key, {})
+    if not isinstance(val, Mapping):
+        raise CaseError(src, key, val, f"a table [{key}] of field path = values")
+    return dict(val)
+
+
+def _check_path(src: str, p: str, where: str) -> None:
+    table, _, key = p.partition(".")
+    plain = bool(table) and table in _SCHEMA and key in _SCHEMA[table]
+    if not (plain or p in DERIVED):
+        allowed = sorted(f"{t}.{k}" for t, ks in _SCHEMA.items() if t for k in ks)
+        raise CaseError(src, where, p, "a case-file field path (" + ", ".join(allowed)
+                        + ") or a derived one (" + ", ".join(DERIVED) + ")")
+
+
+def _number(src: str, key: str, v: Any) -> float:
+    if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
+        raise CaseError(src, key, v, "a finite number")
+    return float(v)
+
+
+def _range(src: str, key: str, spec: Mapping[str, Any]) -> list[float]:
+    """``{start, stop, points, spacing}`` -> values."""
+    for k in spec:
+        if k not in ("start", "stop", "points", "spacing"):
+            raise CaseError(src, f"{key}.{k}", spec[k], "keys start, stop, points, spacing")
+    for k in ("start", "stop", "points"):
+        if k not in spec:
+            raise CaseError(src, f"{key}.{k}", None, "required")
+    a, b = _number(src, f"{key}.start", spec["start"]), _number(src, f"{key}.stop", spec["stop"])
+    n = spec["points"]
+    if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_SCENES:
+        raise CaseError(src, f"{key}.points", n, f"an integer in [1, {MAX_SCENES}]")
+    spacing = spec.get("spacing", "linear")
+    if spacing == "log":
+        if a <= 0 or b <= 0:
+            raise CaseError(src, f"{key}.start", a, "> 0 (and stop > 0) for spacing = 'log'")
+        return [float(x) for x in np.geomspace(a, b, n)]
+    if spacing != "linear":
+        raise CaseError(src, f"{key}.spacing", spacing, "'log' or 'linear'")
+    return [float(x) for x in np.linspace(a, b, n)]
+
+
+def _values(src: str, key: str, v: Any) -> list[Any]:
+    """An axis: a non-empty list of scalars or a range table."""
+    if isinstance(v, Mapping):
+        return _range(src, key, v)
+    if not isinstance(v, list) or not v or len(v) > MAX_SCENES:
+        raise CaseError(src, key, v, f"a list of 1 to {MAX_SCENES} values or "
+                        "{start, stop, points, spacing}")
+    for i, x in enumerate(v):
+        if isinstance(x, Mapping | list) or (isinstance(x, float) and not math.isfinite(x)):
+            raise CaseError(src, f"{key}[{i}]", x, "a finite number, string or boolean")
+    return list(v)
+
+
+def _set_value(src: str, p: str, v: Any) -> Any:
+    """A ``[set]`` value: as given; a range table for a derived gap field is expanded."""
+    key = f"set.{p}"
+    if p in DERIVED and DERIVED[p][0] == "motion.gaps":
+        return _values(src, key, v) if isinstance(v, Mapping | list) else _number(src, key, v)
+    if p in DERIVED:
+        return _number(src, key, v)
+    return v
+
+
+def _grid(src: str, axes: Mapping[str, Any]) -> list[dict[str, Any]]:
+    values = {p: _values(src, f"axes.{p}", v) for p, v in axes.items()}
+    n = math.prod(len(v) for v in values.values())
+    if n > MAX_SCENES:
+        raise CaseError(src, "axes", f"{n} grid points", f"at most {MAX_SCENES} scenes")
+    return [dict(zip(values, combo, strict=True)) for combo in itertools.product(*values.values())]
+
+
+def _sample(src: str, sample: Any, axes: Mapping[str, Any]) -> list[dict[str, Any]]:
+    if not isinstance(sample, Mapping):
+        raise CaseError(src, "sample", sample, "a table [sample] with method, points, seed")
+    for k in sample:
+        if k not in ("method", "points", "seed"):
+            raise CaseError(src, f"sample.{k}", sample[k], "keys method, points, seed")
+    if sample.get("method") != "latin-hypercube":
+        raise CaseError(src, "sample.method", sample.get("method"), "'latin-hypercube'")
+    n, seed = sample.get("points"), sample.get("seed")
+    if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_SCENES:
+        raise CaseError(src, "sample.points", n, f"an integer in [1, {MAX_SCENES}]")
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise CaseError(src, "sample.seed", seed, "an integer >= 0 (the design is "
+                        "reproducible only with a fixed seed)")
+    if not axes:
+        raise CaseError(src, "axes", None, "at least one axis {min, max} to sample")
+    lims = {}
+    for p, spec in axes.items():
+        key = f"axes.{p}"
+        if not isinstance(spec, Mapping) or set(spec) - {"min", "max", "spacing"} or not (
+                {"min", "max"} <= set(spec)):
+            raise CaseError(src, key, spec, "{min, max, spacing} with [sample]")
+        lo, hi = _number(src, f"{key}.min", spec["min"]), _number(src, f"{key}.max", spec["max"])
+        spacing = spec.get("spacing", "linear")
+        if spacing not in ("linear", "log"):
+            raise CaseError(src, f"{key}.spacing", spacing, "'log' or 'linear'")
+        if not lo < hi:
+            raise CaseError(src, f"{key}.max", hi, f"> min = {lo:g}")
+        if spacing == "log" and lo <= 0:
+            raise CaseError(src, f"{key}.min", lo, "> 0 for spacing = 'log'")
+        lims[p] = (lo, hi, spacing)
+    u = latin_hypercube(n, len(lims), seed)
+    out = []
+    for row in u:
+        pt = {}
+        for (p, (lo, hi, spacing)), x in zip(lims.items(), row, strict=True):
+            pt[p] = float(lo * (hi / lo) ** x) if spacing == "log" else float(lo + (hi - lo) * x)
+        out.append(pt)
+    return out
+
+
+def latin_hypercube(n: int, d: int, seed: int) -> np.ndarray:
+    """A seeded Latin hypercube on [0, 1)^d, shape (n, d): each column has exactly one
+    value in each of the n strata [k/n, (k+1)/n) (McKay, Beckman & Conover 1979)."""
+    rng = np.random.default_rng(seed)
+    perms = np.stack([rng.permutation(n) for _ in range(d)], axis=1)
+    return (perms + rng.random((n, d))) / n
+
+
+# ---- building one scene -------------------------------------------------------------
+
+
+def _assign(case: dict[str, Any], p: str, value: Any) -> None:
+    table, _, key = p.partition(".")
+    sub = case.setdefault(table, {})
+    if table == "amount":
+        for k in _AMOUNTS:
+            sub.pop(k, None)
+    if table == "liquid" and key == "contact_angle":
+        for k in _PER_SURFACE:
+            sub.pop(k, None)
+    if table == "liquid" and key in _PER_SURFACE and "contact_angle" in sub:
+        th = sub.pop("contact_angle")
+        other = "contact_angle_wall" if case["geometry"].get("kind") == "sphere-wall" \
+            else "contact_angle_sphere2"
+        sub["contact_angle_sphere"] = th
+        sub[other] = th
+    sub[key] = value
+
+
+def _scene(src: str, base_path: Path, base: dict[str, Any], fixed: Mapping[str, Any],
+           axes: Mapping[str, Any]) -> Scene:
+    """The base with ``fixed`` and ``axes`` applied; errors blamed on their origin."""
+    case = copy.deepcopy(base)
+    given = {**fixed, **axes}
+    origin = {p: ("set" if p in fixed else "axes") for p in given}
+    targets: dict[str, str] = {}  # case-file field -> study entry that set it
+    for p, v in given.items():
+        if p not in DERIVED:
+            _assign(case, p, v)
+            targets[p] = p
+    for p, (target, fn) in DERIVED.items():
+        if p not in given:
+            continue
+        try:
+            val = fn(case, given[p])
+        except (InputError, KeyError, TypeError, ZeroDivisionError) as exc:
+            why = str(exc) if isinstance(exc, InputError) else f"missing {exc}"
+            raise CaseError(src, f"{origin[p]}.{p}", given[p], f"a value giving a valid "
+                            f"{target} ({why}; point {dict(axes)})") from None
+        _assign(case, target, val)
+        targets[target] = p
+    try:
+        return scene_from_dict(case, source=str(base_path))
+    except CaseError as exc:
+        fld = re.sub(r"(\[\d+\]|\.(start|stop|points|spacing))$", "", exc.field)
+        entry = targets.get(fld)
+        if entry is None:
+            raise CaseError(src, exc.field, exc.value, f"{exc.allowed} (base {base_path} "
+                            f"at point {dict(axes)})") from None
+        if entry in DERIVED:
+            raise CaseError(src, f"{origin[entry]}.{entry}", given[entry],
+                            f"a value giving {exc.field} {exc.allowed} (it gave "
+                            f"{exc.value!r})") from None
+        raise CaseError(src, f"{origin[entry]}.{entry}", exc.value, exc.allowed) from None

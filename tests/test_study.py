@@ -1,0 +1,170 @@
+"""Study files: grids, Latin hypercubes, derived axes, and one-line errors for bad files."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from wetcontact.cli import main
+from wetcontact.errors import CaseError
+from wetcontact.study import latin_hypercube, load_study
+
+ROOT = Path(__file__).resolve().parents[1]
+STUDIES = ROOT / "cases" / "studies"
+BASE_FILM = ROOT / "cases" / "glass-2mm-water-film.toml"
+BASE_BRIDGE = ROOT / "cases" / "dem-pendular-bridge-100um.toml"
+
+
+def write(tmp_path: Path, body: str, base: Path = BASE_FILM, name: str = "s.toml") -> Path:
+    p = tmp_path / name
+    p.write_text(f'name = "t"\nbase = "{base}"\n' + body, encoding="utf-8")
+    return p
+
+
+def test_grid_study_replaces_fields_and_fills_axes():
+    st = load_study(STUDIES / "stokes-immersed-16.toml")
+    assert len(st.scenes) == 16 and st.axes == ("geometry.radius", "liquid.viscosity")
+    pts = st.points()
+    assert len(pts) == 32 and {p.model for p in pts} == {"stokes", "brenner"}
+    assert all(p.preset == "fast" for p in pts)
+    radii = sorted({p.scene.radius for p in pts})
+    assert radii == [5e-4, 1e-3, 2e-3, 4e-3]
+    for p in pts:  # each point's scene holds its own axis values; gaps are S/R x R
+        assert p.scene.radius == p.axes["geometry.radius"]
+        assert p.scene.viscosity == p.axes["liquid.viscosity"]
+        assert np.allclose(p.scene.gap_array / p.scene.radius, [0.01, 0.1, 1.0], rtol=1e-15)
+    # first axis slowest
+    assert [p.axes["liquid.viscosity"] for p in pts[:8:2]] == [1e-3, 0.1, 1.2, 10.0]
+
+
+def test_range_axis_and_derived_dimensionless_axes(tmp_path):
+    p = write(tmp_path, '''models = ["reynolds"]
+[axes]
+"motion.capillary_number" = { start = 1e-4, stop = 1e-2, points = 3, spacing = "log" }
+"amount.film_over_radius" = [0.05, 0.1]
+[set]
+"motion.gap_over_radius" = { start = 0.04, stop = 0.001, points = 4, spacing = "log" }
+''')
+    st = load_study(p)
+    assert len(st.points()) == 6
+    for ax, sc in st.scenes:
+        assert math.isclose(sc.velocity * sc.viscosity / sc.surface_tension,
+                            ax["motion.capillary_number"], rel_tol=1e-14)
+        assert math.isclose(sc.film_thickness, ax["amount.film_over_radius"] * sc.radius,
+                            rel_tol=1e-14)
+        assert np.allclose(sc.gap_array / sc.radius, np.geomspace(0.04, 0.001, 4), rtol=1e-14)
+    assert [ax["motion.capillary_number"] for ax, _ in st.scenes[::2]] == pytest.approx(
+        [1e-4, 1e-3, 1e-2], rel=1e-14)
+
+
+def test_amount_and_angle_fields_switch_cleanly(tmp_path):
+    p = write(tmp_path, '''models = ["willett"]
+[axes]
+"amount.volume_over_radius3" = [0.01]
+"liquid.contact_angle_sphere" = [10.0, 30.0]
+[set]
+"geometry.kind" = "sphere-sphere"
+"motion.gaps" = [1e-6, 1e-5]
+''')
+    st = load_study(p)  # the film base becomes a bridge between two spheres
+    for ax, sc in st.scenes:
+        assert sc.amount == "bridge" and sc.film_thickness is None
+        assert math.isclose(sc.bridge_volume, 0.01 * sc.radius**3, rel_tol=1e-14)
+        assert math.isclose(math.degrees(sc.contact_angle_sphere),
+                            ax["liquid.contact_angle_sphere"])
+        assert math.degrees(sc.contact_angle_wall) == pytest.approx(20.0)  # base's angle kept
+
+
+def test_gaps_over_rupture_distance_against_the_meniscus_model(tmp_path):
+    from wetcontact.models import get_model
+
+    p = write(tmp_path, '''models = ["meniscus"]
+[axes]
+"liquid.contact_angle" = [30.0]
+[set]
+"motion.gap_over_rupture" = [0.25, 0.5, 0.99]
+''', base=BASE_BRIDGE)
+    (_, sc), = load_study(p).scenes
+    curve = get_model("meniscus").force(sc, preset="default")
+    s_c = curve.extras["rupture_distance"][0]  # 128 elements; the study used 64
+    assert np.allclose(sc.gap_array / s_c, [0.25, 0.5, 0.99], rtol=1e-6)
+    assert np.all(curve.extras["bridge_exists"] == 1.0)  # 0.99 S_c is still a bridge
+
+
+def test_latin_hypercube_is_stratified_seeded_and_mapped(tmp_path):
+    u = latin_hypercube(50, 3, seed=7)
+    for j in range(3):  # one sample in each of the 50 strata of every column
+        assert sorted(np.floor(u[:, j] * 50).astype(int)) == list(range(50))
+    assert np.array_equal(u, latin_hypercube(50, 3, seed=7))
+    assert not np.array_equal(u, latin_hypercube(50, 3, seed=8))
+    st = load_study(STUDIES / "bridge-held-out.toml")
+    v = np.array([ax["amount.volume_over_radius3"] for ax, _ in st.scenes])
+    th = np.array([ax["liquid.contact_angle"] for ax, _ in st.scenes])
+    assert len(v) == 40 and v.min() >= 1e-3 and v.max() <= 0.1
+    assert th.min() >= 0 and th.max() <= 50
+    strata = np.floor(np.log(v / 1e-3) / np.log(100) * 40).astype(int)  # log spacing
+    assert sorted(strata) == list(range(40))
+
+
+BAD = [
+    ('models = ["reynolds"]\nfoo = 1\n', "foo = 1", "known keys"),
+    ('models = ["nosuch"]\n', "models[0] = 'nosuch'", "reynolds"),
+    ('models = []\n', "models = []", "non-empty list"),
+    ('models = ["reynolds"]\npreset = "best"\n', "preset = 'best'", "fast"),
+    ('models = ["reynolds"]\n[axes]\n"liquid.visc" = [1.0]\n', "axes = 'liquid.visc'",
+     "case-file field path"),
+    ('models = ["reynolds"]\n[axes]\n"liquid.viscosity" = []\n', "axes.liquid.viscosity = []",
+     "list of 1 to"),
+    ('models = ["reynolds"]\n[axes]\n"liquid.viscosity" = {start=1, stop=2, points=0}\n',
+     "axes.liquid.viscosity.points = 0", "[1, 100000]"),
+    ('models = ["reynolds"]\n[axes]\n"liquid.viscosity" = {start=-1, stop=2, points=3, '
+     'spacing="log"}\n', "axes.liquid.viscosity.start = -1.0", "spacing = 'log'"),
+    ('models = ["reynolds"]\n[axes]\n"liquid.contact_angle" = [10.0, 190.0]\n',
+     "axes.liquid.contact_angle = 190.0", "[0, 180) degrees"),
+    ('models = ["reynolds"]\n[axes]\n"liquid.viscosity" = [1e-3, -1.0]\n',
+     "axes.liquid.viscosity = -1.0", "Pa s"),
+    ('models = ["reynolds"]\n[axes]\n"amount.volume_over_radius3" = [50.0]\n',
+     "axes.amount.volume_over_radius3 = 50.0", "amount.bridge_volume"),
+    ('models = ["reynolds"]\n[set]\n"motion.gap_over_radius" = [0.01, 200.0]\n',
+     "set.motion.gap_over_radius = [0.01, 200.0]", "motion.gaps"),
+    ('models = ["reynolds"]\n[set]\n"liquid.viscosity" = 1.0\n[axes]\n"liquid.viscosity" = '
+     '[1.0]\n', "set.liquid.viscosity", "not both"),
+    ('models = ["reynolds"]\n[axes]\n"liquid.viscosity" = {start=1, stop=2, points=1000}\n'
+     '"liquid.density" = {start=1, stop=2, points=1000}\n', "axes = '1000000 grid points'",
+     "at most 100000"),
+    ('models = ["reynolds"]\n[sample]\nmethod = "latin-hypercube"\npoints = 10\n'
+     '[axes]\n"liquid.viscosity" = {min = 1e-3, max = 1.0}\n', "sample.seed missing",
+     "integer >= 0"),
+    ('models = ["reynolds"]\n[sample]\nmethod = "latin-hypercube"\npoints = 10\nseed = 1\n'
+     '[axes]\n"liquid.viscosity" = [1e-3, 1.0]\n', "axes.liquid.viscosity = [0.001, 1.0]",
+     "{min, max, spacing}"),
+    ('models = ["reynolds"]\n[axes\n', "(syntax)", "valid TOML"),
+    ('models = ["meniscus"]\n[set]\n"motion.gap_over_rupture" = [0.5]\n',
+     "set.motion.gap_over_rupture = [0.5]", "bridge"),
+]
+
+
+@pytest.mark.parametrize(("body", "shown", "allowed"), BAD)
+def test_bad_study_files_one_line_naming_file_key_value(tmp_path, capsys, body, shown,
+                                                        allowed):
+    p = write(tmp_path, body)
+    with pytest.raises(CaseError) as err:
+        load_study(p)
+    msg = str(err.value)
+    assert msg.startswith(f"{p}: ") and shown in msg and allowed in msg and "\n" not in msg
+    assert main(["sweep", str(p), "--store", str(tmp_path / "r.h5")]) == 2
+    out = capsys.readouterr()
+    assert out.err.count("\n") == 1 and shown in out.err and "Traceback" not in out.err
+    assert not (tmp_path / "r.h5").exists()
+
+
+def test_missing_study_and_missing_base(tmp_path):
+    with pytest.raises(CaseError, match=r"nope.toml: \(file\) missing"):
+        load_study(tmp_path / "nope.toml")
+    p = tmp_path / "s.toml"
+    p.write_text('name = "t"\nbase = "../no-case.toml"\nmodels = ["reynolds"]\n')
+    with pytest.raises(CaseError, match=r"s.toml: \(file\) missing; allowed: an existing case"):
+        load_study(p)
