@@ -379,13 +379,13 @@ def build(scenes: list[Scene], out: Path, store: Store, mode: str, ctx: StudyCon
     cpoints = case_points(scenes, PRESET_OF_MODE[mode])
     stage1 = cpoints + [p for _, mod in sections for p in mod.points(ctx)]
     beat.phase = f"stage 1: sweeping {len(stage1)} points (cases and studies)"
-    quiet = progress and not beat.enabled  # the heartbeat already prints on a non-terminal
-    r1 = sweep(stage1, store, progress=quiet)
+    bar = progress and not beat.enabled  # on a non-terminal the heartbeat prints instead
+    r1 = sweep(stage1, store, progress=bar)
     stats.add("cases and studies", r1)
     stage2 = [p for _, mod in sections if hasattr(mod, "derived_points")
               for p in mod.derived_points(ctx, r1)]
     beat.phase = f"stage 2: sweeping {len(stage2)} points (derived axes)"
-    r2 = sweep(stage2, store, progress=quiet) if stage2 else None
+    r2 = sweep(stage2, store, progress=bar) if stage2 else None
     if r2 is not None:
         stats.add("derived axes", r2)
     result = r1 if r2 is None else _merged(r1, r2)
