@@ -52,6 +52,8 @@ def build_parser() -> argparse.ArgumentParser:
     solve.add_argument("--save-fields", type=Path, default=None, metavar="DIR",
                        help="write solution fields (VTU) where the model supports it")
 
+    _add_export_yade(sub)
+
     sub.add_parser("models", help="list the registered models", description="Registered "
                    "models with their fidelity level, component and validity range.")
     return p
@@ -65,6 +67,8 @@ def main(argv: list[str] | None = None) -> int:
             return _models()
         if args.command == "solve":
             return _solve(args)
+        if args.command == "export" and args.format == "yade":
+            return _export_yade(args)
         if args.command == "run":
             from wetcontact.report import run_all
 
@@ -82,6 +86,41 @@ def main(argv: list[str] | None = None) -> int:
         sys.stderr.write("wetcontact: interrupted; everything saved before is in the store\n")
         return 130
     return 2
+
+
+def _add_export_yade(sub) -> None:
+    """``wetcontact export yade``: Yade's ten capillary files for one contact angle."""
+    export = sub.add_parser("export", help="write results in a DEM code's format",
+                            description="Export for DEM codes.")
+    fmt = export.add_subparsers(dest="format", required=True, parser_class=_Parser)
+    y = fmt.add_parser("yade", help="Yade's capillary files M(r=1) ... M(r=10)",
+                       description="The ten capillary files that Yade's "
+                       "Law2_ScGeom_CapillaryPhys_Capillarity reads, for any contact angle; "
+                       "pass the printed suffix to Yade as suffCapFiles.")
+    y.add_argument("--contact-angle", type=float, required=True, metavar="DEG",
+                   help="contact angle on both spheres (deg, [0, 89))")
+    y.add_argument("--out", type=Path, required=True, help="output folder")
+    y.add_argument("--suffix", default=None, help="file name suffix (default: _thetaDEG)")
+    y.add_argument("--suctions", type=int, default=350, help="suction values per file "
+                   "(default 350, Yade's usual)")
+    y.add_argument("--distances", type=int, default=80, help="distance values per file "
+                   "(default 80, Yade's usual)")
+    y.add_argument("--workers", type=int, default=2, help="processes (default 2)")
+    y.add_argument("--json", action="store_true", help="end with one JSON object")
+
+
+def _export_yade(args: argparse.Namespace) -> int:
+    from wetcontact.export.yade import export_yade
+
+    res = export_yade(args.contact_angle, args.out, n_suctions=args.suctions,
+                      n_distances=args.distances, workers=args.workers, suffix=args.suffix)
+    if args.json:
+        print(json.dumps(res))
+    else:
+        for t in res["tables"]:
+            print(f"{t['file']}: {t['rows']} rows, {t['wall_time_s']:.1f} s")
+        print(f"suffCapFiles = {res['suffix']!r}  ({res['wall_time_s']:.1f} s)")
+    return 0
 
 
 def _models() -> int:

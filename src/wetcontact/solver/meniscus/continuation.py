@@ -224,3 +224,167 @@ def _on_branch(br: _Branch, S: float) -> _Newton:
     fun(lam)
     w = cache["w"]
     return _newton(d, g, w.x, (VolumeIs(V), Fixed(d.iS, S)))
+
+
+# ---------------------------------------------------------------------------------------
+# Suction control: fixed Laplace pressure, the gap marched from contact to the fold
+# ---------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class SuctionBranch:
+    """Stable branch of a suction-controlled bridge (dimensionless, fixed pressure ``P``).
+
+    At fixed ``dp`` the bridges form a curve ``S(phi1)`` that rises from contact (or from the
+    largest admitted filling angle) to a maximum, the fold ``S_fold``: beyond it no bridge
+    exists at this pressure. The stable bridges are those on the large-filling-angle side
+    (larger volume: Lian et al. 1993; Duriez & Wan 2017), where ``dS/dphi1 < 0``.
+
+    Attributes
+    ----------
+    pressure
+        P = dp l / sigma.
+    points
+        Continuation points from the start to the fold, ``phi1`` decreasing and ``S``
+        increasing; the last one is the fold (``dS/dphi1 = 0`` to round-off).
+    solves
+        Newton solves spent (for the benchmark).
+    """
+
+    d: _Disc
+    g: _Geo
+    pressure: float
+    points: tuple[np.ndarray, ...]
+    solves: int
+
+    @property
+    def fold(self) -> np.ndarray:
+        return self.points[-1]
+
+    @property
+    def S_fold(self) -> float:
+        return float(self.fold[self.d.iS])
+
+    @property
+    def S_start(self) -> float:
+        return float(self.points[0][self.d.iS])
+
+
+def _at_filling(d: _Disc, g: _Geo, P: float, c1: float, guess: np.ndarray) -> _Newton:
+    """Bridge at pressure P with half-filling angle c1 on sphere 1 (the gap is unknown)."""
+    x0 = guess.copy()
+    x0[d.iP], x0[d.ic1] = P, c1
+    return _newton(d, g, x0, (Fixed(d.iP, P), Fixed(d.ic1, c1)), maxit=15)
+
+
+def _tangent_last(d: _Disc, nw: _Newton) -> np.ndarray:
+    """dx/d(target of the last closing) from the Newton's last factorisation."""
+    rhs = np.zeros(d.m)
+    rhs[-1] = 1.0
+    return nw.lu.solve(rhs)
+
+
+def suction_start(d: _Disc, g: _Geo, P: float, guess: np.ndarray,
+                  c1_max: float) -> np.ndarray | None:
+    """First stable bridge at pressure P: at contact (S = 0) if its filling angle on sphere 1
+    is at most ``c1_max``, otherwise at ``phi1 = c1_max`` (then S > 0). ``guess`` is a
+    nearby bridge (the start at a neighbouring pressure); ``None`` if none is found."""
+    x0 = guess.copy()
+    x0[d.iP], x0[d.iS] = P, 0.0
+    nw = _newton(d, g, x0, (Fixed(d.iP, P), Fixed(d.iS, 0.0)), maxit=15)
+    if nw.converged and nw.x[d.ic1] <= c1_max and _tangent_last(d, nw)[d.ic1] < 0:
+        return nw.x
+    nw = _at_filling(d, g, P, c1_max, guess)
+    if nw.converged and nw.x[d.iS] >= 0 and _tangent_last(d, nw)[d.iS] < 0:
+        return nw.x
+    return None
+
+
+def suction_branch(d: _Disc, g: _Geo, P: float, start: np.ndarray,
+                   ratio: float = 0.85) -> SuctionBranch:
+    """Continuation in ``phi1`` at fixed pressure from ``start`` to the fold.
+
+    ``phi1`` is a regular parameter through the fold (``S`` is not), so the curve is followed
+    with closings ``dp = P``, ``phi1 = c`` and a tangent predictor, ``c`` shrinking by
+    ``ratio`` per step; the fold is the root of ``dS/dphi1`` (implicit differentiation of
+    the discrete system, from the Newton's last factorisation), bracketed by the first step
+    where it turns positive and found by brentq to ``1e-13`` in ``phi1``.
+    """
+    solves = 1
+    nw = _at_filling(d, g, P, float(start[d.ic1]), start)
+    if not nw.converged:
+        raise SolverError(f"meniscus: suction branch start did not converge (P = {P:.6g})")
+    x, t = nw.x, _tangent_last(d, nw)
+    if t[d.iS] >= 0:
+        return SuctionBranch(d, g, P, (x,), solves)
+    pts = [x]
+    c, q = float(x[d.ic1]), ratio
+    while True:
+        cn = c * q
+        nw = _newton(d, g, x + (cn - c) * t, (Fixed(d.iP, P), Fixed(d.ic1, cn)), maxit=10)
+        solves += 1
+        if not nw.converged:
+            q = 0.5 * (1.0 + q)
+            if 1.0 - q < 1e-9:
+                raise SolverError(f"meniscus: suction continuation stalled (P = {P:.6g})")
+            continue
+        tn = _tangent_last(d, nw)
+        if tn[d.iS] >= 0:
+            break
+        x, t, c = nw.x, tn, cn
+        pts.append(x)
+    cache: dict[str, Any] = {}
+    lo, hi = cn, c
+
+    def slope(cc: float) -> float:
+        w = _at_filling(d, g, P, cc, x + (cc - c) * t)
+        if not w.converged:
+            raise SolverError(f"meniscus: no bridge near the suction fold (P = {P:.6g})")
+        cache["x"] = w.x
+        cache["n"] = cache.get("n", 0) + 1
+        return float(_tangent_last(d, w)[d.iS])
+
+    cf = brentq(slope, lo, hi, xtol=1e-10 * hi, rtol=1e-12)  # S is flat at the fold
+    slope(cf)
+    pts.append(cache["x"])
+    return SuctionBranch(d, g, P, tuple(pts), solves + cache["n"])
+
+
+def suction_at_gaps(br: SuctionBranch, gaps: np.ndarray) -> list[np.ndarray]:
+    """Stable bridges of a suction branch at the given gaps (all in [S_start, S_fold]).
+
+    Newton at fixed (P, S) from the secant between the two branch points that bracket S;
+    accepted when its filling angle lies inside that bracket (the stable side), otherwise
+    S(phi1) = S is solved by brentq in ``phi1`` over the bracket.
+    """
+    d, g, P = br.d, br.g, br.pressure
+    pts = br.points
+    Ss = np.array([p[d.iS] for p in pts])
+    out = []
+    for S in gaps:
+        k = int(np.clip(np.searchsorted(Ss, S) - 1, 0, len(pts) - 2))
+        xa, xb = pts[k], pts[k + 1]
+        lam = (S - Ss[k]) / (Ss[k + 1] - Ss[k]) if Ss[k + 1] > Ss[k] else 0.0
+        guess = xa + lam * (xb - xa)
+        guess[d.iS] = S
+        nw = _newton(d, g, guess, (Fixed(d.iP, P), Fixed(d.iS, float(S))), maxit=12)
+        ca, cb = float(xa[d.ic1]), float(xb[d.ic1])
+        if nw.converged and cb - 1e-12 <= nw.x[d.ic1] <= ca + 1e-12:
+            out.append(nw.x)
+            continue
+        cache: dict[str, np.ndarray] = {}
+
+        def miss(cc: float, xa=xa, xb=xb, ca=ca, cb=cb, S=S, cache=cache) -> float:
+            w = _at_filling(d, g, P, cc, xa + (cc - ca) / (cb - ca) * (xb - xa))
+            if not w.converged:
+                raise SolverError(f"meniscus: suction bridge failed at S = {S:.6g} (x l)")
+            cache["x"] = w.x
+            return float(w.x[d.iS]) - S
+
+        if S >= Ss[-1]:
+            out.append(pts[-1].copy())
+            continue
+        cc = brentq(miss, cb, ca, xtol=1e-14, rtol=1e-15)
+        miss(cc)
+        out.append(cache["x"])
+    return out

@@ -256,6 +256,12 @@ def _guess(d: _Disc, g: _Geo, S: float, V: float | None = None,
             break
     if c1 is None:
         return None
+    return _guess_at(d, g, S, c1, P)
+
+
+def _guess_at(d: _Disc, g: _Geo, S: float, c1: float,
+              P: float | None = None) -> np.ndarray | None:
+    """Toroidal guess with half-filling angle ``c1`` on sphere 1 at gap ``S``."""
     st = _arc_state(g, c1, S)
     if st is None:
         return None

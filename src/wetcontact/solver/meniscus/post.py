@@ -133,6 +133,25 @@ def _neck(d: _Disc, g: _Geo, x: np.ndarray) -> tuple[float, float, bool]:
     return best
 
 
+def interface_terms(d: _Disc, x: np.ndarray) -> tuple[float, float]:
+    r"""The 11 and 33 terms of ``\int n n dA`` over the liquid-gas interface (axis 3 along
+    the line of centres), in the solver's length unit squared.
+
+    With the meridian tangent ``(cos psi, sin psi)`` in ``(r, z)`` the normal is
+    ``(sin psi, -cos psi)``, ``dA = 2 pi r ds``:
+    ``nn11 = pi \int r sin^2(psi) ds``, ``nn33 = 2 pi \int r cos^2(psi) ds``, and
+    ``2 nn11 + nn33`` is the area (Duriez & Wan 2017, Acta Geotech. 12; Yade's capillary
+    files). Gauss quadrature of the P2 fields (order 4).
+    """
+    r, _, psi = _fields(d, x)
+    rq, pq = d.at_q(r), d.at_q(psi)
+    L = float(x[d.iL])
+    s2 = np.sin(pq) ** 2
+    nn11 = math.pi * L * float(np.sum(d.w * rq * s2))
+    nn33 = 2 * math.pi * L * float(np.sum(d.w * rq * (1.0 - s2)))
+    return nn11, nn33
+
+
 def _post(st: _State, stability: float = 0.0, iterations: int = 0) -> BridgeSolution:
     d, g, x = _disc(st.n_el), st.geo, st.x
     ell, sig = st.ell, st.sigma

@@ -63,6 +63,44 @@ class _Disc:
         n = self.n
         self.iL, self.iP, self.ic1, self.ic2, self.iS = (3 * n + k for k in range(5))
         self.m = 3 * n + 5
+        # gathers for the Gauss-point values: f_q = sum_i V[i] f[dofs[i]] (no sparse matvec)
+        self.gq = C.reshape(3, self.M)
+        self.g0 = self.v0.reshape(3, self.M)
+        self.g1 = self.v1.reshape(3, self.M)
+        self._pattern()
+
+    def at_q(self, f: np.ndarray) -> np.ndarray:
+        """Values of a P2 field at the Gauss points (``Q0 @ f``)."""
+        return np.sum(self.g0 * f[self.gq], axis=0)
+
+    def dt_q(self, f: np.ndarray) -> np.ndarray:
+        """t-derivative of a P2 field at the Gauss points (``Q1 @ f``)."""
+        return np.sum(self.g1 * f[self.gq], axis=0)
+
+    def _pattern(self) -> None:
+        """Fixed sparsity of the Jacobian (closing rows stored dense) and its CSC order."""
+        n, M, m = self.n, self.M, self.m
+        qr, qc = self.qr, self.qc
+        iq = np.arange(M)
+        k = 3 * M
+        full = lambda v: np.full(M, v)  # noqa: E731
+        rows = [qr, qr, iq, M + qr, M + qr, M + iq, 2 * M + qr, 2 * M + qr, 2 * M + qr,
+                2 * M + iq, 2 * M + iq, k + np.arange(6), k + np.arange(3),
+                k + 3 + np.arange(3), np.array([k + 4]), np.full(m, k + 6), np.full(m, k + 7)]
+        cols = [qc, 2 * n + qc, full(self.iL), n + qc, 2 * n + qc, full(self.iL), 2 * n + qc,
+                qc, n + qc, full(self.iL), full(self.iP),
+                np.array([self.i0, n + self.i0, 2 * n + self.i0, self.i1, n + self.i1,
+                          2 * n + self.i1]),
+                np.full(3, self.ic2), np.full(3, self.ic1), np.array([self.iS]),
+                np.arange(m), np.arange(m)]
+        R, Cc = np.concatenate(rows), np.concatenate(cols)
+        key = Cc.astype(np.int64) * m + R
+        if np.unique(key).size != key.size:
+            raise SolverError("meniscus: duplicate Jacobian entries in the pattern")
+        self.perm = np.argsort(key, kind="stable")
+        self.indices = R[self.perm].astype(np.int32)
+        self.indptr = np.concatenate([[0], np.cumsum(np.bincount(Cc, minlength=m))]).astype(
+            np.int32)
 
 
 @lru_cache(maxsize=16)
@@ -130,7 +168,7 @@ def _volume(d: _Disc, g: _Geo, x: np.ndarray, grad: bool = False):
     r"""Bridge volume ``V = L \int pi r^2 sin(psi) dt - V_cap1 - V_cap2`` (and its gradient)."""
     r, _, psi = _fields(d, x)
     L, c1, c2 = x[d.iL], x[d.ic1], x[d.ic2]
-    rq, pq = d.Q0 @ r, d.Q0 @ psi
+    rq, pq = d.at_q(r), d.at_q(psi)
     sq, cq = np.sin(pq), np.cos(pq)
     vrev = math.pi * np.sum(d.w * rq * rq * sq) * L
     cap1, dcap1 = g.cap(c1, g.rt)
@@ -160,12 +198,12 @@ def residual(d: _Disc, g: _Geo, x: np.ndarray, closing: tuple[Closing, Closing])
     M = d.M
     r, z, psi = _fields(d, x)
     L, P, c1, c2, S = x[d.iL], x[d.iP], x[d.ic1], x[d.ic2], x[d.iS]
-    rq, zq, pq = d.Q0 @ r, d.Q0 @ z, d.Q0 @ psi
+    rq, zq, pq = d.at_q(r), d.at_q(z), d.at_q(psi)
     sq, cq = np.sin(pq), np.cos(pq)
     F = np.empty(d.m)
-    F[:M] = d.Q1 @ r - L * cq
-    F[M:2 * M] = d.Q1 @ z - L * sq
-    F[2 * M:3 * M] = d.Q1 @ psi - L * (P - g.bo * zq - sq / rq)
+    F[:M] = d.dt_q(r) - L * cq
+    F[M:2 * M] = d.dt_q(z) - L * sq
+    F[2 * M:3 * M] = d.dt_q(psi) - L * (P - g.bo * zq - sq / rq)
     k = 3 * M
     F[k:k + 3] = np.array([r[d.i0], z[d.i0], psi[d.i0]]) - g.bottom(c2)[0]
     F[k + 3:k + 6] = np.array([r[d.i1], z[d.i1], psi[d.i1]]) - g.top(c1, S)[0]
@@ -174,60 +212,38 @@ def residual(d: _Disc, g: _Geo, x: np.ndarray, closing: tuple[Closing, Closing])
     return F
 
 
-def jacobian(d: _Disc, g: _Geo, x: np.ndarray, closing: tuple[Closing, Closing]) -> sp.csc_matrix:
-    """Sparse Jacobian ``dF/dx`` of :func:`residual` (exact, assembled per Gauss point)."""
-    n, M = d.n, d.M
+def jacobian(d: _Disc, g: _Geo, x: np.ndarray,
+             closing: tuple[Closing, Closing]) -> sp.csc_matrix:
+    """Sparse Jacobian ``dF/dx`` of :func:`residual` (exact), on the fixed pattern of
+    :class:`_Disc` (rows of ``Q1 - L d(rhs)/d(field)`` at each Gauss point, the
+    contact-line rows, and the closings' gradients)."""
     r, z, psi = _fields(d, x)
     L, P, c1, c2, S = x[d.iL], x[d.iP], x[d.ic1], x[d.ic2], x[d.iS]
-    rq, zq, pq = d.Q0 @ r, d.Q0 @ z, d.Q0 @ psi
+    rq, zq, pq = d.at_q(r), d.at_q(z), d.at_q(psi)
     sq, cq = np.sin(pq), np.cos(pq)
     curv = P - g.bo * zq - sq / rq
-    k = 3 * M
-    qr, qc, v0, v1 = d.qr, d.qc, d.v0, d.v1
+    qr, v0, v1 = d.qr, d.v0, d.v1
     # per-entry coefficients evaluated at the row's Gauss point
     sr, cr, rr = sq[qr], cq[qr], rq[qr]
-    R_, C_, D_ = [], [], []
-
-    def add(rows, cols, vals):
-        R_.append(rows)
-        C_.append(cols)
-        D_.append(vals)
-
-    iq = np.arange(M)
-    # F1 = Q1 r - L cos psi
-    add(qr, qc, v1)
-    add(qr, 2 * n + qc, L * sr * v0)
-    add(iq, np.full(M, d.iL), -cq)
-    # F2 = Q1 z - L sin psi
-    add(M + qr, n + qc, v1)
-    add(M + qr, 2 * n + qc, -L * cr * v0)
-    add(M + iq, np.full(M, d.iL), -sq)
-    # F3 = Q1 psi - L (P - Bo z - sin psi / r)
-    add(2 * M + qr, 2 * n + qc, v1 + L * cr / rr * v0)
-    add(2 * M + qr, qc, -L * sr / rr**2 * v0)
-    if g.bo != 0.0:
-        add(2 * M + qr, n + qc, L * g.bo * v0)
-    add(2 * M + iq, np.full(M, d.iL), -curv)
-    add(2 * M + iq, np.full(M, d.iP), np.full(M, -L))
-    # boundary conditions
-    add(k + np.arange(6), np.array([d.i0, n + d.i0, 2 * n + d.i0, d.i1, n + d.i1, 2 * n + d.i1]),
-        np.ones(6))
-    add(k + np.arange(3), np.full(3, d.ic2), -g.bottom(c2)[1])
-    add(k + 3 + np.arange(3), np.full(3, d.ic1), -g.top(c1, S)[1])
-    add(np.array([k + 4]), np.array([d.iS]), np.array([-1.0]))
-    for j, cl in enumerate(closing):
-        a = cl.row(d, g, x)
-        nz = np.flatnonzero(a)
-        add(np.full(nz.size, k + 6 + j), nz, a[nz])
-    return sp.csc_matrix((np.concatenate(D_), (np.concatenate(R_), np.concatenate(C_))),
-                         shape=(d.m, d.m))
+    M = d.M
+    data = np.concatenate([
+        v1, L * sr * v0, -cq,                       # F1 = Q1 r - L cos psi
+        v1, -L * cr * v0, -sq,                      # F2 = Q1 z - L sin psi
+        v1 + L * cr / rr * v0, -L * sr / rr**2 * v0,  # F3 = Q1 psi - L (P - Bo z - sin psi / r)
+        L * g.bo * v0, -curv, np.full(M, -L),
+        np.ones(6), -g.bottom(c2)[1], -g.top(c1, S)[1], [-1.0],   # contact lines
+        closing[0].row(d, g, x), closing[1].row(d, g, x),
+    ])
+    J = sp.csc_matrix((data[d.perm], d.indices.copy(), d.indptr.copy()), shape=(d.m, d.m))
+    J.eliminate_zeros()  # structural zeros (unused closing entries) would slow SuperLU down
+    return J
 
 
 def _admissible(d: _Disc, g: _Geo, x: np.ndarray) -> bool:
     r = x[:d.n]
     if not np.all(np.isfinite(x)) or np.min(r) <= 0 or x[d.iL] <= 0:
         return False
-    if np.min(d.Q0 @ r) <= 0:
+    if np.min(d.at_q(r)) <= 0:
         return False
     if x[d.iS] < -1e-12 and g.rt is not None:
         return False
