@@ -23,7 +23,6 @@ from wetcontact.cli import main
 from wetcontact.export.yade import (
     RATIOS,
     capillary_table,
-    export_yade,
     file_name,
     format_table,
     read_table,
@@ -142,8 +141,17 @@ def test_yade_reads_the_files_and_matches_meniscus(tmp_path):
     if shutil.which("yade") is None:
         pytest.skip("yade is not installed (.ci/run installs it with apt when it can)")
     sigma, R1 = 0.072, 1e-3
-    res = export_yade(20.0, tmp_path / "caps", n_suctions=YADE_SUCTIONS,
-                      n_distances=YADE_DISTANCES, max_suction=YADE_MAX_SUCTION)
+    # the probed ratios (1 and 2, read by Yade without interpolation in r) at the test
+    # density; Yade also loads the other eight files, written at a token density
+    files = []
+    for r in RATIOS:
+        dense = r in (1.0, 2.0)
+        tab = capillary_table(r, 20 * DEG, n_suctions=YADE_SUCTIONS if dense else 4,
+                              n_distances=YADE_DISTANCES if dense else 3,
+                              max_suction=YADE_MAX_SUCTION)
+        files.append(tmp_path / file_name(r, "_t20"))
+        files[-1].write_text(format_table(tab))
+    res = {"files": [str(f) for f in files], "suffix": "_t20"}
     pairs = [(R1, r * R1, Ds * r * R1) for r in (1.0, 2.0) for Ds in (0.0131, 0.0517)]
     u_star = [0.0371, 0.533, 4.71]                     # off the geometric grid
     suctions = [u * sigma / (2 * R1) for u in u_star]  # Pa: u* for R2 = 2 mm
