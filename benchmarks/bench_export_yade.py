@@ -105,19 +105,25 @@ def yade_generator(u_star: float = 10.0, ratio: float = 1.0) -> dict | None:
 
 
 def sample_rows(files: list[str], per_file: int = 40, seed: int = 1) -> dict:
+    """Force (relative), suction (absolute, units sigma/R2) and filling angles (deg) of
+    sampled rows against solve_volume at the row's V* and D*."""
     rng = np.random.default_rng(seed)
-    worst, n = 0.0, 0
+    ef = eu = ed = 0.0
+    n = 0
     for f in files:
         ratio, blocks = read_table(Path(f))
         rows = np.vstack(blocks)
         rows = rows[rows[:, 1] > 0]
         br = Bridge(radius=1.0 / ratio, radius2=1.0, surface_tension=1.0)
-        for D, u, V, F, *_ in rows[rng.choice(rows.shape[0], per_file, replace=False)]:
+        for D, u, V, F, d1, d2, *_ in rows[rng.choice(rows.shape[0], per_file, replace=False)]:
             sol = solve_volume(br, float(D), float(V))
-            worst = max(worst, abs(F - sol.force_contact1 / (2 * math.pi)) / F,
-                        abs(u + sol.laplace_pressure) / max(u, 1e-3))
+            ef = max(ef, abs(F - sol.force_contact1 / (2 * math.pi)) / F)
+            eu = max(eu, abs(u + sol.laplace_pressure))
+            ed = max(ed, abs(d1 - math.degrees(sol.filling_angle1)),
+                     abs(d2 - math.degrees(sol.filling_angle2)))
             n += 1
-    return {"rows_checked": n, "max_rel_error": worst}
+    return {"rows_checked": n, "max_force_rel_error": ef, "max_suction_abs_error": eu,
+            "max_filling_angle_error_deg": ed}
 
 
 def yade_table(files: list[str], suffix: str, work: Path) -> list[dict]:
