@@ -76,6 +76,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     _add_sweep_parser(sub)
     _add_export_parser(sub)
+
     sub.add_parser("models", help="list the registered models", description="Registered "
                    "models with their fidelity level, component and validity range.")
     return p
@@ -182,6 +183,38 @@ def _one_line(exc: BaseException | Warning | str, limit: int = 300) -> str:
     """The exception's message on one line, at most ``limit`` characters."""
     text = " ".join(str(exc).split())
     return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def _add_export_yade(fmt: argparse._SubParsersAction) -> None:
+    """``wetcontact export yade``: Yade's ten capillary files for one contact angle."""
+    y = fmt.add_parser("yade", help="Yade's capillary files M(r=1) ... M(r=10)",
+                       description="The ten capillary files that Yade's "
+                       "Law2_ScGeom_CapillaryPhys_Capillarity reads, for any contact angle; "
+                       "pass the printed suffix to Yade as suffCapFiles.")
+    y.add_argument("--contact-angle", type=float, required=True, metavar="DEG",
+                   help="contact angle on both spheres (deg, [0, 89))")
+    y.add_argument("--out", type=Path, required=True, help="output folder")
+    y.add_argument("--suffix", default=None, help="file name suffix (default: _thetaDEG)")
+    y.add_argument("--suctions", type=int, default=350, help="suction values per file "
+                   "(default 350, Yade's usual)")
+    y.add_argument("--distances", type=int, default=80, help="distance values per file "
+                   "(default 80, Yade's usual)")
+    y.add_argument("--workers", type=int, default=2, help="processes (default 2)")
+    y.add_argument("--json", action="store_true", help="end with one JSON object")
+
+
+def _export_yade(args: argparse.Namespace) -> int:
+    from wetcontact.export.yade import export_yade
+
+    res = export_yade(args.contact_angle, args.out, n_suctions=args.suctions,
+                      n_distances=args.distances, workers=args.workers, suffix=args.suffix)
+    if args.json:
+        print(json.dumps(res))
+    else:
+        for t in res["tables"]:
+            print(f"{t['file']}: {t['rows']} rows, {t['wall_time_s']:.1f} s")
+        print(f"suffCapFiles = {res['suffix']!r}  ({res['wall_time_s']:.1f} s)")
+    return 0
 
 
 def _models() -> int:
@@ -372,6 +405,7 @@ def _add_export_parser(sub: argparse._SubParsersAction) -> None:
     c.add_argument("study", type=Path, help="TOML study file")
     c.add_argument("--store", type=Path, required=True, help="HDF5 store the sweep wrote")
     c.add_argument("--out", type=Path, required=True, help="CSV file to write")
+    _add_export_yade(fmt)
 
 
 def _non_negative_int(text: str) -> int:
@@ -413,6 +447,8 @@ def _sweep(args: argparse.Namespace) -> int:
 
 
 def _export(args: argparse.Namespace) -> int:
+    if args.format == "yade":
+        return _export_yade(args)
     if args.format == "csv":
         from wetcontact.export.csv import write_csv
         from wetcontact.store import Store

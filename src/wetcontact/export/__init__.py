@@ -1,1 +1,1 @@
-"""Writers that turn the reference store into files other tools read (CSV, ...)."""
+"""Writers that hand wetcontact results to other tools and DEM codes: csv, yade, ..."""

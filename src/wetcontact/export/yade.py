@@ -1,0 +1,339 @@
+r"""Yade's capillary files ``M(r=1)`` ... ``M(r=10)`` for any contact angle.
+
+Yade's ``Law2_ScGeom_CapillaryPhys_Capillarity`` interpolates (linearly, in distance then in
+suction, then in radius ratio) ten tables of suction-controlled bridges between two spheres,
+one per radius ratio ``r = R2/R1 >= 1`` in 1, 1.1, 1.25, 1.5, 1.75, 2, 3, 4, 5, 10, read from
+the working directory as ``"M(r=" + r + ")" + suffCapFiles``. Layout (Yade's ``Tableau`` and
+``TableauD`` readers; ``writesCapFile.m`` in Yade's ``examples/capillaryLaplaceYoung``)::
+
+    r
+    n_D
+    n_rows 0 0 0 0 0 0 0        (rest of the line ignored)
+    D* u* V* F* delta1 delta2 nn11* nn33*     (n_rows rows, u* increasing)
+    ...                          (n_D such blocks, D* increasing; each block one D*)
+
+with the larger radius R2 as unit (Yade's scaling): ``D* = D/R2``, ``u* = u R2/sigma``
+(u = -dp the suction), ``V* = V/R2^3``, ``F* = F/(2 pi sigma R2)`` (attraction > 0),
+``delta1``, ``delta2`` the half-filling angles on the small and the large sphere (degrees),
+``nn11* = pi \int r sin^2(psi) ds / R2^2`` and ``nn33* = 2 pi \int r cos^2(psi) ds / R2^2``
+(the 11 and 33 terms of the integral of n n over the liquid-gas interface, axis 3 along the
+line of centres; ``2 nn11 + nn33`` is the area; Duriez & Wan 2017). Yade reads 8 columns
+since 2017 (nn11, nn33); blocks must not be empty.
+
+Grids (as Yade's own generator): ``n_distances`` distances evenly spaced from 0 to the
+largest rupture distance (at zero suction), ``u* = 0`` then ``n_suctions - 1`` values
+geometric from 0.002 to the suction at which the bridge at contact has a mean filling angle
+of 0.7 deg. Each D block lists the suctions whose stable branch reaches D. Rows come from
+the suction-controlled continuation of :mod:`wetcontact.solver.meniscus.continuation`
+(stable: the large-volume side of the fold). Filling angles on the small sphere are capped
+at ``min(90 deg - theta, 70 deg)`` (the meniscus model's range; Yade's generator goes to
+``90 - theta``): below that suction's smallest admitted gap no row is written and Yade
+extrapolates in suction from the rows it has.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from wetcontact.errors import InputError, SolverError
+from wetcontact.fileio import atomic_write_text
+from wetcontact.solver.meniscus.continuation import (
+    suction_at_gaps,
+    suction_branch,
+    suction_start,
+)
+from wetcontact.solver.meniscus.geometry import PHI_MAX, _Geo, _guess_at
+from wetcontact.solver.meniscus.post import interface_terms
+from wetcontact.solver.meniscus.young_laplace import Fixed, Linear, _disc, _newton, _volume
+
+RATIOS: tuple[float, ...] = (1.0, 1.1, 1.25, 1.5, 1.75, 2.0, 3.0, 4.0, 5.0, 10.0)
+COLUMNS = ("D*", "u*", "V*", "F*", "delta1_deg", "delta2_deg", "nn11*", "nn33*")
+U_FIRST = 0.002          # first positive u* (Yade's generator, after Scholtes 2008)
+FILLING_AT_MAX_U = 0.7   # deg: mean filling angle at contact at the largest suction
+DEFAULT_ELEMENTS = 32    # P2 elements: rows within 1e-7 of the 128-element solve (test)
+
+
+def file_name(ratio: float, suffix: str = "") -> str:
+    """Yade's file name for one radius ratio: ``M(r=1.25)`` + suffix."""
+    return f"M(r={ratio:g}){suffix}"
+
+
+def default_suffix(contact_angle_deg: float) -> str:
+    """The ``suffCapFiles`` tag of a contact angle, e.g. ``_theta20``."""
+    return f"_theta{contact_angle_deg:g}"
+
+
+@dataclass(frozen=True)
+class CapillaryTable:
+    """One Yade capillary file's content.
+
+    Attributes
+    ----------
+    ratio, contact_angle
+        r = R2/R1 (>= 1) and theta (rad, the same on both spheres).
+    distances, suctions
+        The D* grid (increasing, from 0) and the u* grid (increasing, from 0).
+    rows
+        (n, 8) array of :data:`COLUMNS`, sorted by D* then u*.
+    rupture
+        D* of the fold (largest gap) at each suction.
+    solves, wall_time_s
+        Newton solves spent and the wall time of the table.
+    """
+
+    ratio: float
+    contact_angle: float
+    distances: np.ndarray
+    suctions: np.ndarray
+    rows: np.ndarray
+    rupture: np.ndarray
+    solves: int
+    wall_time_s: float
+
+    def blocks(self) -> list[np.ndarray]:
+        """Rows grouped by distance, as Yade reads them."""
+        return [self.rows[self.rows[:, 0] == D] for D in self.distances]
+
+
+def _row(d, g: _Geo, x: np.ndarray, D: float, u: float) -> list[float]:
+    """One file row from a dimensionless solution (unit R2 = 1) solved at gap D, suction u
+    (written exactly: the closings hold them to round-off)."""
+    c1, c2, P = float(x[d.ic1]), float(x[d.ic2]), float(x[d.iP])
+    rho1 = g.rt * math.sin(c1)
+    # attractive force at the contact line on the small sphere, over 2 pi sigma R2
+    f = rho1 * math.sin(c1 + g.tht) - 0.5 * rho1 * rho1 * P
+    nn11, nn33 = interface_terms(d, x)
+    return [D, u, float(_volume(d, g, x)), f, math.degrees(c1), math.degrees(c2),
+            nn11, nn33]
+
+
+def _largest_suction(d, g: _Geo) -> tuple[float, np.ndarray]:
+    """u* at which the contact bridge has mean filling angle FILLING_AT_MAX_U; its solution."""
+    target = 2.0 * math.radians(FILLING_AT_MAX_U)
+    c1 = target / (1.0 + g.rt)     # equal neck radii: R1 c1 = R2 c2 (R2 = 1)
+    x0 = _guess_at(d, g, 0.0, c1)
+    if x0 is None:
+        raise SolverError("yade export: no toroidal guess for the smallest bridge")
+    a = np.zeros(d.m)
+    a[d.ic1] = a[d.ic2] = 1.0
+    nw = _newton(d, g, x0, (Linear(a, target), Fixed(d.iS, 0.0)), maxit=30)
+    if not nw.converged:
+        raise SolverError("yade export: the smallest bridge at contact did not converge")
+    return -float(nw.x[d.iP]), nw.x
+
+
+def _start(d, g: _Geo, u_prev: float, x_prev: np.ndarray, u: float, c1_max: float,
+           depth: int = 0) -> np.ndarray | None:
+    """Branch start at suction u continued from the start at u_prev (halving the step in
+    log u, or linearly towards 0, when Newton does not reach it in one step)."""
+    x = suction_start(d, g, -u, x_prev, c1_max)
+    if x is not None or depth > 30:
+        return x
+    mid = math.sqrt(u * u_prev) if u > 0 else (0.5 * u_prev if u_prev > 1e-3 else 0.0)
+    if mid == u:
+        return None
+    xm = _start(d, g, u_prev, x_prev, mid, c1_max, depth + 1)
+    return None if xm is None else _start(d, g, mid, xm, u, c1_max, depth + 1)
+
+
+def capillary_table(ratio: float, contact_angle: float, n_suctions: int = 350,
+                    n_distances: int = 80, n_elements: int = DEFAULT_ELEMENTS,
+                    max_suction: float | None = None) -> CapillaryTable:
+    """The suction-controlled bridges of one radius ratio on Yade's (D*, u*) grid.
+
+    Suctions are taken in decreasing order so that each branch start (contact, or the
+    largest admitted filling angle) is continued from the previous one; along each suction
+    the gap is followed from its start to the fold (:func:`suction_branch`), and the rows are
+    the stable bridges at the grid distances it reaches (:func:`suction_at_gaps`).
+    ``max_suction`` (u*) lowers the top of the suction grid (reduced tables for tests).
+    """
+    if not (math.isfinite(ratio) and ratio >= 1.0):
+        raise InputError(f"yade export: radius ratio = {ratio!r}; allowed: >= 1")
+    if not 0.0 <= contact_angle < math.radians(89.0):
+        raise InputError(f"yade export: contact angle = {math.degrees(contact_angle):.6g} "
+                         "deg; allowed: [0, 89) deg (Yade's files are for pendular bridges "
+                         "with filling angle + contact angle <= 90 deg)")
+    if n_suctions < 3 or n_distances < 2:
+        raise InputError(f"yade export: suctions = {n_suctions}, distances = {n_distances}; "
+                         "allowed: >= 3 and >= 2")
+    t0 = time.perf_counter()
+    d = _disc(int(n_elements))
+    g = _Geo(1.0 / ratio, 1.0, contact_angle, contact_angle, 0.0)
+    c1_max = min(0.5 * math.pi - contact_angle, PHI_MAX)
+    u_max, x = _largest_suction(d, g)
+    if max_suction is not None:
+        if not U_FIRST < max_suction < u_max:
+            raise InputError(f"yade export: max_suction = {max_suction!r}; allowed: "
+                             f"({U_FIRST}, {u_max:.6g})")
+        u_max = float(max_suction)
+    suctions = np.concatenate([[0.0], np.geomspace(U_FIRST, u_max, n_suctions - 1)])
+    branches = []
+    solves = 1
+    u_prev = u_max
+    for u in suctions[::-1]:
+        start = _start(d, g, u_prev, x, float(u), c1_max)
+        if start is None:
+            raise SolverError(f"yade export: no stable bridge at u* = {u:.6g}, r = {ratio:g}")
+        br = suction_branch(d, g, -float(u), start)
+        branches.append(br)
+        solves += br.solves + 1
+        x, u_prev = start, float(u)
+    branches = branches[::-1]
+    rupture = np.array([br.S_fold for br in branches])
+    D_max = float(np.max(rupture)) * (1.0 - 1e-9)
+    distances = np.linspace(0.0, D_max, n_distances)
+    rows = []
+    for u, br in zip(suctions, branches, strict=True):
+        sel = distances[(distances >= br.S_start - 1e-13) & (distances <= br.S_fold)]
+        for D, xs in zip(sel, suction_at_gaps(br, sel), strict=True):
+            rows.append(_row(d, g, xs, float(D), float(u)))
+        solves += sel.size
+    arr = np.array(rows)
+    arr = arr[np.lexsort((arr[:, 1], arr[:, 0]))]
+    missing = [float(D) for D in distances if not np.any(arr[:, 0] == D)]
+    if missing:
+        raise SolverError(f"yade export: no bridge at D* = {missing[0]:.6g} for r = {ratio:g}")
+    return CapillaryTable(float(ratio), float(contact_angle), distances, suctions, arr,
+                          rupture, solves, time.perf_counter() - t0)
+
+
+def format_table(table: CapillaryTable) -> str:
+    """The file text in Yade's layout (tab-separated, 17 significant digits)."""
+    out = [f"{table.ratio:g}", str(table.distances.size)]
+    for block in table.blocks():
+        out.append(f"{block.shape[0]}\t0\t0\t0\t0\t0\t0\t0")
+        out.extend("\t".join(f"{v:.17g}" for v in row) for row in block)
+    return "\n".join(out) + "\n"
+
+
+def read_table(path: Path) -> tuple[float, list[np.ndarray]]:
+    """Read a capillary file as Yade's ``Tableau`` does: r, then n_D blocks of rows."""
+    tok = Path(path).read_text().split("\n")
+    ratio = float(tok[0].split()[0])
+    n_D = int(tok[1].split()[0])
+    i, blocks = 2, []
+    for _ in range(n_D):
+        n = int(tok[i].split()[0])
+        rows = np.array([[float(v) for v in tok[i + 1 + j].split()] for j in range(n)])
+        if rows.shape != (n, 8):
+            raise InputError(f"{path}: block {len(blocks)}: expected {n} rows of 8 numbers")
+        blocks.append(rows)
+        i += n + 1
+    return ratio, blocks
+
+
+def _one(args: tuple) -> dict:
+    ratio, theta, n_u, n_d, n_el, u_top, path = args
+    tab = capillary_table(ratio, theta, n_u, n_d, n_el, u_top)
+    atomic_write_text(Path(path), format_table(tab))
+    return {"ratio": ratio, "file": path, "rows": int(tab.rows.shape[0]),
+            "suctions": int(tab.suctions.size), "distances": int(tab.distances.size),
+            "max_distance": float(tab.distances[-1]), "max_suction": float(tab.suctions[-1]),
+            "solves": tab.solves, "wall_time_s": tab.wall_time_s}
+
+
+def export_yade(contact_angle_deg: float, out: Path, n_suctions: int = 350,
+                n_distances: int = 80, workers: int = 2, n_elements: int = DEFAULT_ELEMENTS,
+                suffix: str | None = None, ratios: tuple[float, ...] = RATIOS,
+                max_suction: float | None = None) -> dict:
+    """Write the ten capillary files for one contact angle into ``out``.
+
+    Returns a summary: ``files`` (paths), ``suffix`` (Yade's ``suffCapFiles``),
+    ``contact_angle_deg``, per-file rows and times, ``wall_time_s``.
+    """
+    if not (math.isfinite(contact_angle_deg) and 0.0 <= contact_angle_deg < 89.0):
+        raise InputError(f"--contact-angle = {contact_angle_deg!r} deg; allowed: [0, 89) deg")
+    if workers < 1:
+        raise InputError(f"--workers = {workers}; allowed: >= 1")
+    suffix = default_suffix(contact_angle_deg) if suffix is None else suffix
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    theta = math.radians(contact_angle_deg)
+    jobs = [(r, theta, n_suctions, n_distances, n_elements, max_suction,
+             str(out / file_name(r, suffix))) for r in ratios]
+    t0 = time.perf_counter()
+    if workers == 1:
+        results = [_one(j) for j in jobs]
+    else:
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            results = list(pool.map(_one, jobs))
+    return {"files": [r["file"] for r in results], "suffix": suffix,
+            "contact_angle_deg": contact_angle_deg, "n_elements": n_elements,
+            "tables": results, "wall_time_s": time.perf_counter() - t0}
+
+
+# ---------------------------------------------------------------------------------------
+# Proof by the consumer: Yade itself reads the files
+# ---------------------------------------------------------------------------------------
+
+_PROBE = '''
+import json
+cfg = json.load(open("probe.json"))
+pairs = []
+for k, (R1, R2, gap) in enumerate(cfg["pairs"]):
+    x = 1.0 * k  # pairs 1 m apart: no cross interactions
+    a = O.bodies.append(sphere(center=Vector3(x, 0, 0), radius=R1, fixed=True))
+    b = O.bodies.append(sphere(center=Vector3(x, 0, R1 + R2 + gap), radius=R2, fixed=True))
+    pairs.append((a, b))
+law = Law2_ScGeom_CapillaryPhys_Capillarity(capillaryPressure=0.0,
+        surfaceTension=cfg["sigma"], suffCapFiles=cfg["suffix"], createDistantMeniscii=True)
+O.engines = [
+    ForceResetter(),
+    InsertionSortCollider([Bo1_Sphere_Aabb(aabbEnlargeFactor=2.0)]),
+    InteractionLoop([Ig2_Sphere_Sphere_ScGeom(interactionDetectionFactor=2.0)],
+                    [Ip2_FrictMat_FrictMat_CapillaryPhys()],
+                    [Law2_ScGeom_FrictPhys_CundallStrack(neverErase=True)]),
+    law,
+    NewtonIntegrator(),
+]
+O.dt = 1e-12
+out = []
+for u in cfg["suctions"]:
+    law.capillaryPressure = u
+    O.run(1, True)
+    for (a, b), (R1, R2, gap) in zip(pairs, cfg["pairs"]):
+        i = O.interactions[a, b] if O.interactions.has(a, b) else None
+        ok = i is not None and i.isReal
+        out.append({"suction": u, "R1": R1, "R2": R2, "gap": gap,
+                    "fCap": i.phys.fCap.norm() if ok else 0.0,
+                    "vMeniscus": i.phys.vMeniscus if ok else 0.0,
+                    "Delta1": i.phys.Delta1 if ok else 0.0,
+                    "Delta2": i.phys.Delta2 if ok else 0.0})
+json.dump(out, open("probe_out.json", "w"))
+'''
+
+
+def yade_probe(files: list[str], suffix: str, pairs: list[tuple[float, float, float]],
+               suctions: list[float], surface_tension: float, workdir: Path,
+               yade: str = "yade", timeout: float = 600.0) -> list[dict]:
+    """Run Yade headless (``yade -n -x``) on sphere pairs with the exported files.
+
+    Each pair ``(R1, R2, gap)`` (m) is a fixed sphere couple far from the others; for each
+    suction (Pa) one time step is run and Yade's ``fCap`` (N, magnitude) and ``vMeniscus``
+    (m^3) are read back from ``CapillaryPhys``. The files are copied into ``workdir`` (Yade
+    opens them in its working directory).
+    """
+    import json
+    import shutil
+    import subprocess
+
+    workdir = Path(workdir)
+    workdir.mkdir(parents=True, exist_ok=True)
+    for f in files:
+        shutil.copy(f, workdir / Path(f).name)
+    (workdir / "probe.json").write_text(json.dumps({
+        "pairs": pairs, "suctions": suctions, "sigma": surface_tension, "suffix": suffix}))
+    (workdir / "probe.py").write_text(_PROBE)
+    proc = subprocess.run([yade, "-n", "-x", "probe.py"], cwd=workdir, capture_output=True,
+                          text=True, timeout=timeout, stdin=subprocess.DEVNULL)
+    res = workdir / "probe_out.json"
+    if proc.returncode != 0 or not res.exists():
+        tail = (proc.stderr or proc.stdout).strip().splitlines()[-3:]
+        raise SolverError(f"yade probe failed (exit {proc.returncode}): {' | '.join(tail)}")
+    return json.loads(res.read_text())

@@ -1,0 +1,120 @@
+"""The registered model ``meniscus``: the finite-element Young-Laplace bridge as a
+:class:`~wetcontact.models.Model` (volume-controlled curve from contact to rupture)."""
+
+from __future__ import annotations
+
+import math
+from typing import Any, ClassVar
+
+import numpy as np
+
+from wetcontact.errors import InputError, ValidityError
+from wetcontact.models import ForceCurve, Model, register
+from wetcontact.scene import Scene
+from wetcontact.solver.meniscus.geometry import DEFAULT_ELEMENTS, THETA_MAX, Bridge
+from wetcontact.solver.meniscus.solve import _branch_for, solve_volume
+from wetcontact.solver.meniscus.young_laplace import _disc
+
+
+@register
+class MeniscusModel(Model):
+    """Finite-element Young-Laplace bridge (P2, Newton, continuation to rupture)."""
+
+    name: ClassVar[str] = "meniscus"
+    level: ClassVar[int] = 3
+    component: ClassVar[str] = "capillary"
+    validity: ClassVar[str] = (
+        "static axisymmetric pendular bridge; sphere-wall or sphere-sphere (R2/R1 in "
+        "[0.1, 10]); contact angles 0-150 deg; half-filling angle <= 70 deg at contact; "
+        "gravity optional"
+    )
+    order: ClassVar[float | None] = 4.0
+    reference_rank: ClassVar[dict[str, int]] = {"capillary": 30}
+    reference: ClassVar[str] = (
+        "Young-Laplace equation; P2 Petrov-Galerkin FE (Gauss collocation), Newton; "
+        "Lambert et al. (2008) force decomposition; Maddocks (1987) stability at folds"
+    )
+    presets: ClassVar[dict[str, dict[str, Any]]] = {
+        "fast": {"n_elements": 64},
+        "default": {"n_elements": DEFAULT_ELEMENTS},
+        "accurate": {"n_elements": 256},
+    }
+    error_bound: ClassVar[dict[str, float]] = {"fast": 1e-5, "default": 1e-6, "accurate": 1e-6}
+    """Relative force error per preset: default and accurate as tested against the shooting
+    solution over the validity range (1e-6); fast from the benchmark (1.6e-8 at 32
+    elements), stated with margin."""
+
+    def check(self, scene: Scene) -> None:
+        if scene.amount == "immersed":
+            raise ValidityError(self.name, "the scene is immersed (no liquid bridge)",
+                                use_instead="stokes")
+        if scene.amount == "film":
+            raise ValidityError(self.name, "the liquid is a film on the wall, not a bridge",
+                                use_instead="thinfilm")
+        if scene.bridge_volume is None:
+            raise ValidityError(self.name, "the scene has no bridge_volume")
+        for label, th in (("contact_angle_sphere", scene.contact_angle_sphere),
+                          ("contact_angle_wall", scene.contact_angle_wall)):
+            if th > THETA_MAX + 1e-12:
+                raise ValidityError(self.name, f"{label} = {math.degrees(th):.4g} deg is above "
+                                    "150 deg: outside the solver's range")
+        if scene.kind == "sphere-sphere":
+            ratio = scene.radius2 / scene.radius
+            if not 0.1 - 1e-12 <= ratio <= 10 + 1e-12:
+                raise ValidityError(self.name, f"radius ratio R2/R1 = {ratio:.4g} outside "
+                                    "[0.1, 10]")
+
+    def convergence_data(self) -> tuple[np.ndarray, np.ndarray]:
+        """Force error of a catenoid between plates (analytic, PHYSICS.md) against 1/N."""
+        a, h = 1.0, 1.2
+        th = math.atan2(1.0, math.sinh(h / a))
+        V = math.pi * a * a * (h + 0.5 * a * math.sinh(2 * h / a))
+        br = Bridge(radius=None, contact_angle1=th, contact_angle2=th, surface_tension=1.0)
+        exact = 2 * math.pi * a
+        ns = np.array([8, 16, 32, 64])
+        err = []
+        for n in ns:
+            sol = solve_volume(br, 2 * h, V, n_elements=int(n))
+            err.append(abs(sol.force_contact1 - exact) / exact)
+        return 1.0 / ns, np.array(err)
+
+    def _force(self, scene: Scene, preset: str, **opts: Any) -> ForceCurve:
+        n_el = int(opts.get("n_elements", DEFAULT_ELEMENTS))
+        bridge = Bridge.from_scene(scene)
+        V = float(scene.bridge_volume)
+        br, ell = _branch_for(bridge, V, n_el)
+        Sc = br.S_fold * ell
+        gaps = scene.gap_array
+        if np.all(gaps > Sc * (1 + 1e-12)):
+            raise InputError(
+                f"meniscus: every gap ({gaps.min():.6g} to {gaps.max():.6g} m) is beyond the "
+                f"rupture distance {Sc:.6g} m of V = {V:.6g} m^3: no bridge")
+        keys = ("laplace_pressure", "neck_radius", "filling_angle", "rupture_distance",
+                "bridge_exists", "force_spread", "stability")
+        keys += ("wetted_radius",) if scene.kind == "sphere-wall" else ("filling_angle2",)
+        ex = {k: np.zeros(gaps.size) for k in keys}
+        fc = np.zeros(gaps.size)
+        iters = []
+        for i, s in enumerate(gaps):
+            ex["rupture_distance"][i] = Sc
+            sol = solve_volume(bridge, float(s), V, n_elements=n_el, branch=br)
+            iters.append(sol.iterations)
+            if not sol.exists:
+                continue
+            fc[i] = sol.force
+            ex["laplace_pressure"][i] = sol.laplace_pressure
+            ex["neck_radius"][i] = sol.neck_radius
+            ex["filling_angle"][i] = sol.filling_angle1
+            ex["bridge_exists"][i] = 1.0
+            ex["force_spread"][i] = sol.force_spread
+            ex["stability"][i] = sol.stability
+            if scene.kind == "sphere-wall":
+                ex["wetted_radius"][i] = sol.wetted_radius
+            else:
+                ex["filling_angle2"][i] = sol.filling_angle2
+        return ForceCurve(
+            case=scene.name, model=self.name, gap=gaps, force_viscous=None,
+            force_capillary=fc, extras=ex,
+            diagnostics={"newton_iterations": iters, "n_elements": n_el,
+                         "dofs": _disc(n_el).m, "continuation_points": len(br.xs)},
+        )

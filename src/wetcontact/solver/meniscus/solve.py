@@ -1,0 +1,174 @@
+"""The public solves: rupture distance, volume- and suction-controlled bridges, and the
+force-separation curve (SI units in and out; the solver works in units of R1)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from wetcontact.errors import InputError, SolverError
+from wetcontact.solver.meniscus.continuation import (
+    _branch,
+    _check_filling,
+    _on_branch,
+    _solve_at,
+    _stability,
+)
+from wetcontact.solver.meniscus.geometry import DEFAULT_ELEMENTS, Bridge, _guess
+from wetcontact.solver.meniscus.post import BridgeSolution, _no_bridge, _post, _State
+from wetcontact.solver.meniscus.young_laplace import Fixed, VolumeIs, _disc, _newton
+
+
+def _prep(bridge: Bridge, volume: float | None, n_elements: int):
+    if volume is not None and not (math.isfinite(volume) and volume > 0):
+        raise InputError(f"meniscus: volume = {volume!r}; allowed: > 0 m^3")
+    ell = bridge.length_scale(volume)
+    return _disc(int(n_elements)), bridge._geo(ell), ell
+
+
+def _check_gap(gap: float) -> None:
+    if not (math.isfinite(gap) and gap >= 0):
+        raise InputError(f"meniscus: gap = {gap!r}; allowed: >= 0 m")
+
+
+@dataclass(frozen=True)
+class SeparationCurve:
+    """Volume-controlled force-separation curve from S = 0 to rupture.
+
+    Attributes
+    ----------
+    solutions
+        Stable-branch bridges at increasing gap, the last one at the rupture distance.
+    rupture_distance
+        S_c (m), the turning point of the branch.
+    unstable
+        Bridges just past the fold (unstable branch, stability = -1).
+    """
+
+    solutions: tuple[BridgeSolution, ...]
+    rupture_distance: float
+    unstable: tuple[BridgeSolution, ...] = ()
+
+    @property
+    def gap(self) -> np.ndarray:
+        return np.array([s.gap for s in self.solutions])
+
+    @property
+    def force(self) -> np.ndarray:
+        return np.array([s.force for s in self.solutions])
+
+
+def _branch_for(bridge: Bridge, volume: float, n_elements: int, n_steps: int = 40):
+    d, g, ell = _prep(bridge, volume, n_elements)
+    V = volume / ell**3
+    return _branch(d, g, V, n_steps=n_steps), ell
+
+
+def rupture_distance(bridge: Bridge, volume: float,
+                     n_elements: int = DEFAULT_ELEMENTS) -> float:
+    """Rupture distance S_c (m): the turning point of the volume-controlled branch.
+
+    Raises :class:`InputError` when no bridge exists even at contact.
+    """
+    br, ell = _branch_for(bridge, volume, n_elements)
+    return br.S_fold * ell
+
+
+def solve_volume(bridge: Bridge, gap: float, volume: float,
+                 n_elements: int = DEFAULT_ELEMENTS, branch: Any = None) -> BridgeSolution:
+    """Volume-controlled bridge at surface gap ``gap`` (m) with volume ``volume`` (m^3).
+
+    The stable bridge is returned; beyond the rupture distance the result has
+    ``exists = False`` and a message (no exception). A toroidal guess is tried first;
+    when it fails or lands off the stable branch, the branch is followed from contact.
+    """
+    _check_gap(gap)
+    d, g, ell = _prep(bridge, volume, n_elements)
+    V, S = volume / ell**3, gap / ell
+    st = lambda x: _State(x, d.n_el, g, ell, bridge.surface_tension, bridge)  # noqa: E731
+    if branch is None and g.rt is not None:
+        nw = _solve_at(d, g, S, V, None)
+        if nw.converged:
+            _check_filling(g, nw.x, d)
+            if _stability(d, g, nw.x) > 0:
+                return _post(st(nw.x), +1.0, nw.iterations)
+    if g.rt is None:
+        nw = _solve_at(d, g, S, V, None)
+        if not nw.converged:
+            raise SolverError("meniscus: plate-plate bridge did not converge")
+        return _post(st(nw.x), 0.0, nw.iterations)
+    br = branch if branch is not None else _branch(d, g, V)
+    if S > br.S_fold * (1 + 1e-12):
+        return _no_bridge(gap, volume, f"S = {gap:.6g} m is beyond the rupture distance "
+                                       f"{br.S_fold * ell:.6g} m")
+    nw = _on_branch(br, S)
+    if not nw.converged:
+        raise SolverError(f"meniscus: Newton failed at S = {gap:.6g} m")
+    return _post(st(nw.x), +1.0, nw.iterations)
+
+
+def solve_suction(bridge: Bridge, gap: float, laplace_pressure: float,
+                  n_elements: int = DEFAULT_ELEMENTS,
+                  volume_guess: float | None = None) -> BridgeSolution:
+    """Suction-controlled bridge: given dp = p_liquid - p_gas (Pa) at gap ``gap`` (m).
+
+    The volume follows from the solution. Yade's tables are of this kind (PHYSICS.md
+    section 4, ``P* = u R2 / sigma`` with u = -dp). Of the (generally two) solutions the one
+    with the larger filling angle is returned. ``volume_guess`` (m^3) helps if known.
+    """
+    _check_gap(gap)
+    if not math.isfinite(laplace_pressure):
+        raise InputError(f"meniscus: laplace_pressure = {laplace_pressure!r}; allowed: finite")
+    d, g, ell = _prep(bridge, volume_guess, n_elements)
+    S = gap / ell
+    P = laplace_pressure * ell / bridge.surface_tension
+    closing = (Fixed(d.iP, P), Fixed(d.iS, S))
+    x0 = None
+    if volume_guess is not None:
+        x0 = _guess(d, g, S, V=volume_guess / ell**3)
+    if x0 is None:
+        x0 = _guess(d, g, S, P=P)
+    if x0 is None:
+        return _no_bridge(gap, 0.0, f"no bridge with dp = {laplace_pressure:.6g} Pa at "
+                                    f"S = {gap:.6g} m")
+    x0[d.iP] = P
+    nw = _newton(d, g, x0, closing)
+    if not nw.converged:
+        return _no_bridge(gap, 0.0, f"no bridge found with dp = {laplace_pressure:.6g} Pa at "
+                                    f"S = {gap:.6g} m")
+    return _post(_State(nw.x, d.n_el, g, ell, bridge.surface_tension, bridge), 0.0,
+                 nw.iterations)
+
+
+def force_separation_curve(bridge: Bridge, volume: float, n_points: int = 100,
+                           n_elements: int = DEFAULT_ELEMENTS) -> SeparationCurve:
+    """Force-separation curve at fixed volume: ``n_points`` gaps evenly spaced from 0 to
+    rupture (the last one is the turning point), each warm-started from its neighbour."""
+    if n_points < 2:
+        raise InputError(f"meniscus: n_points = {n_points}; allowed: >= 2")
+    br, ell = _branch_for(bridge, volume, n_elements, n_steps=20)
+    d, g = br.d, br.g
+    Sg = np.linspace(0.0, br.S_fold, n_points)
+    out = []
+    x = br.xs[0]
+    x_prev = None
+    for k, S in enumerate(Sg):
+        if k == n_points - 1:
+            x, it = br.x_fold, 0
+        else:
+            guess = x.copy()
+            if x_prev is not None and x[d.iS] > x_prev[d.iS]:  # secant predictor in S
+                guess += (x - x_prev) * (S - x[d.iS]) / (x[d.iS] - x_prev[d.iS])
+            guess[d.iS] = S
+            x_prev = x
+            nw = _newton(d, g, guess, (VolumeIs(br.V), Fixed(d.iS, S)))
+            if not nw.converged or (S > 0.7 * br.S_fold and _stability(d, g, nw.x) < 0):
+                nw = _on_branch(br, S)
+            x, it = nw.x, nw.iterations
+        out.append(_post(_State(x, d.n_el, g, ell, bridge.surface_tension, bridge), 1.0, it))
+    uns = tuple(_post(_State(x, d.n_el, g, ell, bridge.surface_tension, bridge), -1.0)
+                for x in br.xs_after)
+    return SeparationCurve(tuple(out), br.S_fold * ell, uns)
