@@ -127,7 +127,7 @@ def robustness(ca_stars: list[float], cells: int = 300) -> dict:
 def stability(cells_list: list[int]) -> dict:
     rows = []
     for n in cells_list:
-        free = tf._leveling_problem(n)
+        free = tf.leveling_problem(n)
         h0 = free.film_thickness * (1 + 1e-3 * np.cos(np.pi * free.r_c / free.domain))
         dt_e = tf.explicit_stable_dt(free, h0, steps=400, bisections=24, lo=1e-12, hi=10.0)
         dt_i = tf.implicit_stable_dt(free, h0, [dt_e * 10.0**k for k in range(1, 9)],

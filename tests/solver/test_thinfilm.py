@@ -24,6 +24,32 @@ load_all()
 R, ETA, SIGMA = 1e-3, 1e-3, 0.072
 
 
+# ---- independent references (closed forms and quadrature) ----------------------
+
+
+def reynolds_wetted_force(problem: tf.FilmProblem, s: float, r_w: float) -> float:
+    r"""Quadrature :math:`F = 6\pi\eta v\int_0^{r_w} r^3/g^3\,dr` (Reynolds equation with
+    p = p(r_w) at the wetted edge; the viscous part only)."""
+    from scipy.integrate import quad
+
+    def f(r: float) -> float:
+        return r**3 / float(problem.gap(np.array([r]), s)[0]) ** 3
+
+    val, _ = quad(f, 0.0, r_w, epsabs=0.0, epsrel=1e-11, limit=200)
+    return 6.0 * np.pi * problem.viscosity * problem.velocity * val
+
+
+def pileup_limit(radius: float, viscosity: float, velocity: float, delta: float,
+                 s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    r"""Fast-approach (pile-up) limit: :math:`r_w = \sqrt{4R(\delta - S)}`,
+    :math:`F = 6\pi\eta R^2 v/S\,(1 - S/H)^2`, :math:`H = 2\delta - S`."""
+    s = np.asarray(s, dtype=float)
+    hh = 2.0 * delta - s
+    return (np.sqrt(4.0 * radius * (delta - s)),
+            6.0 * np.pi * viscosity * radius**2 * velocity / s * (1.0 - s / hh) ** 2)
+
+
+
 def film_problem(ca_star: float, cells: int, delta: float = 1e-5, penetration: float = 1e-3,
                  domain_factor: float = 3.0, **kw) -> tf.FilmProblem:
     """Sphere R = 1 mm on a water film; speed from the reduced capillary number."""
@@ -90,11 +116,11 @@ def test_flat_film_without_sphere_stays_flat():
 @pytest.mark.parametrize("gravity", [0.0, 9.81])
 def test_bessel_mode_decays_at_the_leveling_rate(gravity):
     """sigma delta^3 k^4/(3 eta) (+ rho g delta^3 k^2/(3 eta)) within 1 %."""
-    prob = tf._leveling_problem(96, gravity=gravity)
+    prob = tf.leveling_problem(96, gravity=gravity)
     num, an = tf.bessel_mode_decay(prob, mode=2)
     assert num == pytest.approx(an, rel=1e-2)
     # not trivially satisfied: a coarse grid is measurably off
-    num_c, an_c = tf.bessel_mode_decay(tf._leveling_problem(12, gravity=gravity), mode=2)
+    num_c, an_c = tf.bessel_mode_decay(tf.leveling_problem(12, gravity=gravity), mode=2)
     assert abs(num_c / an_c - 1) > abs(num / an - 1)
 
 
@@ -111,7 +137,7 @@ def _reynolds(prob: tf.FilmProblem, snap: tf.Snapshot) -> tuple[float, float]:
     try:
         from wetcontact.solver.lubrication import GapProfile, solve_reynolds
     except ImportError:  # the colleague's module is absent: closed-form quadrature
-        return (tf.reynolds_wetted_force(prob, snap.gap, snap.wetted_radius),
+        return (reynolds_wetted_force(prob, snap.gap, snap.wetted_radius),
                 math.pi * snap.wetted_radius**2 * snap.edge_pressure)
     sol = solve_reynolds(GapProfile.parabolic(snap.gap, prob.radius),
                          viscosity=prob.viscosity, velocity=prob.velocity,
@@ -157,7 +183,7 @@ def test_reynolds_quadrature_matches_closed_form():
     prob = film_problem(1.0, cells=16)
     s, hh = 2e-6, 1.5e-5
     r_w = math.sqrt(2 * R * (hh - s))
-    f = tf.reynolds_wetted_force(prob, s, r_w)
+    f = reynolds_wetted_force(prob, s, r_w)
     assert f == pytest.approx(6 * math.pi * ETA * R**2 * prob.velocity / s * (1 - s / hh) ** 2,
                               rel=1e-9)
 
@@ -170,7 +196,7 @@ def _limit_ratios(ca_star: float, cells: int) -> tuple[np.ndarray, np.ndarray]:
     d = prob.film_thickness
     gaps = d * np.array([1.0, 0.5, 0.1, 0.03])
     res = tf.implicit_run(prob, gaps, rtol=1e-4)
-    rw_l, f_l = tf.pileup_limit(R, ETA, prob.velocity, d, gaps)
+    rw_l, f_l = pileup_limit(R, ETA, prob.velocity, d, gaps)
     rw = np.array([s.wetted_radius for s in res.snapshots[1:]]) / rw_l[1:]
     fv = np.array([s.force_viscous for s in res.snapshots[1:]]) / f_l[1:]
     return rw, fv
@@ -221,13 +247,13 @@ def test_force_converges_as_penalty_is_refined():
 def test_explicit_limit_scales_like_dr4_and_implicit_is_unconditional():
     dts, drs = [], []
     for n in (16, 32):
-        prob = tf._leveling_problem(n)
+        prob = tf.leveling_problem(n)
         h0 = prob.film_thickness * (1 + 1e-3 * np.cos(np.pi * prob.r_c / prob.domain))
         dts.append(tf.explicit_stable_dt(prob, h0, steps=200, bisections=14,
                                          lo=1e-9, hi=1e-1))
         drs.append(prob.dr)
     assert observed_order(drs, dts) == pytest.approx(4.0, abs=0.5)
-    prob = tf._leveling_problem(32)
+    prob = tf.leveling_problem(32)
     h0 = prob.film_thickness * (1 + 1e-3 * np.cos(np.pi * prob.r_c / prob.domain))
     assert tf.implicit_stable_dt(prob, h0, [1e4 * dts[-1]], steps=5) > 0
 
@@ -328,7 +354,7 @@ def test_meniscus_converges_as_the_wetting_width_is_refined():
             assert d2 < 0.6 * d1, (attr, gaps[k])
             assert 0.7 < observed_order([0.2, 0.1], [d1, d2]) < 1.8, (attr, gaps[k])
         prob = runs[0.05][0]
-        errs = [abs(sn.force_viscous / tf.reynolds_wetted_force(prob, sn.gap,
+        errs = [abs(sn.force_viscous / reynolds_wetted_force(prob, sn.gap,
                                                                 sn.wetted_radius) - 1)
                 for sn in snaps]
         assert errs[2] < errs[1] < errs[0], gaps[k]
