@@ -131,23 +131,26 @@ from wetcontact.solver.thinfilm.leveling import (
 from wetcontact.solver.thinfilm.model import (
     CA_MAX,
     CA_STAR_MAX,
+    CELLS_ACROSS_CONTACT,
     CELLS_PER_WIDTH,
     DELTA_OVER_R_MAX,
     ThinFilm,
     auto_cells,
     problem_from_scene,
     reduced_capillary_number,
+    smallest_resolved_gap,
     sphere_mass,
     validity_reason,
 )
-from wetcontact.solver.thinfilm.problem import FilmProblem
+from wetcontact.solver.thinfilm.problem import FilmProblem, graded_cells, graded_faces
 
 _leveling_problem = leveling_problem  # old private name, still used by tables/thinfilm.py
 
 __all__ = [
-    "CA_MAX", "CA_STAR_MAX", "CELLS_PER_WIDTH", "DELTA_OVER_R_MAX", "FilmProblem", "RunResult",
-    "Snapshot", "ThinFilm", "ThinFilmPDE", "auto_cells", "bessel_mode_decay",
-    "explicit_stable_dt", "implicit_run", "implicit_stable_dt", "leveling_problem",
-    "newton_euler_step", "penetration_run", "problem_from_scene", "reduced_capillary_number",
-    "snapshot", "sphere_mass", "validity_reason",
+    "CA_MAX", "CA_STAR_MAX", "CELLS_ACROSS_CONTACT", "CELLS_PER_WIDTH", "DELTA_OVER_R_MAX",
+    "FilmProblem", "RunResult", "Snapshot", "ThinFilm", "ThinFilmPDE", "auto_cells",
+    "bessel_mode_decay", "explicit_stable_dt", "graded_cells", "graded_faces", "implicit_run",
+    "implicit_stable_dt", "leveling_problem", "newton_euler_step", "penetration_run",
+    "problem_from_scene", "reduced_capillary_number", "smallest_resolved_gap", "snapshot",
+    "sphere_mass", "validity_reason",
 ]

@@ -40,7 +40,7 @@ def snapshot(problem: FilmProblem, h: np.ndarray, s: float) -> Snapshot:
     centres (constant on the first half cell); F = 2 pi int_0^{r_w} p r dr (trapezoid).
     """
     p = problem.pressure(h, s)
-    slope = float(np.max(np.abs(np.diff(h)))) / problem.dr
+    slope = float(np.max(np.abs(np.diff(h) / problem.dc)))
     vol = problem.volume(h)
     if problem.gap_shape == "none":
         return Snapshot(s, 0.0, 0.0, 0.0, 0.0, slope, 0.0, vol)

@@ -204,18 +204,26 @@ def _bdf2_newton(problem: FilmProblem, rhs: np.ndarray, guess: np.ndarray, s1: f
     from scipy.linalg import solve_banded
 
     y = guess.copy()
-    for it in range(1, maxiter + 1):
-        f0 = problem.rate_gap(y, s1)
-        res = y - rhs - beta_dt * f0
-        ab = -beta_dt * _banded_jacobian(lambda yy: problem.rate_gap(yy, s1), y, f0,
-                                         problem.film_thickness)
-        ab[2] += 1.0
-        dy = solve_banded((2, 2), ab, -res, check_finite=False)
-        y = y + dy
-        if not np.all(np.isfinite(y)):
-            break
-        if np.all(np.abs(dy) < tol):
-            return y, it
+    # a diverging iterate (overflow, a singular Jacobian) is a failed step, not a crash:
+    # the caller shortens the step
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        for it in range(1, maxiter + 1):
+            f0 = problem.rate_gap(y, s1)
+            res = y - rhs - beta_dt * f0
+            ab = -beta_dt * _banded_jacobian(lambda yy: problem.rate_gap(yy, s1), y, f0,
+                                             problem.film_thickness)
+            ab[2] += 1.0
+            if not np.all(np.isfinite(ab)):
+                break
+            try:
+                dy = solve_banded((2, 2), ab, -res, check_finite=False)
+            except (np.linalg.LinAlgError, ValueError):
+                break
+            y = y + dy
+            if not np.all(np.isfinite(y)):
+                break
+            if np.all(np.abs(dy) < tol):
+                return y, it
     raise SolverError("thinfilm: Newton did not converge")
 
 

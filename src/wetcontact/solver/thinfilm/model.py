@@ -8,12 +8,12 @@ from typing import Any
 
 import numpy as np
 
-from wetcontact.errors import InputError, ValidityError
+from wetcontact.errors import InputError, SolverError, ValidityError
 from wetcontact.models import ForceCurve, Model, register
 from wetcontact.scene import Scene
-from wetcontact.solver.thinfilm.integrate import implicit_run, penetration_run
+from wetcontact.solver.thinfilm.integrate import RunResult, implicit_run, penetration_run
 from wetcontact.solver.thinfilm.leveling import bessel_mode_decay, leveling_problem
-from wetcontact.solver.thinfilm.problem import FilmProblem
+from wetcontact.solver.thinfilm.problem import FilmProblem, graded_cells
 
 # ---- validity limits (measured, see tables/thinfilm.py and the benchmark) ---------
 DELTA_OVER_R_MAX = 0.12
@@ -31,6 +31,26 @@ CELLS_PER_WIDTH = 115.0
 """Resolution constant of :func:`auto_cells` (cells = 115 sqrt(R/delta)/lambda for the
 default domain): 3600 cells at lambda = 0.1 on the water case, where doubling them moves
 the force by under 0.3 %."""
+
+CELLS_ACROSS_CONTACT = 4
+"""Cells the contact zone r < sqrt(2 R S) must span at the smallest gap (see
+:func:`smallest_resolved_gap`). Measured on the water case (fast preset, rtol 1e-4, S down
+to 1e-10 m): the viscous part of the wetted zone against the Reynolds quadrature of the
+same wetted radius is within 0.16 % at 4.3 cells, 0.3 % at 2.4, 1.6 % at 1.4, and falls
+to -22 % and -42 % below one cell."""
+
+ORDER_OF_CONTACT = {"meniscus": 1.0, "tangential": 0.7}
+"""Convergence order of the force in the contact resolution (wetting width lambda for the
+meniscus, dr for the tangential contact; measured by the benchmark, 1.13 and 0.7): the
+two-resolution error estimate divides F(2x) - F(x) by 2^p - 1."""
+
+SAFETY_FACTOR = 1.5
+"""Factor on the two-resolution (Richardson) error estimate, as in Roache's grid
+convergence index (J. Fluids Eng. 116, 405, 1994: 1.25 with three grids, 3 with two).
+The benchmark checks it per gap against the lambda -> 0 extrapolation on the water case:
+without it the estimate of the fast preset falls to 0.74 of the actual error at the first
+gaps after touch (the contact is not yet in its asymptotic range), the default's stays
+above 1.2 times it."""
 
 
 # ---- the model ----------------------------------------------------------------------
@@ -76,19 +96,46 @@ def auto_cells(radius: float, film_thickness: float, wetting_width: float,
     return max(200, math.ceil(n / wetting_width))
 
 
-def problem_from_scene(scene: Scene, cells: int, domain_factor: float,
+def smallest_resolved_gap(problem: FilmProblem) -> float:
+    r"""Smallest surface gap S whose contact zone the grid of ``problem`` resolves.
+
+    The squeeze pressure at gap S is concentrated within :math:`r \lesssim \sqrt{2RS}`
+    (where the parabolic gap doubles); the grid resolves it while this radius spans
+    :data:`CELLS_ACROSS_CONTACT` cells: :math:`S_{min} = r_N^2/(2R)`, :math:`r_N` the
+    N-th face from the axis. Below it the force is wrong without a warning (42 % low at
+    0.4 cells), and the model refuses the gap.
+    """
+    r_n = float(problem.r_f[min(CELLS_ACROSS_CONTACT, problem.cells)])
+    return r_n**2 / (2.0 * problem.radius)
+
+
+def problem_from_scene(scene: Scene, cells: int | None, domain_factor: float,
                        penetration: float, gap_shape: str = "parabolic",
                        contact: str = "meniscus", wall_angle: str = "film",
-                       wetting_width: float = 0.05) -> FilmProblem:
-    """The :class:`FilmProblem` of a film scene at a resolution.
+                       wetting_width: float = 0.05, fine_factor: float | None = None,
+                       growth: float = 1.03) -> FilmProblem:
+    r"""The :class:`FilmProblem` of a film scene at a resolution.
 
     ``wall_angle = "film"``: the meniscus foot meets the liquid film (theta = 0, the wall
-    under a film is wet); ``"scene"``: the scene's wall contact angle.
+    under a film is wet); ``"scene"``: the scene's wall contact angle. ``cells = None``:
+    the fine cells of :func:`auto_cells` (the uniform grid that resolves lambda).
+    ``fine_factor = None``: a uniform grid; else graded (:func:`graded_faces`), fine out to
+    ``fine_factor`` times the pile-up wetted radius :math:`\sqrt{4R\delta}` (the path of
+    the contact line: it reaches 1.1 of it on the water case), cells growing by ``growth``
+    beyond.
     """
     assert scene.film_thickness is not None
     if wall_angle not in ("film", "scene"):
         raise InputError(f"thinfilm: wall_angle = {wall_angle!r}; allowed: 'film', 'scene'")
-    length = domain_factor * math.sqrt(4.0 * scene.radius * scene.film_thickness)
+    r_pile = math.sqrt(4.0 * scene.radius * scene.film_thickness)
+    length = domain_factor * r_pile
+    fine = None if fine_factor is None else fine_factor * r_pile
+    if fine is not None and not 0.0 < fine < length:
+        raise InputError(f"thinfilm: fine_factor = {fine_factor!r}; allowed: (0, "
+                         f"domain_factor = {domain_factor:g})")
+    if cells is None:
+        n_u = auto_cells(scene.radius, scene.film_thickness, wetting_width, domain_factor)
+        cells = n_u if fine is None else graded_cells(length / n_u, length, fine, growth)
     return FilmProblem(radius=scene.radius, viscosity=scene.viscosity,
                        surface_tension=scene.surface_tension, density=scene.density,
                        gravity=scene.gravity, film_thickness=scene.film_thickness,
@@ -96,7 +143,7 @@ def problem_from_scene(scene: Scene, cells: int, domain_factor: float,
                        penetration=penetration, gap_shape=gap_shape, contact=contact,
                        angle_sphere=scene.contact_angle_sphere,
                        angle_wall=0.0 if wall_angle == "film" else scene.contact_angle_wall,
-                       wetting_width=wetting_width)
+                       wetting_width=wetting_width, fine_radius=fine, growth=growth)
 
 
 def sphere_mass(scene: Scene, mass: float | None = None) -> float:
@@ -125,12 +172,12 @@ class ThinFilm(Model):
     reference = ("thin-film equation (Oron, Davis & Bankoff 1997) with a penalty "
                  "obstacle; limits: Pitois et al. 2000")
     presets = {
-        "fast": {"wetting_width": 0.2, "penetration": 3e-3, "rtol": 1e-3,
-                 "domain_factor": 3.0},
+        "fast": {"wetting_width": 0.2, "penetration": 3e-3, "rtol": 1e-4,
+                 "domain_factor": 3.0, "fine_factor": 1.3},
         "default": {"wetting_width": 0.05, "penetration": 1e-3, "rtol": 1e-4,
-                    "domain_factor": 3.0},
+                    "domain_factor": 3.0, "fine_factor": 1.3},
         "accurate": {"wetting_width": 0.025, "penetration": 3e-4, "rtol": 1e-5,
-                     "domain_factor": 3.0},
+                     "domain_factor": 3.0, "fine_factor": 1.3},
     }
 
     def check(self, scene: Scene) -> None:
@@ -152,6 +199,27 @@ class ThinFilm(Model):
                                  reduced_capillary_number(scene))
         if reason:
             raise ValidityError(self.name, reason, use_instead="stokes")
+        finest = self._problem(scene, **self.presets["accurate"])
+        s_min = smallest_resolved_gap(finest)
+        if float(np.min(scene.gap_array)) < s_min:
+            raise ValidityError(self.name, self._too_small(scene, s_min, "accurate"),
+                                use_instead="lubrication")
+
+    @staticmethod
+    def _too_small(scene: Scene, s_min: float, preset: str) -> str:
+        return (f"gap S = {float(np.min(scene.gap_array)):.3g} m is below the smallest gap "
+                f"the '{preset}' preset resolves, {s_min:.3g} m ({CELLS_ACROSS_CONTACT} cells "
+                "across the contact zone sqrt(2 R S))")
+
+    @staticmethod
+    def _problem(scene: Scene, cells: int | None = None, penetration: float = 1e-3,
+                 domain_factor: float = 3.0, gap_shape: str = "parabolic",
+                 contact: str = "meniscus", wall_angle: str = "film",
+                 wetting_width: float = 0.05, fine_factor: float | None = None,
+                 growth: float = 1.03, **_: Any) -> FilmProblem:
+        """The :class:`FilmProblem` of ``scene`` at these settings (cells: auto)."""
+        return problem_from_scene(scene, cells, domain_factor, penetration, gap_shape,
+                                  contact, wall_angle, wetting_width, fine_factor, growth)
 
     def _force(self, scene: Scene, preset: str, cells: int | None = None,
                penetration: float = 1e-3, rtol: float = 1e-4, domain_factor: float = 3.0,
@@ -159,32 +227,47 @@ class ThinFilm(Model):
                wall_angle: str = "film", wetting_width: float = 0.05,
                integrator: str = "bdf2", inertia: bool = False, mass: float | None = None,
                profile_gaps: Sequence[float] | None = None, progress: bool = False,
-               **opts: Any) -> ForceCurve:
+               error_estimate: bool = True, fine_factor: float | None = None,
+               growth: float = 1.03, **opts: Any) -> ForceCurve:
         if opts:
             raise InputError("thinfilm: unknown settings " + ", ".join(sorted(opts))
                              + "; allowed: cells, penetration, rtol, domain_factor, "
                              "gap_shape, contact, wall_angle, wetting_width, integrator, "
-                             "inertia, mass, profile_gaps, progress")
+                             "inertia, mass, profile_gaps, progress, error_estimate, fine_factor, "
+                             "growth")
         if integrator not in ("bdf2", "scipy"):
             raise InputError(f"thinfilm: integrator = {integrator!r}; allowed: 'bdf2' "
                              "(own BDF2 + Newton), 'scipy' (py-pde ScipySolver, BDF)")
-        if cells is None:
-            assert scene.film_thickness is not None
-            cells = auto_cells(scene.radius, scene.film_thickness, wetting_width,
-                               domain_factor)
-        problem = problem_from_scene(scene, cells, domain_factor, penetration, gap_shape,
-                                     contact, wall_angle, wetting_width)
+        settings = {"cells": cells, "penetration": penetration, "domain_factor": domain_factor,
+                    "gap_shape": gap_shape, "contact": contact, "wall_angle": wall_angle,
+                    "wetting_width": wetting_width, "fine_factor": fine_factor,
+                    "growth": growth}
+        problem = self._problem(scene, **settings)
+        s_min = smallest_resolved_gap(problem)
+        if float(np.min(scene.gap_array)) < s_min:
+            raise ValidityError(self.name, self._too_small(scene, s_min, preset)
+                                + f" at {problem.cells} cells; a finer preset or more cells "
+                                "resolve smaller gaps", use_instead="lubrication")
         gaps = scene.gap_array
         if profile_gaps is None:
             profile_gaps = [float(np.max(gaps)), float(np.median(gaps)), float(np.min(gaps))]
         m = sphere_mass(scene, mass) if (inertia or mass is not None) else None
-        if integrator == "scipy":
-            if m is not None:
-                raise InputError("thinfilm: inertia needs integrator = 'bdf2'")
-            res = penetration_run(problem, gaps, profile_gaps=profile_gaps, rtol=rtol,
-                                  progress=progress)
-        else:
-            res = implicit_run(problem, gaps, profile_gaps=profile_gaps, rtol=rtol, mass=m)
+        if integrator == "scipy" and m is not None:
+            raise InputError("thinfilm: inertia needs integrator = 'bdf2'")
+
+        def run(prob: FilmProblem) -> RunResult:
+            if integrator == "scipy":
+                return penetration_run(prob, gaps, profile_gaps=profile_gaps, rtol=rtol,
+                                       progress=progress)
+            return implicit_run(prob, gaps, profile_gaps=profile_gaps, rtol=rtol, mass=m)
+
+        res = run(problem)
+        _check_fine_zone(problem, res)
+        estimate = None
+        if error_estimate:
+            coarse = self._problem(scene, **_coarser(settings, problem.cells))
+            estimate = _two_resolution_estimate(res, run(coarse),
+                                                ORDER_OF_CONTACT[problem.contact])
         snaps = res.snapshots
         speeds = res.speeds or [problem.velocity] * len(snaps)
         reached = res.reached or [True] * len(snaps)
@@ -198,10 +281,18 @@ class ThinFilm(Model):
                     "max_penetration": np.array([s.max_penetration for s in snaps]),
                     "sphere_speed": np.array(speeds, dtype=float),
                     "reached": np.array(reached, dtype=float)},
+            error_estimate=estimate,
             diagnostics={"steps": res.steps, "steps_shortened_by_rejection":
                          res.steps_shortened, "rhs_evaluations": res.rhs_evaluations,
                          "volume_drift": res.volume_drift, "cells": problem.cells,
                          "domain_m": problem.domain, "dr_m": problem.dr,
+                         "smallest_resolved_gap_m": s_min,
+                         "fine_radius_m": problem.fine_radius or problem.domain,
+                         "error_estimate_method": (
+                             f"two resolutions: {SAFETY_FACTOR} |F(x) - F(2x)|/(2^p - 1), "
+                             f"p = {ORDER_OF_CONTACT[problem.contact]}, x = the contact "
+                             "resolution")
+                         if error_estimate else "none",
                          "min_gap_m": res.min_gap if m is not None else float(np.min(gaps)),
                          "mass_kg": m if m is not None else 0.0,
                          "profile_r_m": res.r.tolist(),
@@ -221,3 +312,47 @@ class ThinFilm(Model):
             err.append(num / an - 1.0)
         return 1.0 / cells, np.array(err)
 
+
+
+def _coarser(settings: dict[str, Any], cells: int) -> dict[str, Any]:
+    """Settings of the companion run of the error estimate: the contact resolution halved
+    (meniscus: lambda doubled, at most 0.5, with its cells; tangential: half the cells)."""
+    out = dict(settings)
+    if settings["contact"] == "meniscus":
+        out["wetting_width"] = min(2.0 * settings["wetting_width"], 0.5)
+        if settings["cells"] is not None:
+            out["cells"] = max(8, cells // 2)
+    else:
+        out["cells"] = max(8, cells // 2)
+    return out
+
+
+def _two_resolution_estimate(fine: RunResult, coarse: RunResult, order: float) -> np.ndarray:
+    r"""Relative error of the fine run per gap,
+    :math:`F_s|F_x - F_{2x}|/((2^p - 1)(|F_{\rm visc}| + |F_{\rm cap}|))` (Richardson's
+    estimate for order p times the safety factor :data:`SAFETY_FACTOR`; the scale is the
+    force magnitude of the fine run because the total changes sign). 0 at first touch (no
+    wetted zone: the force is exactly 0); 1 where only one of the two runs reached the gap
+    (inertia)."""
+    out = np.zeros(len(fine.snapshots))
+    for i, (a, b) in enumerate(zip(fine.snapshots, coarse.snapshots, strict=True)):
+        ra = not fine.reached or fine.reached[i]
+        rb = not coarse.reached or coarse.reached[i]
+        scale = abs(a.force_viscous) + abs(a.force_capillary)
+        if ra != rb:
+            out[i] = 1.0
+        elif ra and scale > 0.0:
+            diff = (a.force_viscous + a.force_capillary) - (b.force_viscous + b.force_capillary)
+            out[i] = SAFETY_FACTOR * abs(diff) / ((2.0**order - 1.0) * scale)
+    return out
+
+
+def _check_fine_zone(problem: FilmProblem, res: RunResult) -> None:
+    """Raise :class:`SolverError` if the contact line left the fine zone of a graded grid
+    (its coarse cells do not resolve the contact)."""
+    if problem.fine_radius is None:
+        return
+    r_w = max(s.wetted_radius for s in res.snapshots)
+    if r_w > problem.fine_radius:
+        raise SolverError(f"thinfilm: the wetted radius {r_w:.3g} m left the fine zone "
+                          f"(fine_radius = {problem.fine_radius:.3g} m); raise fine_factor")
