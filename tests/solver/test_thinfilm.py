@@ -561,21 +561,3 @@ def test_two_resolution_estimate_bounds_a_first_order_error():
     actual = np.abs(c * x)[1:] / np.abs(fine[1:])
     assert est[0] == 0.0
     assert est[1:] == pytest.approx(SAFETY_FACTOR * actual, rel=1e-12)
-
-
-@pytest.mark.slow
-def test_fast_preset_error_estimate_bounds_its_error_on_the_water_case(scene_factory):
-    """The fast preset's estimate (lambda = 0.2 against 0.4) bounds its actual error
-    against the lambda -> 0 extrapolation 2 F(0.05) - F(0.1) of finer runs, per gap."""
-    model = MODELS["thinfilm"]
-    d = 1e-4
-    scene = film_scene(scene_factory, v=0.5, gaps=list(d * np.array([1.0, 0.5, 0.2, 0.1,
-                                                                       0.03, 0.01])))
-    fast = model.force(scene, preset="fast")
-    f = {lam: model.force(scene, preset="default", wetting_width=lam,
-                          error_estimate=False).force_total for lam in (0.05, 0.1)}
-    ref = 2 * f[0.05] - f[0.1]
-    scale = np.abs(fast.force_viscous) + np.abs(fast.force_capillary)
-    actual = np.abs(fast.force_total - ref)[1:] / scale[1:]
-    assert np.all(fast.error_estimate[1:] >= actual)
-    assert np.max(actual) > 0.01  # the fast preset's error is not trivially small
