@@ -88,9 +88,12 @@ A small J0(k r) mode of a flat film decays at :math:`\sigma\delta^3k^4/(3\eta)` 
 
 Numerics
 --------
-Conservative finite volumes on py-pde's :class:`~pde.grids.PolarSymGrid` (uniform cells of
-width dr on [0, L], L = ``domain_factor`` times the pile-up wetted radius
-:math:`\sqrt{4R\delta}`); the Laplacian and the flux are built on cell faces, so
+Conservative finite volumes on [0, L], L = ``domain_factor`` times the pile-up wetted radius
+:math:`\sqrt{4R\delta}`: uniform cells of width dr, or (the presets) a graded grid with
+the uniform fine cells out to ``fine_factor`` times :math:`\sqrt{4R\delta}` (the contact
+zone and the whole path of the contact line) and cells growing by 3 % beyond
+(:func:`graded_faces`); py-pde's :class:`~pde.grids.PolarSymGrid` only carries the cell
+values for its solvers. The Laplacian and the flux are built on cell faces, so
 :math:`\sum_i V_i\,\dot h_i = 0` to round-off and the liquid volume is conserved by any
 linear multistep/Newton integrator. Boundary conditions: symmetry at r = 0; h' = 0 and
 zero flux at r = L (a closed dish, large enough that the displaced volume raises the far
@@ -102,6 +105,12 @@ Euler are kept for the stability comparison, together with :func:`newton_euler_s
 a backward-Euler step solved by Newton's method on the same sparse Jacobian. The default
 integrator is :func:`implicit_run`: variable-step BDF2 with Newton on the banded
 Jacobian and the gap S as the clock; it also couples the sphere's inertia, m dv/dt = -F.
+
+Honest limits: the squeeze pressure at gap S lives within :math:`r \lesssim \sqrt{2RS}`;
+a preset refuses gaps where this spans fewer than 4 cells (:func:`smallest_resolved_gap`,
+``ValidityError`` naming ``lubrication``). The error estimate of the model compares the run
+with a second one at half the contact resolution (lambda doubled) and scales the
+difference as Richardson's estimate for the observed order, with a safety factor.
 
 Declared order: 2, measured in :meth:`ThinFilm.convergence_data` on the decay rate of a
 J0 mode against the analytic leveling rate (the spatial operator's order against an exact
