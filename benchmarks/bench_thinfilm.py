@@ -29,6 +29,7 @@ Run: ``/work/venv/bin/python benchmarks/bench_thinfilm.py [--quick]``.
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import time
 
@@ -248,7 +249,7 @@ def chart(data: dict) -> None:
                                       if r["wetting_width"] == uni["wetting_width"])],
            "kx", label=f"uniform grid, lambda {uni['wetting_width']:g} ({uni['cells']} cells)")
     a.axvline(30.0, color="k", ls=":", lw=0.8)
-    a.legend(fontsize=7)
+    a.legend(fontsize=7, loc="lower left")
     a.set_xlabel("wall time of a full penetration run (s)")
     a.set_ylabel("max |F - F_ref|/(|F_visc| + |F_cap|)")
     a.set_title("thinfilm work-precision (water film, BDF2)")
@@ -272,7 +273,16 @@ def chart(data: dict) -> None:
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--presets-only", action="store_true",
+                    help="rerun only the preset timings into the existing JSON")
     args = ap.parse_args()
+    if args.presets_only:
+        data = json.loads((RESULTS / "thinfilm.json").read_text())
+        data["presets"] = presets(3)
+        data.pop("cpu_count", None)
+        write_json("thinfilm", data)
+        chart(data)
+        return
     if args.quick:
         wp = work_precision([0.2, 0.1], 20)
         pr = presets(1, ("fast",))
