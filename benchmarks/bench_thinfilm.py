@@ -5,14 +5,21 @@ Writes ``benchmarks/results/thinfilm.json`` and ``thinfilm.png``:
 1. Work-precision: a full penetration run (S = delta -> 0.01 delta, 40 log-spaced gaps) of a
    2 mm glass bead (0.5 m/s) on a 100 um water film, own BDF2 integrator. Wetting
    meniscus (theta_s = 20 deg): the resolution is the wetting width lambda = 0.2, 0.1,
-   0.05, 0.025 with the cells that resolve it (:func:`thinfilm.auto_cells`); the model
-   converges at first order in lambda, so the reference is the first-order Richardson
-   extrapolation 2 F(0.025) - F(0.05), and each error is the maximum difference of the
-   total force from it relative to |F_visc| + |F_cap| of the reference (the total
-   changes sign). Tangential contact: cells 150 ... 1200 against a 2400-cell run. The
-   time is one wall-clock run (2 shared cores: noisy). Also the step counts of both
-   integrators over Ca* = 1 ... 1000 (robustness).
-2. Stability: the largest stable fixed time step of py-pde's explicit Euler and of a
+   0.05, 0.025 with the cells that resolve it (:func:`thinfilm.auto_cells`) on the graded
+   grid the model uses (fine out to 1.3 sqrt(4 R delta), 3 % growth beyond); lambda = 0.05
+   also on the old uniform grid (same session, for the speed-up). The model converges at
+   first order in lambda, so the reference is the first-order Richardson extrapolation
+   2 F(0.025) - F(0.05), and each error is the maximum difference of the total force from
+   it relative to |F_visc| + |F_cap| of the reference (the total changes sign). For each
+   lambda also the model's two-resolution error estimate (lambda against 2 lambda) and its
+   ratio to the actual error per gap (>= 1: the estimate bounds it). Tangential contact:
+   cells 150 ... 1200 against a 2400-cell run (uniform). The time is one wall-clock run.
+   Also the step counts of both integrators over Ca* = 1 ... 1000 (robustness).
+2. Presets: median wall time of the ``thinfilm`` model (the run and its error-estimate
+   companion) on the case file ``cases/glass-2mm-water-film.toml``, and the largest
+   difference between the presets' forces along the penetration.
+The machine has 2 cores shared with 5 other jobs while this runs: timings are noisy.
+3. Stability: the largest stable fixed time step of py-pde's explicit Euler and of a
    Newton backward-Euler step against the cell width, on a perturbed flat film (the
    capillary operator, explicit limit ~ dr^4) and with the sphere pressed in (penalty).
 
@@ -22,36 +29,51 @@ Run: ``/work/venv/bin/python benchmarks/bench_thinfilm.py [--quick]``.
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import time
 
 import numpy as np
 from _common import RESULTS, write_json
 
-from wetcontact.models import observed_order
+from wetcontact.models import MODELS, load_all, observed_order
+from wetcontact.scene import load_case
 from wetcontact.solver import thinfilm as tf
+from wetcontact.solver.thinfilm.model import SAFETY_FACTOR
+
+CASE = RESULTS.parents[1] / "cases" / "glass-2mm-water-film.toml"
+FINE_FACTOR, GROWTH = 1.3, 1.03
 
 R, DELTA, V, ETA, SIGMA = 1e-3, 1e-4, 0.5, 1e-3, 0.072
 
 
 def water_problem(cells: int, contact: str = "meniscus", velocity: float = V,
-                  delta: float = DELTA, wetting_width: float = 0.05) -> tf.FilmProblem:
+                  delta: float = DELTA, wetting_width: float = 0.05,
+                  graded: bool = False) -> tf.FilmProblem:
     """2 mm glass bead, 100 um water film, 0.5 m/s (Ca* = 2.1), default penalty and domain,
-    theta_s = 20 deg (the glass-2mm-water-film case)."""
+    theta_s = 20 deg (the glass-2mm-water-film case). ``graded``: the model's graded grid
+    whose fine cells are those of ``cells`` uniform cells."""
+    length = 3.0 * math.sqrt(4 * R * delta)
+    fine = FINE_FACTOR * math.sqrt(4 * R * delta) if graded else None
+    if graded:
+        cells = tf.graded_cells(length / cells, length, fine, GROWTH)
     return tf.FilmProblem(radius=R, viscosity=ETA, surface_tension=SIGMA, density=998.0,
                           gravity=0.0, film_thickness=delta, velocity=velocity, cells=cells,
-                          domain=3.0 * math.sqrt(4 * R * delta), penetration=1e-3,
-                          contact=contact, angle_sphere=math.radians(20.0),
-                          wetting_width=wetting_width)
+                          domain=length, penetration=1e-3, contact=contact,
+                          angle_sphere=math.radians(20.0), wetting_width=wetting_width,
+                          fine_radius=fine, growth=GROWTH)
 
 
-def _run(cells: int, contact: str, lam: float, gaps: np.ndarray, rtol: float) -> dict:
+def _run(cells: int, contact: str, lam: float, gaps: np.ndarray, rtol: float,
+         graded: bool = False) -> dict:
+    prob = water_problem(cells, contact, wetting_width=lam, graded=graded)
     t0 = time.perf_counter()
-    res = tf.implicit_run(water_problem(cells, contact, wetting_width=lam), gaps, rtol=rtol)
+    res = tf.implicit_run(prob, gaps, rtol=rtol)
     wall = time.perf_counter() - t0
-    print(f"{contact} cells {cells} lambda {lam}: {wall:.1f} s, {res.steps} steps, "
-          f"drift {res.volume_drift:.1e}", flush=True)
+    print(f"{contact} cells {prob.cells} lambda {lam} graded {graded}: {wall:.1f} s, "
+          f"{res.steps} steps, drift {res.volume_drift:.1e}", flush=True)
     return {"wall_time_s": wall, "steps": res.steps, "volume_drift": res.volume_drift,
+            "cells_total": prob.cells,
             "force": np.array([s.force_viscous + s.force_capillary for s in res.snapshots]),
             "scale": np.array([abs(s.force_viscous) + abs(s.force_capillary)
                                for s in res.snapshots]),
@@ -61,27 +83,81 @@ def _run(cells: int, contact: str, lam: float, gaps: np.ndarray, rtol: float) ->
 def _errors(runs: dict, keys: list, fref: np.ndarray, scale: np.ndarray) -> list[dict]:
     out = []
     for key in keys:
-        cells, lam = key
+        cells, lam = key[:2]
         err = float(np.max(np.abs(runs[key]["force"][1:] - fref[1:]) / scale[1:]))
-        out.append({"cells": cells, "wetting_width": lam, "dr_m": water_problem(cells).dr,
+        out.append({"cells": cells, "cells_total": runs[key]["cells_total"],
+                    "wetting_width": lam, "dr_m": water_problem(cells).dr,
                     "error": err, "wall_time_s": runs[key]["wall_time_s"],
                     "steps": runs[key]["steps"], "volume_drift": runs[key]["volume_drift"]})
     return out
 
 
 def work_precision(widths: list[float], n_gaps: int) -> dict:
-    """Wetting meniscus: lambda refined with its resolution; Richardson reference."""
+    """Wetting meniscus on the graded grid: lambda refined with its resolution; Richardson
+    reference; the model's error estimate against the actual error; lambda = 0.05 on the
+    uniform grid for the speed-up."""
     gaps = np.geomspace(DELTA, 0.01 * DELTA, n_gaps)
-    keys = [(tf.auto_cells(R, DELTA, lam), lam) for lam in widths]
-    runs = {k: _run(k[0], "meniscus", k[1], gaps, 1e-4) for k in keys}
+    all_w = sorted({*widths, min(2 * max(widths), 0.5)}, reverse=True)
+    keys = [(tf.auto_cells(R, DELTA, lam), lam, True) for lam in all_w]
+    runs = {k: _run(k[0], "meniscus", k[1], gaps, 1e-4, graded=True) for k in keys}
     fine, second = runs[keys[-1]], runs[keys[-2]]
     fref = 2.0 * fine["force"] - second["force"]
-    out = _errors(runs, keys, fref, fine["scale"])
+    out = _errors(runs, keys[1:], fref, fine["scale"])
+    for row, key, coarse in zip(out, keys[1:], keys[:-1], strict=True):
+        sc = runs[key]["scale"][1:]
+        est = SAFETY_FACTOR * np.abs(runs[key]["force"] - runs[coarse]["force"])[1:] / sc
+        actual = np.abs(runs[key]["force"] - fref)[1:] / sc
+        row["estimate_max"] = float(np.max(est))
+        row["estimate_over_actual_min"] = float(np.min(est / actual))
+        print(f"lambda {row['wetting_width']}: error {row['error']:.3f}, estimate max "
+              f"{row['estimate_max']:.3f}, min ratio {row['estimate_over_actual_min']:.2f}")
+    mid = widths[len(widths) // 2] if 0.05 not in widths else 0.05
+    uni = _run(tf.auto_cells(R, DELTA, mid), "meniscus", mid, gaps, 1e-4, graded=False)
+    graded_mid = runs[(tf.auto_cells(R, DELTA, mid), mid, True)]
+    uniform = {"wetting_width": mid, "cells": uni["cells_total"],
+               "wall_time_s": uni["wall_time_s"], "steps": uni["steps"],
+               "graded_cells": graded_mid["cells_total"],
+               "graded_wall_time_s": graded_mid["wall_time_s"],
+               "max_difference_graded_vs_uniform": float(np.max(
+                   np.abs(graded_mid["force"] - uni["force"])[1:] / uni["scale"][1:]))}
+    print(uniform, flush=True)
     order = observed_order([o["wetting_width"] for o in out], [o["error"] for o in out])
-    return {"contact": "meniscus", "gaps_m": gaps.tolist(),
+    return {"contact": "meniscus", "grid": f"graded, fine to {FINE_FACTOR} sqrt(4 R delta), "
+            f"growth {GROWTH}", "gaps_m": gaps.tolist(),
             "reference": "2 F(lambda_min) - F(2 lambda_min) (first order in lambda)",
             "reference_force_N": fref.tolist(), "runs": out, "observed_order": order,
-            "order_variable": "wetting_width"}
+            "order_variable": "wetting_width", "uniform_vs_graded": uniform,
+            "estimate": f"{SAFETY_FACTOR} |F(lambda) - F(2 lambda)| / (|F_visc| + |F_cap|)"}
+
+
+def presets(repeats: int, names: tuple[str, ...] = ("fast", "default", "accurate")) -> dict:
+    """Median wall time of the model's presets on the water case file (with the error
+    estimate's companion run), and the largest difference between the presets' forces."""
+    load_all()
+    model, scene = MODELS["thinfilm"], load_case(CASE)
+    out: dict = {"case": CASE.name, "repeats": repeats}
+    curves = {}
+    for name in names:
+        reps = 1 if name == "accurate" else repeats
+        times = []
+        for _ in range(reps):
+            t0 = time.perf_counter()
+            curves[name] = model.force(scene, preset=name)
+            times.append(time.perf_counter() - t0)
+        c = curves[name]
+        out[name] = {"median_wall_time_s": float(np.median(times)), "wall_times_s": times,
+                     "cells": c.diagnostics["cells"],
+                     "smallest_resolved_gap_m": c.diagnostics["smallest_resolved_gap_m"],
+                     "error_estimate_max": float(np.max(c.error_estimate))}
+        print(name, out[name], flush=True)
+    if "accurate" not in curves:
+        return out
+    acc = curves["accurate"]
+    scale = np.abs(acc.force_viscous) + np.abs(acc.force_capillary)
+    for name in ("fast", "default"):
+        out[name]["max_difference_to_accurate"] = float(np.max(
+            np.abs(curves[name].force_total - acc.force_total)[1:] / scale[1:]))
+    return out
 
 
 def work_precision_cells(cells_list: list[int], ref_cells: int, n_gaps: int,
@@ -127,7 +203,7 @@ def robustness(ca_stars: list[float], cells: int = 300) -> dict:
 def stability(cells_list: list[int]) -> dict:
     rows = []
     for n in cells_list:
-        free = tf._leveling_problem(n)
+        free = tf.leveling_problem(n)
         h0 = free.film_thickness * (1 + 1e-3 * np.cos(np.pi * free.r_c / free.domain))
         dt_e = tf.explicit_stable_dt(free, h0, steps=400, bisections=24, lo=1e-12, hi=10.0)
         dt_i = tf.implicit_stable_dt(free, h0, [dt_e * 10.0**k for k in range(1, 9)],
@@ -166,10 +242,14 @@ def chart(data: dict) -> None:
                        f"in {var})")
         for r in wp:
             tag = (f"{r['cells']}" if var == "dr" else
-                   f"lambda {r['wetting_width']:g}, {r['cells']}")
+                   f"lambda {r['wetting_width']:g}, {r['cells_total']}")
             a.annotate(tag, (r["wall_time_s"], r["error"]), fontsize=7)
+    uni = data["work_precision"]["uniform_vs_graded"]
+    a.plot([uni["wall_time_s"]], [next(r["error"] for r in data["work_precision"]["runs"]
+                                      if r["wetting_width"] == uni["wetting_width"])],
+           "kx", label=f"uniform grid, lambda {uni['wetting_width']:g} ({uni['cells']} cells)")
     a.axvline(30.0, color="k", ls=":", lw=0.8)
-    a.legend(fontsize=7)
+    a.legend(fontsize=7, loc="lower left")
     a.set_xlabel("wall time of a full penetration run (s)")
     a.set_ylabel("max |F - F_ref|/(|F_visc| + |F_cap|)")
     a.set_title("thinfilm work-precision (water film, BDF2)")
@@ -193,20 +273,31 @@ def chart(data: dict) -> None:
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--presets-only", action="store_true",
+                    help="rerun only the preset timings into the existing JSON")
     args = ap.parse_args()
+    if args.presets_only:
+        data = json.loads((RESULTS / "thinfilm.json").read_text())
+        data["presets"] = presets(3)
+        data.pop("cpu_count", None)
+        write_json("thinfilm", data)
+        chart(data)
+        return
     if args.quick:
-        wp = work_precision([0.3, 0.2, 0.1], 20)
+        wp = work_precision([0.2, 0.1], 20)
+        pr = presets(1, ("fast",))
         wpt = work_precision_cells([75, 150, 300, 600], 1200, 20)
         rb = robustness([1.0, 100.0])
         st = stability([16, 32, 64])
     else:
         wp = work_precision([0.2, 0.1, 0.05, 0.025], 40)
+        pr = presets(3)
         wpt = work_precision_cells([150, 300, 600, 1200], 2400, 40)
         rb = robustness([1.0, 10.0, 100.0, 1000.0])
         st = stability([16, 32, 64, 128])
-    data = {"work_precision": wp, "work_precision_tangential": wpt, "robustness": rb,
-            "stability": st,
-            "note": "2 CPU cores shared with another developer: timings are noisy"}
+    data = {"work_precision": wp, "presets": pr, "work_precision_tangential": wpt,
+            "robustness": rb, "stability": st,
+            "note": "2 CPU cores shared with 5 other jobs while it ran: timings are noisy"}
     write_json("thinfilm", data)
     chart(data)
 
