@@ -554,7 +554,7 @@ def test_gaps_where_the_penalty_pressure_is_uncontrolled_are_refused(scene_facto
     from wetcontact.solver.thinfilm.model import SMALLEST_GAP_OVER_DELTA
 
     model = MODELS["thinfilm"]
-    delta = film_scene(scene_factory, v=0.5, gaps=[1e-4]).film_thickness
+    delta = 1e-4  # film_scene's default
     low = film_scene(scene_factory, v=0.5, gaps=[1e-4, 0.5 * SMALLEST_GAP_OVER_DELTA * delta])
     with pytest.raises(ValidityError, match="penalty") as exc:
         model.check(low)
