@@ -40,7 +40,7 @@ C_BENCH = r"""
 int main(void)
 {
     const int n = 1000000;
-    double acc = 0.0, t[3];
+    double acc = 0.0, t[4];
     clock_t c0;
     int i;
     c0 = clock();
@@ -49,13 +49,17 @@ int main(void)
     t[0] = (double)(clock() - c0) / CLOCKS_PER_SEC / n;
     c0 = clock();
     for (i = 0; i < n; ++i)
+        acc += wc_viscous_force_bridge(1e-3, 2e-3, 1e-3, 1e-11, 0.1, 1e-7 * (1 + i % 100));
+    t[3] = (double)(clock() - c0) / CLOCKS_PER_SEC / n;
+    c0 = clock();
+    for (i = 0; i < n; ++i)
         acc += wc_rupture_distance(1e-3, 1e-3, 1e-11 * (1 + i % 50), 10.0, 30.0);
     t[1] = (double)(clock() - c0) / CLOCKS_PER_SEC / n;
     c0 = clock();
     for (i = 0; i < n; ++i)
         acc += wc_capillary_force(1e-3, 1e-3, 1e-11, 1e-7 * (1 + i % 1000), 0.072, 10.0, 30.0);
     t[2] = (double)(clock() - c0) / CLOCKS_PER_SEC / n;
-    printf("%.6g %.6g %.6g %.17g\n", t[0], t[1], t[2], acc);
+    printf("%.6g %.6g %.6g %.6g %.17g\n", t[0], t[1], t[2], t[3], acc);
     return 0;
 }
 """
@@ -97,6 +101,8 @@ def main() -> None:
     py_eval = {
         "viscous_force_immersed": median_time(lambda: mod.viscous_force_immersed(
             1e-3, np.inf, 1e-3, 0.1, gap), repeats=5)[0] / N_PY,
+        "viscous_force_bridge": median_time(lambda: mod.viscous_force_bridge(
+            1e-3, 2e-3, 1e-3, vol, 0.1, gap * 1e-2), repeats=5)[0] / N_PY,
         "rupture_distance": median_time(lambda: mod.rupture_distance(
             1e-3, 1e-3, vol, 10.0, 30.0), repeats=5)[0] / N_PY,
         "capillary_force": median_time(lambda: mod.capillary_force(
@@ -112,7 +118,8 @@ def main() -> None:
         runs = [subprocess.run([str(tmp / "bench")], check=True, capture_output=True,
                                text=True).stdout.split() for _ in range(3)]
         c_eval = {name: float(np.median([float(r[i]) for r in runs])) for i, name in
-                  enumerate(("viscous_force_immersed", "rupture_distance", "capillary_force"))}
+                  enumerate(("viscous_force_immersed", "rupture_distance", "capillary_force",
+                             "viscous_force_bridge"))}
     shutil.rmtree(tmp, ignore_errors=True)
     out = {"writer_median_s": writer_s, "command_median_s": command_s,
            "python_module_s_per_point": py_eval, "python_points": N_PY,

@@ -34,10 +34,11 @@ from wetcontact.export.python_module import write_module
 jsonschema = pytest.importorskip("jsonschema")
 
 REL = 1e-12  # a few ulps of libm through exp(f1 - f2 exp(...)); not loosened
-N = 2000  # points per function
+N = 1500  # points per function (6000 in all)
 
 ARGS = {
     "viscous_force_immersed": ("r1", "r2", "viscosity", "approach_speed", "gap"),
+    "viscous_force_bridge": ("r1", "r2", "viscosity", "volume", "approach_speed", "gap"),
     "rupture_distance": ("r1", "r2", "volume", "theta1_deg", "theta2_deg"),
     "capillary_force": ("r1", "r2", "volume", "gap", "surface_tension", "theta1_deg",
                         "theta2_deg"),
@@ -60,6 +61,15 @@ def design(seed: int = 20261123) -> dict[str, dict[str, np.ndarray]]:
            "approach_speed": rng.uniform(-2.0, 2.0, N),
            "gap": r1 * np.exp(rng.uniform(np.log(3e-6), np.log(300.0), N))}
     r1 = np.exp(rng.uniform(np.log(1e-5), np.log(1e-2), N))
+    r2 = np.where(rng.uniform(size=N) < 0.4, np.inf,
+                  r1 * np.exp(rng.uniform(np.log(0.08), np.log(12.0), N)))
+    rstar = 1.0 / (1.0 / r1 + 1.0 / r2)  # r1 for a plane
+    vb = np.minimum(r1, r2) ** 3 * np.exp(rng.uniform(np.log(5e-5), np.log(0.15), N))
+    x = rng.uniform(0.003, 0.99, N)  # S/H
+    bridge = {"r1": r1, "r2": r2, "viscosity": vis["viscosity"], "volume": vb,
+              "approach_speed": vis["approach_speed"],
+              "gap": x * np.sqrt(vb / (np.pi * rstar)) / np.sqrt(1.0 - x**2)}
+    r1 = np.exp(rng.uniform(np.log(1e-5), np.log(1e-2), N))
     v = r1**3 * np.exp(rng.uniform(np.log(5e-5), np.log(0.15), N))
     th1, th2 = rng.uniform(0.0, 60.0, N), rng.uniform(0.0, 60.0, N)
     rup = {"r1": r1, "r2": _second_radius(rng, r1, 0.05, 0.05), "volume": v,
@@ -69,7 +79,8 @@ def design(seed: int = 20261123) -> dict[str, dict[str, np.ndarray]]:
     sc = r1 * (1.0 + 0.5 * np.radians(0.5 * (th1 + th2))) * np.cbrt(v / r1**3)
     cap = {**rup, "gap": sc * rng.uniform(0.003, 1.3, N),
            "surface_tension": rng.uniform(0.02, 0.08, N)}
-    return {"viscous_force_immersed": vis, "rupture_distance": rup, "capillary_force": cap}
+    return {"viscous_force_immersed": vis, "viscous_force_bridge": bridge,
+            "rupture_distance": rup, "capillary_force": cap}
 
 
 @pytest.fixture(scope="module")
@@ -107,9 +118,10 @@ def test_design_covers_domain_refusals_and_rupture(points):
         assert np.sum(np.isnan(y)) > 50, name
     assert np.sum(ref["capillary_force"] == 0.0) > 100
     assert np.all(ref["capillary_force"][np.isfinite(ref["capillary_force"])] <= 0.0)
-    vis = ref["viscous_force_immersed"]
-    speed = points[0]["viscous_force_immersed"]["approach_speed"]
-    assert np.all(np.sign(vis[np.isfinite(vis)]) == np.sign(speed[np.isfinite(vis)]))
+    for name in ("viscous_force_immersed", "viscous_force_bridge"):
+        vis = ref[name]
+        speed = points[0][name]["approach_speed"]
+        assert np.all(np.sign(vis[np.isfinite(vis)]) == np.sign(speed[np.isfinite(vis)]))
 
 
 def test_python_module_numpy_only(points, source, tmp_path):
@@ -153,7 +165,7 @@ int main(int argc, char **argv)
     if (argc != 5) return 2;
     f = atoi(argv[1]);
     n = atoi(argv[2]);
-    nargs = f == 0 ? 5 : f == 1 ? 5 : 7;
+    nargs = f == 1 ? 6 : f == 3 ? 7 : 5;
     x = malloc(sizeof(double) * (size_t)(nargs * n));
     y = malloc(sizeof(double) * (size_t)n);
     in = fopen(argv[3], "rb");
@@ -165,6 +177,9 @@ int main(int argc, char **argv)
             y[i] = wc_viscous_force_immersed(x[i], x[n + i], x[2 * n + i], x[3 * n + i],
                                              x[4 * n + i]);
         else if (f == 1)
+            y[i] = wc_viscous_force_bridge(x[i], x[n + i], x[2 * n + i], x[3 * n + i],
+                                           x[4 * n + i], x[5 * n + i]);
+        else if (f == 2)
             y[i] = wc_rupture_distance(x[i], x[n + i], x[2 * n + i], x[3 * n + i],
                                        x[4 * n + i]);
         else
@@ -302,7 +317,7 @@ def test_cli_errors_are_one_line(tmp_path, capsys):
 def test_cli_json_summary(tmp_path, capsys, source):
     assert main(["export", "c", "--out", str(tmp_path), "--json"]) == 0
     info = json.loads(capsys.readouterr().out)
-    assert info["functions"] == ["wc_viscous_force_immersed", "wc_capillary_force",
-                                 "wc_rupture_distance"]
+    assert info["functions"] == ["wc_viscous_force_immersed", "wc_viscous_force_bridge",
+                                 "wc_capillary_force", "wc_rupture_distance"]
     assert Path(info["out"]).is_file() and info["wall_time_s"] >= 0
     assert info["bytes"] > 1000

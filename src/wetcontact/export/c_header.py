@@ -16,9 +16,11 @@ from typing import Any
 from wetcontact import __version__
 from wetcontact.export.closures import CapillarySource, immersed_tables
 from wetcontact.fileio import atomic_write_text
+from wetcontact.reduced_models.calibrated import viscous_table
 
 HEADER_NAME = "wetcontact_closures.h"
-FUNCTIONS = ("wc_viscous_force_immersed", "wc_capillary_force", "wc_rupture_distance")
+FUNCTIONS = ("wc_viscous_force_immersed", "wc_viscous_force_bridge", "wc_capillary_force",
+             "wc_rupture_distance")
 
 
 def c_array(values: Any, per_line: int = 4) -> str:
@@ -55,6 +57,16 @@ HEAD = """\
  *   Held-out max relative error against the exact Brenner (1961) / Maude (1961) series:
  *   {imm_err_wall:.2g} (plane), {imm_err_ss:.2g} (equal spheres).
  *   Domain: plane or equal spheres (|r2 - r1| <= 1e-12 r1), gap/r1 in [{s_lo:.6g}, {s_hi:.6g}].
+ *
+ * wc_viscous_force_bridge: the shipped `calibrated-viscous` closure (bridge part): the
+ *   Reynolds force 6 pi eta R*^2 v/S times the refitted finite-liquid factor
+ *   (1 - x)^p [1 + d (c0 + c1 u + c2 x + c3 x u) + d^2 (c4 + c5 u + c6 x) + d^3 (c7 + c8 u)],
+ *   x = S/H, u = sqrt(x), H = sqrt(S^2 + V/(pi R*)), d = kappa H/R*,
+ *   kappa = R*^3 (1/r1^3 + 1/r2^3) (1 for a plane), R* = r1 r2/(r1 + r2) (r1 for a plane).
+ *   Held-out max relative error against `lubrication` (the project's best bridge viscous
+ *   reference): {br_err_wall:.2g} (plane), {br_err_ss:.2g} (two spheres).
+ *   Domain: V/r_small^3 in [{bv_lo:.6g}, {bv_hi:.6g}], S/H in [{bh_lo:.6g}, {bh_hi:.6g}],
+ *   two spheres also r_large/r_small in [{bq_lo:.6g}, {bq_hi:.6g}].
  *
 {cap_comment}
  */
@@ -136,6 +148,53 @@ static inline double wc_viscous_force_immersed(double r1, double r2, double visc
     q = wc__chebyshev(t, spheres, {n_ss});
     return 6.0 * WC_PI * viscosity * r1 * (0.5 * approach_speed)
            * (q * (1.0 + 2.0 * s) / (2.0 * s));
+}}
+
+/* Viscous force of a pendular bridge; k = (p, c0, ..., c8). */
+static inline double wc__finite_liquid(const double *k, double rstar, double kappa,
+                                       double viscosity, double volume,
+                                       double approach_speed, double gap)
+{{
+    double h = sqrt(gap * gap + volume / (WC_PI * rstar));
+    double x = gap / h, u, d, poly;
+    x = x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x;
+    u = sqrt(x);
+    d = kappa * h / rstar;
+    poly = 1.0 + d * (k[1] + k[2] * u + k[3] * x + k[4] * x * u)
+           + d * d * (k[5] + k[6] * u + k[7] * x) + d * d * d * (k[8] + k[9] * u);
+    return 6.0 * WC_PI * viscosity * rstar * rstar * approach_speed / gap
+           * pow(1.0 - x, k[0]) * poly;
+}}
+
+/* x in [lo, hi] with the tolerance of calibrated-viscous's films and bridges. */
+static inline int wc__in_range6(double x, double lo, double hi)
+{{
+    return x >= lo * (1 - 1e-6) && x <= hi * (1 + 1e-6);
+}}
+
+static inline double wc_viscous_force_bridge(double r1, double r2, double viscosity,
+                                             double volume, double approach_speed, double gap)
+{{
+    static const double wall[10] = {br_wall};
+    static const double spheres[10] = {br_ss};
+    int plane = isinf(r2) && r2 > 0;
+    double rstar, kappa, rs, h;
+    if (!(r1 > 0) || !isfinite(r1) || !(r2 > 0) || !isfinite(viscosity)
+        || !isfinite(approach_speed) || !(volume > 0) || !(gap > 0) || !isfinite(gap))
+        return NAN;
+    rstar = plane ? r1 : r1 * r2 / (r1 + r2);
+    kappa = plane ? 1.0 : rstar * rstar * rstar * (1.0 / (r1 * r1 * r1) + 1.0 / (r2 * r2 * r2));
+    rs = plane ? r1 : (r1 < r2 ? r1 : r2);
+    h = sqrt(gap * gap + volume / (WC_PI * rstar));
+    if (!wc__in_range6(gap / h, plane ? {bh_lo_w_r} : {bh_lo_s_r},
+                       plane ? {bh_hi_w_r} : {bh_hi_s_r})
+        || !wc__in_range6(volume / (rs * rs * rs), plane ? {bv_lo_w_r} : {bv_lo_s_r},
+                          plane ? {bv_hi_w_r} : {bv_hi_s_r}))
+        return NAN;
+    if (!plane && !wc__in_range6((r1 < r2 ? r2 : r1) / rs, {bq_lo_r}, {bq_hi_r}))
+        return NAN;
+    return wc__finite_liquid(plane ? wall : spheres, rstar, kappa, viscosity, volume,
+                             approach_speed, gap);
 }}
 
 /* ---- CAPILLARY: replace from here when calibrated-capillary ships ------------------- */
@@ -230,7 +289,11 @@ def header_text(source: CapillarySource) -> str:
             cap.domain["theta_deg"] != rup.domain["theta_deg"]:
         raise ValueError("capillary and rupture refits on different (V*, theta) domains")
     s_lo_cap, s_hi_cap = cap.domain["s_over_sc"]
+    bw, bs = viscous_table()["bridge"]["sphere-wall"], viscous_table()["bridge"]["sphere-sphere"]
+    br = _bridge_fields(bw, bs)
     head = HEAD.format(
+        **br,
+        br_err_wall=bw["held_out"]["after"]["max"], br_err_ss=bs["held_out"]["after"]["max"],
         version=__version__, imm_err_wall=w["held_out"]["max"],
         imm_err_ss=ss["held_out"]["max"], s_lo=math.exp(lo), s_hi=math.exp(hi),
         cap_comment=CAP_COMMENT.format(
@@ -239,6 +302,7 @@ def header_text(source: CapillarySource) -> str:
             cap_src=Path(cap.source).name, cap_sha=cap.sha256[:16], v_lo=v_lo, v_hi=v_hi,
             t_lo=t_lo, t_hi=t_hi, s_lo=s_lo_cap, s_hi=s_hi_cap))
     body = BODY.format(
+        **br,
         n_wall=len(w["chebyshev"]), cheb_wall=c_array(w["chebyshev"]),
         n_ss=len(ss["chebyshev"]), cheb_ss=c_array(ss["chebyshev"]), log_lo=repr(lo),
         log_hi=repr(hi), s_lo=repr(math.exp(lo)), s_hi=repr(math.exp(hi)),
@@ -246,6 +310,22 @@ def header_text(source: CapillarySource) -> str:
         lian=c_array(rup.coefficients), willett=_nested(cap.coefficients),
         s_lo_cap=repr(s_lo_cap), s_hi_cap=repr(s_hi_cap))
     return head + body
+
+
+def _bridge_fields(bw: dict[str, Any], bs: dict[str, Any]) -> dict[str, Any]:
+    """Coefficients and domain limits of the bridge part, named for the templates."""
+    (hw_lo, hw_hi), (vw_lo, vw_hi) = bw["domain"]["s_over_h"], bw["domain"]["v_star"]
+    (hs_lo, hs_hi), (vs_lo, vs_hi) = bs["domain"]["s_over_h"], bs["domain"]["v_star"]
+    q_lo, q_hi = bs["domain"]["radius_ratio"]
+    limits = {"bh_lo_w": hw_lo, "bh_hi_w": hw_hi, "bv_lo_w": vw_lo, "bv_hi_w": vw_hi,
+              "bh_lo_s": hs_lo, "bh_hi_s": hs_hi, "bv_lo_s": vs_lo, "bv_hi_s": vs_hi,
+              "bq_lo": q_lo, "bq_hi": q_hi, "bh_lo": min(hw_lo, hs_lo),
+              "bh_hi": max(hw_hi, hs_hi), "bv_lo": min(vw_lo, vs_lo), "bv_hi": max(vw_hi, vs_hi)}
+    fields: dict[str, Any] = {"br_wall": c_array(bw["coefficients"]),
+                              "br_ss": c_array(bs["coefficients"])}
+    for k, v in limits.items():  # {k:.6g} in comments, {k_r} (full precision) in code
+        fields[k], fields[k + "_r"] = float(v), repr(float(v))
+    return fields
 
 
 def _wrap(text: str, width: int = 76) -> str:

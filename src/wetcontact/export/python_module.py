@@ -14,9 +14,10 @@ from pathlib import Path
 from typing import Any
 
 from wetcontact import __version__
-from wetcontact.export.c_header import FUNCTIONS
+from wetcontact.export.c_header import FUNCTIONS, _bridge_fields
 from wetcontact.export.closures import CapillarySource, immersed_tables
 from wetcontact.fileio import atomic_write_text
+from wetcontact.reduced_models.calibrated import viscous_table
 
 MODULE_NAME = "wetcontact_closures.py"
 
@@ -40,6 +41,12 @@ max relative error {imm_err_wall:.2g} (plane) / {imm_err_ss:.2g} (equal spheres)
 exact Brenner (1961) / Maude (1961) series; domain: plane or equal spheres, gap/r1 in
 [{s_lo:.6g}, {s_hi:.6g}].
 
+viscous_force_bridge: the shipped `calibrated-viscous` closure (bridge part): Reynolds times
+the refitted finite-liquid factor; held-out max relative error {br_err_wall:.2g} (plane) /
+{br_err_ss:.2g} (two spheres) against `lubrication`; domain: V/r_small^3 in
+[{bv_lo:.6g}, {bv_hi:.6g}], S/H in [{bh_lo:.6g}, {bh_hi:.6g}] (H = sqrt(S^2 + V/(pi R*))), two
+spheres also r_large/r_small in [{bq_lo:.6g}, {bq_hi:.6g}].
+
 CAPILLARY PAIR: {shipped_word}. capillary_force and rupture_distance implement
 {label}. The shipped `calibrated-capillary` closure does not exist yet; a new export
 replaces only the functions below the CAPILLARY marker. Domain (both): equal spheres (a
@@ -51,7 +58,8 @@ and past the refitted rupture distance; NaN between the top of that range and ru
 
 import numpy as np
 
-__all__ = ["viscous_force_immersed", "capillary_force", "rupture_distance"]
+__all__ = ["viscous_force_immersed", "viscous_force_bridge", "capillary_force",
+           "rupture_distance"]
 
 _CHEB_WALL = np.array({cheb_wall})
 _CHEB_SPHERES = np.array({cheb_ss})
@@ -60,6 +68,11 @@ _S_LO, _S_HI = {s_lo_r}, {s_hi_r}
 _V_LO, _V_HI = {v_lo_r}, {v_hi_r}
 _T_LO, _T_HI = {t_lo_r}, {t_hi_r}
 _SC_LO, _SC_HI = {sc_lo_r}, {sc_hi_r}
+_BRIDGE_WALL = np.array({br_wall})  # (p, c0, ..., c8)
+_BRIDGE_SPHERES = np.array({br_ss})
+_BRIDGE_DOMAIN = {{"wall": ({bh_lo_w_r}, {bh_hi_w_r}, {bv_lo_w_r}, {bv_hi_w_r}),
+                  "spheres": ({bh_lo_s_r}, {bh_hi_s_r}, {bv_lo_s_r}, {bv_hi_s_r})}}
+_RATIO_LO, _RATIO_HI = {bq_lo_r}, {bq_hi_r}
 _LIAN = np.array({lian})
 _WILLETT = np.array({willett}).reshape(4, 4, 3)  # f_i = sum k[i, j, m] ln(V*)^j theta^m
 
@@ -97,6 +110,46 @@ def viscous_force_immersed(r1, r2, viscosity, approach_speed, gap):
         two = (6.0 * np.pi * eta * r1 * (0.5 * v)
                * (_chebyshev(t, _CHEB_SPHERES) * (1.0 + 2.0 * s) / (2.0 * s)))
     return np.where(ok, np.where(plane, wall, two), np.nan)[()]
+
+
+def _in_range6(x, lo, hi):
+    return (x >= lo * (1 - 1e-6)) & (x <= hi * (1 + 1e-6))
+
+
+def _finite_liquid(k, rstar, kappa, eta, vol, v, gap):
+    h = np.sqrt(gap**2 + vol / (np.pi * rstar))
+    x = np.clip(gap / h, 0.0, 1.0)
+    u = np.sqrt(x)
+    d = kappa * h / rstar
+    poly = (1.0 + d * (k[1] + k[2] * u + k[3] * x + k[4] * x * u)
+            + d**2 * (k[5] + k[6] * u + k[7] * x) + d**3 * (k[8] + k[9] * u))
+    return 6.0 * np.pi * eta * rstar**2 * v / gap * (1.0 - x) ** k[0] * poly
+
+
+def viscous_force_bridge(r1, r2, viscosity, volume, approach_speed, gap):
+    """Viscous force (N) of a pendular bridge of volume ``volume`` (m^3) between a sphere and
+    a plane or two spheres approaching at ``approach_speed`` (m/s, -d(gap)/dt)."""
+    r1, r2, eta, vol, v, gap = np.broadcast_arrays(*(
+        np.asarray(a, dtype=float) for a in (r1, r2, viscosity, volume, approach_speed, gap)))
+    plane = np.isinf(r2) & (r2 > 0)
+    ok = ((r1 > 0) & np.isfinite(r1) & (r2 > 0) & np.isfinite(eta) & np.isfinite(v)
+          & (vol > 0) & (gap > 0) & np.isfinite(gap))
+    with np.errstate(all="ignore"):
+        rstar = np.where(plane, r1, r1 * r2 / (r1 + r2))
+        kappa = np.where(plane, 1.0, rstar**3 * (r1**-3.0 + r2**-3.0))
+        rs = np.where(plane, r1, np.minimum(r1, r2))
+        h = np.sqrt(gap**2 + vol / (np.pi * rstar))
+        out = np.full(r1.shape, np.nan)
+        for name, sel, k in (("wall", plane, _BRIDGE_WALL),
+                             ("spheres", ~plane, _BRIDGE_SPHERES)):
+            h_lo, h_hi, v_lo, v_hi = _BRIDGE_DOMAIN[name]
+            good = (ok & sel & _in_range6(gap / h, h_lo, h_hi)
+                    & _in_range6(vol / rs**3, v_lo, v_hi))
+            if name == "spheres":
+                good &= _in_range6(np.maximum(r1, r2) / rs, _RATIO_LO, _RATIO_HI)
+            f = _finite_liquid(k, rstar, kappa, eta, vol, v, gap)
+            out = np.where(good, f, out)
+    return out[()]
 
 
 # ---- CAPILLARY: replace from here when calibrated-capillary ships ------------------------
@@ -160,7 +213,12 @@ def module_text(source: CapillarySource) -> str:
     cap, rup = source.force, source.rupture
     (v_lo, v_hi), (t_lo, t_hi) = rup.domain["v_star"], rup.domain["theta_deg"]
     sc_lo, sc_hi = cap.domain["s_over_sc"]
+    bw, bs = viscous_table()["bridge"]["sphere-wall"], viscous_table()["bridge"]["sphere-sphere"]
+    br = _bridge_fields(bw, bs)
+    br.update(br_wall=_list(bw["coefficients"]), br_ss=_list(bs["coefficients"]))
     return TEMPLATE.format(
+        **br,
+        br_err_wall=bw["held_out"]["after"]["max"], br_err_ss=bs["held_out"]["after"]["max"],
         version=__version__, imm_err_wall=w["held_out"]["max"],
         imm_err_ss=ss["held_out"]["max"], s_lo=math.exp(lo), s_hi=math.exp(hi),
         shipped_word="shipped" if source.shipped else "NOT A SHIPPED CALIBRATED CLOSURE",
