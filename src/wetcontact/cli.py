@@ -365,7 +365,8 @@ def _add_sweep_parser(sub: argparse._SubParsersAction) -> None:
 
 def _add_export_parser(sub: argparse._SubParsersAction) -> None:
     ex = sub.add_parser("export", help="write stored curves for other tools",
-                        description="Export stored reference curves.")
+                        description="Export stored reference curves (csv) and "
+                        "calibrated closures (json, python, c).")
     fmt = ex.add_subparsers(dest="format", required=True, parser_class=_Parser)
     c = fmt.add_parser("csv", help="one row per (point, model, gap)", description="One CSV "
                        "row per (point, model, gap) of a study, a column per axis.")

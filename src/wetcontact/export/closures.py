@@ -95,7 +95,8 @@ def read_refit(path: Path | str, family: str) -> RefitTable:
     path = Path(path)
     if not path.is_file():
         raise InputError(f"{path}: no such calibration file; write it with `python -m "
-                         f"wetcontact.calibrate fit {family} --out {path}`")
+                         f"wetcontact.calibrate fit {family} --out {path}` or name another "
+                         "with --capillary / --rupture")
     closure = load_coefficients(path)  # validates family, size and finiteness
     if closure.family.name != family:
         raise InputError(f"{path}: family = {closure.family.name!r}; allowed: {family!r} "
