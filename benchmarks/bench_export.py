@@ -138,7 +138,7 @@ def chart(writer_s: dict[str, float], command_s: dict[str, float]) -> None:
 
     names = list(writer_s)
     y = np.arange(len(names))
-    fig, ax = plt.subplots(figsize=(7.5, 3.2))
+    fig, ax = plt.subplots(figsize=(9.5, 3.2))
     ax.barh(y - 0.2, [writer_s[n] * 1e3 for n in names], 0.4, label="writer (in-process)")
     ax.barh(y + 0.2, [command_s.get(n, np.nan) * 1e3 for n in names], 0.4,
             label="wetcontact export (subprocess)")
@@ -146,7 +146,7 @@ def chart(writer_s: dict[str, float], command_s: dict[str, float]) -> None:
     ax.set_xscale("log")
     ax.set_xlabel("ms (median)")
     ax.set_title("export time per format", fontsize=10)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.tight_layout()
     fig.savefig(RESULTS / "export.png", dpi=110)
     plt.close(fig)
