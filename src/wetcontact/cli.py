@@ -398,7 +398,8 @@ def _add_sweep_parser(sub: argparse._SubParsersAction) -> None:
 
 def _add_export_parser(sub: argparse._SubParsersAction) -> None:
     ex = sub.add_parser("export", help="write stored curves for other tools",
-                        description="Export stored reference curves.")
+                        description="Export stored reference curves (csv) and "
+                        "calibrated closures (json, python, c).")
     fmt = ex.add_subparsers(dest="format", required=True, parser_class=_Parser)
     c = fmt.add_parser("csv", help="one row per (point, model, gap)", description="One CSV "
                        "row per (point, model, gap) of a study, a column per axis.")
@@ -406,6 +407,37 @@ def _add_export_parser(sub: argparse._SubParsersAction) -> None:
     c.add_argument("--store", type=Path, required=True, help="HDF5 store the sweep wrote")
     c.add_argument("--out", type=Path, required=True, help="CSV file to write")
     _add_export_yade(fmt)
+    _add_export_closure_parsers(fmt)
+
+
+def _add_export_closure_parsers(fmt: argparse._SubParsersAction) -> None:
+    """``export json|python|c``: calibrated closures in the forms DEM codes take."""
+    j = fmt.add_parser("json", help="a shipped or refitted calibration as one JSON",
+                       description="Coefficients, domain, held-out errors, units, sign "
+                       "convention and provenance, validated against the package's schema.")
+    src = j.add_mutually_exclusive_group(required=True)
+    src.add_argument("--closure", help="a shipped calibrated closure (calibrated-viscous)")
+    src.add_argument("--coefficients", type=Path, metavar="FILE.json",
+                     help="a refit written by `python -m wetcontact.calibrate fit`")
+    j.add_argument("--out", type=Path, required=True, help="JSON file to write")
+    j.add_argument("--json", action="store_true", help="print one JSON object")
+    for name, what, default in (
+            ("python", "one numpy-only module with the calibrated closures",
+             "wetcontact_closures.py"),
+            ("c", "one header-only C99 file with the calibrated closures",
+             "wetcontact_closures.h")):
+        q = fmt.add_parser(name, help=what, description=what.capitalize() + ": the shipped "
+                           "calibrated-viscous (immersed) and, until calibrated-capillary "
+                           "ships, the REFITTED willett force and lian-rupture distance.")
+        q.add_argument("--out", type=Path, required=True,
+                       help=f"file to write (or a folder: {default} in it)")
+        q.add_argument("--capillary", type=Path, default=None, metavar="FILE.json",
+                       help="willett refit (default: benchmarks/results/calibration/"
+                       "willett.json of the source checkout)")
+        q.add_argument("--rupture", type=Path, default=None, metavar="FILE.json",
+                       help="lian-rupture refit (default: benchmarks/results/calibration/"
+                       "lian-rupture.json)")
+        q.add_argument("--json", action="store_true", help="print one JSON object")
 
 
 def _non_negative_int(text: str) -> int:
@@ -464,7 +496,36 @@ def _export(args: argparse.Namespace) -> int:
         print(f"{args.out}: {counts['rows']} rows ({counts['ok']} ok, {counts['no-bridge']} "
               f"no-bridge, {counts['failed']} failed, {counts['missing']} missing)")
         return 0
-    return 2
+    return _export_closures(args)
+
+
+def _export_closures(args: argparse.Namespace) -> int:
+    """``export json|python|c``: write the file, print one line (or one JSON object)."""
+    from wetcontact.export.calibration_json import write_json
+    from wetcontact.export.closures import capillary_source
+
+    parent = args.out if args.out.is_dir() else args.out.parent
+    if not parent.is_dir():
+        raise InputError(f"--out {args.out}: the folder {parent} does not exist")
+    t0 = time.perf_counter()
+    if args.format == "json":
+        info = write_json(args.out, closure=args.closure, coefficients=args.coefficients)
+    elif args.format in ("python", "c"):
+        from wetcontact.export.c_header import write_header
+        from wetcontact.export.python_module import write_module
+
+        write = write_module if args.format == "python" else write_header
+        info = write(args.out, capillary_source(args.capillary, args.rupture))
+    else:
+        raise InputError(f"export format = {args.format!r}; allowed: csv, json, python, c")
+    info["wall_time_s"] = round(time.perf_counter() - t0, 4)
+    if args.json:
+        print(json.dumps(info))
+    else:
+        print(f"{info['out']}: {args.format}, {info['bytes']} bytes in "
+              f"{info['wall_time_s']:.3g} s" + (f"; capillary: {info['capillary']}"
+                                                if "capillary" in info else ""))
+    return 0
 
 
 if __name__ == "__main__":

@@ -1,0 +1,156 @@
+"""Export times per format (json, python, c) and the cost of evaluating what was exported.
+
+Writes ``benchmarks/results/export.json`` and ``export.png``. Run:
+``python benchmarks/bench_export.py``. Medians of a few runs on a shared 2-core machine:
+read them as orders of magnitude.
+
+- writer: the export function in-process (read the tables, build, validate, write);
+- command: ``wetcontact export ...`` end to end in a subprocess (interpreter start-up and
+  imports included: what a user waits for);
+- evaluation: seconds per point of the exported numpy module (1e5 points, vectorised) and of
+  the C header (1e6 calls in a loop, ``cc -O2``, CPU time by ``clock()``), and the
+  compile time of a program including the header.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import shutil
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _common import RESULTS, median_time, write_json  # noqa: E402
+
+from wetcontact.export.c_header import write_header  # noqa: E402
+from wetcontact.export.calibration_json import write_json as export_json  # noqa: E402
+from wetcontact.export.closures import CALIBRATION_DIR, capillary_source  # noqa: E402
+from wetcontact.export.python_module import write_module  # noqa: E402
+
+C_BENCH = r"""
+#include <stdio.h>
+#include <time.h>
+#include "wetcontact_closures.h"
+
+int main(void)
+{
+    const int n = 1000000;
+    double acc = 0.0, t[4];
+    clock_t c0;
+    int i;
+    c0 = clock();
+    for (i = 0; i < n; ++i)
+        acc += wc_viscous_force_immersed(1e-3, INFINITY, 1e-3, 0.1, 1e-7 * (1 + i % 1000));
+    t[0] = (double)(clock() - c0) / CLOCKS_PER_SEC / n;
+    c0 = clock();
+    for (i = 0; i < n; ++i)
+        acc += wc_viscous_force_bridge(1e-3, 2e-3, 1e-3, 1e-11, 0.1, 1e-7 * (1 + i % 100));
+    t[3] = (double)(clock() - c0) / CLOCKS_PER_SEC / n;
+    c0 = clock();
+    for (i = 0; i < n; ++i)
+        acc += wc_rupture_distance(1e-3, 1e-3, 1e-11 * (1 + i % 50), 10.0, 30.0);
+    t[1] = (double)(clock() - c0) / CLOCKS_PER_SEC / n;
+    c0 = clock();
+    for (i = 0; i < n; ++i)
+        acc += wc_capillary_force(1e-3, 1e-3, 1e-11, 1e-7 * (1 + i % 1000), 0.072, 10.0, 30.0);
+    t[2] = (double)(clock() - c0) / CLOCKS_PER_SEC / n;
+    printf("%.6g %.6g %.6g %.6g %.17g\n", t[0], t[1], t[2], t[3], acc);
+    return 0;
+}
+"""
+
+N_PY = 100_000
+
+
+def main() -> None:
+    source = capillary_source()
+    tmp = Path(tempfile.mkdtemp(prefix="bench_export_"))
+    writers = {
+        "json (calibrated-viscous)": lambda: export_json(tmp / "cv.json",
+                                                         closure="calibrated-viscous"),
+        "json (willett refit)": lambda: export_json(
+            tmp / "w.json", coefficients=CALIBRATION_DIR / "willett.json"),
+        "python": lambda: write_module(tmp, capillary_source()),
+        "c": lambda: write_header(tmp, capillary_source()),
+    }
+    writer_s = {name: median_time(fn, repeats=7, warmup=1)[0] for name, fn in writers.items()}
+    exe = shutil.which("wetcontact") or str(Path(sys.executable).with_name("wetcontact"))
+    commands = {
+        "json (calibrated-viscous)": ["json", "--closure", "calibrated-viscous", "--out",
+                                      str(tmp / "cv.json")],
+        "python": ["python", "--out", str(tmp)],
+        "c": ["c", "--out", str(tmp)],
+    }
+    command_s = {name: median_time(lambda a=args: subprocess.run(
+        [exe, "export", *a], check=True, capture_output=True), repeats=3, warmup=1)[0]
+        for name, args in commands.items()}
+
+    spec = importlib.util.spec_from_file_location("wc_bench", tmp / "wetcontact_closures.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    rng = np.random.default_rng(3)
+    gap = 1e-3 * np.exp(rng.uniform(np.log(1e-5), np.log(100), N_PY))
+    vol = np.full(N_PY, 1e-11)
+    sc = mod.rupture_distance(1e-3, 1e-3, vol, 10.0, 30.0)
+    cgap = sc * rng.uniform(0.02, 1.0, N_PY)
+    py_eval = {
+        "viscous_force_immersed": median_time(lambda: mod.viscous_force_immersed(
+            1e-3, np.inf, 1e-3, 0.1, gap), repeats=5)[0] / N_PY,
+        "viscous_force_bridge": median_time(lambda: mod.viscous_force_bridge(
+            1e-3, 2e-3, 1e-3, vol, 0.1, gap * 1e-2), repeats=5)[0] / N_PY,
+        "rupture_distance": median_time(lambda: mod.rupture_distance(
+            1e-3, 1e-3, vol, 10.0, 30.0), repeats=5)[0] / N_PY,
+        "capillary_force": median_time(lambda: mod.capillary_force(
+            1e-3, 1e-3, vol, cgap, 0.072, 10.0, 30.0), repeats=5)[0] / N_PY,
+    }
+    c_eval, compile_s = None, None
+    cc = shutil.which("cc")
+    if cc:
+        (tmp / "bench.c").write_text(C_BENCH)
+        build = [cc, "-std=c99", "-Wall", "-Werror", "-O2", "-o", str(tmp / "bench"),
+                 str(tmp / "bench.c"), "-lm"]
+        compile_s = median_time(lambda: subprocess.run(build, check=True), repeats=3)[0]
+        runs = [subprocess.run([str(tmp / "bench")], check=True, capture_output=True,
+                               text=True).stdout.split() for _ in range(3)]
+        c_eval = {name: float(np.median([float(r[i]) for r in runs])) for i, name in
+                  enumerate(("viscous_force_immersed", "rupture_distance", "capillary_force",
+                             "viscous_force_bridge"))}
+    shutil.rmtree(tmp, ignore_errors=True)
+    out = {"writer_median_s": writer_s, "command_median_s": command_s,
+           "python_module_s_per_point": py_eval, "python_points": N_PY,
+           "c_header_s_per_call": c_eval, "c_calls": 1_000_000, "c_compile_median_s": compile_s,
+           "capillary": source.label}
+    write_json("export", out)
+    chart(writer_s, command_s)
+    print(json.dumps(out, indent=1))
+
+
+def chart(writer_s: dict[str, float], command_s: dict[str, float]) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names = list(writer_s)
+    y = np.arange(len(names))
+    fig, ax = plt.subplots(figsize=(9.5, 3.2))
+    ax.barh(y - 0.2, [writer_s[n] * 1e3 for n in names], 0.4, label="writer (in-process)")
+    ax.barh(y + 0.2, [command_s.get(n, np.nan) * 1e3 for n in names], 0.4,
+            label="wetcontact export (subprocess)")
+    ax.set_yticks(y, names)
+    ax.set_xscale("log")
+    ax.set_xlabel("ms (median)")
+    ax.set_title("export time per format", fontsize=10)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    fig.tight_layout()
+    fig.savefig(RESULTS / "export.png", dpi=110)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()

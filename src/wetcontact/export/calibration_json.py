@@ -1,0 +1,185 @@
+"""``wetcontact export json``: a shipped or refitted calibration as one self-describing JSON.
+
+The document holds, per part (a geometry and liquid amount with its own coefficients),
+the closure's form, the coefficients, the domain they were calibrated on and the held-out
+relative errors, plus units, the sign convention, what happens outside the domain, and
+provenance (package and code version, the source file and its SHA-256). It is validated
+against ``calibration.schema.json`` (kept in this package, :func:`schema`) before it is
+written.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import hashlib
+import json
+import math
+from functools import cache
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from wetcontact import __version__
+from wetcontact.errors import InputError
+from wetcontact.fileio import atomic_write_text
+
+SCHEMA_FILE = "calibration.schema.json"
+SIGN = ("force on the first particle along the line of centres, positive = pushing the "
+        "surfaces apart (viscous resistance to approach > 0, capillary attraction < 0)")
+OUTSIDE = ("outside every range in 'domain' the coefficients are not calibrated: the "
+           "package refuses (ValidityError), the exported C and Python code return NaN")
+UNITS = {"inputs": "SI (m, m^3, Pa s, m/s, N/m)", "output": "N (force) or m (rupture "
+         "distance)", "angles": "radians inside the forms; degrees in case files and the "
+         "exported functions' arguments"}
+
+FORMS = {
+    "immersed": ("F = 6 pi eta R v lambda (wall) or 6 pi eta R (v/2) lambda (equal spheres, v "
+                 "the relative approach speed); lambda = q(t) (1 + s)/s (wall) or q(t) (1 + "
+                 "2s)/(2s), s = S/R, q(t) = sum_k c_k T_k(t), t = (2 ln s - lo - hi)/(hi - "
+                 "lo), [lo, hi] = ln of the s_over_r domain"),
+    "finite-liquid": ("F = 6 pi eta R*^2 v/S (1 - x)^p [1 + d (c0 + c1 u + c2 x + c3 x u) + "
+                      "d^2 (c4 + c5 u + c6 x) + d^3 (c7 + c8 u)], x = S/H, u = sqrt(x), d = "
+                      "kappa H/R*, kappa = R*^3 (1/R1^3 + 1/R2^3) (1 for a wall), H the edge "
+                      "gap (film thickness, or sqrt(S^2 + V/(pi R*)) for a bridge); "
+                      "coefficients (p, c0, ..., c8)"),
+    "willett": ("F = -2 pi R sigma exp(f1 - f2 exp(f3 ln S+ + f4 ln^2 S+)), S+ = (S/2) "
+                "sqrt(R/V), f_i = sum_j sum_m k[i, j, m] ln(V/R^3)^j theta^m (Willett et al. "
+                "2000, eq. A1)"),
+    "lian-rupture": "S_c = R ((a + b theta) V*^(1/3) + c V*^(2/3)), V* = V/R^3 (Lian et al. "
+                    "1993)",
+    "mikami": "F = -pi R sigma (exp(A S/R + B) + C) (Mikami et al. 1998), A, B, C in V* and "
+              "theta",
+    "bagheri": "Bagheri, Roy & Poeschel (2024) eqs. 24-30",
+}
+LAYOUT = {"willett": "k[i, j, m] flattened in C order, shape (4, 4, 3)",
+          "finite-liquid": "(p, c0, ..., c8)", "lian-rupture": "(a, b, c)"}
+
+
+@cache
+def schema() -> dict[str, Any]:
+    """The package's JSON Schema of an exported calibration."""
+    return json.loads((resources.files("wetcontact.export") / SCHEMA_FILE).read_text())
+
+
+def validate(doc: dict[str, Any]) -> None:
+    """Validate ``doc`` against :func:`schema` (jsonschema, when installed)."""
+    try:
+        import jsonschema
+    except ImportError:  # the tests install it; a user without it still gets the file
+        return
+    jsonschema.validate(doc, schema())
+
+
+def _errors(summary: dict[str, Any]) -> dict[str, float]:
+    return {k: float(summary[k]) for k in ("max", "mean", "p95")}
+
+
+def _provenance(path: Path, generated_by: str, reference: str) -> dict[str, Any]:
+    from wetcontact.store import code_version
+
+    return {"package_version": __version__, "code_version": code_version(),
+            "source_file": str(path), "source_sha256": hashlib.sha256(
+                path.read_bytes()).hexdigest(), "generated_by": generated_by,
+            "reference": reference,
+            "exported_at": dt.datetime.now(dt.UTC).isoformat(timespec="seconds")}
+
+
+def shipped_document(closure: str) -> dict[str, Any]:
+    """The shipped closure ``closure`` (today only ``calibrated-viscous``)."""
+    from wetcontact.reduced_models.calibrated import VISCOUS_FILE, viscous_table
+
+    if closure != "calibrated-viscous":
+        raise InputError(f"--closure = {closure!r}; allowed: 'calibrated-viscous' (the only "
+                         "shipped calibrated closure; calibrated-capillary does not exist "
+                         "yet: export a refit with --coefficients FILE.json)")
+    table = viscous_table()
+    if table is None:
+        raise InputError("calibrated-viscous: coefficient table not generated; run "
+                         "`python -m wetcontact.calibrate viscous`")
+    parts = []
+    for kind, t in table["immersed"].items():
+        lo, hi = t["log_range"]
+        ho = t["held_out"]
+        parts.append({"name": f"immersed {kind}", "geometry": "sphere-wall" if kind ==
+                      "sphere-wall" else "equal spheres", "amount": "immersed",
+                      "form": FORMS["immersed"], "coefficient_layout": "Chebyshev c_0 ... c_n",
+                      "coefficients": t["chebyshev"],
+                      "domain": {"s_over_r": [math.exp(lo), math.exp(hi)]},
+                      "held_out": {"points": ho["points"], "seed": ho["seed"],
+                                   "reference": ho["reference"], "relative_error":
+                                   _errors(ho)}})
+    finite = [("film on a wall", "sphere-wall", "film", table["film"])] + [
+        (f"bridge {kind}", kind, "bridge", t) for kind, t in table["bridge"].items()]
+    for name, kind, amount, t in finite:
+        ho = t["held_out"]
+        parts.append({"name": name, "geometry": kind, "amount": amount,
+                      "form": FORMS["finite-liquid"], "coefficient_layout":
+                      LAYOUT["finite-liquid"], "coefficients": t["coefficients"],
+                      "domain": t["domain"],
+                      "held_out": {"points": ho["points"], "seed": ho["seed"],
+                                   "reference": t["reference"],
+                                   "relative_error": _errors(ho["after"]),
+                                   "relative_error_published": _errors(ho["before"])}})
+    path = Path(str(resources.files("wetcontact.reduced_models") / "data" / VISCOUS_FILE))
+    return {"format": "wetcontact-calibration", "format_version": 1, "closure": closure,
+            "origin": "shipped", "target": "viscous",
+            "description": "calibrated viscous closure: immersed sphere-wall and equal spheres "
+                           "(Chebyshev in ln S/R), films and bridges (refitted finite-liquid "
+                           "factor times the Reynolds force)",
+            "units": UNITS, "sign_convention": SIGN, "outside_domain": OUTSIDE,
+            "parts": parts, "provenance": _provenance(
+                path, table.get("generated_by", ""), "brenner (exact) for immersed; "
+                "lubrication for films and bridges")}
+
+
+def refit_document(path: Path) -> dict[str, Any]:
+    """A calibration JSON written by ``wetcontact calibrate`` / ``python -m
+    wetcontact.calibrate fit`` (validated by :func:`~wetcontact.calibrate.load_coefficients`)."""
+    from wetcontact.calibrate import load_coefficients
+
+    closure = load_coefficients(path)  # InputError naming the file and the field if bad
+    fam = closure.family
+    data = json.loads(Path(path).read_text())
+    ho = data.get("held_out", {})
+    for key in ("before", "after"):
+        if not isinstance(ho.get(key), dict) or not all(
+                isinstance(ho[key].get(k), int | float) for k in ("max", "mean", "p95")):
+            raise InputError(f"{path}: field 'held_out.{key}' missing or incomplete; allowed: "
+                             "a file written by wetcontact calibrate (max, mean, p95)")
+    form_key = next((k for k in FORMS if fam.name.startswith(k)), fam.name)
+    geometry = "equal spheres" if fam.equal else fam.kind
+    part = {"name": f"{fam.name} {fam.kind} {fam.amount}", "geometry": geometry,
+            "amount": fam.amount, "form": FORMS.get(form_key, fam.description),
+            "coefficients": [float(c) for c in closure.k],
+            "published": [float(c) for c in fam.published],
+            "domain": {k: [lo, hi] for k, (lo, hi) in closure.domain.items()},
+            "held_out": {"points": int(ho.get("points", 0)), "reference": str(
+                data.get("reference", "meniscus")),
+                "relative_error": _errors(ho["after"]),
+                "relative_error_published": _errors(ho["before"])}}
+    if form_key in LAYOUT:
+        part["coefficient_layout"] = LAYOUT[form_key]
+    if "seed" in ho:
+        part["held_out"]["seed"] = int(ho["seed"])
+    return {"format": "wetcontact-calibration", "format_version": 1, "closure": fam.name,
+            "origin": "refitted", "target": fam.target,
+            "description": f"{fam.description}, refitted (not a shipped closure)",
+            "units": UNITS, "sign_convention": SIGN, "outside_domain": OUTSIDE,
+            "parts": [part], "provenance": _provenance(
+                Path(path), "python -m wetcontact.calibrate fit " + fam.name,
+                str(data.get("reference", "meniscus")))}
+
+
+def write_json(out: str | Path, closure: str | None = None,
+               coefficients: Path | None = None) -> dict[str, Any]:
+    """Build, validate and write the document (exactly one of ``closure``, ``coefficients``)."""
+    if (closure is None) == (coefficients is None):
+        raise InputError("export json: give exactly one of --closure calibrated-viscous or "
+                         "--coefficients FILE.json")
+    doc = shipped_document(closure) if closure else refit_document(Path(coefficients))
+    validate(doc)
+    text = json.dumps(doc, indent=1, allow_nan=False) + "\n"
+    atomic_write_text(out, text)
+    return {"format": "json", "out": str(out), "bytes": len(text.encode()),
+            "closure": doc["closure"], "origin": doc["origin"],
+            "parts": [p["name"] for p in doc["parts"]]}
