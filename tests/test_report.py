@@ -343,3 +343,32 @@ def test_thinfilm_figure_ticks_do_not_overlap():
     assert overlapping_ticks(fig.axes[0]) == 0 and not clipped_texts(fig)
     fig = stability_figure(None, dr, ca, validity_map(dr, ca))  # no benchmark: says so
     assert "no benchmark" in " ".join(t.get_text() for t in fig.axes[0].texts)
+
+
+def test_full_disk_mid_report_keeps_the_old_report_and_says_one_line(tmp_path, cheap,
+                                                                     monkeypatch, capsys):
+    """Issue 14: a full disk while the report is written gave 39 'No space' lines, a
+    traceback and zero-byte files. Now: ENOSPC on the error table (after the curves are
+    written to the staging folder) -> exit 2, one stderr line, the old report whole."""
+    import errno
+
+    from wetcontact.cli import main
+
+    cases = _case_dir(tmp_path, "d1", "d2")
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "README.md").write_text("OLD REPORT\n")
+
+    def full(*a, **k):
+        raise OSError(errno.ENOSPC, "No space left on device", "closure_errors.csv")
+
+    monkeypatch.setattr(report, "write_error_table", full)
+    code = main(["run", "--cases", str(cases), "--out", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "space" in err[0], err
+    assert sorted(f.name for f in out.iterdir()) == ["README.md"]
+    assert (out / "README.md").read_text() == "OLD REPORT\n"
+    # lock files are empty by design (flock); the staging folder stays for --resume
+    leftovers = [p for p in tmp_path.rglob("*") if p.is_file() and p.stat().st_size == 0
+                 and "cases" not in p.parts and p.suffix != ".lock"]
+    assert not leftovers, leftovers
