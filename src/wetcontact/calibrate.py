@@ -790,8 +790,8 @@ def calibrate_study(study_path: Path | str, family_name: str, out: Path | str,
     if not 4 <= held_out_points <= 100_000:
         raise InputError(f"--held-out-points = {held_out_points}; allowed: 4 to 100000")
     study = load_study(study_path)
-    ref = reference_model(fam, study.models, str(study_path))
     check_scene_class(fam, [sc for _, sc in study.scenes], str(study_path))
+    ref = reference_model(fam, study.models, str(study_path))
     out.parent.mkdir(parents=True, exist_ok=True)
     if held_out is None:
         held_path = out.with_name(out.stem + "_heldout.toml")

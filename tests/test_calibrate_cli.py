@@ -1,0 +1,114 @@
+"""`wetcontact calibrate STUDY --closure FAMILY --out F.json`: a tiny film study end to end
+(lubrication as reference, seconds), and bad inputs (exit 2, one line)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from wetcontact.calibrate import get_family, load_coefficients, load_points, rel_errors
+from wetcontact.cli import main
+from wetcontact.study import load_study
+
+ROOT = Path(__file__).resolve().parents[1]
+FILM = ROOT / "cases" / "glass-2mm-water-film.toml"
+
+
+def _study(tmp_path: Path, models: str = '["lubrication", "reynolds-finite"]',
+           name: str = "tiny-film") -> Path:
+    p = tmp_path / f"{name}.toml"
+    p.write_text(f'name = "{name}"\nbase = "{FILM.as_posix()}"\nmodels = {models}\n'
+                 '[axes]\n"amount.film_over_radius" = [0.02, 0.05, 0.1]\n'
+                 '[set]\n"motion.gap_over_radius" = { start = 0.001, stop = 0.018, '
+                 'points = 6, spacing = "linear" }\n')
+    return p
+
+
+@pytest.fixture(scope="module")
+def calibrated(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("cal")
+    out = tmp / "out" / "film.json"
+    code = main(["calibrate", str(_study(tmp)), "--closure", "finite-liquid", "--out",
+                 str(out), "--store", str(tmp / "r.h5"), "--workers", "0",
+                 "--held-out-points", "8", "--seed", "5"])
+    return code, out, tmp
+
+
+def test_calibrate_writes_json_plots_and_held_out_study(calibrated):
+    code, out, _ = calibrated
+    assert code == 0
+    data = json.loads(out.read_text())
+    assert data["family"] == "finite-liquid"
+    assert data["reference"].startswith("lubrication")  # highest reference_rank in the study
+    assert data["train"]["points"] == 18 and data["held_out"]["points"] == 8
+    for suffix in ("_parity.png", "_errors.png", "_points.npz", "_heldout.toml"):
+        assert out.with_name(out.stem + suffix).stat().st_size > 0
+    held = load_study(out.with_name("film_heldout.toml"))
+    assert len(held.scenes) == 8  # the seeded hypercube, loadable as a study of its own
+
+
+def test_held_out_points_are_off_the_training_grid_and_refit_beats_published(calibrated):
+    _, out, _ = calibrated
+    data = json.loads(out.read_text())
+    fam = get_family("finite-liquid")
+    train, held = load_points(out.with_name("film_points.npz"))
+    train_gaps = set(np.round(train.inputs["gap"] / train.inputs["radius"], 12))
+    assert not train_gaps & set(np.round(held.inputs["gap"] / held.inputs["radius"], 12))
+    # the table is the errors of the saved coefficients on the saved held-out points
+    k = np.asarray(data["coefficients"])
+    e_after = rel_errors(fam, k, held)
+    e_before = rel_errors(fam, fam.published, held)
+    assert data["held_out"]["after"]["max"] == pytest.approx(e_after.max(), rel=1e-12)
+    assert data["held_out"]["before"]["max"] == pytest.approx(e_before.max(), rel=1e-12)
+    # Pitois' (1 - S/H)^2 is a few % off lubrication; the refit at least 3x better
+    assert e_before.max() > 0.01
+    assert e_after.max() <= e_before.max() / 3.0
+    assert data["goal_met"] is True
+    # the coefficients load as a model that refuses scenes outside the calibrated domain
+    model = load_coefficients(out, family="finite-liquid")
+    assert model.domain["delta_over_r"][0] == pytest.approx(0.02)
+
+
+def test_second_run_reuses_the_store(calibrated, capsys):
+    code, out, tmp = calibrated
+    again = tmp / "again.json"
+    assert main(["calibrate", str(_study(tmp)), "--closure", "finite-liquid", "--out",
+                 str(again), "--store", str(tmp / "r.h5"), "--workers", "0",
+                 "--held-out", str(out.with_name("film_heldout.toml"))]) == 0
+    assert "computed 0" in capsys.readouterr().err
+    a, b = json.loads(out.read_text()), json.loads(again.read_text())
+    assert a["held_out"]["before"] == b["held_out"]["before"]
+
+
+@pytest.mark.parametrize("case", ["family", "no-reference", "scene-class", "out", "points",
+                                  "missing", "seed"])
+def test_bad_input_exits_2_with_one_line(tmp_path, capsys, case):
+    study = _study(tmp_path)
+    args = ["calibrate", str(study), "--closure", "finite-liquid", "--out",
+            str(tmp_path / "c.json"), "--store", str(tmp_path / "r.h5"), "--workers", "0"]
+    expect = {"family": "finite-liquid",  # the message lists the families
+              "no-reference": "no reference", "scene-class": "allowed for family willett",
+              "out": "--out", "points": "--held-out-points", "missing": "nope.toml",
+              "seed": "--seed"}[case]
+    if case == "family":
+        args[3] = "mikami-xx"
+    elif case == "no-reference":
+        args[1] = str(_study(tmp_path, '["reynolds", "reynolds-finite"]', "closures-only"))
+    elif case == "scene-class":
+        args[3] = "willett"
+    elif case == "out":
+        args[5] = str(tmp_path / "c.txt")
+    elif case == "points":
+        args += ["--held-out-points", "2"]
+    elif case == "missing":
+        args[1] = str(tmp_path / "nope.toml")
+    else:
+        args += ["--seed", "-1"]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "Traceback" not in err
+    assert expect in err
+    assert not (tmp_path / "r.h5").exists()  # nothing was solved
