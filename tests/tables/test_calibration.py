@@ -91,3 +91,30 @@ def test_committed_tables_match_their_saved_points():
                        (np.asarray(data["coefficients"]), "after")):
             assert rel_errors(fam, k, held).max() == pytest.approx(
                 data["held_out"][tag]["max"], rel=1e-9), (data["family"], tag)
+
+
+def test_run_renders_the_section_from_the_folder_it_is_given(tmp_path, monkeypatch):
+    import wetcontact.report as report
+    from wetcontact.models import load_all
+
+    models = load_all()
+    monkeypatch.setattr(report, "SECTIONS", ("calibration",))
+    monkeypatch.setattr(report, "load_all", lambda: {"willett": models["willett"]})
+    cases = tmp_path / "cases"
+    cases.mkdir()
+    (cases / "b.toml").write_text(
+        'name = "b"\n[geometry]\nkind = "sphere-sphere"\nradius = 1e-4\nradius2 = 1e-4\n'
+        '[liquid]\nviscosity = 1e-3\nsurface_tension = 0.072\ndensity = 998.0\n'
+        'contact_angle = 20.0\n[amount]\nbridge_volume = 1e-13\n'
+        '[motion]\nvelocity = 0.01\ngaps = [1e-6, 5e-6]\n')
+    cal = tmp_path / "cal"
+    cal.mkdir()
+    (cal / "willett.json").write_text(json.dumps(_cal("willett", 0.1, 0.02)))
+    path = report.run_all(cases=cases, out=tmp_path / "rep", progress=False, bench=None,
+                          calibration=cal)
+    md = path.read_text()
+    assert "## Calibration: held-out errors" in md and "| `willett` | meniscus | 12 |" in md
+    assert (path.parent / table.CSV_NAME).is_file()
+    with pytest.raises(InputError, match="not a folder"):
+        report.run_all(cases=cases, out=tmp_path / "rep2", progress=False, bench=None,
+                       calibration=tmp_path / "missing")
