@@ -112,3 +112,24 @@ def test_bad_input_exits_2_with_one_line(tmp_path, capsys, case):
     assert len(err.splitlines()) == 1 and "Traceback" not in err
     assert expect in err
     assert not (tmp_path / "r.h5").exists()  # nothing was solved
+
+
+@pytest.mark.slow
+def test_capillary_refit_beats_published_mikami_on_held_out_bridges(tmp_path):
+    """Sphere-plate bridges against the finite-element meniscus (about a minute)."""
+    base = ROOT / "cases" / "sphere-plate-unequal-angles.toml"
+    study = tmp_path / "pw.toml"
+    study.write_text(
+        f'name = "pw"\nbase = "{base.as_posix()}"\nmodels = ["meniscus", "mikami"]\n'
+        '[axes]\n"amount.volume_over_radius3" = { start = 1e-3, stop = 0.1, points = 3, '
+        'spacing = "log" }\n"liquid.contact_angle" = [0.0, 20.0, 40.0]\n'
+        '[set]\n"motion.gap_over_rupture" = { start = 0.05, stop = 0.9, points = 5, '
+        'spacing = "linear" }\n')
+    out = tmp_path / "pw.json"
+    assert main(["calibrate", str(study), "--closure", "mikami-pw", "--out", str(out),
+                 "--store", str(tmp_path / "r.h5"), "--workers", "0",
+                 "--held-out-points", "12", "--seed", "11"]) == 0
+    ho = json.loads(out.read_text())["held_out"]
+    assert ho["points"] == 12
+    assert ho["after"]["max"] < ho["before"]["max"]
+    assert ho["after"]["mean"] < ho["before"]["mean"]
