@@ -133,3 +133,41 @@ def test_capillary_refit_beats_published_mikami_on_held_out_bridges(tmp_path):
     assert ho["points"] == 12
     assert ho["after"]["max"] < ho["before"]["max"]
     assert ho["after"]["mean"] < ho["before"]["mean"]
+
+
+@pytest.mark.parametrize("path", sorted((ROOT / "cases" / "studies").glob("calibrate-*.toml")),
+                         ids=lambda p: p.stem)
+def test_shipped_calibration_studies_reproduce_the_default_designs(path):
+    """Each calibrate-FAMILY.toml: the family's scene class, a reference model, and the
+    training configurations of ``python -m wetcontact.calibrate fit FAMILY --train 40``."""
+    import tomllib
+
+    from wetcontact.calibrate import check_scene_class, design, reference_model
+    from wetcontact.scene import load_case
+    from wetcontact.study import _range
+
+    fam = get_family(path.stem.removeprefix("calibrate-"))
+    data = tomllib.loads(path.read_text())
+    check_scene_class(fam, [load_case(path.parent / data["base"])], str(path))
+    assert reference_model(fam, data["models"]) == "meniscus"
+    axes = {"amount.volume_over_radius3": "v_star", "liquid.contact_angle": "theta_deg"}
+    grid = {axes[k]: _range(str(path), k, v) for k, v in data["axes"].items()}
+    configs = design(fam, 40)
+    for name, values in grid.items():
+        assert sorted({c[name] for c in configs}) == pytest.approx(sorted(values), rel=1e-12)
+    assert len(configs) == np.prod([len(v) for v in grid.values()])
+    gaps = data["set"].get("motion.gap_over_rupture")
+    if fam.target != "rupture":
+        lo, hi, _ = fam.default_design["s_over_scref"]
+        assert (gaps["start"], gaps["stop"], gaps["points"]) == (lo, hi, 8)  # gaps_per = 8
+
+
+def test_committed_held_out_designs_point_at_existing_bases():
+    import tomllib
+
+    files = sorted((ROOT / "benchmarks" / "results" / "calibration").glob("*_heldout.toml"))
+    assert len(files) >= 5
+    for f in files:
+        data = tomllib.loads(f.read_text())
+        assert (f.parent / data["base"]).is_file(), f
+        assert data["sample"]["seed"] == 7919

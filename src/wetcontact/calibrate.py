@@ -28,6 +28,10 @@ The fit minimises the relative error by least squares, then by Lawson's reweight
 toward the minimax solution (scipy.optimize.least_squares), then (up to 25 coefficients)
 polishes the maximum directly in epigraph form (SLSQP).
 
+``wetcontact calibrate STUDY.toml --closure FAMILY --out F.json`` (:func:`calibrate_study`)
+fits a family to a study's reference points from the store (swept first when missing) and
+reports on a seeded Latin-hypercube held-out design over the study's ranges; the capillary
+families' studies are ``cases/studies/calibrate-*.toml``.
 ``python -m wetcontact.calibrate bounds`` regenerates the closures' measured error-bound
 tables (:mod:`wetcontact.bounds_gen`); ``python -m wetcontact.calibrate fit FAMILY --out
 F.json`` calibrates one family on its default design.
