@@ -74,9 +74,9 @@ def build_parser() -> argparse.ArgumentParser:
     solve.add_argument("--save-fields", type=Path, default=None, metavar="DIR",
                        help="write solution fields (VTU) where the model supports it")
 
+    _add_calibrate_parser(sub)
     _add_sweep_parser(sub)
     _add_export_parser(sub)
-    _add_calibrate_parser(sub)
     sub.add_parser("models", help="list the registered models", description="Registered "
                    "models with their fidelity level, component and validity range.")
     return p
