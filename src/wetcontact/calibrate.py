@@ -28,6 +28,10 @@ The fit minimises the relative error by least squares, then by Lawson's reweight
 toward the minimax solution (scipy.optimize.least_squares), then (up to 25 coefficients)
 polishes the maximum directly in epigraph form (SLSQP).
 
+``wetcontact calibrate STUDY.toml --closure FAMILY --out F.json`` (:func:`calibrate_study`)
+fits a family to a study's reference points from the store (swept first when missing) and
+reports on a seeded Latin-hypercube held-out design over the study's ranges; the capillary
+families' studies are ``cases/studies/calibrate-*.toml``.
 ``python -m wetcontact.calibrate bounds`` regenerates the closures' measured error-bound
 tables (:mod:`wetcontact.bounds_gen`); ``python -m wetcontact.calibrate fit FAMILY --out
 F.json`` calibrates one family on its default design.
@@ -607,13 +611,19 @@ def run_family(name: str, out: Path, n_train: int = 30, n_held_out: int = 16,
         train = reference_points(fam, design(fam, n_train), gaps_per=8)
         held = reference_points(fam, design(fam, n_held_out, seed=seed), gaps_per=6,
                                 seed=seed)
-        out.parent.mkdir(parents=True, exist_ok=True)
-        np.savez_compressed(cache, **{f"train_{k}": v for k, v in train.inputs.items()},
-                            train_y=train.y, **{f"held_{k}": v for k, v in held.inputs.items()},
-                            held_y=held.y)
+        save_points(cache, train, held)
     cal = calibrate(fam, train, held, held_out_seed=seed)
     write_calibration(cal, held, out)
     return cal
+
+
+def save_points(path: Path, train: Points, held: Points) -> Path:
+    """Save training and held-out points (read back by :func:`load_points`)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    np.savez_compressed(path, **{f"train_{k}": v for k, v in train.inputs.items()},
+                        train_y=train.y, **{f"held_{k}": v for k, v in held.inputs.items()},
+                        held_y=held.y)
+    return path
 
 
 def load_points(path: Path) -> tuple[Points, Points]:
@@ -625,6 +635,189 @@ def load_points(path: Path) -> tuple[Points, Points]:
                       if k.startswith(tag + "_") and k != f"{tag}_y"}
             parts[tag] = Points(inputs, z[f"{tag}_y"])
     return parts["train"], parts["held"]
+
+
+# ---- calibration from a study file (``wetcontact calibrate``) -----------------------------
+
+
+def component_of(family: Family) -> str:
+    """The force component whose reference the family is fitted to."""
+    return "viscous" if family.target == "viscous" else "capillary"
+
+
+def reference_model(family: Family, models: Iterable[str], source: str = "") -> str:
+    """The highest ``reference_rank`` model for the family's component among ``models``.
+
+    Raises
+    ------
+    InputError
+        None of ``models`` is a reference for that component: names the ones that are.
+    """
+    from wetcontact.models import load_all
+
+    comp = component_of(family)
+    ranked = sorted(((get_model(m).reference_rank.get(comp, 0), m) for m in models),
+                    reverse=True)
+    if not ranked or ranked[0][0] <= 0:
+        refs = sorted(((m.reference_rank[comp], m.name) for m in load_all().values()
+                       if m.reference_rank.get(comp, 0) > 0), reverse=True)
+        raise InputError(f"{source or 'study'}: models = {list(models)} has no reference "
+                         f"for the {comp} force of family {family.name}; allowed: add one of "
+                         + ", ".join(f"{n} (rank {r})" for r, n in refs))
+    return ranked[0][1]
+
+
+def check_scene_class(family: Family, scenes: Iterable[Scene], source: str) -> None:
+    """Every scene must be of the family's class (an :class:`InputError` otherwise)."""
+    for sc in scenes:
+        if sc.kind != family.kind or sc.amount != family.amount or (
+                family.equal and not sc.equal_spheres):
+            raise InputError(f"{source}: scene '{sc.name}' is {sc.kind} {sc.amount}"
+                             + (" (unequal spheres)" if sc.kind == "sphere-sphere"
+                                and not sc.equal_spheres else "")
+                             + f"; allowed for family {family.name}: {family.kind} "
+                             f"{family.amount}" + (" (equal spheres)" if family.equal else ""))
+
+
+def held_out_study_text(path: Path, n: int, seed: int, out: Path) -> str:
+    """A study file (TOML) of ``n`` seeded Latin-hypercube points over the ranges of the
+    study at ``path``: every axis becomes ``{min, max, spacing}`` over the values it takes
+    (log spacing where the file's range says so, or a list of positive values spanning
+    more than a decade), and every ``[set]`` range (e.g. the gaps as fractions of the
+    rupture distance) becomes a sampled axis too, so no held-out point shares a
+    coordinate with the training grid but by chance. ``base`` is written relative to the
+    folder of ``out`` (where the file will be saved)."""
+    import os
+    import tomllib
+
+    data = tomllib.loads(path.read_text(encoding="utf-8"))
+    axes: dict[str, Any] = {}
+    fixed = dict(data.get("set", {}))
+
+    def limits(v: Any) -> tuple[float, float, str] | None:
+        if isinstance(v, Mapping) and "start" in v:
+            lo, hi = sorted((float(v["start"]), float(v["stop"])))
+            return lo, hi, str(v.get("spacing", "linear"))
+        if isinstance(v, list) and v and all(isinstance(x, int | float) for x in v):
+            lo, hi = float(min(v)), float(max(v))
+            return lo, hi, "log" if lo > 0 and hi > 10 * lo else "linear"
+        return None
+
+    for p, v in data.get("axes", {}).items():
+        lim = limits(v)
+        if lim is None or lim[0] == lim[1]:
+            fixed[p] = v if lim is None else lim[0]
+        else:
+            axes[p] = lim
+    for p, v in list(fixed.items()):
+        if isinstance(v, Mapping) and "start" in v:
+            lim = limits(v)
+            if lim is not None and lim[0] < lim[1]:
+                axes[p] = lim
+                del fixed[p]
+    if not axes:
+        raise InputError(f"{path}: no axis with a range to draw held-out points from; "
+                         "allowed: give --held-out STUDY.toml")
+    base = Path(os.path.relpath((path.parent / data["base"]).resolve(),
+                                out.parent.resolve()))
+    lines = [f"name = {json.dumps(str(data['name']) + '-held-out')}",
+             "description = " + json.dumps(f"Held-out design of {path.name}: {n} points "
+                                           "of a seeded Latin hypercube over its ranges"),
+             f"base = {json.dumps(base.as_posix())}",
+             f"models = {json.dumps(list(data['models']))}",
+             f"preset = {json.dumps(data.get('preset', 'default'))}", "",
+             "[sample]", 'method = "latin-hypercube"', f"points = {n}", f"seed = {seed}", "",
+             "[axes]"]
+    lines += [f'"{p}" = {{ min = {lo!r}, max = {hi!r}, spacing = "{sp}" }}'
+              for p, (lo, hi, sp) in axes.items()]
+    if fixed:
+        lines += ["", "[set]"] + [f'"{p}" = {_toml(v)}' for p, v in fixed.items()]
+    return "\n".join(lines) + "\n"
+
+
+def _toml(v: Any) -> str:
+    """A TOML value (numbers, strings, booleans, lists and inline tables of those)."""
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int | float):
+        return repr(v)
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, Mapping):
+        return "{ " + ", ".join(f"{k} = {_toml(x)}" for k, x in v.items()) + " }"
+    return "[" + ", ".join(_toml(x) for x in v) + "]"
+
+
+def study_points(family: Family, study: Any, model: str, store: Any,
+                 workers: int | None, label: str) -> tuple[Points, int]:
+    """Reference points of a study's scenes by ``model``: swept into ``store`` first
+    (points already there are reused, never recomputed). Returns the points and the
+    number of scenes that failed."""
+    from wetcontact.sweep import Point, sweep
+
+    check_scene_class(family, [sc for _, sc in study.scenes], str(study.source))
+    pts = [Point(scene=sc, model=model, preset=study.preset, axes=dict(ax))
+           for ax, sc in study.scenes]
+    res = sweep(pts, store, workers=workers, progress=True)
+    pairs = [(o.point.scene, o.curve) for o in res.outcomes if o.curve is not None]
+    failed = sum(o.curve is None for o in res.outcomes)
+    if not pairs:
+        reasons = {o.reason for o in res.outcomes if o.reason}
+        raise SolverError(f"{label}: every {model} point failed ("
+                          + "; ".join(sorted(reasons))[:300] + ")")
+    return points_from_curves(family, pairs), failed
+
+
+def calibrate_study(study_path: Path | str, family_name: str, out: Path | str,
+                    store_path: Path | str, workers: int | None = None,
+                    held_out: Path | str | None = None, held_out_points: int = 120,
+                    seed: int = 7919) -> tuple[Calibration, list[Path]]:
+    """``wetcontact calibrate``: fit ``family_name`` to a study's reference points.
+
+    The reference is the study's model of highest ``reference_rank`` for the family's
+    component; its points missing from the store are swept first. The fit trains on the
+    study's grid; the held-out design is the study file ``held_out``, or ``held_out_points``
+    points of a Latin hypercube with ``seed`` over the study's ranges (written beside
+    ``out`` as ``*_heldout.toml``, so it can be rerun or reused). Writes the JSON, the
+    parity plot and the error map (:func:`write_calibration`).
+    """
+    from wetcontact.store import Store
+    from wetcontact.study import load_study
+
+    fam = get_family(family_name)
+    out = Path(out)
+    if out.suffix.lower() != ".json":
+        raise InputError(f"--out {out}: allowed: a .json file (the plots are written "
+                         "beside it)")
+    if out.is_dir():
+        raise InputError(f"--out {out}: is a folder; allowed: a .json file")
+    if not 4 <= held_out_points <= 100_000:
+        raise InputError(f"--held-out-points = {held_out_points}; allowed: 4 to 100000")
+    study = load_study(study_path)
+    check_scene_class(fam, [sc for _, sc in study.scenes], str(study_path))
+    ref = reference_model(fam, study.models, str(study_path))
+    out.parent.mkdir(parents=True, exist_ok=True)
+    if held_out is None:
+        held_path = out.with_name(out.stem + "_heldout.toml")
+        held_path.write_text(held_out_study_text(Path(study_path), held_out_points, seed,
+                                                 held_path))
+        held_seed: int | None = seed
+    else:
+        held_path, held_seed = Path(held_out), None
+    held_study = load_study(held_path)
+    check_scene_class(fam, [sc for _, sc in held_study.scenes], str(held_path))
+    store = Store(store_path)
+    train, n_bad = study_points(fam, study, ref, store, workers, str(study_path))
+    held, n_bad_held = study_points(fam, held_study, ref, store, workers, str(held_path))
+    cal = calibrate(fam, train, held, held_out_seed=held_seed)
+    extra = {**cal.extra, "reference": f"{ref} ({study.preset} preset)",
+             "study": str(study_path), "held_out_study": str(held_path),
+             "failed_scenes": {"train": n_bad, "held_out": n_bad_held}}
+    cal = Calibration(cal.family, cal.coefficients, cal.published, cal.domain, cal.train,
+                      cal.held_out, extra)
+    files = write_calibration(cal, held, out)
+    files.append(save_points(out.with_name(out.stem + "_points.npz"), train, held))
+    return cal, files + ([held_path] if held_out is None else [])
 
 
 # ---- refitted closures as models -----------------------------------------------------------

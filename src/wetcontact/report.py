@@ -42,8 +42,9 @@ from wetcontact.tables import StudyContext
 
 PRESET_OF_MODE = {"quick": "fast", "default": "default", "full": "accurate"}
 # Study sections, in report order; a module that is not present is skipped.
-SECTIONS = ("lubrication", "stokes", "thinfilm", "capillary_closures")
+SECTIONS = ("lubrication", "stokes", "thinfilm", "capillary_closures", "calibration")
 DEFAULT_BENCH = Path("benchmarks/results/thinfilm.json")
+DEFAULT_CALIBRATION = Path("benchmarks/results/calibration")
 PROGRESS_EVERY_S = float(os.environ.get("WETCONTACT_PROGRESS_S", "5"))
 
 
@@ -419,7 +420,8 @@ def build(scenes: list[Scene], out: Path, store: Store, mode: str, ctx: StudyCon
 
 def run_all(cases: Path = Path("cases"), out: Path | None = None, mode: str = "default",
             resume: bool = False, progress: bool = True,
-            bench: Path | None = DEFAULT_BENCH) -> Path:
+            bench: Path | None = DEFAULT_BENCH,
+            calibration: Path | None = DEFAULT_CALIBRATION) -> Path:
     """Regenerate ``out`` from the cases; return the path of ``out/README.md``.
 
     The report is built in ``.<out>.partial`` beside ``out`` (with its store) and swapped in
@@ -442,6 +444,11 @@ def run_all(cases: Path = Path("cases"), out: Path | None = None, mode: str = "d
         The thin-film benchmark's JSON (stability map, wetting-width study); the default is
         relative to the working directory (the repository root); ``None`` or a missing
         default file: the section says the benchmark was not given.
+    calibration
+        Folder of calibration JSONs (``wetcontact calibrate`` outputs) for the held-out
+        tables; relative to the working directory like ``bench``; ``None`` or a missing
+        default folder: the section says none was given. The shipped closure's table is
+        the package's own data.
     """
     if mode not in PRESET_OF_MODE:
         raise InputError(f"mode = {mode!r}; allowed: " + ", ".join(PRESET_OF_MODE))
@@ -452,6 +459,17 @@ def run_all(cases: Path = Path("cases"), out: Path | None = None, mode: str = "d
     bench_data = None
     if bench is not None and (Path(bench).exists() or Path(bench) != DEFAULT_BENCH):
         bench_data = load_bench(bench)
+    from wetcontact.calibrate import DATA_DIR
+    from wetcontact.tables.calibration import load_calibrations, load_json
+
+    cal_data: tuple = ()
+    if calibration is not None and (Path(calibration).is_dir()
+                                    or Path(calibration) != DEFAULT_CALIBRATION):
+        if not Path(calibration).is_dir():
+            raise InputError(f"calibration folder {calibration}: not a folder; allowed: the "
+                             "folder of wetcontact calibrate's JSON outputs")
+        cal_data = load_calibrations(calibration)
+    viscous_path = DATA_DIR / "calibrated_viscous.json"
     scenes = load_cases(cases)
     out = Path(out).absolute()
     if out.exists() and not out.is_dir():
@@ -461,7 +479,10 @@ def run_all(cases: Path = Path("cases"), out: Path | None = None, mode: str = "d
     except OSError as exc:
         raise InputError(f"--out {out}: cannot create its parent ({exc.strerror})") from None
     ctx = StudyContext(quick=mode == "quick", scenes=tuple(scenes), bench=bench_data,
-                       bench_path="" if bench_data is None else str(bench))
+                       bench_path="" if bench_data is None else str(bench),
+                       calibration=cal_data, calibrated_viscous=load_json(viscous_path),
+                       calibrated_viscous_path="wetcontact/" + viscous_path.relative_to(
+                           DATA_DIR.parents[1]).as_posix())
     with _locked(out), _Heartbeat(progress) as beat:
         _recover(out)
         staging = out.parent / f".{out.name}.partial"

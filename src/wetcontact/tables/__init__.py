@@ -34,9 +34,17 @@ class StudyContext:
         given, for the stability map and the wetting-width study; ``None`` otherwise.
     bench_path
         Where ``bench`` was read from (quoted in the report).
+    calibration
+        ``(path, data)`` of each calibration JSON (``wetcontact calibrate``, e.g.
+        ``benchmarks/results/calibration/*.json``), for the held-out tables.
+    calibrated_viscous, calibrated_viscous_path
+        The shipped ``calibrated-viscous`` closure's table (its package data) and its path.
     """
 
     quick: bool = False
     scenes: tuple[Scene, ...] = ()
     bench: dict[str, Any] | None = field(default=None, compare=False)
     bench_path: str = ""
+    calibration: tuple[tuple[str, dict[str, Any]], ...] = field(default=(), compare=False)
+    calibrated_viscous: dict[str, Any] | None = field(default=None, compare=False)
+    calibrated_viscous_path: str = ""
