@@ -33,7 +33,7 @@ import numpy as np
 
 from wetcontact.compare import CSV_FIELDS, compare, reference_for
 from wetcontact.errors import InputError, SolverError
-from wetcontact.fileio import safe_stem
+from wetcontact.fileio import fsync_dir, safe_stem
 from wetcontact.models import ForceCurve, get_model, load_all, provenance
 from wetcontact.scene import Scene, load_case
 from wetcontact.store import Store
@@ -331,7 +331,7 @@ def swap_in(staging: Path, out: Path) -> None:
         os.rename(out, old)
         os.rename(staging, out)
         shutil.rmtree(old)
-    _fsync_dir(out.parent)
+    fsync_dir(out.parent)
 
 
 def _recover(out: Path) -> None:
@@ -340,15 +340,6 @@ def _recover(out: Path) -> None:
     if old.exists() and not out.exists():
         os.rename(old, out)
     shutil.rmtree(old, ignore_errors=True)
-
-
-def _fsync_dir(path: Path) -> None:
-    with contextlib.suppress(OSError):
-        fd = os.open(path, os.O_RDONLY)
-        try:
-            os.fsync(fd)
-        finally:
-            os.close(fd)
 
 
 def _sections() -> list[tuple[str, object]]:

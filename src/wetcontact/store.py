@@ -46,7 +46,7 @@ import h5py
 import numpy as np
 
 from wetcontact.errors import InputError
-from wetcontact.fileio import _umask
+from wetcontact.fileio import _umask, fsync_dir
 from wetcontact.models import ForceCurve
 from wetcontact.scene import Scene
 
@@ -319,7 +319,7 @@ class Store:
             with open(tmp, "rb+") as fh:
                 os.fsync(fh.fileno())
             os.replace(tmp, self.path)
-            _fsync_dir(self.path.parent)
+            fsync_dir(self.path.parent)
         except BaseException:
             with contextlib.suppress(FileNotFoundError):
                 os.unlink(tmp)
@@ -379,15 +379,6 @@ class BatchWriter:
             self.interval = max(self.min_interval, 10.0 * dt)
             self.pending, self.pending_failures, self.pending_keys = [], [], []
         self.last = time.monotonic()
-
-
-def _fsync_dir(path: Path) -> None:
-    with contextlib.suppress(OSError):
-        fd = os.open(path, os.O_RDONLY)
-        try:
-            os.fsync(fd)
-        finally:
-            os.close(fd)
 
 
 def _write_curve(grp: h5py.Group, scene: Scene, curve: ForceCurve) -> None:
