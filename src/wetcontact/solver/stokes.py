@@ -546,22 +546,11 @@ quasi-static meniscus top (the static meniscus joining the flat film far away) i
 yet: it needs gravity (with zero Laplace pressure at infinity and no gravity the meniscus is
 a catenoid, which never becomes flat)."""
 
-INSTEAD = {"immersed": ("cox-brenner", "brenner", "vinogradova", "lubrication", "reynolds"),
-           "film": ("thinfilm", "lubrication", "reynolds-finite"),
-           "bridge": ("lubrication", "reynolds-finite")}
-"""Viscous models to name when ``stokes`` refuses a scene, most faithful first, per amount."""
-
-
 def _instead(scene: Scene) -> str | None:
-    """The first model of :data:`INSTEAD` that accepts ``scene`` (``None`` if none does), so
-    a refusal never points to a model that refuses the same scene."""
-    from wetcontact.models import load_all
+    """The most faithful viscous model that accepts ``scene`` (``None`` if none does)."""
+    from wetcontact.models import model_instead
 
-    models = load_all()
-    for name in INSTEAD[scene.amount]:
-        if name in models and models[name].applicable(scene) is None:
-            return name
-    return None
+    return model_instead(scene, "viscous", exclude="stokes")
 
 
 # ---- the registered model -----------------------------------------------------------------
