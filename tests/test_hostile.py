@@ -712,6 +712,127 @@ def test_generated_physical_scenes_keep_the_contract_many(case, as_json):
     test_generated_physical_scenes_keep_the_contract.hypothesis.inner_test(case, as_json)
 
 
+# ---- generated study files (sweep and export csv) ------------------------------------------
+
+STUDY_FIELDS = ("liquid.contact_angle", "liquid.viscosity", "geometry.radius",
+                "motion.velocity", "amount.bridge_volume", "motion.gap_over_radius",
+                "motion.gap_over_rupture", "amount.volume_over_radius3",
+                "geometry.radius_ratio", "motion.capillary_number", "motion.gaps")
+_small_points = st.sampled_from([0, -1, 1, 2, 3, 10**9, 2**63, float("nan"), 1.5, "3", True])
+_axis_value = st.one_of(
+    st.lists(_hostile_number, min_size=0, max_size=4),
+    st.fixed_dictionaries({"start": _hostile_number, "stop": _hostile_number,
+                           "points": _small_points,
+                           "spacing": st.sampled_from(["log", "linear", "cubic", "", 3])}),
+    st.fixed_dictionaries({"min": _hostile_number, "max": _hostile_number}),
+    _leaf)
+
+
+_valid_axes = {
+    "liquid.contact_angle": st.sampled_from([[0.0, 20.0], [40.0], [10.0, 30.0, 60.0]]),
+    "amount.volume_over_radius3": st.sampled_from(
+        [{"start": 1e-3, "stop": 1e-2, "points": 2, "spacing": "log"}, [1e-3, 0.02]]),
+    "motion.gap_over_radius": st.sampled_from([[0.01, 0.1], {"start": 0.001, "stop": 0.05,
+                                                              "points": 3}]),
+    "liquid.viscosity": st.sampled_from([[1e-3, 1e-2]]),
+    "motion.gap_over_rupture": st.sampled_from([[0.1, 0.5], [0.9]]),
+}
+
+
+def _maybe_hostile(draw, valid, hostile):
+    """The valid value three times in four, else a hostile one."""
+    return draw(hostile) if draw(st.integers(0, 3)) == 0 else draw(valid)
+
+
+@st.composite
+def study_files(draw) -> str:
+    """A valid study on a bridge case with cheap models (sweeps stay in-process and fast),
+    with each part replaced by a hostile value one time in four: names, bases, model lists,
+    axis paths and values, presets, samples and unknown keys."""
+    axes = {}
+    for key in draw(st.lists(st.sampled_from(sorted(_valid_axes)), min_size=1, max_size=2,
+                             unique=True)):
+        if draw(st.integers(0, 3)) == 0:
+            key = draw(st.one_of(st.sampled_from(STUDY_FIELDS), _hostile_text))
+            axes[key] = draw(_axis_value)
+        else:
+            axes[key] = _maybe_hostile(draw, _valid_axes[key], _axis_value)
+    data: dict[str, Any] = {
+        "name": _maybe_hostile(draw, st.just("hostile-study"), _hostile_text),
+        "base": _maybe_hostile(draw, st.just("base.toml"), _hostile_text),
+        "models": _maybe_hostile(
+            draw, st.lists(st.sampled_from(["willett", "toroidal", "reynolds", "lubrication",
+                                            "bagheri"]), min_size=1, max_size=3, unique=True),
+            st.one_of(st.lists(_hostile_text, max_size=3), _leaf)),
+        "axes": axes,
+    }
+    if draw(st.booleans()):
+        data["preset"] = _maybe_hostile(draw, st.sampled_from(["fast", "default"]),
+                                        _hostile_text)
+    if draw(st.integers(0, 3)) == 0:
+        data["sample"] = {"method": draw(st.sampled_from(["latin-hypercube", "grid", ""])),
+                          "points": draw(_small_points), "seed": draw(_hostile_number)}
+    if draw(st.integers(0, 5)) == 0:
+        data[draw(_hostile_text) or "x"] = draw(_leaf)
+    return toml_dumps(data)
+
+
+def _run_study_in_sandbox(text: str, runs: list[list[str]]) -> list[int]:
+    """Each argv of ``runs`` in turn, in one sandbox (base.toml, study.toml, fields/)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        root = Path(tmp)
+        work = root / "outer" / "work"
+        (work / "fields").mkdir(parents=True)
+        (work / "base.toml").write_text(toml_dumps(BRIDGE), encoding="utf-8")
+        (work / "study.toml").write_text(text, encoding="utf-8", errors="surrogatepass")
+        before = tree(root)
+        codes = []
+        for argv in runs:
+            old = os.getcwd()
+            os.chdir(work)
+            try:
+                code, out, err = run_cli(argv)
+            finally:
+                os.chdir(old)
+            check_contract(code, out, err, False)
+            if code == 0 and "--json" in argv:
+                _no_nan_json(out)
+            COUNTER["studies"] = COUNTER.get("studies", 0) + 1
+            COUNTER[f"exit {code}"] += 1
+            if os.environ.get("WETCONTACT_HOSTILE_LOG"):
+                with open(os.environ["WETCONTACT_HOSTILE_LOG"], "a") as fh:
+                    fh.write(f"{argv[0]}\t{code}\t{err.strip()[:160]!r}\n")
+            codes.append(code)
+        after = tree(root)
+        changed = {k for k in set(before) | set(after) if before.get(k) != after.get(k)}
+        assert all(k.startswith(str(Path("outer", "work", "fields"))) for k in changed), \
+            (runs, changed)
+        return codes
+
+
+@settings(max_examples=150, deadline=None, derandomize=True,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@given(study=study_files())
+def test_generated_study_files_keep_the_contract(study):
+    """Issue 14: generated study files, valid and hostile, through `sweep` (in-process,
+    --json) and then `export csv` of the same store: exit in {0, 1, 2}, at most three
+    stderr lines, no traceback, no NaN in the JSON, nothing written outside the store's
+    folder; a study that sweeps also exports."""
+    codes = _run_study_in_sandbox(study, [
+        ["sweep", "study.toml", "--store", "fields/s.h5", "--workers", "0", "--json"],
+        ["export", "csv", "study.toml", "--store", "fields/s.h5", "--out", "fields/o.csv"]])
+    if codes[0] == 0:
+        assert codes[1] == 0
+
+
+@pytest.mark.slow
+@settings(max_examples=1000, deadline=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@given(study=study_files())
+def test_generated_study_files_keep_the_contract_many(study):
+    test_generated_study_files_keep_the_contract.hypothesis.inner_test(study)
+
+
 def test_report_the_count():
     """Runs last in this file: the number of generated inputs the property tests ran."""
     sys.stderr.write(f"\nhostile inputs run: {COUNTER}\n")
