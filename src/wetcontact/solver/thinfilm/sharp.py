@@ -534,6 +534,7 @@ def sharp_run(prob: SharpFilm, gaps: Sequence[float], profile_gaps: Sequence[flo
     wall = time.perf_counter() - t_wall
     snaps, speeds, reached = [], [], []
     profiles: dict[float, np.ndarray] = {}
+    details: dict[float, dict[str, float]] = {}
     r_out = np.linspace(0.0, prob.domain, 400)
     want = {float(gaps[np.argmin(np.abs(gaps - pg))]) for pg in profile_gaps}
     for g in gaps:
@@ -541,6 +542,12 @@ def sharp_run(prob: SharpFilm, gaps: Sequence[float], profile_gaps: Sequence[flo
         if g in out:
             sn, st = out[g]
             snaps.append(sn)
+            if st is not None:
+                details[g] = {"foot_radius": st.a, "foot_height": float(st.h[0]),
+                              "virtual_gap": st.inner.gap,
+                              "bridge_pressure": st.inner.pressure,
+                              "bridge_volume": st.inner.volume,
+                              "filling_angle": st.inner.filling_angle}
             speeds.append(st.v if st is not None else v0)
             reached.append(True)
         else:
@@ -557,7 +564,7 @@ def sharp_run(prob: SharpFilm, gaps: Sequence[float], profile_gaps: Sequence[flo
                      steps_shortened=rejected, rhs_evaluations=newton_total * 8,
                      wall_time_s=wall, speeds=speeds, reached=reached,
                      min_gap=float(min_gap), newton_iterations=newton_total,
-                     rejected_steps=rejected)
+                     rejected_steps=rejected, details=details)
 
 
 class _AsProblem:
