@@ -152,14 +152,17 @@ from wetcontact.solver.thinfilm.model import (
     validity_reason,
 )
 from wetcontact.solver.thinfilm.problem import FilmProblem, graded_cells, graded_faces
+from wetcontact.solver.thinfilm.sharp import InnerMeniscus, SharpFilm, sharp_run
 
 _leveling_problem = leveling_problem  # old private name, still used by tables/thinfilm.py
 
 __all__ = [
     "CA_MAX", "CA_STAR_MAX", "CELLS_ACROSS_CONTACT", "CELLS_PER_WIDTH", "DELTA_OVER_R_MAX",
-    "FilmProblem", "RunResult", "Snapshot", "ThinFilm", "ThinFilmPDE", "auto_cells",
+    "FilmProblem", "InnerMeniscus", "RunResult", "SharpFilm", "Snapshot", "ThinFilm",
+    "ThinFilmPDE", "auto_cells",
     "bessel_mode_decay", "explicit_stable_dt", "graded_cells", "graded_faces", "implicit_run",
     "implicit_stable_dt", "leveling_problem", "newton_euler_step", "penetration_run",
-    "problem_from_scene", "reduced_capillary_number", "smallest_resolved_gap", "snapshot",
+    "problem_from_scene", "reduced_capillary_number", "sharp_run", "smallest_resolved_gap",
+    "snapshot",
     "sphere_mass", "validity_reason",
 ]

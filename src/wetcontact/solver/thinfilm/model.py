@@ -270,6 +270,10 @@ class ThinFilm(Model):
         if contact == "sharp":
             if integrator != "bdf2":
                 raise InputError("thinfilm: contact = 'sharp' needs integrator = 'bdf2'")
+            if cells is not None:
+                raise InputError(f"thinfilm: cells = {cells!r} is a setting of the penalty "
+                                 "contacts ('meniscus', 'tangential'); the sharp contact's "
+                                 "film takes film_cells (an integer >= 8)")
             sharp = _sharp_problem(self.name, scene, film_cells, elements, domain_factor,
                                    gap_shape)
 

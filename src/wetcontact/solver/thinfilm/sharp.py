@@ -56,6 +56,7 @@ from wetcontact.solver.meniscus.geometry import DEFAULT_ELEMENTS, Bridge, _guess
 from wetcontact.solver.meniscus.young_laplace import (
     Fixed,
     VolumeIs,
+    _admissible,
     _disc,
     _fields,
     _newton,
@@ -91,6 +92,7 @@ class InnerState:
     dvol_ds: float
     dvol_dp: float
     x: np.ndarray = field(repr=False, compare=False)
+    sens: np.ndarray = field(repr=False, compare=False)
 
 
 class InnerMeniscus:
@@ -137,7 +139,7 @@ class InnerMeniscus:
             force=-(cut - g.bo * cap1) * sig * ell,
             dfoot_ds=float(sens[d.ic2, 1]), dfoot_dp=float(sens[d.ic2, 0]) * ls / ps,
             dvol_ds=float(dvol @ sens[:, 1]) * ls**2,
-            dvol_dp=float(dvol @ sens[:, 0]) * ls**3 / ps, x=x.copy())
+            dvol_dp=float(dvol @ sens[:, 0]) * ls**3 / ps, x=x.copy(), sens=sens)
 
     def initial(self, gap: float) -> InnerState:
         """The bridge of zero volume at virtual gap ``gap`` < 0: at first touch the
@@ -154,18 +156,25 @@ class InnerMeniscus:
         self.x = nw.x
         return self._state(nw.x, nw.lu)
 
-    def solve(self, gap: float, pressure: float, guess: np.ndarray | None = None) -> InnerState:
-        """The bridge at virtual gap ``gap`` (m) and pressure ``pressure`` (Pa),
-        warm-started from ``guess`` (default: the last solution)."""
+    def solve(self, gap: float, pressure: float,
+              guess: InnerState | None = None) -> InnerState:
+        """The bridge at virtual gap ``gap`` (m) and pressure ``pressure`` (Pa), by Newton
+        from the tangent predictor of ``guess`` (default: the last solution)."""
         d, g = self.d, self.g
-        x0 = (guess if guess is not None else self.x).copy()
         s, p = gap / self.ell, pressure * self.ell / self.sigma
+        base = guess.x if guess is not None else self.x
+        x0 = base.copy()
+        if guess is not None:
+            pred = (guess.x + guess.sens[:, 0] * (p - guess.x[d.iP])
+                    + guess.sens[:, 1] * (s - guess.x[d.iS]))
+            if _admissible(d, g, pred):
+                x0 = pred
         nw = _newton(d, g, x0, (Fixed(d.iP, p), Fixed(d.iS, s)))
         if not nw.converged or nw.lu is None:
-            # continuation from the guess in (gap, pressure), halving the increments
-            s0, p0 = float(x0[d.iS]), float(x0[d.iP])
+            # continuation from the guess in (gap, pressure), shorter increments each time
+            s0, p0 = float(base[d.iS]), float(base[d.iP])
             for k in (4, 16, 64):
-                x = x0
+                x = base
                 for j in range(1, k + 1):
                     f = j / k
                     nw = _newton(d, g, x, (Fixed(d.iP, p0 + f * (p - p0)),
@@ -318,7 +327,7 @@ def _snapshot(prob: SharpFilm, st: _Step, v0: float) -> Snapshot:
 def _newton_step(prob: SharpFilm, inner: InnerMeniscus, s1: float, dt_beta: float,
                  rhs_u: np.ndarray, rhs_a: float, guess: tuple[np.ndarray, float, float],
                  vol0: float, tol_h: np.ndarray, tol_p: float, tol_a: float,
-                 inner_guess: np.ndarray, maxiter: int = 12):
+                 inner_guess: InnerState, maxiter: int = 12):
     """Solve the BDF2 system of one step by damped Newton: film rows
     V_i(a) h_i - rhs_u_i - beta dt rate_i(h, p_e, a, adot) = 0,
     adot = (a - rhs_a)/(beta dt); the liquid volume; the foot relation. The update is
@@ -392,7 +401,7 @@ def _newton_step(prob: SharpFilm, inner: InnerMeniscus, s1: float, dt_beta: floa
             hn, pn, an = h + lam * dh, p_e + lam * dp, a + lam * da
             if 0.0 < an < prob.domain and np.min(hn) > 0.0:
                 try:
-                    stn = inner.solve(s1 - hn[0], pn - rho_g * hn[0], guess=st.x)
+                    stn = inner.solve(s1 - hn[0], pn - rho_g * hn[0], guess=st)
                     break
                 except SolverError:
                     pass
@@ -491,7 +500,7 @@ def sharp_run(prob: SharpFilm, gaps: Sequence[float], profile_gaps: Sequence[flo
         tol_a = 1e-2 * rtol * pred[2]
         try:
             h1, p1, a1_, st1, its = _newton_step(prob, inner, s1, beta * dt, rhs_u, rhs_a,
-                                                 pred, vol0, tol_h, tol_p, tol_a, cur.inner.x)
+                                                 pred, vol0, tol_h, tol_p, tol_a, cur.inner)
         except SolverError:
             rejected += 1
             dt *= 0.3
