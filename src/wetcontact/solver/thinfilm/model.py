@@ -179,26 +179,31 @@ def sphere_mass(scene: Scene, mass: float | None = None) -> float:
 
 @register
 class ThinFilm(Model):
-    """Sphere squeezing a liquid film with a free surface (thin-film equation, py-pde)."""
+    """Sphere squeezing a liquid film with a free surface: the thin-film equation joined
+    to the quasi-static finite-element meniscus at a sharp contact line (default), or the
+    penalty-obstacle contacts ``meniscus``/``tangential``."""
 
     name = "thinfilm"
     level = 2
     component = "both"
     validity = (f"sphere-wall, film; delta/R <= {DELTA_OVER_R_MAX}, Ca <= {CA_MAX}, "
-                f"Ca* = 3 eta v R^2/(sigma delta^2) <= {CA_STAR_MAX:g}; approach (v > 0)")
+                f"Ca* = 3 eta v R^2/(sigma delta^2) <= {CA_STAR_MAX:g}; approach (v > 0); "
+                "sharp contact (default): theta_s < 90 deg, capillary part quasi-static "
+                "(error of order Ca)")
     order = 2.0
     order_tolerance = 0.3
     reference_rank = {"viscous": 20}  # its capillary part is not compared with closures
-    reference = ("thin-film equation (Oron, Davis & Bankoff 1997) with a penalty "
-                 "obstacle; limits: Pitois et al. 2000")
+    reference = ("thin-film equation (Oron, Davis & Bankoff 1997) joined at its minimum to "
+                 "the finite-element Young-Laplace meniscus (sharp contact; or a penalty "
+                 "obstacle); limits: Pitois et al. 2000")
     presets = {
         # film_cells, elements, rtol: the sharp contact (default); wetting_width,
         # penetration, fine_factor: the penalty contacts ("meniscus", "tangential")
-        "fast": {"film_cells": 40, "elements": 64, "rtol": 1e-3, "wetting_width": 0.2,
+        "fast": {"film_cells": 40, "elements": 32, "rtol": 1e-3, "wetting_width": 0.2,
                  "penetration": 3e-3, "domain_factor": 3.0, "fine_factor": 1.3},
-        "default": {"film_cells": 80, "elements": 64, "rtol": 3e-4, "wetting_width": 0.05,
+        "default": {"film_cells": 120, "elements": 64, "rtol": 3e-4, "wetting_width": 0.05,
                     "penetration": 1e-3, "domain_factor": 3.0, "fine_factor": 1.3},
-        "accurate": {"film_cells": 160, "elements": 128, "rtol": 1e-4,
+        "accurate": {"film_cells": 240, "elements": 128, "rtol": 1e-4,
                      "wetting_width": 0.025, "penetration": 1e-3, "domain_factor": 3.0,
                      "fine_factor": 1.3},
     }
