@@ -146,7 +146,7 @@ class InnerMeniscus:
         meniscus raised above the film holds the volume of the sphere dipped below it."""
         d, g = self.d, self.g
         s = gap / self.ell
-        x0 = _guess(d, g, s, V=1e-9)
+        x0 = _guess(d, g, s, V=math.pi * abs(s) ** 3)  # small beside the dipped cap
         if x0 is None:
             raise SolverError(f"thinfilm: no initial meniscus at dip {-gap:.3g} m")
         nw = _newton(d, g, x0, (VolumeIs(0.0), Fixed(d.iS, s)))
@@ -231,10 +231,10 @@ class SharpFilm:
                              "'parabolic', 'sphere'")
         if not (isinstance(self.cells, int | np.integer) and self.cells >= 8):
             raise InputError(f"thinfilm: cells = {self.cells!r}; allowed: an integer >= 8")
-        if not 0.0 < self.angle_sphere < 0.5 * math.pi:
+        if not 0.0 <= self.angle_sphere < 0.5 * math.pi:
             raise InputError(f"thinfilm: contact angle on the sphere = "
                              f"{math.degrees(self.angle_sphere):.4g} deg; allowed for the "
-                             "sharp wetting contact: (0, 90) deg")
+                             "sharp wetting contact: [0, 90) deg")
         object.__setattr__(self, "xi", graded_faces(int(self.cells), 1.0, self.fine_fraction,
                                                     self.growth))
 
