@@ -699,7 +699,7 @@ def test_sharp_contact_refuses_a_nonwetting_sphere(scene_factory):
 @pytest.mark.slow
 def test_sharp_presets_agree_within_one_percent_along_a_full_penetration():
     """Water case file, 40 gaps: default and accurate within 1 % of |F_visc| + |F_cap|
-    (measured 0.011 %; fast 0.16 %), and each error estimate covers the difference to the
+    (measured 0.008 %; fast 0.16 %), and each error estimate covers the difference to the
     accurate run."""
     from pathlib import Path
 

@@ -52,11 +52,12 @@ Contact at the wetted edge (setting ``contact``):
   h'(a) = 0, p(a) = p_e, on a grid moving with a (arbitrary Lagrangian-Eulerian). The
   liquid volume closes the system to round-off. No penalty, no wetting width: no
   regularisation parameter; the wetted zone is not gridded, so every gap S > 0 is
-  resolved. Validated against an independent shooting bridge of the same volume (1e-11)
-  and, in the slow approach, against the finite-element bridge on the bare wall holding
-  the same wetted volume (within 1 % for Ca* <= 2e-3). Needs theta_s < 90 deg (a sucking
-  meniscus); the inner meniscus is quasi-static with the static contact angle, so its
-  capillary part carries an error of order Ca = eta v/sigma (0.007 on the water case).
+  resolved. Checked in the tests against an independent shooting bridge of the same
+  volume and, in the slow approach, against the finite-element bridge on the bare wall
+  holding the same wetted volume (figures: ``benchmarks/bench_thinfilm.py``). Needs
+  theta_s < 90 deg (a sucking meniscus); the inner meniscus is quasi-static with the
+  static contact angle, so its capillary part carries an error of order
+  Ca = eta v/sigma.
 - ``"meniscus"``: a wetting liquid, regularised (with the penalty obstacle). Where the
   liquid fills the gap it replaces the free surface and the dry sphere by a wetted
   sphere, a free-energy gain :math:`W = \sigma(\cos\theta_s + \cos\theta_w)` per unit

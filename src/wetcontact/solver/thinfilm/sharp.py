@@ -37,8 +37,8 @@ and graded (fine at the foot), in conservative arbitrary-Lagrangian-Eulerian for
 :math:`d(V_i h_i)/dt = -[A(q - w h)]_{i-1/2}^{i+1/2}`, face speed
 :math:`w = (1 - \xi)\,\dot a`; variable-step BDF2 with Newton on the bordered
 pentadiagonal system (film cells, :math:`p_e`, :math:`a`), the bridge's sensitivities to
-its gap and pressure from its own LU factors. The bridge is warm-started from the last
-step (about 3 Newton iterations of the 128-element bridge per film iteration).
+its gap and pressure from its own LU factors, which also give the tangent predictor that
+warm-starts the bridge at every film iteration.
 """
 
 from __future__ import annotations
@@ -63,7 +63,7 @@ from wetcontact.solver.meniscus.young_laplace import (
     _volume,
 )
 from wetcontact.solver.thinfilm.forces import Snapshot
-from wetcontact.solver.thinfilm.integrate import RunResult, _run_gaps
+from wetcontact.solver.thinfilm.integrate import RunResult
 from wetcontact.solver.thinfilm.problem import graded_faces
 
 # ---- the inner meniscus ----------------------------------------------------------------
@@ -251,14 +251,15 @@ class SharpFilm:
         if self.gap_shape == "parabolic":
             hh = s + r_c**2 / (2.0 * self.radius)
             return 6 * math.pi * self.viscosity * self.radius**2 * v / s * (1 - s / hh) ** 2
-        xg, wg = np.polynomial.legendre.leggauss(64)
-        # substitution r = r_c (1 - (1 - u)^2)^(1/2)... plain Gauss on a graded split
-        edges = r_c * np.concatenate(([0.0], np.geomspace(1e-3, 1.0, 25)))
-        tot = 0.0
-        for lo, hi in zip(edges[:-1], edges[1:], strict=True):
-            rr = 0.5 * (lo + hi) + 0.5 * (hi - lo) * xg
-            tot += 0.5 * (hi - lo) * float(np.sum(wg * rr**3 / self.gap(rr, s) ** 3))
-        return 6 * math.pi * self.viscosity * v * tot
+        from scipy.integrate import quad
+
+        def f(r: float) -> float:
+            return r**3 / float(self.gap(r, s)) ** 3
+
+        knee = min(math.sqrt(2.0 * self.radius * s), r_c)  # where the gap has doubled
+        val = (quad(f, 0.0, knee, epsabs=0.0, epsrel=1e-11, limit=200)[0]
+               + quad(f, knee, r_c, epsabs=0.0, epsrel=1e-11, limit=200)[0])
+        return 6 * math.pi * self.viscosity * v * val
 
     def geometry(self, a: float) -> dict[str, np.ndarray]:
         """Faces, centres, cell volumes, face areas, centre spacing, dV/da of the grid
@@ -270,7 +271,8 @@ class SharpFilm:
                 "area": 2.0 * np.pi * r_f, "dc": np.diff(r_c),
                 "dvol_da": 2.0 * np.pi * (r_f[1:] * dr_da[1:] - r_f[:-1] * dr_da[:-1])}
 
-    def foot_height(self, h: np.ndarray, p_e: float, a: float) -> float:
+    @staticmethod
+    def foot_height(h: np.ndarray) -> float:
         r"""Film height at the foot: the first cell's value (h' = 0 at the foot, so it
         differs from h(a) by :math:`h''\Delta^2/2`, second order in the cell width)."""
         return float(h[0])
@@ -284,7 +286,7 @@ class SharpFilm:
         grad[1:-1] = np.diff(h) / dc
         lap = np.diff(area * grad) / vol
         p = -self.surface_tension * lap + self.density * self.gravity * h
-        h_b = self.foot_height(h, p_e, a)
+        h_b = self.foot_height(h)
         flux = np.zeros(n + 1)
         hf = 0.5 * (h[1:] + h[:-1])
         w = (1.0 - self.xi) * adot
@@ -314,12 +316,14 @@ class _Step:
     v: float
 
 
-def _snapshot(prob: SharpFilm, st: _Step, v0: float) -> Snapshot:
+def _snapshot(prob: SharpFilm, st: _Step) -> Snapshot:
+    """Forces and geometry of an accepted state (Snapshot fields of :mod:`.forces`:
+    wetted radius = the contact radius on the sphere, edge pressure = p_e)."""
     r_c = st.inner.contact_radius
     f_visc = prob.viscous_force(st.s, r_c, st.v if st.v > 0 else 0.0)
     geo = prob.geometry(st.a)
     slope = float(np.max(np.abs(np.diff(st.h) / geo["dc"]))) if prob.cells > 1 else 0.0
-    h_b = prob.foot_height(st.h, st.p_e, st.a)
+    h_b = prob.foot_height(st.h)
     vol = math.pi * st.a**2 * h_b + st.inner.volume + prob.film_volume(st.h, st.a)
     return Snapshot(st.s, f_visc, st.inner.force, r_c, st.p_e, slope, 0.0, vol)
 
@@ -327,7 +331,8 @@ def _snapshot(prob: SharpFilm, st: _Step, v0: float) -> Snapshot:
 def _newton_step(prob: SharpFilm, inner: InnerMeniscus, s1: float, dt_beta: float,
                  rhs_u: np.ndarray, rhs_a: float, guess: tuple[np.ndarray, float, float],
                  vol0: float, tol_h: np.ndarray, tol_p: float, tol_a: float,
-                 inner_guess: InnerState, maxiter: int = 12):
+                 inner_guess: InnerState, maxiter: int = 12
+                 ) -> tuple[np.ndarray, float, float, InnerState, int]:
     """Solve the BDF2 system of one step by damped Newton: film rows
     V_i(a) h_i - rhs_u_i - beta dt rate_i(h, p_e, a, adot) = 0,
     adot = (a - rhs_a)/(beta dt); the liquid volume; the foot relation. The update is
@@ -433,7 +438,11 @@ def sharp_run(prob: SharpFilm, gaps: Sequence[float], profile_gaps: Sequence[flo
     inertia (trapezoidal predictor-corrector as :func:`~.integrate.implicit_run`).
     """
     delta, v0 = prob.film_thickness, prob.velocity
-    gaps = _run_gaps(_AsProblem(prob), gaps)
+    gaps = np.asarray(gaps, dtype=float)
+    if not v0 > 0:
+        raise InputError(f"thinfilm: velocity = {v0!r}; allowed: > 0 m/s (approach)")
+    if np.any(gaps <= 0) or np.any(gaps > delta * (1 + 1e-12)):
+        raise InputError(f"thinfilm: gaps must lie in (0, delta = {delta:g}] m")
     if mass is not None and not (math.isfinite(mass) and mass > 0):
         raise InputError(f"thinfilm: mass = {mass!r}; allowed: > 0 kg or None")
     t_wall = time.perf_counter()
@@ -460,12 +469,12 @@ def sharp_run(prob: SharpFilm, gaps: Sequence[float], profile_gaps: Sequence[flo
             out[g] = (Snapshot(delta, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, vol0), None)  # type: ignore[assignment]
         else:
             st0 = initial(g)
-            out[g] = (_snapshot(prob, st0, v0), st0)
+            out[g] = (_snapshot(prob, st0), st0)
         k_out += 1
     cur = initial(s0)
     cur.t = (delta - s0) / v0
     hist: list[_Step] = [cur]
-    force = _snapshot(prob, cur, v0)
+    force = _snapshot(prob, cur)
     f_now = force.force_viscous + force.force_capillary
     dt = 1e-3 * delta / v0
     steps = newton_total = rejected = 0
@@ -519,7 +528,7 @@ def sharp_run(prob: SharpFilm, gaps: Sequence[float], profile_gaps: Sequence[flo
             dt *= max(0.2, 0.9 * err ** (-1.0 / 3.0))
             continue
         new = _Step(cur.t + dt, h1, p1, a1_, st1, s1, v0)
-        snap = _snapshot(prob, new, v0)
+        snap = _snapshot(prob, new)
         f1 = snap.force_viscous + snap.force_capillary
         if mass is not None:
             v_new = v - 0.5 * dt * (f_now + f1) / mass
@@ -530,7 +539,7 @@ def sharp_run(prob: SharpFilm, gaps: Sequence[float], profile_gaps: Sequence[flo
                     stopped = True
                     break
             new.v = v_new
-            snap = _snapshot(prob, new, v0)
+            snap = _snapshot(prob, new)
             f1 = snap.force_viscous + snap.force_capillary
         steps += 1
         hist = [*hist[-2:], new]
@@ -576,13 +585,6 @@ def sharp_run(prob: SharpFilm, gaps: Sequence[float], profile_gaps: Sequence[flo
                      rejected_steps=rejected, details=details)
 
 
-class _AsProblem:
-    """The two fields :func:`~.integrate._run_gaps` reads."""
-
-    def __init__(self, prob: SharpFilm):
-        self.film_thickness, self.velocity = prob.film_thickness, prob.velocity
-
-
 def _extrapolate(hist: list[_Step], t: float) -> tuple[np.ndarray, float, float]:
     """Lagrange extrapolation of (h, p_e, a) of the last (up to three) states to time t."""
     pts = hist[-3:]
@@ -603,7 +605,7 @@ def _profile(prob: SharpFilm, inner: InnerMeniscus, st: _Step, r_out: np.ndarray
     """Liquid surface on ``r_out``: the gap inside the contact line, the meniscus (its
     outer envelope where it overhangs), the film beyond the foot."""
     r_c, a = st.inner.contact_radius, st.a
-    h_b = prob.foot_height(st.h, st.p_e, st.a)
+    h_b = prob.foot_height(st.h)
     rm, zm = inner.meridian(st.inner.x)
     zm = zm + h_b
     order = np.argsort(rm)
