@@ -684,6 +684,20 @@ def test_sharp_contact_converges_with_the_film_cells():
     assert np.all(d2 < 1e-3)
 
 
+@pytest.mark.slow
+def test_sharp_contact_with_a_huge_mass_is_the_prescribed_speed():
+    """The inertial coupling of the sharp contact: with m = 1e3 kg the sphere keeps its
+    speed (to 1e-6) and the forces equal the prescribed-speed run's (to 1e-6)."""
+    gaps = SHARP_GAPS[:3]
+    fixed = tf.sharp_run(sharp_problem(cells=20, elements=16), gaps, rtol=1e-3)
+    heavy = tf.sharp_run(sharp_problem(cells=20, elements=16), gaps, rtol=1e-3, mass=1e3)
+    assert all(heavy.reached)
+    assert np.allclose(heavy.speeds, 0.5, rtol=1e-6)
+    for a, b in zip(fixed.snapshots[1:], heavy.snapshots[1:], strict=True):
+        assert b.force_viscous == pytest.approx(a.force_viscous, rel=1e-6)
+        assert b.force_capillary == pytest.approx(a.force_capillary, rel=1e-6)
+
+
 def test_sharp_contact_refuses_a_nonwetting_sphere(scene_factory):
     scene = scene_factory(
         liquid={"viscosity": ETA, "surface_tension": SIGMA, "density": 998.0,
