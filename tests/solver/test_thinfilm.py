@@ -698,6 +698,19 @@ def test_sharp_contact_with_a_huge_mass_is_the_prescribed_speed():
         assert b.force_capillary == pytest.approx(a.force_capillary, rel=1e-6)
 
 
+def test_sharp_contact_refuses_gaps_where_its_meniscus_is_still_forming(scene_factory):
+    """The run starts at delta (1 - FIRST_DIP) from the undisturbed film with the
+    zero-volume bridge (its first states pull up to 2x the contact limit while the film
+    has not yet fed the meniscus): gaps within 3 FIRST_DIP delta of first touch (the error
+    estimate's run starts there) are refused, naming lubrication; delta itself is 0."""
+    from wetcontact.solver.thinfilm.model import FIRST_DIP
+
+    scene = film_scene(scene_factory, v=0.5, gaps=[1e-4, (1 - 2 * FIRST_DIP) * 1e-4, 5e-5])
+    with pytest.raises(ValidityError, match="forming") as exc:
+        MODELS["thinfilm"].force(scene, preset="fast")
+    assert exc.value.use_instead == "lubrication"
+
+
 def test_sharp_contact_refuses_a_nonwetting_sphere(scene_factory):
     scene = scene_factory(
         liquid={"viscosity": ETA, "surface_tension": SIGMA, "density": 998.0,

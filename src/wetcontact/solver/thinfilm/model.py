@@ -290,6 +290,15 @@ class ThinFilm(Model):
                                  "film takes film_cells (an integer >= 8)")
             sharp = _sharp_problem(self.name, scene, film_cells, elements, domain_factor,
                                    gap_shape)
+            delta = sharp.film_thickness
+            early = gaps[(gaps < delta) & (gaps > delta * (1.0 - 3.0 * FIRST_DIP))]
+            if early.size:
+                raise ValidityError(
+                    self.name, f"gap S = {float(early[0]):.6g} m is within "
+                    f"{3 * FIRST_DIP:g} delta of first touch (delta = {delta:g} m), where the "
+                    "sharp contact's meniscus is still forming from the undisturbed film "
+                    f"(its run starts at delta (1 - {FIRST_DIP:g})); S = delta itself is 0",
+                    use_instead="lubrication")
 
             def run_sharp(prob: SharpFilm, tol: float, dip: float) -> RunResult:
                 return sharp_run(prob, gaps, profile_gaps=profile_gaps, rtol=tol, mass=m,
