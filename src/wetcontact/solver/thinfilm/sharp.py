@@ -39,6 +39,12 @@ and graded (fine at the foot), in conservative arbitrary-Lagrangian-Eulerian for
 pentadiagonal system (film cells, :math:`p_e`, :math:`a`), the bridge's sensitivities to
 its gap and pressure from its own LU factors, which also give the tangent predictor that
 warm-starts the bridge at every film iteration.
+
+Sources: Oron, Davis & Bankoff (1997) Rev. Mod. Phys. 69, 931 (thin-film equation);
+Donea, Huerta, Ponthot & Rodriguez-Ferran (2004), "Arbitrary Lagrangian-Eulerian methods",
+Encyclopedia of Computational Mechanics, vol. 1 ch. 14 (moving-grid conservation form);
+Hairer & Wanner, "Solving ODEs II", sec. III.5 and VI.1 (variable-step BDF2, index-1
+DAEs); PHYSICS.md sections 1-3 (Reynolds force, bridge force, film limits).
 """
 
 from __future__ import annotations
