@@ -168,6 +168,23 @@ def penetration_run(problem: FilmProblem, gaps: Sequence[float],
                      rhs_evaluations=int(info.get("steps", 0)), wall_time_s=wall)
 
 
+def next_gap(s: float, v: float, v0: float, dt: float, target: float, max_gap_step: float,
+             mass: float | None, force: float) -> tuple[float, float, bool]:
+    """The sphere's next gap: the step ``dt`` capped so the gap shrinks by at most
+    ``max_gap_step`` of itself and shortened to land exactly on the output gap ``target``;
+    ``S_{n+1}`` at the imposed speed ``v0``, or with inertia (``mass``) by the trapezoidal
+    predictor ``S - dt (v + v_pred)/2``, ``v_pred = v - dt F/m``. Returns (dt, S_{n+1},
+    landing)."""
+    dt = min(dt, max_gap_step * s / v)
+    landing = s - dt * v <= target * (1 + 1e-12)
+    if landing:
+        dt = (s - target) / v
+    if mass is None:
+        return dt, (target if landing else s - dt * v0), landing
+    v_pred = v - dt * force / mass
+    return dt, (target if landing else s - 0.5 * dt * (v + v_pred)), landing
+
+
 def _banded_jacobian(rate: Callable[[np.ndarray], np.ndarray], y: np.ndarray,
                      f0: np.ndarray, film_thickness: float) -> np.ndarray:
     """Finite-difference Jacobian of ``rate`` (pentadiagonal) in LAPACK band storage (2, 2).
@@ -284,17 +301,8 @@ def implicit_run(problem: FilmProblem, gaps: Sequence[float],
     while k_out < len(targets):
         if steps >= max_steps:
             raise SolverError(f"thinfilm: more than {max_steps} steps; raise rtol")
-        dt = min(dt, max_gap_step * s / v)
         target = targets[k_out]
-        landing = s - dt * v <= target * (1 + 1e-12)
-        if landing:
-            dt = (s - target) / v
-        # sphere: trapezoidal predictor for S_{n+1}
-        if mass is None:
-            s1 = target if landing else s - dt * v0
-        else:
-            v_pred = v - dt * force / mass
-            s1 = target if landing else s - 0.5 * dt * (v + v_pred)
+        dt, s1, landing = next_gap(s, v, v0, dt, target, max_gap_step, mass, force)
         if len(hist) >= 2:
             w = dt / (t - hist[-2][0])
             a1, a2, beta = (1 + w) ** 2 / (1 + 2 * w), -(w**2) / (1 + 2 * w), (1 + w) / (1 + 2 * w)

@@ -69,7 +69,7 @@ from wetcontact.solver.meniscus.young_laplace import (
     _volume,
 )
 from wetcontact.solver.thinfilm.forces import Snapshot
-from wetcontact.solver.thinfilm.integrate import RunResult
+from wetcontact.solver.thinfilm.integrate import RunResult, next_gap
 from wetcontact.solver.thinfilm.problem import graded_faces
 
 # ---- the inner meniscus ----------------------------------------------------------------
@@ -489,16 +489,8 @@ def sharp_run(prob: SharpFilm, gaps: Sequence[float], profile_gaps: Sequence[flo
         if steps >= max_steps:
             raise SolverError(f"thinfilm: more than {max_steps} steps; raise rtol")
         s, v = cur.s, cur.v
-        dt = min(dt, max_gap_step * s / v)
         target = targets[k_out]
-        landing = s - dt * v <= target * (1 + 1e-12)
-        if landing:
-            dt = (s - target) / v
-        if mass is None:
-            s1 = target if landing else s - dt * v0
-        else:
-            v_pred = v - dt * f_now / mass
-            s1 = target if landing else s - 0.5 * dt * (v + v_pred)
+        dt, s1, landing = next_gap(s, v, v0, dt, target, max_gap_step, mass, f_now)
         geo_n = prob.geometry(cur.a)
         u_n = geo_n["vol"] * cur.h
         if len(hist) >= 2:
