@@ -207,12 +207,15 @@ class ThinFilm(Model):
     presets = {
         # film_cells, elements, rtol: the sharp contact (default; its bridge's force
         # moves by 6e-8 from 16 to 64 elements, 3e-9 from 32); wetting_width,
-        # penetration, fine_factor: the penalty contacts ("meniscus", "tangential")
-        "fast": {"film_cells": 40, "elements": 16, "rtol": 1e-3, "wetting_width": 0.2,
-                 "penetration": 3e-3, "domain_factor": 3.0, "fine_factor": 1.3},
-        "default": {"film_cells": 120, "elements": 32, "rtol": 3e-4, "wetting_width": 0.05,
-                    "penetration": 1e-3, "domain_factor": 3.0, "fine_factor": 1.3},
-        "accurate": {"film_cells": 240, "elements": 64, "rtol": 1e-4,
+        # penetration, fine_factor: the penalty contacts ("meniscus", "tangential"),
+        # unused by the sharp one; "contact" says which one a result used
+        "fast": {"contact": "sharp", "film_cells": 40, "elements": 16, "rtol": 1e-3,
+                 "wetting_width": 0.2, "penetration": 3e-3, "domain_factor": 3.0,
+                 "fine_factor": 1.3},
+        "default": {"contact": "sharp", "film_cells": 120, "elements": 32, "rtol": 3e-4,
+                    "wetting_width": 0.05, "penetration": 1e-3, "domain_factor": 3.0,
+                    "fine_factor": 1.3},
+        "accurate": {"contact": "sharp", "film_cells": 240, "elements": 64, "rtol": 1e-4,
                      "wetting_width": 0.025, "penetration": 1e-3, "domain_factor": 3.0,
                      "fine_factor": 1.3},
     }
