@@ -546,9 +546,9 @@ def test_each_preset_refuses_gaps_below_its_resolution(scene_factory, monkeypatc
     monkeypatch.setattr(tf_model, "SMALLEST_GAP_OVER_DELTA", 0.0)
     model = MODELS["thinfilm"]
     scene = film_scene(scene_factory, v=0.5, gaps=[1e-4, 2e-9])
-    accurate = model._problem(scene, **model.presets["accurate"], contact="meniscus")
+    accurate = model._problem(scene, **{**model.presets["accurate"], "contact": "meniscus"})
     assert tf.smallest_resolved_gap(accurate) < 2e-9  # the accurate preset resolves it
-    fast = model._problem(scene, **model.presets["fast"], contact="meniscus")
+    fast = model._problem(scene, **{**model.presets["fast"], "contact": "meniscus"})
     r_zone = math.sqrt(2 * R * 2e-9)  # the contact-zone radius at the gap
     assert r_zone < tf.CELLS_ACROSS_CONTACT * fast.dr
     assert tf.smallest_resolved_gap(fast) > 2e-9
