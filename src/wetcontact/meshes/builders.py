@@ -42,6 +42,9 @@ from wetcontact.meshes.io import read_msh
 
 SizeFn = Callable[[float, float], float]
 
+ZTOL = 1e-12
+"""Tolerance (units of R) on the axial bounds of a gap column in the size fields."""
+
 
 @dataclass(frozen=True)
 class Resolution:
@@ -156,7 +159,9 @@ def _sphere_size(res: Resolution, centre: float, gap_planes: Sequence[float] = (
         if r < 1.0:
             root = math.sqrt(1.0 - r * r)
             for zp in gap_planes:
-                if min(zp, centre) <= z <= max(zp, centre):  # between the plane and centre
+                # between the plane and the centre; the tolerance keeps points gmsh puts a
+                # rounding error below the plane (z = -1e-36 on a bridge's wall) in the column
+                if min(zp, centre) - ZTOL <= z <= max(zp, centre) + ZTOL:
                     h = abs(centre - zp) - root
                     s = min(s, max(h, 0.0) / (res.n_gap + 0.3))
         return s
@@ -261,7 +266,7 @@ def _two_sphere_size(res: Resolution, c1: float, c2: float, a2: float) -> SizeFn
         d1 = abs(math.hypot(r, z - c1) - 1.0)
         d2 = abs(math.hypot(r, z - c2) - a2)
         s = min(_grown(res, d1), h2 + res.growth * d2)
-        if r < r_col and c2 <= z <= c1:
+        if r < r_col and c2 - ZTOL <= z <= c1 + ZTOL:
             h = c1 - math.sqrt(1.0 - r * r) - c2 - math.sqrt(a2 * a2 - r * r)
             s = min(s, max(h, 0.0) / (2 * res.n_gap + 0.6))
         return s
