@@ -343,8 +343,8 @@ def sphere_film(gap: float, film: float, res: Resolution, extent: float = 30.0) 
 
 
 def sphere_bridge(gap: float, profile: np.ndarray, res: Resolution,
-                  contact_size: float | None = None, radius2: float | None = None
-                  ) -> meshio.Mesh:
+                  contact_size: float | None = None, radius2: float | None = None,
+                  plane: str = "wall") -> meshio.Mesh:
     """Unit sphere joined to the wall z = 0 (or to a lower sphere) by a liquid bridge.
 
     Parameters
@@ -363,11 +363,17 @@ def sphere_bridge(gap: float, profile: np.ndarray, res: Resolution,
         Element size at the two contact lines (units of R), growing by ``res.growth`` with
         the distance from them: resolves a Navier slip length there. ``None``: no grading.
     radius2
-        R2/R of a lower sphere (its apex at the origin); ``None``: a wall.
+        R2/R of a lower sphere (its apex at the origin); ``None``: a plane.
+    plane
+        Name of the plane z = 0: ``"wall"`` or ``"symmetry"`` (the mid-plane of a bridge
+        between two equal spheres, the profile starting at the neck).
 
-    Boundaries ``axis``, ``sphere``, ``free_surface`` and ``wall`` (or ``sphere2``).
+    Boundaries ``axis``, ``sphere``, ``free_surface`` and ``wall`` (``symmetry``,
+    ``sphere2``).
     """
     _check_gap(gap)
+    if plane not in ("wall", "symmetry"):
+        raise InputError(f"plane = {plane!r}; allowed: 'wall', 'symmetry'")
     prof = np.asarray(profile, dtype=float)
     c = 1.0 + gap
     if prof.ndim != 2 or prof.shape[1] != 2 or prof.shape[0] < 3 or not np.isfinite(prof).all():
@@ -401,7 +407,7 @@ def sphere_bridge(gap: float, profile: np.ndarray, res: Resolution,
         if radius2 is None:
             lower = g.addLine(o, pts[0])
             ax = g.addLine(pb, o)
-            groups = {"axis": [ax], "wall": [lower], "sphere": [sph], "free_surface": [fs]}
+            groups = {"axis": [ax], plane: [lower], "sphere": [sph], "free_surface": [fs]}
             base = _sphere_size(res, c)
         else:
             pc2 = g.addPoint(0, -a2, 0)
@@ -413,6 +419,8 @@ def sphere_bridge(gap: float, profile: np.ndarray, res: Resolution,
         if contact_size is None:
             return _mesh_and_read(gmsh, lambda r, z: min(base(r, z), res.h_sphere), groups, surf)
         (r0, z0), (r1, z1) = prof[0], prof[-1]
+        if plane == "symmetry":  # the meniscus meets the mid-plane: no contact line there
+            r0, z0 = r1, z1
 
         def size(r: float, z: float) -> float:
             d = min(math.hypot(r - r0, z - z0), math.hypot(r - r1, z - z1))

@@ -327,6 +327,14 @@ def solve_stokes(mesh: MeshTri2, sphere_velocity: dict[str, float], intorder: in
         un, nr, nz = (np.asarray(a, dtype=float) for a in surface(bu.doflocs[:, ir]))
         keep = ~np.isin(ir, pinned_dofs(bu, names, slip | {"free_surface": 0.0}))
         normal["free_surface"] = (ir[keep], iz[keep], nr[keep], nz[keep], un[keep])
+        # a meniscus meeting a symmetry plane (u_z = 0) at a right angle (n_z = 0): the
+        # kinematic condition fixes u_r there
+        on_sym = np.isin(ir, dofs("symmetry", "u^1")) & ~keep
+        if np.any(on_sym):
+            if np.any(np.abs(nz[on_sym]) > 1e-6):
+                raise SolverError("free surface meets the symmetry plane at an angle")
+            x[ir[on_sym]] = un[on_sym] / nr[on_sym]
+            fixed.append(ir[on_sym])
     for name in frames:
         # nodes of a slip boundary shared with the axis or a no-slip boundary stay fixed
         ir, iz = normal[name][:2]
@@ -732,7 +740,7 @@ class Stokes(Model):
         if scene.amount == "bridge":
             return self._bridge_force(scene, preset, replace(res, growth=bridge_growth),
                                       default_slip_length, contact_factor, intorder,
-                                      save_fields)
+                                      save_fields, method)
         R, eta, v = scene.radius, scene.viscosity, scene.velocity
         gaps = scene.gap_array
         n = gaps.size
@@ -782,10 +790,12 @@ class Stokes(Model):
                           error_estimate=est, diagnostics=diag)
 
     def _bridge_force(self, scene: Scene, preset: str, res: Resolution, default_slip: float,
-                      contact_factor: float, intorder: int, save_fields: str | None
-                      ) -> ForceCurve:
+                      contact_factor: float, intorder: int, save_fields: str | None,
+                      method: str = "symmetry") -> ForceCurve:
         """Quasi-static bridge (:mod:`wetcontact.solver.stokes_bridge`): the viscous force
-        ``Phi / v`` at every gap, 0 past rupture; the capillary force is the meniscus'."""
+        ``Phi / v`` at every gap, 0 past rupture; the capillary force is the meniscus'.
+        A mirror-symmetric two-sphere bridge (equal radii, contact angles and slip lengths)
+        is solved on its upper half with ``method = "symmetry"``."""
         from wetcontact.solver.meniscus import Bridge
         from wetcontact.solver.stokes_bridge import solve_bridge
 
@@ -804,6 +814,8 @@ class Stokes(Model):
                                 "resolve it", _instead(scene))
         cs = max(contact_factor * min(b) / R, MIN_BRIDGE_SLIP)
         bridge = Bridge.from_scene(scene)
+        symmetric = (method == "symmetry" and _mirror_symmetric(scene)
+                     and bridge.contact_angle1 == bridge.contact_angle2)
         gaps = scene.gap_array
         n = gaps.size
         f_diss, f_reac, f_trac = np.zeros(n), np.zeros(n), np.zeros(n)
@@ -812,10 +824,10 @@ class Stokes(Model):
         for i in range(n):
             t0 = time.perf_counter()
             flow = solve_bridge(bridge, float(gaps[i]), float(scene.bridge_volume), b, res,
-                                contact_size=cs, intorder=intorder)
+                                contact_size=cs, intorder=intorder, symmetric=symmetric)
             if flow is not None:  # past rupture: no liquid contact, no force
                 sol = flow.solution
-                if flow.gap_elements < res.n_gap:
+                if flow.gap_elements < res.n_gap:  # per half gap on the symmetric half
                     raise SolverError(f"model 'stokes': bridge mesh at S/R = {gaps[i] / R:.3g} "
                                       f"has {flow.gap_elements} elements across the gap, "
                                       f"fewer than the {res.n_gap} the preset needs")
@@ -834,7 +846,8 @@ class Stokes(Model):
                                 "slip_lengths_m": list(b),
                                 "contact_size_R": cs,
                                 "surface_flux_mismatch": flux.tolist(),
-                                "method": "bridge (quasi-static meniscus)"}
+                                "method": ("symmetry" if symmetric else "full")
+                                + " (quasi-static bridge)"}
         if files:
             diag["vtu_files"] = files
         return ForceCurve(case=scene.name, model=self.name, gap=gaps, force_viscous=f_diss,

@@ -4,9 +4,9 @@ Model (Ca = eta v / sigma -> 0). At every instant the liquid occupies the static
 the finite-element meniscus solver (:mod:`wetcontact.solver.meniscus`) at the current gap
 and the fixed volume V; the free surface moves with the normal velocity of that family of
 shapes, ``u_n = n . dX/dt = -v n . dX/dS`` (X(t; S) the meridian at normalised arc length
-t, n the outward normal; any parametrisation gives the same normal velocity), computed by a
-central difference of three meniscus solves at S and S(1 -+ 1e-3) (one-sided next to the
-rupture distance); it carries no tangential traction. The contact lines move along the
+t, n the outward normal; any parametrisation gives the same normal velocity), with dX/dS at
+fixed volume from the meniscus solver's implicit differentiation; it carries no tangential
+traction. The contact lines move along the
 solids at the speeds of the static family, which Navier slip on the solids (slip length b)
 allows, at the price of the Huh-Scriven dissipation ``~ ln(1/b)``.
 
@@ -41,11 +41,14 @@ from scipy.spatial import cKDTree
 from wetcontact.errors import SolverError
 from wetcontact.meshes.builders import Resolution, sphere_bridge
 from wetcontact.meshes.io import to_skfem
-from wetcontact.solver.meniscus import Bridge, BridgeSolution, meniscus_profile, solve_volume
+from wetcontact.solver.meniscus import (
+    Bridge,
+    BridgeSolution,
+    meniscus_profile,
+    shape_rate,
+    solve_volume,
+)
 from wetcontact.solver.stokes import StokesSolution, solve_stokes
-
-STEP = 1.0e-3
-"""Relative gap step of the central difference of the meniscus shape (truncation ~1e-6)."""
 
 N_PROFILE = 801
 """Points of the resampled meridian (uniform in arc length) given to gmsh and the spline."""
@@ -89,6 +92,8 @@ class BridgeMotion:
         """The :data:`~wetcontact.solver.stokes.SurfaceMotion` of this meridian: each node is
         projected on the cubic-spline meridian (nearest sample, then Newton in t)."""
         t = self.t
+        if np.any(np.diff(t) <= 0):
+            raise SolverError("bridge meridian: the parameter t must increase")
         sr, sz = CubicSpline(t, self.profile[:, 0]), CubicSpline(t, self.profile[:, 1])
         sun = CubicSpline(t, self.normal_velocity)
         tt = np.linspace(0.0, 1.0, 20 * t.size + 1)
@@ -116,49 +121,66 @@ def _meridian(sol: BridgeSolution, radius: float) -> tuple[np.ndarray, np.ndarra
 def bridge_motion(bridge: Bridge, gap: float, volume: float) -> BridgeMotion | None:
     """Static bridge at ``gap`` (m) with ``volume`` (m^3) and its quasi-static normal velocity.
 
-    ``u_n = -n . dX/dS`` by a central difference over S(1 -+ STEP) (second-order one-sided
-    differences over S, S(1 - STEP), S(1 - 2 STEP) when S(1 + STEP) is past rupture).
+    ``u_n = -n . dX/dS`` per unit approach speed, with dX/dS at fixed volume from the
+    meniscus solver's implicit differentiation (:func:`~wetcontact.solver.meniscus.shape_rate`).
     ``None`` when no bridge exists at ``gap`` (beyond rupture).
     """
     R = float(bridge.radius)
     sol = solve_volume(bridge, gap, volume)
     if not sol.exists:
         return None
-    ds = STEP * gap
-    plus = solve_volume(bridge, gap + ds, volume)
-    minus = solve_volume(bridge, gap - ds, volume)
-    if not minus.exists:
-        raise SolverError(f"stokes: no bridge at S = {gap - ds:.6g} m below S = {gap:.6g} m")
-    x0, psi = _meridian(sol, R)
-    xm = _meridian(minus, R)[0]
-    if plus.exists:
-        dxds = (_meridian(plus, R)[0] - xm) / (2 * ds / R)
-        d_angle = [(getattr(plus, k) - getattr(minus, k)) / (2 * ds / R)
-                   for k in ("filling_angle1", "filling_angle2", "wetted_radius")]
-    else:
-        minus2 = solve_volume(bridge, gap - 2 * ds, volume)
-        if not minus2.exists:
-            raise SolverError(f"stokes: no bridge at S = {gap - 2 * ds:.6g} m")
-        dxds = (3 * x0 - 4 * xm + _meridian(minus2, R)[0]) / (2 * ds / R)
-        d_angle = [(3 * getattr(sol, k) - 4 * getattr(minus, k) + getattr(minus2, k))
-                   / (2 * ds / R) for k in ("filling_angle1", "filling_angle2",
-                                            "wetted_radius")]
+    prof = meniscus_profile(sol, n=N_PROFILE)
+    rate = shape_rate(sol, n=N_PROFILE)
+    x0 = np.column_stack([prof["r"], prof["z"]]) / R
+    psi = prof["psi"]
+    dxds = np.column_stack([rate["dr"], rate["dz"]])  # d(X/ell)/d(S/ell), ell = R
     # tangent (cos psi, sin psi) from the lower line to the sphere's; liquid on the axis side
     normal = np.stack([np.sin(psi), -np.cos(psi)])
     un = -(normal[0] * dxds[:, 0] + normal[1] * dxds[:, 1])
-    t = np.linspace(0.0, 1.0, x0.shape[0])
     seg = np.hypot(*np.diff(x0, axis=0).T)
     rr = x0[:, 0]
     f = un * rr
     flux = 2 * math.pi * float(np.sum(0.5 * (f[1:] + f[:-1]) * seg))
-    upper = -d_angle[0]  # arc speed R dphi1/dt on the unit sphere (dS/dt = -1)
+    # contact lines: velocity -dX/dS relative to their solid, along the solid's tangent
+    # pointing out of the wetted zone (the sphere moves at (0, -1), the lower solid rests)
+    phi1 = sol.filling_angle1
+    upper = float(np.dot(-dxds[-1] - [0.0, -1.0], [math.cos(phi1), math.sin(phi1)]))
     if bridge.radius2 is None:
-        lower = -d_angle[2] / R
+        lower = float(-dxds[0, 0])
     else:
-        lower = -d_angle[1] * bridge.radius2 / R
-    return BridgeMotion(t=t, profile=x0, normal=normal, normal_velocity=un,
+        phi2 = sol.filling_angle2
+        lower = float(np.dot(-dxds[0], [math.cos(phi2), -math.sin(phi2)]))
+    return BridgeMotion(t=rate["t"], profile=x0, normal=normal, normal_velocity=un,
                         contact_speed=(lower, upper), contact_radius=(rr[0], rr[-1]),
                         flux=flux, swept=math.pi * rr[-1] ** 2, static=sol)
+
+
+def half_motion(motion: BridgeMotion, gap: float) -> BridgeMotion:
+    """The upper half of a mirror-symmetric bridge between equal spheres (units R).
+
+    The meridian is cut at the mid-plane z = S/2 (where it is vertical), shifted down by
+    S/2, and the normal velocity is taken in the frame of the mid-plane, where the spheres
+    move at -+ v/2: ``u_n + n_z / 2`` (``motion`` has the lower sphere at rest).
+    """
+    x, n, un = motion.profile, motion.normal, motion.normal_velocity
+    zm = 0.5 * gap
+    k = int(np.searchsorted(x[:, 1], zm))  # first point above the mid-plane
+    if not (0 < k < x.shape[0]) or np.any(np.diff(x[:, 1]) <= 0):
+        raise SolverError("bridge meridian: z is not increasing through the mid-plane")
+    w = (zm - x[k - 1, 1]) / (x[k, 1] - x[k - 1, 1])
+    cut = lambda a: (1 - w) * a[k - 1] + w * a[k]  # noqa: E731
+    keep = slice(k + 1 if x[k, 1] - zm < 1e-9 else k, None)
+    prof = np.vstack([[cut(x[:, 0]), 0.0], x[keep] - [0.0, zm]])
+    nn = np.column_stack([[1.0, 0.0], n[:, keep]])
+    u = np.concatenate([[cut(un)], un[keep]]) + 0.5 * nn[1]
+    seg = np.hypot(*np.diff(prof, axis=0).T)
+    t = np.concatenate([[0.0], np.cumsum(seg)]) / seg.sum()
+    f = u * prof[:, 0]
+    flux = 2 * math.pi * float(np.sum(0.5 * (f[1:] + f[:-1]) * seg))
+    return BridgeMotion(t=t, profile=prof, normal=nn, normal_velocity=u,
+                        contact_speed=motion.contact_speed,
+                        contact_radius=motion.contact_radius, flux=flux,
+                        swept=0.5 * motion.swept, static=motion.static)
 
 
 def wedge_factor(theta: float) -> float:
@@ -198,7 +220,8 @@ class BridgeFlow:
 
 
 def solve_bridge(bridge: Bridge, gap: float, volume: float, slip: tuple[float, float],
-                 res: Resolution, contact_size: float, intorder: int = 4) -> BridgeFlow | None:
+                 res: Resolution, contact_size: float, intorder: int = 4,
+                 symmetric: bool = False) -> BridgeFlow | None:
     """Viscous force of a quasi-static bridge at ``gap`` (m): meniscus, mesh, Stokes.
 
     Parameters
@@ -213,6 +236,10 @@ def solve_bridge(bridge: Bridge, gap: float, volume: float, slip: tuple[float, f
         Mesh resolution (units R).
     contact_size
         Element size at the contact lines (units R).
+    symmetric
+        Solve a mirror-symmetric bridge (equal spheres, contact angles and slip lengths) on
+        its upper half: the mid-plane is a shear-free symmetry plane, the sphere moves at
+        v/2 (:func:`half_motion`); the force is the same, at half the cost.
 
     Returns ``None`` past rupture (no bridge: no force).
     """
@@ -224,6 +251,18 @@ def solve_bridge(bridge: Bridge, gap: float, volume: float, slip: tuple[float, f
         return None
     q = None if bridge.radius2 is None else bridge.radius2 / R
     s = gap / R
+    if symmetric:
+        if not (q == 1.0 and bridge.contact_angle1 == bridge.contact_angle2
+                and slip[0] == slip[1]):
+            raise SolverError("symmetric bridge: needs equal spheres, contact angles and "
+                              "slip lengths")
+        half = half_motion(motion, s)
+        mesh = to_skfem(sphere_bridge(0.5 * s, half.profile, res, contact_size=contact_size,
+                                      plane="symmetry"))
+        sol = solve_stokes(mesh, {"sphere": -0.5}, intorder=intorder,
+                           slip={"sphere": slip[0] / R}, surface=half.surface())
+        return BridgeFlow(force=sol.force_dissipation, solution=sol, motion=half,
+                          gap_elements=gap_elements(mesh, 0.0, 0.5 * s))
     mesh = to_skfem(sphere_bridge(s, motion.profile, res, contact_size=contact_size,
                                   radius2=q))
     lower = "wall" if q is None else "sphere2"
