@@ -250,8 +250,9 @@ TH_BRIDGE = 20.0
 B_BRIDGE = 1e-9
 
 
-def bridge_scene(kind: str, s: float, vol: float, b: float = B_BRIDGE):
-    geo = {"kind": kind, "radius": R} | ({"radius2": R} if kind == "sphere-sphere" else {})
+def bridge_scene(kind: str, s: float, vol: float, b: float = B_BRIDGE, radius2: float = 1.0):
+    geo = {"kind": kind, "radius": R} | (
+        {"radius2": radius2 * R} if kind == "sphere-sphere" else {})
     return scene_from_dict({
         "name": f"bench-bridge-{kind}-{s:g}-{vol:g}", "geometry": geo,
         "amount": {"bridge_volume": vol * R**3},
@@ -284,9 +285,9 @@ def bridge_part(quick: bool) -> None:
     model = get_model("stokes")
     unit = ETA * R * V
     cost = []
-    for kind in ("sphere-wall", "sphere-sphere"):
+    for kind, q in (("sphere-wall", 1.0), ("sphere-sphere", 1.0), ("sphere-sphere", 2.0)):
         for s in ([1e-3] if quick else [1e-3, 1e-2]):
-            sc = bridge_scene(kind, s, 1e-3)
+            sc = bridge_scene(kind, s, 1e-3, radius2=q)
             rows = {}
             for preset in ("fast", "default", "accurate"):
                 t0 = time.perf_counter()
@@ -294,14 +295,16 @@ def bridge_part(quick: bool) -> None:
                 rows[preset] = (time.perf_counter() - t0, c)
             acc = rows["accurate"][1].force_viscous[0]
             for preset, (t, c) in rows.items():
-                row = {"kind": kind, "s_over_r": s, "v_over_r3": 1e-3, "preset": preset,
+                row = {"kind": kind, "r2_over_r": q, "method": c.diagnostics["method"],
+                       "s_over_r": s, "v_over_r3": 1e-3, "preset": preset,
                        "time_s": t, "dofs": c.diagnostics["dofs"][0],
                        "f_over_unit": c.force_viscous[0] / unit,
                        "diff_from_accurate": c.force_viscous[0] / acc - 1,
                        "reaction_over_dissipation": c.extras["force_reaction"][0]
                        / c.force_viscous[0] - 1}
                 cost.append(row)
-                print(f"bridge {kind} S/R={s:g} {preset:8s} t={t:.2f}s dofs={row['dofs']} "
+                print(f"bridge {kind} R2/R={q:g} S/R={s:g} {preset:8s} t={t:.2f}s "
+                      f"dofs={row['dofs']} "
                       f"diff={row['diff_from_accurate']:+.1e}", flush=True)
 
     film = []
@@ -408,13 +411,13 @@ def plot_bridge(comp: list[dict], slip: list[dict], out: Path) -> None:
     for i, s in enumerate(sorted({r["s_over_r"] for r in slip})):
         rows = sorted((r for r in slip if r["s_over_r"] == s), key=lambda r: -r["b_over_r"])
         x = [math.log(1 / r["b_over_r"]) for r in rows]
-        y = [r["excess"] / r["f_lub"] for r in rows]
-        a2.plot(x, y, styles[i % 3], color=f"C{i + 3}", label=f"FEM S/R = {s:g}")
-        hs = rows[-1]["hs_slope"] / rows[-1]["f_lub"]
-        a2.plot(x, [y[-1] + hs * (xx - x[-1]) for xx in x], "k-" if i == 0 else "k--",
-                lw=0.8, label=f"Huh-Scriven slope, S/R = {s:g}")
+        y = [r["excess"] / r["hs_slope"] for r in rows]
+        a2.plot(x, y, styles[i % 3], color=f"C{i + 3}", ms=9 - 4 * i, lw=3 - 1.5 * i,
+                mfc="none" if i else None, label=f"FEM S/R = {s:g}")
+        a2.plot(x, [y[-1] + (xx - x[-1]) for xx in x], "k-" if i == 0 else "k--",
+                lw=0.8, label=f"Huh-Scriven slope 1, S/R = {s:g}")
     a2.set_xlabel("ln(R / b)")
-    a2.set_ylabel("(F - F_lub) / F_lub")
+    a2.set_ylabel("(F - F_lub) / [sum 2 pi r_cl U_cl^2 f(theta)]")
     a2.set_title("moving contact lines: slip-length log law (V/R^3 = 1e-3)", fontsize=9)
     a2.legend(fontsize=7)
     fig.tight_layout()
