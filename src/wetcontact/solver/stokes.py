@@ -429,15 +429,17 @@ def solve_stokes(mesh: MeshTri2, sphere_velocity: dict[str, float], intorder: in
 
 
 class _Isoparametric(MappingIsoparametric):
-    """scikit-fem's isoparametric mapping with a relative tolerance in ``invF``.
+    """scikit-fem's isoparametric mapping with a looser tolerance in ``invF``.
 
     The stock Newton inversion stops at an absolute 1e-12 in reference coordinates, which
     rounding cannot reach on elements 1e-5 times smaller than their distance from the
-    origin (contact-line and tiny-gap grading); 1e-9 is still far below what quadrature
-    needs.
+    origin (contact-line and tiny-gap grading); 1e-9 still failed on bridge contact-line
+    elements of 1e-7 R at r = 0.2 R (rounding 6e-17 / 1e-7 in reference coordinates, and
+    Newton stagnates there). 1e-8 is still far below what quadrature needs (the Newton
+    step converges quadratically, so the error left is far smaller than the tolerance).
     """
 
-    def invF(self, x, tind=None, newton_max_iters=50, newton_tol=1e-9):
+    def invF(self, x, tind=None, newton_max_iters=50, newton_tol=1e-8):
         return super().invF(x, tind=tind, newton_max_iters=newton_max_iters,
                             newton_tol=newton_tol)
 
@@ -591,6 +593,18 @@ BRIDGE_ANGLES = (math.radians(5.0), math.radians(150.0))
 (no corner, the contact-line velocity is undefined); 150 deg is the meniscus solver's limit."""
 
 
+def _angle_scale(scene: Scene) -> float:
+    """Factor on the contact-line element size: ``min(1, (45 deg / theta_max)^2)``.
+
+    At an obtuse wedge the force error is first order in the contact-line size (60/120 deg,
+    S/R = 1e-2: 8e-3, 1.8e-3, 3.7e-4 at 4, 1, 0.25 slip lengths); at 20 deg it is below
+    5e-4 for any size up to 2 slip lengths, and smaller elements there only add a drift of
+    +1e-4 per halving (b = 1e-6 R; none at b = 1e-4 R), so acute wedges keep the preset's.
+    """
+    th = max(scene.contact_angle_sphere, scene.contact_angle_wall)
+    return min(1.0, (math.radians(45.0) / th) ** 2)
+
+
 def _bridge_slip(scene: Scene, default: float) -> dict[str, float]:
     """Slip lengths (m) of a bridge's sphere and lower solid, ``default`` where 0."""
     return {"slip_length_sphere": scene.slip_length_sphere or default,
@@ -637,8 +651,9 @@ class Stokes(Model):
     spheres meshed), ``film_top`` (the film surface model, :data:`FILM_TOPS`; recorded in
     the settings), ``save_fields`` (a directory for VTU files), ``cache`` (mesh cache
     directory), ``contact_factor`` (bridge: element size at a contact line over the slip
-    length), ``bridge_growth`` (bridge: size growth away from the contact lines, which sets
-    every size in the bridge), ``default_slip_length``, and the mesh resolution keys of
+    length, times :func:`_angle_scale` for contact angles above 45 deg), ``bridge_growth``
+    (bridge: size growth away from the contact lines, which sets every size in the bridge;
+    observed order 3.1-5.2), ``default_slip_length``, and the mesh resolution keys of
     :class:`~wetcontact.meshes.builders.Resolution`.
     """
 
@@ -656,13 +671,13 @@ class Stokes(Model):
                  "reaction (dissipation) and by the traction integral")
     presets = {
         "fast": {"n_gap": 3, "h_sphere": 0.08, "growth": 0.25, "far": 1.0e3, "n_film": 4,
-                     "film_top": "flat", "contact_factor": 4.0,
+                     "film_top": "flat", "contact_factor": 2.0,
                      "bridge_growth": 0.08, "default_slip_length": DEFAULT_SLIP},
         "default": {"n_gap": 4, "h_sphere": 0.05, "growth": 0.15, "far": 1.0e3, "n_film": 6,
-                     "film_top": "flat", "contact_factor": 2.0,
+                     "film_top": "flat", "contact_factor": 1.0,
                      "bridge_growth": 0.06, "default_slip_length": DEFAULT_SLIP},
         "accurate": {"n_gap": 8, "h_sphere": 0.02, "growth": 0.08, "far": 1.0e3, "n_film": 8,
-                     "film_top": "flat", "contact_factor": 1.0,
+                     "film_top": "flat", "contact_factor": 0.25,
                      "bridge_growth": 0.03, "default_slip_length": DEFAULT_SLIP},
     }
     error_bound = {"fast": 1e-3, "default": 1e-4, "accurate": 1e-5}
@@ -735,7 +750,7 @@ class Stokes(Model):
     def _force(self, scene: Scene, preset: str, method: str = "symmetry",
                save_fields: str | None = None, cache: str | None = None,
                intorder: int = 4, film_top: str = "flat",
-               default_slip_length: float = DEFAULT_SLIP, contact_factor: float = 2.0,
+               default_slip_length: float = DEFAULT_SLIP, contact_factor: float = 1.0,
                bridge_growth: float = 0.06, **res_opts: Any) -> ForceCurve:
         if method not in ("symmetry", "full"):
             raise InputError(f"model 'stokes': method = {method!r}; allowed: 'symmetry', 'full'")
@@ -808,9 +823,9 @@ class Stokes(Model):
         if not (math.isfinite(default_slip) and default_slip > 0):
             raise InputError(f"model 'stokes': default_slip_length = {default_slip!r}; "
                              "allowed: finite > 0 m")
-        if not (math.isfinite(contact_factor) and 0.1 <= contact_factor <= 100):
+        if not (math.isfinite(contact_factor) and 0.01 <= contact_factor <= 100):
             raise InputError(f"model 'stokes': contact_factor = {contact_factor!r}; "
-                             "allowed: [0.1, 100]")
+                             "allowed: [0.01, 100]")
         R, eta, v = scene.radius, scene.viscosity, scene.velocity
         slip = _bridge_slip(scene, default_slip)
         b = (slip["slip_length_sphere"], slip["slip_length_wall"])
@@ -818,7 +833,7 @@ class Stokes(Model):
             raise ValidityError(self.name, f"slip length {min(b):.3g} m = {min(b) / R:.3g} R < "
                                 f"{MIN_BRIDGE_SLIP:g} R: the contact-line elements cannot "
                                 "resolve it", _instead(scene))
-        cs = max(contact_factor * min(b) / R, MIN_BRIDGE_SLIP)
+        cs = max(contact_factor * _angle_scale(scene) * min(b) / R, MIN_BRIDGE_SLIP)
         bridge = Bridge.from_scene(scene)
         symmetric = (method == "symmetry" and _mirror_symmetric(scene)
                      and bridge.contact_angle1 == bridge.contact_angle2)
