@@ -137,6 +137,7 @@ def test_model_bridge_default_slip_and_rupture(scene_factory):
     assert c.diagnostics["slip_lengths_m"] == [1e-9, 1e-9]
     assert c.force_viscous[0] > 0 and c.force_viscous[1] == 0.0
     assert c.extras["force_reaction"][0] == pytest.approx(c.force_viscous[0], rel=3e-3)
+    assert abs(c.diagnostics["reaction_vs_dissipation"][0]) < 3e-3
     given = m.force(_scene(scene_factory, [1e-2], slip=(1e-8, 1e-8)), preset="fast")
     assert given.diagnostics["slip_lengths_m"] == [1e-8, 1e-8]
     assert given.force_viscous[0] < c.force_viscous[0]  # more slip, less dissipation
@@ -222,3 +223,4 @@ def test_shape_rate_next_to_rupture_conserves_the_volume():
     assert grow == pytest.approx(math.sqrt(10), rel=0.05)
     assert near.flux == pytest.approx(near.swept, rel=1e-4)
     assert bridge_motion(br, sc * 1.001, V) is None
+

@@ -47,7 +47,11 @@ contact lines move along the solids 5.1 times faster than the sphere, and their 
 dissipation (``~ ln(1/b)``, absent from lubrication) is the excess; it stays nearly
 constant as S -> 0 while the film force grows like 1/S (excess 5.8 % at S/R = 3e-4, 0.63 %
 at 3e-5). Towards rupture the contact lines race (u_n ~ (S_c - S)^(-1/2)) and the
-quasi-static force grows without bound: the quasi-static limit itself fails there. Verified
+quasi-static force grows without bound: the quasi-static limit itself fails there, and the
+presets do not resolve it (equal spheres at 0.99 and 0.999 S_c: the half and the full
+bridge differ by 2-3 %, the reaction by 1-2 % from the dissipation; at 0.9 S_c refining
+the grading from 0.1 to 0.05 moved the force by 6 %); the diagnostics'
+``reaction_vs_dissipation`` flags such gaps. Verified
 on an exact rigid translation, against lubrication and the Huh-Scriven slope, and the
 symmetric half against the full two-sphere bridge (tests/solver/test_stokes_bridge.py).
 
@@ -333,8 +337,9 @@ def solve_stokes(mesh: MeshTri2, sphere_velocity: dict[str, float], intorder: in
         # kinematic condition fixes u_r there
         on_sym = np.isin(ir, dofs("symmetry", "u^1")) & ~keep
         if np.any(on_sym):
-            if np.any(np.abs(nz[on_sym]) > 1e-6):
-                raise SolverError("free surface meets the symmetry plane at an angle")
+            if np.any(np.abs(nz[on_sym]) > 0.05):  # the interpolated normal: ~1e-3 there
+                raise SolverError("free surface meets the symmetry plane at an angle: "
+                                  f"n_z = {np.abs(nz[on_sym]).max():.3g}")
             x[ir[on_sym]] = un[on_sym] / nr[on_sym]
             fixed.append(ir[on_sym])
     for name in frames:
@@ -867,6 +872,11 @@ class Stokes(Model):
                                 "slip_lengths_m": list(b),
                                 "contact_size_R": cs,
                                 "surface_flux_mismatch": flux.tolist(),
+                                # a convergence indicator: 0 for a resolved contact line;
+                                # 1-10 % within 10 % of the rupture distance (not resolved)
+                                "reaction_vs_dissipation": [
+                                    float(a / d - 1) if d else 0.0
+                                    for a, d in zip(f_reac, f_diss, strict=True)],
                                 "method": ("symmetry" if symmetric else "full")
                                 + " (quasi-static bridge)"}
         if files:
