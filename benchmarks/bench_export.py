@@ -29,7 +29,7 @@ from _common import RESULTS, median_time, write_json  # noqa: E402
 
 from wetcontact.export.c_header import write_header  # noqa: E402
 from wetcontact.export.calibration_json import write_json as export_json  # noqa: E402
-from wetcontact.export.closures import CALIBRATION_DIR, capillary_source  # noqa: E402
+from wetcontact.export.closures import REFIT_DIR, REFIT_FILES, capillary_source  # noqa: E402
 from wetcontact.export.python_module import write_module  # noqa: E402
 
 C_BENCH = r"""
@@ -74,7 +74,7 @@ def main() -> None:
         "json (calibrated-viscous)": lambda: export_json(tmp / "cv.json",
                                                          closure="calibrated-viscous"),
         "json (willett refit)": lambda: export_json(
-            tmp / "w.json", coefficients=CALIBRATION_DIR / "willett.json"),
+            tmp / "w.json", coefficients=REFIT_DIR / REFIT_FILES["willett"]),
         "python": lambda: write_module(tmp, capillary_source()),
         "c": lambda: write_header(tmp, capillary_source()),
     }

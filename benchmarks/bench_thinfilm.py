@@ -23,7 +23,13 @@ The machine has 2 cores shared with 5 other jobs while this runs: timings are no
    Newton backward-Euler step against the cell width, on a perturbed flat film (the
    capillary operator, explicit limit ~ dr^4) and with the sphere pressed in (penalty).
 
-Run: ``/work/venv/bin/python benchmarks/bench_thinfilm.py [--quick]``.
+4. The sharp contact (the model's default since issue 13): work-precision over the film cells
+   (64 bridge elements, rtol 1e-4) against 480 cells, 128 elements, rtol 1e-5; and the
+   slow-approach check, the capillary part against the finite-element bridge on the bare
+   wall holding the same wetted volume, over Ca* = 2e-4 ... 2 (``--sharp-only`` reruns
+   these and the presets into the existing JSON, keeping the penalty contacts' studies).
+
+Run: ``/work/venv/bin/python benchmarks/bench_thinfilm.py [--quick | --sharp-only]``.
 """
 
 from __future__ import annotations
@@ -227,13 +233,74 @@ def stability(cells_list: list[int]) -> dict:
                     "all tried steps were stable"}
 
 
+def _sharp_problem(cells: int, elements: int, velocity: float = V) -> tf.SharpFilm:
+    return tf.SharpFilm(radius=R, viscosity=ETA, surface_tension=SIGMA, density=998.0,
+                        gravity=0.0, film_thickness=DELTA, velocity=velocity,
+                        domain=3.0 * math.sqrt(4 * R * DELTA),
+                        angle_sphere=math.radians(20.0), cells=cells, n_elements=elements)
+
+
+def sharp_work_precision(cells_list: list[int], n_gaps: int, ref_cells: int = 480) -> dict:
+    """The sharp contact (default): film cells (64 bridge elements, rtol 1e-4) against a
+    finer run (``ref_cells``, 128 elements, rtol 1e-5); full penetration of the water case."""
+    gaps = np.geomspace(DELTA, 0.01 * DELTA, n_gaps)
+
+    def run(cells: int, elements: int, rtol: float) -> dict:
+        t0 = time.perf_counter()
+        res = tf.sharp_run(_sharp_problem(cells, elements), gaps, rtol=rtol)
+        wall = time.perf_counter() - t0
+        f = np.array([s.force_viscous + s.force_capillary for s in res.snapshots])
+        sc = np.array([abs(s.force_viscous) + abs(s.force_capillary) for s in res.snapshots])
+        print("sharp", cells, elements, rtol, f"{wall:.1f} s", res.steps, flush=True)
+        return {"force": f, "scale": sc, "wall_time_s": wall, "steps": res.steps,
+                "volume_drift": res.volume_drift}
+
+    ref = run(ref_cells, 128, 1e-5)
+    rows = []
+    for n in cells_list:
+        r = run(n, 64, 1e-4)
+        err = float(np.max(np.abs(r["force"] - ref["force"])[1:] / ref["scale"][1:]))
+        rows.append({"cells": n, "error": err, "wall_time_s": r["wall_time_s"],
+                     "steps": r["steps"], "volume_drift": r["volume_drift"]})
+    order = observed_order([1.0 / r["cells"] for r in rows], [r["error"] for r in rows])
+    return {"contact": "sharp", "gaps_m": gaps.tolist(), "reference_cells": ref_cells,
+            "reference_force_N": ref["force"].tolist(),
+            "reference_wall_time_s": ref["wall_time_s"], "runs": rows,
+            "observed_order": order, "order_variable": "film cells"}
+
+
+def slow_approach(speeds: list[float], cells: int = 80) -> dict:
+    """Capillary part of the sharp contact against the finite-element bridge on the bare
+    wall holding the same wetted volume (all the liquid inside the meniscus foot), water
+    case at decreasing speed; gaps 0.5, 0.1, 0.01 delta."""
+    from wetcontact.solver.meniscus import Bridge, solve_volume
+
+    bridge = Bridge(radius=R, contact_angle1=math.radians(20.0), contact_angle2=0.0,
+                    surface_tension=SIGMA)
+    gaps = DELTA * np.array([1.0, 0.5, 0.1, 0.01])
+    rows = []
+    for v in speeds:
+        res = tf.sharp_run(_sharp_problem(cells, 64, v), gaps, rtol=1e-4)
+        for sn in res.snapshots[1:]:
+            d = res.details[sn.gap]
+            wetted = math.pi * d["foot_radius"] ** 2 * d["foot_height"] + d["bridge_volume"]
+            ref = solve_volume(bridge, sn.gap, wetted)
+            rows.append({"velocity": v, "ca_star": 3 * ETA * v * R**2 / (SIGMA * DELTA**2),
+                         "gap_m": sn.gap, "force_capillary_N": sn.force_capillary,
+                         "bridge_force_N": ref.force,
+                         "ratio_minus_1": sn.force_capillary / ref.force - 1.0,
+                         "foot_height_m": d["foot_height"], "foot_radius_m": d["foot_radius"]})
+            print(rows[-1], flush=True)
+    return {"rows": rows}
+
+
 def chart(data: dict) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (a, b) = plt.subplots(1, 2, figsize=(10, 4))
+    fig, (a, b, c) = plt.subplots(1, 3, figsize=(15, 5.2))
     for key, mark in (("work_precision", "o-"), ("work_precision_tangential", "s--")):
         wp = data[key]["runs"]
         var = data[key]["order_variable"]
@@ -248,11 +315,19 @@ def chart(data: dict) -> None:
     a.plot([uni["wall_time_s"]], [next(r["error"] for r in data["work_precision"]["runs"]
                                       if r["wetting_width"] == uni["wetting_width"])],
            "kx", label=f"uniform grid, lambda {uni['wetting_width']:g} ({uni['cells']} cells)")
+    if "sharp" in data:
+        sw = data["sharp"]
+        a.loglog([r["wall_time_s"] for r in sw["runs"]], [r["error"] for r in sw["runs"]],
+                 "D-", color="tab:green",
+                 label=f"sharp contact (order {sw['observed_order']:.2f} in film cells)")
+        for r in sw["runs"]:
+            a.annotate(f"{r['cells']}", (r["wall_time_s"], r["error"]), fontsize=7)
     a.axvline(30.0, color="k", ls=":", lw=0.8)
-    a.legend(fontsize=7, loc="lower left")
+    a.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2)
     a.set_xlabel("wall time of a full penetration run (s)")
     a.set_ylabel("max |F - F_ref|/(|F_visc| + |F_cap|)")
-    a.set_title("thinfilm work-precision (water film, BDF2)")
+    a.set_ylim(bottom=3e-5)
+    a.set_title("work-precision: 2 mm bead, 100 um water film, 0.5 m/s", fontsize=10)
     rows = data["stability"]["rows"]
     dr = [r["dr_free_m"] for r in rows]
     b.loglog(dr, [r["explicit_free_dt_s"] for r in rows], "o-", label="explicit Euler, free")
@@ -265,7 +340,22 @@ def chart(data: dict) -> None:
     b.set_xlabel("dr (m)")
     b.set_ylabel("largest stable dt (s)")
     b.legend(fontsize=7)
-    b.set_title(f"explicit slope {data['stability']['explicit_free_slope']:.2f}")
+    b.set_title(f"penalty film stability: explicit slope "
+                f"{data['stability']['explicit_free_slope']:.2f}", fontsize=10)
+    if "slow_approach" in data:
+        rows = data["slow_approach"]["rows"]
+        for g, mark in zip(sorted({r["gap_m"] for r in rows}, reverse=True), ("o-", "s--", "^:"),
+                           strict=False):
+            sel = [r for r in rows if r["gap_m"] == g]
+            c.semilogx([r["ca_star"] for r in sel], [100 * r["ratio_minus_1"] for r in sel],
+                       mark, label=f"S = {g / DELTA:g} delta")
+        c.axhline(1.0, color="k", ls=":", lw=0.8)
+        c.axhline(0.0, color="k", lw=0.5)
+        c.set_xlabel("Ca* = 3 eta v R^2/(sigma delta^2)")
+        c.set_ylabel("F_cap / F_bridge(same wetted volume) - 1 (%)")
+        c.set_title("sharp contact vs FE bridge of the wetted volume\n(water case, slow "
+                    "approach)", fontsize=10)
+        c.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(RESULTS / "thinfilm.png", dpi=120)
 
@@ -275,7 +365,22 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--presets-only", action="store_true",
                     help="rerun only the preset timings into the existing JSON")
+    ap.add_argument("--sharp-only", action="store_true",
+                    help="rerun the presets and the sharp-contact studies into the existing "
+                         "JSON (the penalty contacts' studies are kept)")
     args = ap.parse_args()
+    if args.sharp_only:
+        data = json.loads((RESULTS / "thinfilm.json").read_text())
+        data["presets"] = presets(3)
+        data["sharp"] = sharp_work_precision([20, 40, 80, 160], 40)
+        data["slow_approach"] = slow_approach([0.5, 0.05, 5e-3, 5e-4, 5e-5])
+        data.pop("cpu_count", None)
+        data["note"] = ("2 CPU cores shared with other jobs: timings are noisy. presets, "
+                        "sharp and slow_approach: the sharp contact (default); "
+                        "work_precision*, robustness, stability: the penalty contacts")
+        write_json("thinfilm", data)
+        chart(data)
+        return
     if args.presets_only:
         data = json.loads((RESULTS / "thinfilm.json").read_text())
         data["presets"] = presets(3)

@@ -25,13 +25,17 @@ from wetcontact.cli import main
 from wetcontact.export.c_header import write_header
 from wetcontact.export.calibration_json import schema, shipped_document, write_json
 from wetcontact.export.closures import (
-    CALIBRATION_DIR,
+    REFIT_DIR,
+    REFIT_FILES,
     capillary_source,
     package_evaluation_many,
 )
 from wetcontact.export.python_module import write_module
 
 jsonschema = pytest.importorskip("jsonschema")
+
+#: the calibration outputs of a source checkout (``wetcontact calibrate``)
+CALIBRATION_DIR = Path(__file__).resolve().parents[1] / "benchmarks" / "results" / "calibration"
 
 REL = 1e-12  # a few ulps of libm through exp(f1 - f2 exp(...)); not loosened
 N = 1500  # points per function (6000 in all)
@@ -85,9 +89,19 @@ def design(seed: int = 20261123) -> dict[str, dict[str, np.ndarray]]:
 
 @pytest.fixture(scope="module")
 def source():
-    if not (CALIBRATION_DIR / "willett.json").is_file():
-        pytest.skip("refitted calibration JSONs not in this checkout")
     return capillary_source()
+
+
+@pytest.mark.parametrize("family", sorted(REFIT_FILES))
+def test_shipped_refits_are_the_checkouts_calibration(family):
+    """The package data the exports read by default is the committed calibration output
+    (so an installed package exports what the checkout's tables report)."""
+    shipped = REFIT_DIR / REFIT_FILES[family]
+    assert shipped.is_file()
+    src = CALIBRATION_DIR / f"{family}.json"
+    if not src.is_file():
+        pytest.skip(f"{src} not in this checkout")
+    assert json.loads(shipped.read_text()) == json.loads(src.read_text())
 
 
 @pytest.fixture(scope="module")

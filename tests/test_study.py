@@ -24,6 +24,23 @@ def write(tmp_path: Path, body: str, base: Path = BASE_FILM, name: str = "s.toml
     return p
 
 
+def test_gaps_over_film_and_over_the_bridges_edge_gap(tmp_path):
+    """The finite-liquid factors' coordinates: S/delta for films, S/H for bridges with
+    Pitois' edge gap H = sqrt(S^2 + V/(pi R*))."""
+    st = load_study(STUDIES / "calibrate-finite-liquid.toml")
+    for _, sc in st.scenes:
+        assert np.allclose(sc.gap_array / sc.film_thickness, np.linspace(0.01, 0.95, 10),
+                           rtol=1e-14)
+    st = load_study(STUDIES / "calibrate-finite-liquid-bridge-ss.toml")
+    assert {round(sc.radius2 / sc.radius, 9) for _, sc in st.scenes} == {
+        round(x, 9) for x in np.geomspace(1.0, 10.0, 5)}
+    for _, sc in st.scenes:
+        rstar = sc.radius * sc.radius2 / (sc.radius + sc.radius2)
+        h = np.sqrt(sc.gap_array**2 + sc.bridge_volume / (math.pi * rstar))
+        assert np.allclose(sc.gap_array / h, np.linspace(0.01, 0.95, 8), rtol=1e-12)
+        assert sc.contact_angle_sphere == 0.0
+
+
 def test_grid_study_replaces_fields_and_fills_axes():
     st = load_study(STUDIES / "stokes-immersed-16.toml")
     assert len(st.scenes) == 16 and st.axes == ("geometry.radius", "liquid.viscosity")
@@ -144,6 +161,11 @@ BAD = [
     ('models = ["reynolds"]\n[axes\n', "(syntax)", "valid TOML"),
     ('models = ["meniscus"]\n[set]\n"motion.gap_over_rupture" = [0.5]\n',
      "set.motion.gap_over_rupture = [0.5]", "bridge"),
+    ('models = ["lubrication"]\n[set]\n"motion.gap_over_edge_gap" = [0.5]\n',
+     "set.motion.gap_over_edge_gap = [0.5]", "bridge"),
+    ('models = ["lubrication"]\n[set]\n"amount.volume_over_radius3" = 0.01\n'
+     '"motion.gap_over_edge_gap" = [0.5, 1.0]\n', "set.motion.gap_over_edge_gap = [0.5, 1.0]",
+     "[0, 1)"),
 ]
 
 

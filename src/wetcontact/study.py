@@ -32,6 +32,11 @@ each sets a case-file field from the point's other values:
 ``motion.capillary_number``           ``motion.velocity = value x surface_tension / viscosity``
 ``motion.gap_over_radius``            ``motion.gaps = value x radius``
 ``motion.gap_over_rupture``           ``motion.gaps = value x S_c``
+``motion.gap_over_film``              ``motion.gaps = value x film_thickness``
+``motion.gap_over_edge_gap``          ``motion.gaps = S`` with ``S/H = value``, H the
+                                      bridge's edge gap ``sqrt(S^2 + V/(pi R*))``
+                                      (Pitois 2000): ``S = x sqrt(V/(pi R*)/(1 - x^2))``,
+                                      value in (0, 1)
 ====================================  ===============================================
 
 ``S_c`` is the rupture distance of the point's bridge from the finite-element
@@ -96,6 +101,32 @@ def _rupture_distance(r1: float, r2: float | None, th1: float, th2: float, sigma
     return float(rupture_distance(bridge, volume, n_elements=n_el))
 
 
+def _film_gaps(case: dict[str, Any], value: Any) -> Any:
+    delta = case.get("amount", {}).get("film_thickness")
+    if not isinstance(delta, int | float) or not delta > 0:
+        raise InputError("needs a film (amount.film_thickness > 0) to scale the gaps by")
+    return _scaled(value, float(delta))
+
+
+def _edge_gaps(case: dict[str, Any], value: Any) -> Any:
+    """Gaps S with S/H = value, H = sqrt(S^2 + V/(pi R*)) the bridge's edge gap (the
+    coordinate of the finite-liquid factor, :mod:`wetcontact.reduced_models.calibrated`)."""
+    vol = case.get("amount", {}).get("bridge_volume")
+    if not isinstance(vol, int | float) or not vol > 0:
+        raise InputError("needs a bridge (amount.bridge_volume > 0) to define its edge gap")
+    geo = case["geometry"]
+    r1 = float(geo["radius"])
+    r2 = float(geo.get("radius2", r1))
+    rstar = r1 if geo.get("kind") == "sphere-wall" else r1 * r2 / (r1 + r2)
+    h0sq = float(vol) / (math.pi * rstar)
+    xs = [float(v) for v in value] if isinstance(value, list | tuple) else [float(value)]
+    for x in xs:
+        if not 0.0 <= x < 1.0:
+            raise InputError(f"S/H = {x!r}; allowed: [0, 1)")
+    gaps = [x * math.sqrt(h0sq / (1.0 - x * x)) for x in xs]
+    return gaps if isinstance(value, list | tuple) else gaps[0]
+
+
 def _scaled(value: Any, scale: float) -> Any:
     if isinstance(value, list | tuple):
         return [float(v) * scale for v in value]
@@ -115,6 +146,8 @@ DERIVED: dict[str, tuple[str, Callable[[dict[str, Any], Any], Any]]] = {
     "motion.gap_over_radius": ("motion.gaps",
                                lambda c, v: _scaled(v, c["geometry"]["radius"])),
     "motion.gap_over_rupture": ("motion.gaps", _rupture_gaps),
+    "motion.gap_over_film": ("motion.gaps", _film_gaps),
+    "motion.gap_over_edge_gap": ("motion.gaps", _edge_gaps),
 }
 """Derived dimensionless fields, applied in this order after the plain fields."""
 

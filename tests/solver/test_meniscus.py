@@ -276,3 +276,30 @@ def test_nonwetting_bridge_is_repulsive_and_steeper_angles_are_refused():
     assert -sol.force == pytest.approx(ref.force, rel=1e-6)
     with pytest.raises(InputError, match=r"allowed: \[0, 150\] deg"):
         _bridge(None, 20.0, 155.0)
+
+
+def test_rupture_at_symmetry_breaking_bifurcation():
+    """Equal spheres, equal angles 50 deg: the symmetric bridge loses stability to an
+    up-down asymmetric mode before its fold, so rupture is that bifurcation. Independent
+    check: breaking the symmetry (theta1 = 50 + eps) turns it into ordinary folds at
+    S_b - c eps^(2/3) - d eps^(4/3) (imperfect subcritical pitchfork), found by the fold
+    search alone; their eps -> 0 limit must be the bifurcation."""
+    from wetcontact.solver.meniscus.solve import _branch_for
+
+    V = 10**-2.5
+    br, _ = _branch_for(_bridge(1.0, 50.0, 50.0), V, 128)
+    assert br.end == "bifurcation"
+    eps = np.array([0.25, 0.5, 1.0])
+    folds = []
+    for e in eps:
+        b, _ = _branch_for(_bridge(1.0, 50.0 + e, 50.0), V, 128)
+        assert b.end == "fold"
+        folds.append(b.S_fold)
+    A = np.column_stack([np.ones(3), eps ** (2 / 3), eps ** (4 / 3)])
+    s_b = np.linalg.solve(A, np.array(folds))[0]
+    assert br.S_fold == pytest.approx(s_b, rel=2e-4)
+    # the fold of the symmetric branch lies well beyond it (6 %): not a round-off effect
+    assert folds[0] < br.S_fold
+    assert rupture_distance(_bridge(1.0, 50.0, 50.0), V) == pytest.approx(br.S_fold, rel=1e-12)
+    sol = solve_volume(_bridge(1.0, 50.0, 50.0), 1.001 * br.S_fold, V)
+    assert sol.exists is False

@@ -48,8 +48,12 @@ import numpy as np
 
 from wetcontact.errors import InputError, ValidityError
 
-#: refitted calibration JSONs in a source checkout (``python -m wetcontact.calibrate fit``)
-CALIBRATION_DIR = Path(__file__).resolve().parents[3] / "benchmarks" / "results" / "calibration"
+#: the refitted calibration JSONs the exports carry by default, shipped as package data
+#: (copies of ``benchmarks/results/calibration/{willett,lian-rupture}.json``, written by
+#: ``wetcontact calibrate``; ``tests/test_export_closures.py`` keeps them equal), so that
+#: ``export python`` and ``export c`` work from an installed package, not only a checkout
+REFIT_DIR = Path(__file__).resolve().parents[1] / "reduced_models" / "data"
+REFIT_FILES = {"willett": "refit_willett.json", "lian-rupture": "refit_lian-rupture.json"}
 
 
 @dataclass(frozen=True)
@@ -113,10 +117,10 @@ def read_refit(path: Path | str, family: str) -> RefitTable:
 
 def capillary_source(force: Path | str | None = None,
                      rupture: Path | str | None = None) -> CapillarySource:
-    """The capillary pair from the given files, or the checkout's refits by default."""
-    return CapillarySource(read_refit(force or CALIBRATION_DIR / "willett.json", "willett"),
-                           read_refit(rupture or CALIBRATION_DIR / "lian-rupture.json",
-                                      "lian-rupture"))
+    """The capillary pair from the given files, or the package's shipped refits."""
+    return CapillarySource(
+        read_refit(force or REFIT_DIR / REFIT_FILES["willett"], "willett"),
+        read_refit(rupture or REFIT_DIR / REFIT_FILES["lian-rupture"], "lian-rupture"))
 
 
 def immersed_tables() -> dict[str, Any]:

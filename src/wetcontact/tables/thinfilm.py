@@ -137,6 +137,32 @@ def validity_map(delta_over_r: np.ndarray, ca: np.ndarray) -> list[list[str | No
     return out
 
 
+def _sharp_study(bench: dict | None) -> list[str]:
+    """Markdown lines: the sharp contact's work-precision and slow-approach check."""
+    if bench is None or "sharp" not in bench:
+        return []
+    sw = bench["sharp"]
+    md = ["Sharp contact (`benchmarks/bench_thinfilm.py`, water case, full penetration): "
+          f"error of the total force against {sw['reference_cells']} film cells, observed "
+          f"order {sw['observed_order']:.2f} in the film cells.", "",
+          "| film cells | max error | wall time (s) |", "|---|---|---|"]
+    md += [f"| {r['cells']} | {100 * r['error']:.3f} % | {r['wall_time_s']:.1f} |"
+           for r in sw["runs"]]
+    md.append("")
+    rows = bench.get("slow_approach", {}).get("rows", [])
+    if rows:
+        by_ca: dict[float, list[float]] = {}
+        for r in rows:
+            by_ca.setdefault(r["ca_star"], []).append(r["ratio_minus_1"])
+        md.append("Capillary part against the finite-element bridge on the bare wall holding "
+                  "the same wetted volume: " + "; ".join(
+                      f"Ca* = {ca:.2g}: {100 * min(v):+.1f} to {100 * max(v):+.1f} %"
+                      for ca, v in sorted(by_ca.items())) + " (the film left under the "
+                  "meniscus foot vanishes as Ca* -> 0).")
+        md.append("")
+    return md
+
+
 def _width_study(bench: dict | None) -> list[str]:
     """Markdown lines: force error against the wetting width lambda (benchmark JSON)."""
     if bench is None:
@@ -231,7 +257,8 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
     _plots(out, stab)
 
     md = ["## Thin film: sphere squeezing a liquid layer (model `thinfilm`)", "",
-          "Thin-film solver (wetting meniscus) along the penetration: viscous part against "
+          "Thin-film solver (sharp wetting contact: the finite-element meniscus joined to "
+          "the film at its minimum) along the penetration: viscous part against "
           "the Reynolds closure and the finite-film closure 6 pi eta R^2 v/S (1 - S/delta)^2, "
           "capillary part against the contact limit -2 pi R sigma (cos theta_s + 1) "
           "(error = closure/thinfilm - 1; full table in `thinfilm_closure_errors.csv`).", "",
@@ -256,6 +283,7 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
         md.append(f"Inertial run, {name} (m = {1e6 * ine['mass']:.2f} mg, v0 = {ine['v0']:g} "
                   f"m/s): {stop}; speed at the smallest gap {ine['v_end']:.3f} m/s.")
         md.append("")
+    md.extend(_sharp_study(bench))
     md.extend(_width_study(bench))
     if bench is None:
         md += ["No thin-film benchmark results were given (`wetcontact run --bench`, from "

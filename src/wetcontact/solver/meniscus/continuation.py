@@ -1,12 +1,23 @@
 r"""Continuation of bridges: volume-controlled in the gap S through the fold (rupture),
 suction-controlled in S at fixed Laplace pressure (through its fold), and stability.
 
-Volume control: pseudo-arclength continuation in ``S`` from ``S = 0``; rupture is the turning
-point ``dS = 0``, located to round-off as the root of ``dS/dlambda`` along the secant
-through the fold. By Maddocks (1987, Arch. Ration. Mech. Anal. 99, 301) the number of
-negative eigenvalues of the constrained second variation (axisymmetric perturbations, fixed
-volume) changes by one exactly at a simple fold of this branch, where ``det J`` changes
-sign; ``stability`` is +1 on the branch connected to ``S = 0`` before the fold, -1 after.
+Volume control: pseudo-arclength continuation in ``S`` from ``S = 0``; rupture is the first
+loss of stability along it. By Maddocks (1987, Arch. Ration. Mech. Anal. 99, 301) the number
+of negative eigenvalues of the constrained second variation (axisymmetric perturbations,
+fixed volume) changes by one exactly where ``det J`` changes sign; ``stability`` is +1 on the
+branch connected to ``S = 0`` until then, -1 after. Two events end the stable branch:
+
+* a **fold** (turning point ``dS = 0``), located to round-off as the root of ``dS/dlambda``
+  along the secant through it;
+* a **symmetry-breaking bifurcation**: ``det J`` changes sign while S still increases. Between
+  equal spheres with equal contact angles (and nearly so) the symmetric bridge loses
+  stability to an up-down asymmetric mode before its fold: for V/R^3 = 10^-2.5 at
+  theta = 35, 50, 70 deg the fold lies 0.4 %, 6 % and 24 % beyond the bifurcation
+  (benchmarks/bench_meniscus_rupture.py). The bridge cannot be held past it, so the
+  bifurcation is the rupture distance; it is located by bisection of the det-J sign along
+  the secant. Breaking the symmetry slightly (theta1 = theta2 + eps) turns it into a fold
+  at ``S_b - c eps^(2/3)`` (an imperfect subcritical pitchfork), which the tests use as the
+  independent check.
 """
 
 from __future__ import annotations
@@ -62,7 +73,8 @@ def _stability(d: _Disc, g: _Geo, x: np.ndarray) -> float:
 
 @dataclass
 class _Branch:
-    """Stable branch of a volume-controlled bridge from S = 0 to the fold."""
+    """Stable branch of a volume-controlled bridge from S = 0 to rupture (``x_fold``: the
+    fold, or the symmetry-breaking bifurcation when ``end == "bifurcation"``)."""
 
     d: _Disc
     g: _Geo
@@ -70,6 +82,7 @@ class _Branch:
     xs: list[np.ndarray]          # continuation points (stable side), increasing S
     x_fold: np.ndarray
     xs_after: list[np.ndarray] = field(default_factory=list)   # points past the fold
+    end: str = "fold"             # "fold" or "bifurcation": how the stable branch ends
 
     @property
     def S_fold(self) -> float:
@@ -112,8 +125,13 @@ def _solve_at(d: _Disc, g: _Geo, S: float, V: float, guess: np.ndarray | None) -
     return nw if nw is not None else _Newton(np.zeros(d.m), False, 0, np.inf)
 
 
-def _branch(d: _Disc, g: _Geo, V: float, n_steps: int = 40) -> _Branch:
-    """Pseudo-arclength continuation in S from S = 0 through the fold (rupture)."""
+def _branch(d: _Disc, g: _Geo, V: float, n_steps: int = 40,
+            bifurcations: bool = True) -> _Branch:
+    """Pseudo-arclength continuation in S from S = 0 to rupture: the first loss of
+    stability (fold or bifurcation). ``bifurcations=False`` follows the branch through a
+    bifurcation to its fold, the rupture criterion of the literature's symmetric solutions
+    (Lian et al. 1993), kept only to measure the difference
+    (benchmarks/bench_meniscus_rupture.py)."""
     nw = _solve_at(d, g, 0.0, V, None)
     if not nw.converged:
         raise InputError(
@@ -128,21 +146,44 @@ def _branch(d: _Disc, g: _Geo, V: float, n_steps: int = 40) -> _Branch:
     # step: about n_steps to the fold (Lian's rupture estimate as the scale)
     s_est = (1 + 0.25 * (g.tht + g.thb)) * V ** (1.0 / 3.0)
     ds = s_est / n_steps / max(tau[d.iS], 1e-6)
+    ds_min, ds_fold = 1e-5 * ds, 1e-2 * ds
+    crossing: np.ndarray | None = None  # an unstable bridge just past a loss of stability
+    near_fold = False                   # the fold was overshot once: no more step growth
     xs = [x]
     after: list[np.ndarray] = []
     for _ in range(20 * n_steps):
         xp = x + ds * tau
         closing = (VolumeIs(V), Linear(wts * tau, float(np.sum(wts * tau * xp))))
         nw = _newton(d, g, xp, closing, maxit=12)
-        if not nw.converged or nw.iterations > 7:
+        if not (nw.converged or nw.residual < 1e-9) or nw.iterations > 7:
             ds *= 0.5
+            if crossing is not None and ds < ds_min:
+                # Newton stalls next to a bifurcation (J singular along its mode)
+                xb = _bisect_stability(d, g, V, x, crossing, wts)
+                return _Branch(d, g, V, xs, xb, [crossing], end="bifurcation")
             if ds < 1e-10:
                 raise SolverError("meniscus: continuation step collapsed before the fold")
             continue
         xn = nw.x
         tn = _tangent(d, g, xn, V, tau, wts)
-        if nw.iterations <= 3:
+        if nw.iterations <= 3 and not near_fold:
             ds *= 1.3
+        if bifurcations and tn[d.iS] > 0 and _stability(d, g, xn) < 0:
+            # stability lost while S still increases: either a bifurcation, or the step
+            # jumped over a small S-loop (two folds) of a nearly symmetric bridge. Shrink
+            # the step until it resolves the loop; a sign change that survives a step of
+            # ds_min is a bifurcation, located on the (then reliable) secant.
+            if ds > ds_min:
+                ds *= 0.25
+                crossing = xn
+                continue
+            xb = _bisect_stability(d, g, V, x, xn, wts)
+            return _Branch(d, g, V, xs, xb, [xn], end="bifurcation")
+        if tn[d.iS] < 0 and ds > ds_fold:
+            # past the fold: come back and approach it in small steps, so that the secant
+            # refinement below works on a short, nearly straight piece of the branch
+            ds, near_fold = max(0.25 * ds, ds_fold), True
+            continue
         x, tau = xn, tn
         if tau[d.iS] < 0:
             after.append(x)
@@ -175,7 +216,38 @@ def _branch(d: _Disc, g: _Geo, V: float, n_steps: int = 40) -> _Branch:
     lam = brentq(dS, 0.0, 1.0, xtol=1e-14, rtol=1e-14)
     dS(lam)
     nw = cache["w"]
+    # a step may have crossed a bifurcation and the fold just past it at once: the bridge
+    # just before the fold is then already unstable
+    dS(lam * (1.0 - 1e-3))
+    pre = cache["w"].x
+    if bifurcations and _stability(d, g, pre) < 0:
+        return _Branch(d, g, V, xs, _bisect_stability(d, g, V, xa, pre, wts), after,
+                       end="bifurcation")
     return _Branch(d, g, V, xs, nw.x, after)
+
+
+def _bisect_stability(d: _Disc, g: _Geo, V: float, xa: np.ndarray, xb: np.ndarray,
+                      wts: np.ndarray, tol: float = 1e-10) -> np.ndarray:
+    """The last stable bridge between a stable ``xa`` and an unstable ``xb``: bisection of
+    the det-J sign along their secant (``sec . x`` fixed, so a fold between them is no
+    obstacle), each bridge warm-started from the nearest one solved, to ``tol`` in the
+    secant parameter."""
+    sec = wts * (xb - xa)
+    base, span = float(sec @ xa), float(sec @ (xb - xa))
+    lo, hi, x_lo, x_hi = 0.0, 1.0, xa, xb
+    while hi - lo > tol:
+        mid = 0.5 * (lo + hi)
+        w = _newton(d, g, 0.5 * (x_lo + x_hi), (VolumeIs(V), Linear(sec, base + mid * span)))
+        # next to a bifurcation J is nearly singular along the asymmetric mode: Newton's
+        # step test can stall although the residual is at round-off; that bridge is solved
+        if not (w.converged or w.residual < 1e-9):
+            raise SolverError("meniscus: no converged bridge while locating the loss of "
+                              f"stability (secant parameter {mid:.6g})")
+        if _stability(d, g, w.x) > 0:
+            lo, x_lo = mid, w.x
+        else:
+            hi, x_hi = mid, w.x
+    return x_lo
 
 
 def _check_filling(g: _Geo, x: np.ndarray, d: _Disc) -> None:

@@ -114,6 +114,9 @@ class _Geo:
     tht: float
     thb: float
     bo: float
+    immersed: bool = False
+    """Allow a negative gap S: the sphere dips below the lower plane (a bridge on a
+    liquid film's surface, the inner meniscus of ``thinfilm``)."""
 
     # contact-line position and tangent angle on each solid, with d/dc --------------
     def top(self, c: float, s: float) -> tuple[np.ndarray, np.ndarray]:

@@ -116,5 +116,7 @@ class MeniscusModel(Model):
             case=scene.name, model=self.name, gap=gaps, force_viscous=None,
             force_capillary=fc, extras=ex,
             diagnostics={"newton_iterations": iters, "n_elements": n_el,
-                         "dofs": _disc(n_el).m, "continuation_points": len(br.xs)},
+                         "dofs": _disc(n_el).m, "continuation_points": len(br.xs),
+                         "rupture": ("symmetry-breaking bifurcation" if br.end == "bifurcation"
+                                     else "fold")},
         )

@@ -245,7 +245,7 @@ def _admissible(d: _Disc, g: _Geo, x: np.ndarray) -> bool:
         return False
     if np.min(d.at_q(r)) <= 0:
         return False
-    if x[d.iS] < -1e-12 and g.rt is not None:
+    if x[d.iS] < -1e-12 and g.rt is not None and not g.immersed:
         return False
     return g.valid_c(x[d.ic1], g.rt) and g.valid_c(x[d.ic2], g.rb)
 

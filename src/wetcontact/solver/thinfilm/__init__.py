@@ -3,7 +3,9 @@ r"""Thin-film solver: a sphere squeezing a liquid layer with a free surface (lev
 Modules: :mod:`.problem` (the film problem: grid, mobility, pressure, wetting),
 :mod:`.forces` (force split of a state), :mod:`.integrate` (BDF2/Newton stepper, error
 control, inertia; scipy BDF), :mod:`.leveling` (free-film references: J0 leveling rate,
-stable time steps), :mod:`.model` (the registered ``thinfilm`` Model).
+stable time steps), :mod:`.sharp` (the sharp wetting contact, the default: the
+finite-element meniscus joined to the film), :mod:`.model` (the registered ``thinfilm``
+Model).
 
 Physics
 -------
@@ -40,9 +42,26 @@ penalty), and uses :math:`\min(h, g)` so the penetration does not bias the flux.
 
 Contact at the wetted edge (setting ``contact``):
 
-- ``"meniscus"`` (default): a wetting liquid. Where the liquid fills the gap it replaces
-  the free surface and the dry sphere by a wetted sphere, a free-energy gain
-  :math:`W = \sigma(\cos\theta_s + \cos\theta_w)` per unit area (Young), added as
+- ``"sharp"`` (default, :mod:`.sharp`): the contact line is sharp and the meniscus is the
+  full Young-Laplace surface. The liquid under the sphere is split at the foot a(t), the
+  minimum of the liquid surface around the sphere: inside it a quasi-static
+  finite-element bridge (:mod:`wetcontact.solver.meniscus`) of uniform pressure p_e from
+  its contact line on the sphere (angle theta_s, wetted radius r_c an unknown) down to the
+  film at height h_b, which it meets tangentially, with the Reynolds squeeze flow in the
+  wetted gap (viscous part in closed form); outside it the film equation above with
+  h'(a) = 0, p(a) = p_e, on a grid moving with a (arbitrary Lagrangian-Eulerian). The
+  liquid volume closes the system to round-off. No penalty, no wetting width: no
+  regularisation parameter; the wetted zone is not gridded, so every gap S > 0 is
+  resolved. Checked in the tests against an independent shooting bridge of the same
+  volume and, in the slow approach, against the finite-element bridge on the bare wall
+  holding the same wetted volume (figures: ``benchmarks/bench_thinfilm.py``). Needs
+  theta_s < 90 deg (a sucking meniscus); the inner meniscus is quasi-static with the
+  static contact angle, so its capillary part carries an error of order
+  Ca = eta v/sigma.
+- ``"meniscus"``: a wetting liquid, regularised (with the penalty obstacle). Where the
+  liquid fills the gap it replaces the free surface and the dry sphere by a wetted
+  sphere, a free-energy gain :math:`W = \sigma(\cos\theta_s + \cos\theta_w)` per unit
+  area (Young), added as
   :math:`E_w = -\int W f(h/g)\,dA` with f the wetted fraction, a C1 step over
   :math:`1 - \lambda \le h/g \le 1` (``wetting_width`` lambda, the one numerical
   parameter of this contact; a diffuse-interface regularisation in the spirit of
@@ -58,9 +77,8 @@ Contact at the wetted edge (setting ``contact``):
   :math:`\sqrt{2W/\sigma}` (the small-slope Young condition of an adhesive obstacle
   problem); the model converges to that limit at first order in lambda when the grid
   resolves the zone (:func:`auto_cells`, cells ~ sqrt(R/delta)/lambda). Model error,
-  apart from lambda: the converged suction is 6-12 % weaker than the static
-  finite-element bridge (``meniscus``) holding the same wetted volume, because the
-  small-slope film cannot represent the inner meniscus, whose slopes are of order one.
+  apart from lambda: the small-slope film cannot represent the inner meniscus, whose
+  slopes are of order one (the reason for ``"sharp"``).
   With
   :math:`\theta_s = \pi, \theta_w = 0` (W = 0) the dynamics are exactly those of the
   tangential contact.
@@ -88,25 +106,27 @@ A small J0(k r) mode of a flat film decays at :math:`\sigma\delta^3k^4/(3\eta)` 
 
 Numerics
 --------
-Conservative finite volumes on [0, L], L = ``domain_factor`` times the pile-up wetted radius
-:math:`\sqrt{4R\delta}`: uniform cells of width dr, or (the presets) a graded grid with
-the uniform fine cells out to ``fine_factor`` times :math:`\sqrt{4R\delta}` (the contact
-zone and the whole path of the contact line) and cells growing by 3 % beyond
-(:func:`graded_faces`); py-pde's :class:`~pde.grids.PolarSymGrid` only carries the cell
-values for its solvers. The Laplacian and the flux are built on cell faces, so
-:math:`\sum_i V_i\,\dot h_i = 0` to round-off and the liquid volume is conserved by any
-linear multistep/Newton integrator. Boundary conditions: symmetry at r = 0; h' = 0 and
-zero flux at r = L (a closed dish, large enough that the displaced volume raises the far
-film by under 3 % of :math:`\delta` at the default size). Declared spatial order 2 (force
-and decay rate). Time integration: py-pde's :class:`~pde.solvers.ScipySolver` with BDF
-and the pentadiagonal Jacobian sparsity pattern (implicit, stable far beyond the explicit
-limit :math:`\Delta t \propto dr^4`); py-pde's explicit Euler/RK and fixed-point implicit
-Euler are kept for the stability comparison, together with :func:`newton_euler_step`,
-a backward-Euler step solved by Newton's method on the same sparse Jacobian. The default
-integrator is :func:`implicit_run`: variable-step BDF2 with Newton on the banded
-Jacobian and the gap S as the clock; it also couples the sphere's inertia, m dv/dt = -F.
+Penalty contacts (the sharp contact's numerics: :mod:`.sharp`): conservative finite volumes
+on [0, L], L = ``domain_factor`` times the pile-up wetted radius :math:`\sqrt{4R\delta}`:
+uniform cells of width dr, or (the presets) a graded grid with the uniform fine cells out
+to ``fine_factor`` times :math:`\sqrt{4R\delta}` (the contact zone and the whole path of
+the contact line) and cells growing by 3 % beyond (:func:`graded_faces`); py-pde's
+:class:`~pde.grids.PolarSymGrid` only carries the cell values for its solvers. The
+Laplacian and the flux are built on cell faces, so :math:`\sum_i V_i\,\dot h_i = 0` to
+round-off and the liquid volume is conserved by any linear multistep/Newton integrator.
+Boundary conditions: symmetry at r = 0; h' = 0 and zero flux at r = L (a closed dish, large
+enough that the displaced volume raises the far film by under 3 % of :math:`\delta` at the
+default size). Declared spatial order 2 (force and decay rate). Time integration: py-pde's
+:class:`~pde.solvers.ScipySolver` with BDF and the pentadiagonal Jacobian sparsity pattern
+(implicit, stable far beyond the explicit limit :math:`\Delta t \propto dr^4`); py-pde's
+explicit Euler/RK and fixed-point implicit Euler are kept for the stability comparison,
+together with :func:`newton_euler_step`, a backward-Euler step solved by Newton's method on
+the same sparse Jacobian. The default integrator is :func:`implicit_run`: variable-step
+BDF2 with Newton on the banded Jacobian and the gap S as the clock; it also couples the
+sphere's inertia, m dv/dt = -F.
 
-Honest limits: the squeeze pressure at gap S lives within :math:`r \lesssim \sqrt{2RS}`;
+Honest limits (penalty contacts; the sharp contact integrates the wetted zone in closed
+form): the squeeze pressure at gap S lives within :math:`r \lesssim \sqrt{2RS}`;
 a preset refuses gaps where this spans fewer than 4 cells (:func:`smallest_resolved_gap`,
 ``ValidityError`` naming ``lubrication``). The error estimate of the model compares the run
 with a second one at half the contact resolution (lambda doubled) and scales the
@@ -152,14 +172,17 @@ from wetcontact.solver.thinfilm.model import (
     validity_reason,
 )
 from wetcontact.solver.thinfilm.problem import FilmProblem, graded_cells, graded_faces
+from wetcontact.solver.thinfilm.sharp import InnerMeniscus, SharpFilm, sharp_run
 
 _leveling_problem = leveling_problem  # old private name, still used by tables/thinfilm.py
 
 __all__ = [
     "CA_MAX", "CA_STAR_MAX", "CELLS_ACROSS_CONTACT", "CELLS_PER_WIDTH", "DELTA_OVER_R_MAX",
-    "FilmProblem", "RunResult", "Snapshot", "ThinFilm", "ThinFilmPDE", "auto_cells",
+    "FilmProblem", "InnerMeniscus", "RunResult", "SharpFilm", "Snapshot", "ThinFilm",
+    "ThinFilmPDE", "auto_cells",
     "bessel_mode_decay", "explicit_stable_dt", "graded_cells", "graded_faces", "implicit_run",
     "implicit_stable_dt", "leveling_problem", "newton_euler_step", "penetration_run",
-    "problem_from_scene", "reduced_capillary_number", "smallest_resolved_gap", "snapshot",
+    "problem_from_scene", "reduced_capillary_number", "sharp_run", "smallest_resolved_gap",
+    "snapshot",
     "sphere_mass", "validity_reason",
 ]

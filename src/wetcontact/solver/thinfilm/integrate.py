@@ -73,6 +73,8 @@ class RunResult:
     min_gap: float = 0.0
     newton_iterations: int = 0
     rejected_steps: int = 0
+    details: dict[float, dict[str, float]] = field(default_factory=dict)
+    """Per output gap, model-specific state (the sharp contact's inner bridge)."""
 
     @property
     def volume_drift(self) -> float:

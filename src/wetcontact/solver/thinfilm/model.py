@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -14,6 +15,7 @@ from wetcontact.scene import Scene
 from wetcontact.solver.thinfilm.integrate import RunResult, implicit_run, penetration_run
 from wetcontact.solver.thinfilm.leveling import bessel_mode_decay, leveling_problem
 from wetcontact.solver.thinfilm.problem import FilmProblem, graded_cells
+from wetcontact.solver.thinfilm.sharp import SharpFilm, sharp_run
 
 # ---- validity limits (measured, see tables/thinfilm.py and the benchmark) ---------
 DELTA_OVER_R_MAX = 0.12
@@ -47,10 +49,26 @@ to rtol/eps = 10 %: on the water case (default preset) the viscous force jumped 
 step tolerance relative to the penetration fixes it but was over 10x slower; until then
 such gaps are refused (naming ``lubrication``) instead of returned wrong."""
 
-ORDER_OF_CONTACT = {"meniscus": 1.0, "tangential": 0.7}
+ORDER_OF_CONTACT = {"meniscus": 1.0, "tangential": 0.7, "sharp": 1.0}
 """Convergence order of the force in the contact resolution (wetting width lambda for the
 meniscus, dr for the tangential contact; measured by the benchmark, 1.13 and 0.7): the
-two-resolution error estimate divides F(2x) - F(x) by 2^p - 1."""
+two-resolution error estimate divides F(2x) - F(x) by 2^p - 1. The sharp contact's
+companion run halves the film cells and the bridge's elements and relaxes rtol tenfold at
+once; p = 1 there is a conservative declaration (its film is second order in space and
+time, its bridge fourth order)."""
+
+FIRST_DIP = 1e-2
+"""The sharp contact's run starts at S = delta (1 - FIRST_DIP) from the flat film with the
+zero-volume bridge (an initial condition, not a regularisation: the meniscus forms within
+the first step). Measured on the water case (40 gaps, default resolution): against a start
+at 1e-3 the force differs by 0.31 %, 0.085 %, 0.018 % at dips 3e-2, 1e-2, 3e-3 (at the first
+gap after touch; under 0.02 % below S = 0.5 delta), order about 1.2. The error estimate's
+companion run starts at 3 FIRST_DIP, so the estimate covers it (0.34 % there)."""
+
+CONTACTS = ("sharp", "meniscus", "tangential")
+"""``sharp`` (default): the quasi-static finite-element meniscus joined to the film at its
+minimum (:mod:`.sharp`); ``meniscus``: the regularised wetting energy of width lambda;
+``tangential``: the non-wetting tangential contact (both penalty obstacles)."""
 
 SAFETY_FACTOR = 1.5
 """Factor on the two-resolution (Richardson) error estimate, as in Roache's grid
@@ -169,27 +187,34 @@ def sphere_mass(scene: Scene, mass: float | None = None) -> float:
 
 @register
 class ThinFilm(Model):
-    """Sphere squeezing a liquid film with a free surface (thin-film equation, py-pde)."""
+    """Sphere squeezing a liquid film with a free surface: the thin-film equation joined
+    to the quasi-static finite-element meniscus at a sharp contact line (default), or the
+    penalty-obstacle contacts ``meniscus``/``tangential``."""
 
     name = "thinfilm"
     level = 2
     component = "both"
     validity = (f"sphere-wall, film; delta/R <= {DELTA_OVER_R_MAX}, Ca <= {CA_MAX}, "
-                f"Ca* = 3 eta v R^2/(sigma delta^2) <= {CA_STAR_MAX:g}; approach (v > 0)")
+                f"Ca* = 3 eta v R^2/(sigma delta^2) <= {CA_STAR_MAX:g}; approach (v > 0); "
+                "sharp contact (default): theta_s < 90 deg, capillary part quasi-static "
+                "(error of order Ca)")
     order = 2.0
     order_tolerance = 0.3
     reference_rank = {"viscous": 20}  # its capillary part is not compared with closures
-    reference = ("thin-film equation (Oron, Davis & Bankoff 1997) with a penalty "
-                 "obstacle; limits: Pitois et al. 2000")
+    reference = ("thin-film equation (Oron, Davis & Bankoff 1997) joined at its minimum to "
+                 "the finite-element Young-Laplace meniscus (sharp contact; or a penalty "
+                 "obstacle); limits: Pitois et al. 2000")
     presets = {
-        "fast": {"wetting_width": 0.2, "penetration": 3e-3, "rtol": 1e-4,
-                 "domain_factor": 3.0, "fine_factor": 1.3},
-        "default": {"wetting_width": 0.05, "penetration": 1e-3, "rtol": 1e-4,
-                    "domain_factor": 3.0, "fine_factor": 1.3},
-        # rtol 1e-5 with penetration 3e-4 (the old accurate preset) took 1643 s on the
-        # water case on a loaded machine for no gain over the lambda error (2 %)
-        "accurate": {"wetting_width": 0.025, "penetration": 1e-3, "rtol": 1e-4,
-                     "domain_factor": 3.0, "fine_factor": 1.3},
+        # film_cells, elements, rtol: the sharp contact (default; its bridge's force
+        # moves by 6e-8 from 16 to 64 elements, 3e-9 from 32); wetting_width,
+        # penetration, fine_factor: the penalty contacts ("meniscus", "tangential")
+        "fast": {"film_cells": 40, "elements": 16, "rtol": 1e-3, "wetting_width": 0.2,
+                 "penetration": 3e-3, "domain_factor": 3.0, "fine_factor": 1.3},
+        "default": {"film_cells": 120, "elements": 32, "rtol": 3e-4, "wetting_width": 0.05,
+                    "penetration": 1e-3, "domain_factor": 3.0, "fine_factor": 1.3},
+        "accurate": {"film_cells": 240, "elements": 64, "rtol": 1e-4,
+                     "wetting_width": 0.025, "penetration": 1e-3, "domain_factor": 3.0,
+                     "fine_factor": 1.3},
     }
 
     def check(self, scene: Scene) -> None:
@@ -211,17 +236,7 @@ class ThinFilm(Model):
                                  reduced_capillary_number(scene))
         if reason:
             raise ValidityError(self.name, reason, use_instead="stokes")
-        s_pen = SMALLEST_GAP_OVER_DELTA * scene.film_thickness
-        if float(np.min(scene.gap_array)) < s_pen:
-            raise ValidityError(
-                self.name, f"gap S = {float(np.min(scene.gap_array)):.3g} m is below "
-                f"{SMALLEST_GAP_OVER_DELTA:g} delta = {s_pen:.3g} m, where the penalty "
-                "contact's pressure is not controlled", use_instead="lubrication")
-        finest = self._problem(scene, **self.presets["accurate"])
-        s_min = smallest_resolved_gap(finest)
-        if float(np.min(scene.gap_array)) < s_min:
-            raise ValidityError(self.name, self._too_small(scene, s_min, "accurate"),
-                                use_instead="lubrication")
+        # the penalty contacts' gap limits depend on the contact setting: see _force
 
     @staticmethod
     def _too_small(scene: Scene, s_min: float, preset: str) -> str:
@@ -241,37 +256,89 @@ class ThinFilm(Model):
 
     def _force(self, scene: Scene, preset: str, cells: int | None = None,
                penetration: float = 1e-3, rtol: float = 1e-4, domain_factor: float = 3.0,
-               gap_shape: str = "parabolic", contact: str = "meniscus",
+               gap_shape: str = "parabolic", contact: str = "sharp",
                wall_angle: str = "film", wetting_width: float = 0.05,
                integrator: str = "bdf2", inertia: bool = False, mass: float | None = None,
                profile_gaps: Sequence[float] | None = None, progress: bool = False,
                error_estimate: bool = True, fine_factor: float | None = None,
-               growth: float = 1.03, **opts: Any) -> ForceCurve:
+               growth: float = 1.03, film_cells: int = 80, elements: int = 64,
+               **opts: Any) -> ForceCurve:
         if opts:
             raise InputError("thinfilm: unknown settings " + ", ".join(sorted(opts))
-                             + "; allowed: cells, penetration, rtol, domain_factor, "
-                             "gap_shape, contact, wall_angle, wetting_width, integrator, "
-                             "inertia, mass, profile_gaps, progress, error_estimate, fine_factor, "
-                             "growth")
+                             + "; allowed: contact, film_cells, elements, cells, penetration, "
+                             "rtol, domain_factor, gap_shape, wall_angle, wetting_width, "
+                             "integrator, inertia, mass, profile_gaps, progress, "
+                             "error_estimate, fine_factor, growth")
+        if contact not in CONTACTS:
+            raise InputError(f"thinfilm: contact = {contact!r}; allowed: "
+                             + ", ".join(repr(c) for c in CONTACTS))
         if integrator not in ("bdf2", "scipy"):
             raise InputError(f"thinfilm: integrator = {integrator!r}; allowed: 'bdf2' "
                              "(own BDF2 + Newton), 'scipy' (py-pde ScipySolver, BDF)")
-        settings = {"cells": cells, "penetration": penetration, "domain_factor": domain_factor,
-                    "gap_shape": gap_shape, "contact": contact, "wall_angle": wall_angle,
-                    "wetting_width": wetting_width, "fine_factor": fine_factor,
-                    "growth": growth}
-        problem = self._problem(scene, **settings)
-        s_min = smallest_resolved_gap(problem)
-        if float(np.min(scene.gap_array)) < s_min:
-            raise ValidityError(self.name, self._too_small(scene, s_min, preset)
-                                + f" at {problem.cells} cells; a finer preset or more cells "
-                                "resolve smaller gaps", use_instead="lubrication")
         gaps = scene.gap_array
         if profile_gaps is None:
             profile_gaps = [float(np.max(gaps)), float(np.median(gaps)), float(np.min(gaps))]
         m = sphere_mass(scene, mass) if (inertia or mass is not None) else None
         if integrator == "scipy" and m is not None:
             raise InputError("thinfilm: inertia needs integrator = 'bdf2'")
+        if contact == "sharp":
+            if integrator != "bdf2":
+                raise InputError("thinfilm: contact = 'sharp' needs integrator = 'bdf2'")
+            if cells is not None:
+                raise InputError(f"thinfilm: cells = {cells!r} is a setting of the penalty "
+                                 "contacts ('meniscus', 'tangential'); the sharp contact's "
+                                 "film takes film_cells (an integer >= 8)")
+            sharp = _sharp_problem(self.name, scene, film_cells, elements, domain_factor,
+                                   gap_shape)
+            delta = sharp.film_thickness
+            early = gaps[(gaps < delta) & (gaps > delta * (1.0 - 3.0 * FIRST_DIP))]
+            if early.size:
+                raise ValidityError(
+                    self.name, f"gap S = {float(early[0]):.6g} m is within "
+                    f"{3 * FIRST_DIP:g} delta of first touch (delta = {delta:g} m), where the "
+                    "sharp contact's meniscus is still forming from the undisturbed film "
+                    f"(its run starts at delta (1 - {FIRST_DIP:g})); S = delta itself is 0",
+                    use_instead="lubrication")
+
+            def run_sharp(prob: SharpFilm, tol: float, dip: float) -> RunResult:
+                return sharp_run(prob, gaps, profile_gaps=profile_gaps, rtol=tol, mass=m,
+                                 first_dip=dip)
+
+            res = run_sharp(sharp, rtol, FIRST_DIP)
+            estimate = None
+            if error_estimate:
+                coarse = replace(sharp, cells=max(8, sharp.cells // 2),
+                                 n_elements=max(16, sharp.n_elements // 2))
+                estimate = _two_resolution_estimate(
+                    res, run_sharp(coarse, 10.0 * rtol, 3.0 * FIRST_DIP),
+                    ORDER_OF_CONTACT["sharp"])
+            diag = {"cells": sharp.cells, "elements": sharp.n_elements,
+                    "domain_m": sharp.domain, "smallest_resolved_gap_m": 0.0,
+                    "error_estimate_method": (
+                        f"two resolutions: {SAFETY_FACTOR} |F(x) - F(2x)|/(2^p - 1), "
+                        f"p = {ORDER_OF_CONTACT['sharp']}, 2x = half the film cells and "
+                        "bridge elements, rtol x 10, first dip x 3") if error_estimate
+                    else "none", "first_dip": FIRST_DIP}
+            foot = [res.details.get(float(g), {}).get("foot_radius", 0.0) for g in gaps]
+            return _curve(self.name, scene, res, sharp.velocity, m, estimate, diag,
+                          {"foot_radius": np.array(foot, dtype=float)})
+        settings = {"cells": cells, "penetration": penetration, "domain_factor": domain_factor,
+                    "gap_shape": gap_shape, "contact": contact, "wall_angle": wall_angle,
+                    "wetting_width": wetting_width, "fine_factor": fine_factor,
+                    "growth": growth}
+        s_pen = SMALLEST_GAP_OVER_DELTA * float(scene.film_thickness or 0.0)
+        if float(np.min(gaps)) < s_pen:
+            raise ValidityError(
+                self.name, f"gap S = {float(np.min(gaps)):.3g} m is below "
+                f"{SMALLEST_GAP_OVER_DELTA:g} delta = {s_pen:.3g} m, where the penalty "
+                f"contact's pressure ({contact!r}) is not controlled",
+                use_instead="lubrication")
+        problem = self._problem(scene, **settings)
+        s_min = smallest_resolved_gap(problem)
+        if float(np.min(gaps)) < s_min:
+            raise ValidityError(self.name, self._too_small(scene, s_min, preset)
+                                + f" at {problem.cells} cells; a finer preset or more cells "
+                                "resolve smaller gaps", use_instead="lubrication")
 
         def run(prob: FilmProblem) -> RunResult:
             if integrator == "scipy":
@@ -286,38 +353,14 @@ class ThinFilm(Model):
             coarse = self._problem(scene, **_coarser(settings, problem.cells))
             estimate = _two_resolution_estimate(res, run(coarse),
                                                 ORDER_OF_CONTACT[problem.contact])
-        snaps = res.snapshots
-        speeds = res.speeds or [problem.velocity] * len(snaps)
-        reached = res.reached or [True] * len(snaps)
-        return ForceCurve(
-            case=scene.name, model=self.name, gap=gaps,
-            force_viscous=np.array([s.force_viscous for s in snaps]),
-            force_capillary=np.array([s.force_capillary for s in snaps]),
-            extras={"wetted_radius": np.array([s.wetted_radius for s in snaps]),
-                    "laplace_pressure": np.array([s.edge_pressure for s in snaps]),
-                    "max_slope": np.array([s.max_slope for s in snaps]),
-                    "max_penetration": np.array([s.max_penetration for s in snaps]),
-                    "sphere_speed": np.array(speeds, dtype=float),
-                    "reached": np.array(reached, dtype=float)},
-            error_estimate=estimate,
-            diagnostics={"steps": res.steps, "steps_shortened_by_rejection":
-                         res.steps_shortened, "rhs_evaluations": res.rhs_evaluations,
-                         "volume_drift": res.volume_drift, "cells": problem.cells,
-                         "domain_m": problem.domain, "dr_m": problem.dr,
-                         "smallest_resolved_gap_m": s_min,
-                         "fine_radius_m": problem.fine_radius or problem.domain,
-                         "error_estimate_method": (
-                             f"two resolutions: {SAFETY_FACTOR} |F(x) - F(2x)|/(2^p - 1), "
-                             f"p = {ORDER_OF_CONTACT[problem.contact]}, x = the contact "
-                             "resolution")
-                         if error_estimate else "none",
-                         "min_gap_m": res.min_gap if m is not None else float(np.min(gaps)),
-                         "mass_kg": m if m is not None else 0.0,
-                         "profile_r_m": res.r.tolist(),
-                         "profile_gaps_m": sorted(res.profiles, reverse=True),
-                         "profiles_h_m": [res.profiles[g].tolist()
-                                          for g in sorted(res.profiles, reverse=True)]},
-        )
+        diag = {"cells": problem.cells, "domain_m": problem.domain, "dr_m": problem.dr,
+                "smallest_resolved_gap_m": s_min,
+                "fine_radius_m": problem.fine_radius or problem.domain,
+                "error_estimate_method": (
+                    f"two resolutions: {SAFETY_FACTOR} |F(x) - F(2x)|/(2^p - 1), "
+                    f"p = {ORDER_OF_CONTACT[problem.contact]}, x = the contact "
+                    "resolution") if error_estimate else "none"}
+        return _curve(self.name, scene, res, problem.velocity, m, estimate, diag, {})
 
     def convergence_data(self) -> tuple[np.ndarray, np.ndarray]:
         """Relative error of the J0-mode decay rate against sigma delta^3 k^4/(3 eta)
@@ -374,3 +417,61 @@ def _check_fine_zone(problem: FilmProblem, res: RunResult) -> None:
     if r_w > problem.fine_radius:
         raise SolverError(f"thinfilm: the wetted radius {r_w:.3g} m left the fine zone "
                           f"(fine_radius = {problem.fine_radius:.3g} m); raise fine_factor")
+
+
+def _sharp_problem(name: str, scene: Scene, film_cells: int, elements: int,
+                   domain_factor: float, gap_shape: str) -> SharpFilm:
+    """The :class:`SharpFilm` of a film scene; a sphere angle >= 90 deg is refused (the
+    sharp contact joins a wetting, sucking meniscus to the film)."""
+    assert scene.film_thickness is not None
+    if not scene.contact_angle_sphere < 0.5 * math.pi:
+        raise ValidityError(name, f"contact angle on the sphere "
+                            f"{math.degrees(scene.contact_angle_sphere):.4g} deg >= 90 deg: "
+                            "the sharp contact needs a wetting liquid (setting contact = "
+                            "'tangential' models a non-wetting sphere)",
+                            use_instead="lubrication")
+    if not (isinstance(film_cells, int | np.integer) and film_cells >= 8):
+        raise InputError(f"thinfilm: film_cells = {film_cells!r}; allowed: an integer >= 8")
+    if not (isinstance(elements, int | np.integer) and 16 <= elements <= 1024):
+        raise InputError(f"thinfilm: elements = {elements!r}; allowed: an integer in "
+                         "[16, 1024]")
+    if not 1.0 <= domain_factor <= 20.0:
+        raise InputError(f"thinfilm: domain_factor = {domain_factor!r}; allowed: [1, 20]")
+    r_pile = math.sqrt(4.0 * scene.radius * scene.film_thickness)
+    return SharpFilm(radius=scene.radius, viscosity=scene.viscosity,
+                     surface_tension=scene.surface_tension, density=scene.density,
+                     gravity=scene.gravity, film_thickness=scene.film_thickness,
+                     velocity=scene.velocity, domain=domain_factor * r_pile,
+                     angle_sphere=scene.contact_angle_sphere, cells=int(film_cells),
+                     gap_shape=gap_shape, n_elements=int(elements))
+
+
+def _curve(name: str, scene: Scene, res: RunResult, velocity: float, m: float | None,
+           estimate: np.ndarray | None, diag: dict[str, Any],
+           extra: dict[str, np.ndarray]) -> ForceCurve:
+    """The :class:`ForceCurve` of a run (both contacts)."""
+    snaps = res.snapshots
+    speeds = res.speeds or [velocity] * len(snaps)
+    reached = res.reached or [True] * len(snaps)
+    gaps = scene.gap_array
+    return ForceCurve(
+        case=scene.name, model=name, gap=gaps,
+        force_viscous=np.array([s.force_viscous for s in snaps]),
+        force_capillary=np.array([s.force_capillary for s in snaps]),
+        extras={"wetted_radius": np.array([s.wetted_radius for s in snaps]),
+                "laplace_pressure": np.array([s.edge_pressure for s in snaps]),
+                "max_slope": np.array([s.max_slope for s in snaps]),
+                "max_penetration": np.array([s.max_penetration for s in snaps]),
+                "sphere_speed": np.array(speeds, dtype=float),
+                "reached": np.array(reached, dtype=float), **extra},
+        error_estimate=estimate,
+        diagnostics={"steps": res.steps, "steps_shortened_by_rejection":
+                     res.steps_shortened, "rhs_evaluations": res.rhs_evaluations,
+                     "volume_drift": res.volume_drift, **diag,
+                     "min_gap_m": res.min_gap if m is not None else float(np.min(gaps)),
+                     "mass_kg": m if m is not None else 0.0,
+                     "profile_r_m": res.r.tolist(),
+                     "profile_gaps_m": sorted(res.profiles, reverse=True),
+                     "profiles_h_m": [res.profiles[g].tolist()
+                                      for g in sorted(res.profiles, reverse=True)]},
+    )
