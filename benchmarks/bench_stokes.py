@@ -22,8 +22,23 @@ Writes ``benchmarks/results/stokes.json`` and ``stokes.png``:
 * ``unequal``: two unequal spheres (R2/R = 0.5, 2, 5) from S/R = 1e-3 to 1: the remainder
   after Jeffrey & Onishi's singular terms and the cost per gap (cold: meshing included).
 
-Run: ``python benchmarks/bench_stokes.py [--quick] [--repeats N] [--part all|slip]``. The
-machine is shared: timings are noisy, the median damps that.
+``--part bridge`` (kept in the same JSON; chart ``stokes_bridge.png``), quasi-static liquid
+bridges (theta = 20 deg on both solids, slip 1 nm = 1e-6 R on both, R = 1 mm):
+
+* ``bridge_cost``: every preset, sphere-wall and two equal spheres, S/R = 1e-3 and 1e-2:
+  wall time of one gap (three meniscus solves, gmsh meshing and the Stokes solve: every
+  bridge mesh is new), dofs, and the difference from ``accurate``;
+* ``film_cost``: the flat-top film domain at the default preset, cold (meshing included);
+* ``bridge_vs_lubrication``: V/R^3 in {1e-4, 1e-3, 1e-2} and S/R from 1e-4 to 3e-2 at the
+  default preset: F_stokes over the Reynolds force of the same wetted radius (the sphere's
+  contact radius, pressure released there, same slip), over the ``lubrication`` model
+  (wetted radius from the volume) and over ``reynolds-finite`` (Pitois' factor), and the
+  Huh-Scriven contact-line slope of each bridge;
+* ``bridge_slip``: S/R = 1e-3 and 1e-2, V/R^3 = 1e-3, b/R from 1e-3 to 1e-7 on both solids:
+  F - F_lub against ln(1/b) and its slope against the Huh-Scriven / Cox prediction.
+
+Run: ``python benchmarks/bench_stokes.py [--quick] [--repeats N] [--part all|slip|bridge]``.
+The machine is shared: timings are noisy, the median damps that.
 """
 
 from __future__ import annotations
@@ -86,10 +101,14 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="two gaps, three levels, 2 repeats")
     ap.add_argument("--repeats", type=int, default=5)
-    ap.add_argument("--part", choices=("all", "slip"), default="all",
-                    help="'slip': only the slip, Basset and unequal-sphere sections")
+    ap.add_argument("--part", choices=("all", "slip", "bridge"), default="all",
+                    help="'slip': only the slip, Basset and unequal-sphere sections; "
+                    "'bridge': only the liquid-bridge sections")
     args = ap.parse_args()
     repeats = 2 if args.quick else args.repeats
+    if args.part == "bridge":
+        bridge_part(args.quick)
+        return
     if args.part == "slip":
         slip_part(args.quick, repeats)
         return
@@ -225,6 +244,185 @@ def slip_part(quick: bool, repeats: int) -> None:
     write_json("stokes", data)
     plot_slip(study, RESULTS / "stokes_slip.png")
     print("observed order (Basset, slip b = R):", order)
+
+
+TH_BRIDGE = 20.0
+B_BRIDGE = 1e-9
+
+
+def bridge_scene(kind: str, s: float, vol: float, b: float = B_BRIDGE, radius2: float = 1.0):
+    geo = {"kind": kind, "radius": R} | (
+        {"radius2": radius2 * R} if kind == "sphere-sphere" else {})
+    return scene_from_dict({
+        "name": f"bench-bridge-{kind}-{s:g}-{vol:g}", "geometry": geo,
+        "amount": {"bridge_volume": vol * R**3},
+        "liquid": {"viscosity": ETA, "surface_tension": 0.072, "density": 998.0,
+                   "contact_angle": TH_BRIDGE, "slip_length_sphere": b,
+                   "slip_length_wall": b},
+        "motion": {"velocity": V, "gaps": [s * R]}})
+
+
+def _lub_same_radius(kind: str, s: float, rc: float, b: float) -> float:
+    """Reynolds force (units eta R v) of the wetted radius rc/R, pressure released there."""
+    from wetcontact.solver.lubrication import GapProfile, solve_reynolds
+
+    prof = (GapProfile.sphere_wall(s, 1.0) if kind == "sphere-wall"
+            else GapProfile.sphere_sphere(s, 1.0, 1.0))
+    sol = solve_reynolds(prof, viscosity=1.0, velocity=1.0, wetted_radius=rc,
+                         slip_lengths=(b, b))
+    return float(sol.force_viscous[0])
+
+
+def bridge_part(quick: bool) -> None:
+    """Bridge cost per gap, film cost, comparison with lubrication, slip-length study."""
+    import json
+    import os
+
+    from wetcontact.solver.meniscus import Bridge
+    from wetcontact.solver.stokes_bridge import contact_line_slope, solve_bridge
+
+    os.environ.setdefault("WETCONTACT_CACHE", tempfile.mkdtemp(prefix="wetcontact-bench-"))
+    model = get_model("stokes")
+    unit = ETA * R * V
+    cost = []
+    for kind, q in (("sphere-wall", 1.0), ("sphere-sphere", 1.0), ("sphere-sphere", 2.0)):
+        for s in ([1e-3] if quick else [1e-3, 1e-2]):
+            sc = bridge_scene(kind, s, 1e-3, radius2=q)
+            rows = {}
+            for preset in ("fast", "default", "accurate"):
+                t0 = time.perf_counter()
+                c = model.force(sc, preset=preset)
+                rows[preset] = (time.perf_counter() - t0, c)
+            acc = rows["accurate"][1].force_viscous[0]
+            for preset, (t, c) in rows.items():
+                row = {"kind": kind, "r2_over_r": q, "method": c.diagnostics["method"],
+                       "s_over_r": s, "v_over_r3": 1e-3, "preset": preset,
+                       "time_s": t, "dofs": c.diagnostics["dofs"][0],
+                       "f_over_unit": c.force_viscous[0] / unit,
+                       "diff_from_accurate": c.force_viscous[0] / acc - 1,
+                       "reaction_over_dissipation": c.extras["force_reaction"][0]
+                       / c.force_viscous[0] - 1}
+                cost.append(row)
+                print(f"bridge {kind} R2/R={q:g} S/R={s:g} {preset:8s} t={t:.2f}s "
+                      f"dofs={row['dofs']} "
+                      f"diff={row['diff_from_accurate']:+.1e}", flush=True)
+
+    film = []
+    for s in ([1e-2] if quick else [1e-3, 1e-2, 0.1]):
+        sc = scene_from_dict({
+            "name": "bench-film", "geometry": {"kind": "sphere-wall", "radius": R},
+            "amount": {"film_thickness": 2 * s * R},
+            "liquid": {"viscosity": ETA, "surface_tension": 0.072, "density": 998.0},
+            "motion": {"velocity": V, "gaps": [s * R]}})
+        os.environ["WETCONTACT_CACHE"] = tempfile.mkdtemp(prefix="wetcontact-bench-")
+        t0 = time.perf_counter()
+        c = model.force(sc, preset="default")
+        film.append({"s_over_r": s, "film_over_r": 2 * s, "preset": "default",
+                     "time_cold_s": time.perf_counter() - t0, "dofs": c.diagnostics["dofs"][0],
+                     "film_top": c.settings["film_top"]})
+        print("film", film[-1], flush=True)
+
+    comp = []
+    lub_model, rf_model = get_model("lubrication"), get_model("reynolds-finite")
+    vols = [1e-3] if quick else [1e-4, 1e-3, 1e-2]
+    gaps = [1e-3, 1e-2] if quick else [1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2]
+    for vol in vols:
+        for s in gaps:
+            sc = bridge_scene("sphere-wall", s, vol)
+            c = model.force(sc, preset="default")
+            f = c.force_viscous[0]
+            if f == 0.0:
+                continue  # past rupture
+            br = Bridge.from_scene(sc)
+            fl = solve_bridge(br, s * R, vol * R**3, (B_BRIDGE, B_BRIDGE),
+                              Resolution(n_gap=4, h_sphere=0.05, growth=0.06, far=1e3),
+                              contact_size=2 * B_BRIDGE / R)
+            rc = fl.motion.contact_radius[1]
+            same = _lub_same_radius("sphere-wall", s, rc, B_BRIDGE / R) * unit
+            row = {"v_over_r3": vol, "s_over_r": s, "f_over_unit": f / unit,
+                   "over_lub_same_radius": f / same,
+                   "hs_slope_over_f": contact_line_slope(fl.motion, math.radians(TH_BRIDGE),
+                                                         math.radians(TH_BRIDGE)) * unit / f,
+                   "contact_radius": rc, "contact_speed": list(fl.motion.contact_speed)}
+            for name, m in (("lubrication", lub_model), ("reynolds-finite", rf_model)):
+                why = m.applicable(sc)
+                row[f"over_{name}"] = (None if why else
+                                       f / float(m.force(sc, preset="default").force_viscous[0]))
+            comp.append(row)
+            print(f"V={vol:g} S/R={s:g} F/F_lub(rc)={row['over_lub_same_radius']:.4f} "
+                  f"lubrication={row['over_lubrication']} "
+                  f"reynolds-finite={row['over_reynolds-finite']}", flush=True)
+
+    slip = []
+    for s in ([1e-3] if quick else [1e-3, 1e-2]):
+        for b in ([1e-4, 1e-6] if quick else [1e-3, 1e-4, 1e-5, 1e-6, 1e-7]):
+            br = Bridge(radius=1.0, contact_angle1=math.radians(TH_BRIDGE),
+                        contact_angle2=math.radians(TH_BRIDGE), surface_tension=1.0)
+            t0 = time.perf_counter()
+            fl = solve_bridge(br, s, 1e-3, (b, b),
+                              Resolution(n_gap=4, h_sphere=0.05, growth=0.06, far=1e3),
+                              contact_size=max(2 * b, 1e-7))
+            t = time.perf_counter() - t0
+            lub = _lub_same_radius("sphere-wall", s, fl.motion.contact_radius[1], b)
+            slip.append({"s_over_r": s, "b_over_r": b, "f": fl.force, "f_lub": lub,
+                         "excess": fl.force - lub, "time_s": t,
+                         "hs_slope": contact_line_slope(fl.motion, math.radians(TH_BRIDGE),
+                                                        math.radians(TH_BRIDGE))})
+            print(f"slip S/R={s:g} b/R={b:g} F={fl.force:.6g} F_lub={lub:.6g} "
+                  f"HS slope={slip[-1]['hs_slope']:.4g} t={t:.2f}s", flush=True)
+    for s in sorted({r["s_over_r"] for r in slip}):
+        rows = sorted((r for r in slip if r["s_over_r"] == s), key=lambda r: -r["b_over_r"])
+        for a, c in zip(rows, rows[1:], strict=False):
+            c["measured_slope"] = (c["excess"] - a["excess"]) / math.log(a["b_over_r"]
+                                                                        / c["b_over_r"])
+            c["slope_ratio"] = c["measured_slope"] / c["hs_slope"]
+
+    path = RESULTS / "stokes.json"
+    data = json.loads(path.read_text()) if path.exists() else {"benchmark": "stokes"}
+    data.update({"bridge_cost": cost, "film_cost": film, "bridge_vs_lubrication": comp,
+                 "bridge_slip": slip, "bridge_quick": quick,
+                 "bridge_note": "shared 2-core machine (other agents running): timings "
+                 "loaded; theta = 20 deg, b = 1 nm = 1e-6 R unless stated"})
+    write_json("stokes", data)
+    plot_bridge(comp, slip, RESULTS / "stokes_bridge.png")
+
+
+def plot_bridge(comp: list[dict], slip: list[dict], out: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4.2))
+    styles = ["o-", "s--", "^:"]
+    for i, vol in enumerate(sorted({r["v_over_r3"] for r in comp})):
+        rows = [r for r in comp if r["v_over_r3"] == vol]
+        x = [r["s_over_r"] for r in rows]
+        a1.loglog(x, [r["over_lub_same_radius"] - 1 for r in rows], styles[i % 3],
+                  color=f"C{i}", label=f"V/R^3 = {vol:g}: F/F_lub(r_c) - 1")
+        a1.loglog(x, [abs(r["over_reynolds-finite"] - 1) if r["over_reynolds-finite"]
+                      else float("nan") for r in rows], styles[i % 3], color=f"C{i}",
+                  alpha=0.45, label=f"V/R^3 = {vol:g}: |F/F_reynolds-finite - 1|")
+    a1.axhline(0.01, color="k", lw=0.8, ls="-.", label="1 %")
+    a1.set_xlabel("S / R")
+    a1.set_ylabel("relative difference")
+    a1.set_title("Stokes bridge vs lubrication (sphere-wall, 20 deg, b = 1e-6 R)", fontsize=9)
+    a1.legend(fontsize=6)
+    for i, s in enumerate(sorted({r["s_over_r"] for r in slip})):
+        rows = sorted((r for r in slip if r["s_over_r"] == s), key=lambda r: -r["b_over_r"])
+        x = [math.log(1 / r["b_over_r"]) for r in rows]
+        y = [r["excess"] / r["hs_slope"] for r in rows]
+        a2.plot(x, y, styles[i % 3], color=f"C{i + 3}", ms=9 - 4 * i, lw=3 - 1.5 * i,
+                mfc="none" if i else None, label=f"FEM S/R = {s:g}")
+        a2.plot(x, [y[-1] + (xx - x[-1]) for xx in x], "k-" if i == 0 else "k--",
+                lw=0.8, label=f"Huh-Scriven slope 1, S/R = {s:g}")
+    a2.set_xlabel("ln(R / b)")
+    a2.set_ylabel("(F - F_lub) / [sum 2 pi r_cl U_cl^2 f(theta)]")
+    a2.set_title("moving contact lines: slip-length log law (V/R^3 = 1e-3)", fontsize=9)
+    a2.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
 
 
 def plot_slip(study: list[dict], out: Path) -> None:

@@ -80,8 +80,8 @@ def test_no_refusal_points_to_a_refusing_model(name):
 
 
 def test_stokes_names_a_model_that_applies():
-    """``stokes`` refuses tiny gaps, bridges, thick films and very unequal spheres: each
-    refusal names the most faithful applicable model (``models.model_instead``: the exact
+    """``stokes`` refuses tiny gaps, closed-corner bridges, thick films and very unequal spheres:
+    each refusal names the most faithful applicable model (``models.model_instead``: the exact
     series where it applies, else lubrication; the check above would catch a bad one; this
     one makes sure the grid does exercise those refusals)."""
     hints = set()

@@ -42,6 +42,9 @@ from wetcontact.meshes.io import read_msh
 
 SizeFn = Callable[[float, float], float]
 
+ZTOL = 1e-12
+"""Tolerance (units of R) on the axial bounds of a gap column in the size fields."""
+
 
 @dataclass(frozen=True)
 class Resolution:
@@ -156,7 +159,9 @@ def _sphere_size(res: Resolution, centre: float, gap_planes: Sequence[float] = (
         if r < 1.0:
             root = math.sqrt(1.0 - r * r)
             for zp in gap_planes:
-                if min(zp, centre) <= z <= max(zp, centre):  # between the plane and centre
+                # between the plane and the centre; the tolerance keeps points gmsh puts a
+                # rounding error below the plane (z = -1e-36 on a bridge's wall) in the column
+                if min(zp, centre) - ZTOL <= z <= max(zp, centre) + ZTOL:
                     h = abs(centre - zp) - root
                     s = min(s, max(h, 0.0) / (res.n_gap + 0.3))
         return s
@@ -261,7 +266,7 @@ def _two_sphere_size(res: Resolution, c1: float, c2: float, a2: float) -> SizeFn
         d1 = abs(math.hypot(r, z - c1) - 1.0)
         d2 = abs(math.hypot(r, z - c2) - a2)
         s = min(_grown(res, d1), h2 + res.growth * d2)
-        if r < r_col and c2 <= z <= c1:
+        if r < r_col and c2 - ZTOL <= z <= c1 + ZTOL:
             h = c1 - math.sqrt(1.0 - r * r) - c2 - math.sqrt(a2 * a2 - r * r)
             s = min(s, max(h, 0.0) / (2 * res.n_gap + 0.6))
         return s
@@ -338,54 +343,84 @@ def sphere_film(gap: float, film: float, res: Resolution, extent: float = 30.0) 
 
 
 def sphere_bridge(gap: float, profile: np.ndarray, res: Resolution,
-                  contact_size: float | None = None) -> meshio.Mesh:
-    """Unit sphere joined to the wall z = 0 by a liquid bridge with a given meridian.
+                  contact_size: float | None = None, radius2: float | None = None,
+                  plane: str = "wall") -> meshio.Mesh:
+    """Unit sphere joined to the wall z = 0 (or to a lower sphere) by a liquid bridge.
 
     Parameters
     ----------
     gap
         S/R.
     profile
-        Meridian of the free surface, shape (n, 2), points (r, z) from the wall contact
-        line (z = 0) to the sphere contact line (on the unit sphere centred at (0, 1 + S/R)),
-        e.g. the toroidal circle arc or the finite-element meniscus solver's profile. The
-        curve is interpolated by a gmsh B-spline through the points.
+        Meridian of the free surface, shape (n, 2), points (r, z) from the lower contact
+        line (on the wall z = 0, or on the lower sphere of radius ``radius2`` centred at
+        (0, -radius2)) to the upper contact line (on the unit sphere centred at
+        (0, 1 + S/R)), e.g. the toroidal circle arc or the finite-element meniscus solver's
+        profile. The curve is interpolated by a gmsh B-spline through the points.
     res
         Resolution; the size near the meniscus is ``h_sphere``.
     contact_size
         Element size at the two contact lines (units of R), growing by ``res.growth`` with
         the distance from them: resolves a Navier slip length there. ``None``: no grading.
+    radius2
+        R2/R of a lower sphere (its apex at the origin); ``None``: a plane.
+    plane
+        Name of the plane z = 0: ``"wall"`` or ``"symmetry"`` (the mid-plane of a bridge
+        between two equal spheres, the profile starting at the neck).
 
-    Boundaries ``axis``, ``wall``, ``sphere``, ``free_surface``.
+    Boundaries ``axis``, ``sphere``, ``free_surface`` and ``wall`` (``symmetry``,
+    ``sphere2``).
     """
     _check_gap(gap)
+    if plane not in ("wall", "symmetry"):
+        raise InputError(f"plane = {plane!r}; allowed: 'wall', 'symmetry'")
     prof = np.asarray(profile, dtype=float)
     c = 1.0 + gap
     if prof.ndim != 2 or prof.shape[1] != 2 or prof.shape[0] < 3 or not np.isfinite(prof).all():
         raise InputError("bridge profile: expected a finite (n >= 3, 2) array of (r, z)")
-    if abs(prof[0, 1]) > 1e-9 or prof[0, 0] <= 0:
-        raise InputError(f"bridge profile must start on the wall (z = 0, r > 0); got {prof[0]}")
+    if radius2 is None:
+        if abs(prof[0, 1]) > 1e-9 or prof[0, 0] <= 0:
+            raise InputError(f"bridge profile must start on the wall (z = 0, r > 0); got "
+                             f"{prof[0]}")
+    else:
+        a2 = float(radius2)
+        if not (math.isfinite(a2) and 0.05 <= a2 <= 20.0):
+            raise InputError(f"mesh radius ratio R2/R = {radius2!r}; allowed: [0.05, 20]")
+        if (abs(math.hypot(prof[0, 0], prof[0, 1] + a2) - a2) > 1e-6 * max(a2, 1.0)
+                or prof[0, 0] <= 0 or prof[0, 1] <= -a2):
+            raise InputError("bridge profile must start on the upper half of the lower "
+                             f"sphere; got {prof[0]}")
     rs, zs = prof[-1]
     if abs(math.hypot(rs, zs - c) - 1.0) > 1e-6 or rs <= 0 or zs >= c:
         raise InputError(f"bridge profile must end on the lower half of the sphere; got {prof[-1]}")
     if np.any(prof[:, 0] <= 0):
         raise InputError("bridge profile crosses the axis (r <= 0)")
+    if contact_size is not None and not (math.isfinite(contact_size)
+                                         and 1e-9 <= contact_size <= 1.0):
+        raise InputError(f"contact_size = {contact_size!r}; allowed: [1e-9, 1] R")
     with _Gmsh("sphere_bridge") as gmsh:
         g = gmsh.model.geo
         o, pc, pb = g.addPoint(0, 0, 0), g.addPoint(0, c, 0), g.addPoint(0, c - 1.0, 0)
         pts = [g.addPoint(float(r), float(z), 0) for r, z in prof]
-        wall = g.addLine(o, pts[0])
         fs = g.addSpline(pts)
         sph = g.addCircleArc(pts[-1], pc, pb)
-        ax = g.addLine(pb, o)
-        surf = g.addPlaneSurface([g.addCurveLoop([wall, fs, sph, ax])])
-        groups = {"axis": [ax], "wall": [wall], "sphere": [sph], "free_surface": [fs]}
-        base = _sphere_size(res, c)
+        if radius2 is None:
+            lower = g.addLine(o, pts[0])
+            ax = g.addLine(pb, o)
+            groups = {"axis": [ax], plane: [lower], "sphere": [sph], "free_surface": [fs]}
+            base = _sphere_size(res, c)
+        else:
+            pc2 = g.addPoint(0, -a2, 0)
+            lower = g.addCircleArc(o, pc2, pts[0])
+            ax = g.addLine(pb, o)
+            groups = {"axis": [ax], "sphere2": [lower], "sphere": [sph], "free_surface": [fs]}
+            base = _two_sphere_size(res, c, -a2, a2)
+        surf = g.addPlaneSurface([g.addCurveLoop([lower, fs, sph, ax])])
         if contact_size is None:
             return _mesh_and_read(gmsh, lambda r, z: min(base(r, z), res.h_sphere), groups, surf)
-        if not (math.isfinite(contact_size) and 1e-9 <= contact_size <= 1.0):
-            raise InputError(f"contact_size = {contact_size!r}; allowed: [1e-9, 1] R")
         (r0, z0), (r1, z1) = prof[0], prof[-1]
+        if plane == "symmetry":  # the meniscus meets the mid-plane: no contact line there
+            r0, z0 = r1, z1
 
         def size(r: float, z: float) -> float:
             d = min(math.hypot(r - r0, z - z0), math.hypot(r - r1, z - z1))

@@ -66,7 +66,12 @@ closings, Newton), :mod:`.continuation` (volume- and suction-controlled, folds, 
 
 from wetcontact.solver.meniscus.geometry import DEFAULT_ELEMENTS, PHI_MAX, THETA_MAX, Bridge
 from wetcontact.solver.meniscus.model import MeniscusModel
-from wetcontact.solver.meniscus.post import BridgeSolution, energy_derivative, meniscus_profile
+from wetcontact.solver.meniscus.post import (
+    BridgeSolution,
+    energy_derivative,
+    meniscus_profile,
+    shape_rate,
+)
 from wetcontact.solver.meniscus.solve import (
     SeparationCurve,
     force_separation_curve,
@@ -87,6 +92,7 @@ __all__ = [
     "force_separation_curve",
     "meniscus_profile",
     "rupture_distance",
+    "shape_rate",
     "solve_suction",
     "solve_volume",
 ]

@@ -236,18 +236,8 @@ def meniscus_profile(sol: BridgeSolution, n: int | None = None) -> dict[str, np.
     if not sol.exists or st is None:
         raise InputError(f"meniscus: no profile to export ({sol.message or 'no bridge'})")
     d, x, ell = _disc(st.n_el), st.x, st.ell
-    r, z, psi = _fields(d, x)
     L = x[d.iL]
-    if n is None:
-        o = d.sorted
-        t, rr, zz, pp = d.t[o], r[o], z[o], psi[o]
-    else:
-        t = np.linspace(0.0, 1.0, int(n))
-        e = np.minimum((t * d.n_el).astype(int), d.n_el - 1)
-        u = t * d.n_el - e
-        phi = np.stack([(1 - u) * (1 - 2 * u), u * (2 * u - 1), 4 * u * (1 - u)])
-        idx = np.stack([e, e + 1, d.n_el + 1 + e])  # vertices, then midpoints (scikit-fem)
-        rr, zz, pp = (np.sum(phi * f[idx], axis=0) for f in (r, z, psi))
+    t, rr, zz, pp = _resample(d, x, n)
     b = st.bridge
     return {
         "s": t * L * ell, "r": rr * ell, "z": zz * ell, "psi": pp,
@@ -257,3 +247,40 @@ def meniscus_profile(sol: BridgeSolution, n: int | None = None) -> dict[str, np.
         "filling_angle2": np.asarray(sol.filling_angle2),
         "wetted_radius": np.asarray(sol.wetted_radius),
     }
+
+
+def _resample(d: Any, x: np.ndarray, n: int | None) -> tuple[np.ndarray, ...]:
+    """(t, r, z, psi) of the P2 fields of ``x``: the FE nodes, or ``n`` points uniform in t."""
+    r, z, psi = _fields(d, x)
+    if n is None:
+        o = d.sorted
+        return d.t[o], r[o], z[o], psi[o]
+    t = np.linspace(0.0, 1.0, int(n))
+    e = np.minimum((t * d.n_el).astype(int), d.n_el - 1)
+    u = t * d.n_el - e
+    phi = np.stack([(1 - u) * (1 - 2 * u), u * (2 * u - 1), 4 * u * (1 - u)])
+    idx = np.stack([e, e + 1, d.n_el + 1 + e])  # vertices, then midpoints (scikit-fem)
+    return (t, *(np.sum(phi * f[idx], axis=0) for f in (r, z, psi)))
+
+
+def shape_rate(sol: BridgeSolution, n: int | None = None) -> dict[str, np.ndarray]:
+    """Rate of change of the meridian with the gap at fixed volume, ``dX/dS`` (dimensionless).
+
+    By implicit differentiation of the discrete system (as :func:`energy_derivative`):
+    ``J dx/dS = e_S``, J the Jacobian with the closing conditions V fixed and S fixed.
+    Returns ``dr``, ``dz`` (d r/dS, d z/dS at fixed normalised arc length t, on the points of
+    :func:`meniscus_profile` with the same ``n``) and ``t``. The normal velocity of the
+    static family, ``n . dX/dS``, does not depend on the parametrisation; it grows like
+    ``(S_c - S)^(-1/2)`` towards the rupture fold, where J becomes singular.
+    """
+    st = sol.state
+    if not sol.exists or st is None:
+        raise InputError("meniscus: shape_rate needs an existing bridge")
+    d, g, x = _disc(st.n_el), st.geo, st.x
+    V = _volume(d, g, x)
+    nw = _newton(d, g, x, (VolumeIs(V), Fixed(d.iS, float(x[d.iS]))))
+    rhs = np.zeros(d.m)
+    rhs[-1] = 1.0
+    dx = nw.lu.solve(rhs)
+    t, dr, dz, _ = _resample(d, dx, n)
+    return {"t": t, "dr": dr, "dz": dz}
