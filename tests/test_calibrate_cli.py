@@ -135,7 +135,10 @@ def test_capillary_refit_beats_published_mikami_on_held_out_bridges(tmp_path):
     assert ho["after"]["mean"] < ho["before"]["mean"]
 
 
-@pytest.mark.parametrize("path", sorted((ROOT / "cases" / "studies").glob("calibrate-*.toml")),
+CAL_STUDIES = sorted((ROOT / "cases" / "studies").glob("calibrate-*.toml"))
+
+
+@pytest.mark.parametrize("path", [p for p in CAL_STUDIES if "finite-liquid" not in p.stem],
                          ids=lambda p: p.stem)
 def test_shipped_calibration_studies_reproduce_the_default_designs(path):
     """Each calibrate-FAMILY.toml: the family's scene class, a reference model, and the
@@ -160,6 +163,37 @@ def test_shipped_calibration_studies_reproduce_the_default_designs(path):
     if fam.target != "rupture":
         lo, hi, _ = fam.default_design["s_over_scref"]
         assert (gaps["start"], gaps["stop"], gaps["points"]) == (lo, hi, 8)  # gaps_per = 8
+
+
+@pytest.mark.parametrize("path", [p for p in CAL_STUDIES if "finite-liquid" in p.stem],
+                         ids=lambda p: p.stem)
+def test_finite_liquid_studies_cover_the_family_domain(path):
+    """Each calibrate-finite-liquid*.toml: the family's scene class, ``lubrication`` as
+    reference, and training points spanning the family's design ranges (S/delta or S/H
+    from 0.01 to 0.95, delta/R or V/R^3 and the radius ratio end to end)."""
+    import tomllib
+
+    from wetcontact.calibrate import (
+        check_scene_class,
+        domain_coords,
+        reference_model,
+        scene_inputs,
+    )
+    from wetcontact.study import load_study
+
+    fam = get_family(path.stem.removeprefix("calibrate-"))
+    data = tomllib.loads(path.read_text())
+    assert reference_model(fam, data["models"]) == "lubrication"
+    study = load_study(path)
+    scenes = [sc for _, sc in study.scenes]
+    check_scene_class(fam, scenes, str(path))
+    coords: dict[str, list[float]] = {}
+    for sc in scenes:
+        for k, v in domain_coords(fam, scene_inputs(fam, sc)).items():
+            coords.setdefault(k, []).extend(np.atleast_1d(v).tolist())
+    for k, (lo, hi, _) in fam.default_design.items():
+        assert min(coords[k]) == pytest.approx(lo, rel=1e-9)
+        assert max(coords[k]) == pytest.approx(hi, rel=1e-9)
 
 
 def test_committed_held_out_designs_point_at_existing_bases():
