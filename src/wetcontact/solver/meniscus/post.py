@@ -197,6 +197,17 @@ def _no_bridge(gap: float, volume: float, why: str) -> BridgeSolution:
     return BridgeSolution(exists=False, gap=gap, volume=volume, message="no bridge: " + why)
 
 
+def _gap_derivative(st: _State) -> tuple[_Disc, _Geo, np.ndarray, np.ndarray]:
+    """``dx/dS`` of a solution at fixed volume by implicit differentiation of the discrete
+    system, ``J dx/dS = e_S`` (J with the closings V fixed, S fixed); with d, g and x."""
+    d, g, x = _disc(st.n_el), st.geo, st.x
+    V = _volume(d, g, x)
+    nw = _newton(d, g, x, (VolumeIs(V), Fixed(d.iS, float(x[d.iS]))))
+    rhs = np.zeros(d.m)
+    rhs[-1] = 1.0
+    return d, g, x, nw.lu.solve(rhs)
+
+
 def energy_derivative(sol: BridgeSolution) -> float:
     """dE/dS at fixed volume (N) by implicit differentiation of the discrete system.
 
@@ -205,12 +216,7 @@ def energy_derivative(sol: BridgeSolution) -> float:
     st = sol.state
     if st is None:
         raise InputError("meniscus: energy_derivative needs an existing bridge")
-    d, g, x = _disc(st.n_el), st.geo, st.x
-    V = _volume(d, g, x)
-    nw = _newton(d, g, x, (VolumeIs(V), Fixed(d.iS, float(x[d.iS]))))
-    rhs = np.zeros(d.m)
-    rhs[-1] = 1.0
-    dx = nw.lu.solve(rhs)
+    d, g, x, dx = _gap_derivative(st)
     # gradient of E = A - cos th1 A1 - cos th2 A2
     L, c1, c2 = x[d.iL], x[d.ic1], x[d.ic2]
     rq = d.Q0 @ x[:d.n]
@@ -276,11 +282,6 @@ def shape_rate(sol: BridgeSolution, n: int | None = None) -> dict[str, np.ndarra
     st = sol.state
     if not sol.exists or st is None:
         raise InputError("meniscus: shape_rate needs an existing bridge")
-    d, g, x = _disc(st.n_el), st.geo, st.x
-    V = _volume(d, g, x)
-    nw = _newton(d, g, x, (VolumeIs(V), Fixed(d.iS, float(x[d.iS]))))
-    rhs = np.zeros(d.m)
-    rhs[-1] = 1.0
-    dx = nw.lu.solve(rhs)
+    d, _, _, dx = _gap_derivative(st)
     t, dr, dz, _ = _resample(d, dx, n)
     return {"t": t, "dr": dr, "dz": dz}
