@@ -155,7 +155,7 @@ def _branch(d: _Disc, g: _Geo, V: float, n_steps: int = 40,
         xp = x + ds * tau
         closing = (VolumeIs(V), Linear(wts * tau, float(np.sum(wts * tau * xp))))
         nw = _newton(d, g, xp, closing, maxit=12)
-        if not (nw.converged or nw.residual < 1e-9) or nw.iterations > 7:
+        if not nw.solved or nw.iterations > 7:
             ds *= 0.5
             if crossing is not None and ds < ds_min:
                 # Newton stalls next to a bifurcation (J singular along its mode)
@@ -238,9 +238,7 @@ def _bisect_stability(d: _Disc, g: _Geo, V: float, xa: np.ndarray, xb: np.ndarra
     while hi - lo > tol:
         mid = 0.5 * (lo + hi)
         w = _newton(d, g, 0.5 * (x_lo + x_hi), (VolumeIs(V), Linear(sec, base + mid * span)))
-        # next to a bifurcation J is nearly singular along the asymmetric mode: Newton's
-        # step test can stall although the residual is at round-off; that bridge is solved
-        if not (w.converged or w.residual < 1e-9):
+        if not w.solved:
             raise SolverError("meniscus: no converged bridge while locating the loss of "
                               f"stability (secant parameter {mid:.6g})")
         if _stability(d, g, w.x) > 0:

@@ -273,6 +273,13 @@ class _Newton:
     residual: float
     lu: Any = None
 
+    @property
+    def solved(self) -> bool:
+        """Converged, or the residual is at round-off although the step test stalled: next
+        to a bifurcation J is nearly singular along its mode, so the steps cannot shrink
+        below ``xtol`` there while the bridge equations already hold."""
+        return self.converged or self.residual < 1e-9
+
 
 def _newton(d: _Disc, g: _Geo, x: np.ndarray, closing: tuple[Closing, Closing],
             maxit: int = 40, xtol: float = 1e-10) -> _Newton:
