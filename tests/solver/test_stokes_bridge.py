@@ -115,6 +115,25 @@ def test_observed_order_of_the_bridge_force():
     assert order > 2.5
 
 
+@pytest.mark.parametrize("fraction", [0.5, 0.99])
+def test_bridge_force_converges_where_the_contact_lines_dominate(fraction):
+    """Half-way to rupture and next to it the two moving contact lines (b = 1e-6 R) carry
+    most of the dissipation, and the elements there are a slip length across. Refining the
+    grading (growth 0.08, 0.06, 0.045) must change the force monotonically and by less than
+    2e-4. With the pressure pinned at the contact line, the discrete flux error of the
+    prescribed motion was a point source there: the force jumped by +-3e-3 between these
+    gradings at 0.5 S_c, non-monotonically."""
+    from wetcontact.solver.meniscus import rupture_distance
+
+    s = fraction * rupture_distance(_bridge(), V)  # S_c from the meniscus solver
+    f = [solve_bridge(_bridge(), s, V, (1e-6, 1e-6),
+                      Resolution(n_gap=4, h_sphere=0.05, growth=g, far=1e3),
+                      contact_size=1e-6).force for g in (0.08, 0.06, 0.045)]
+    d = np.diff(f)
+    assert d[0] * d[1] > 0 and abs(d[1]) < abs(d[0])  # monotone, shrinking steps
+    assert abs(f[2] / f[0] - 1) < 2e-4
+
+
 def _scene(factory, gaps, kind="sphere-wall", slip=(0.0, 0.0), theta=20.0):
     geometry = {"kind": kind, "radius": R_SI} | (
         {"radius2": R_SI} if kind == "sphere-sphere" else {})
@@ -224,3 +243,20 @@ def test_shape_rate_next_to_rupture_conserves_the_volume():
     assert near.flux == pytest.approx(near.swept, rel=1e-4)
     assert bridge_motion(br, sc * 1.001, V) is None
 
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("kind", ["sphere-wall", "sphere-sphere"])
+def test_bridge_presets_agree_up_to_rupture(scene_factory, kind):
+    """fast and default within 1e-4 of accurate at 0.5, 0.9 and 0.99 of the rupture
+    distance (the meniscus solver's), where the contact lines dominate the dissipation."""
+    from wetcontact.solver.meniscus import rupture_distance
+
+    sc_ = rupture_distance(_bridge(None if kind == "sphere-wall" else 1.0), V)
+    m = get_model("stokes")
+    sc = _scene(scene_factory, [f * sc_ for f in (0.5, 0.9, 0.99)], kind=kind)
+    acc = m.force(sc, preset="accurate").force_viscous
+    assert np.all(acc > 0)
+    for preset in ("fast", "default"):
+        f = m.force(sc, preset=preset).force_viscous
+        assert np.max(np.abs(f / acc - 1)) < 1e-4, preset
