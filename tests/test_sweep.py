@@ -116,6 +116,15 @@ def test_key_holds_the_code_version_and_a_source_edit_changes_it(tmp_path):
     with open(pkg / "reduced_models" / "viscous.py", "a", encoding="utf-8") as fh:
         fh.write("\n# an edit\n")
     assert version() != v0
+    # one process keeps one version: a run whose sources are edited under it still finds,
+    # in its report, the curves its sweep stored
+    edit = ("from pathlib import Path; from wetcontact.store import code_version as c; a = c(); "
+            f"Path({str(pkg / 'reduced_models' / 'viscous.py')!r}).open('a').write('# 2\\n'); "
+            "print(a == c())")
+    same = subprocess.run([sys.executable, "-c", edit], env=env, capture_output=True,
+                          text=True, check=True).stdout.strip()
+    assert same == "True"
+    assert version() != v0
 
 
 def test_store_file_mode_follows_the_umask(tmp_path):

@@ -67,8 +67,14 @@ _NUMERIC_SOURCES = ("models.py", "scene.py", "solver", "reduced_models", "meshes
 
 
 @lru_cache(maxsize=1)
+@lru_cache(maxsize=1)
 def code_version() -> str:
     """``<package version>+<hash>``: the version and a SHA-256 of the numeric sources.
+
+    Computed once per process (the code a process runs is the code it imported): a run
+    whose sources are edited under it keeps one version from its sweep to its report, so
+    the report finds the curves the sweep stored (before, it recomputed the hash and found
+    none: an IndexError in a report section).
 
     The hash covers ``models.py``, ``scene.py`` and the ``solver``, ``reduced_models`` and
     ``meshes`` packages (every ``.py`` file, by relative path and content). A clean tree

@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from wetcontact.compare import Comparison, compare, pooled
+from wetcontact.errors import SolverError
 from wetcontact.models import get_model
 from wetcontact.scene import Scene, scene_from_dict
 from wetcontact.sweep import Point, SweepResult
@@ -174,6 +175,10 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     rows, rup, recs = compute(result, ctx)
+    if not rows or not rup:
+        raise SolverError("report section 'capillary closures': no stored meniscus curve "
+                          "for its points (every one refused or failed; see the sweep "
+                          "summary)")
     with open(out / "capillary_closures.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
