@@ -314,13 +314,20 @@ def bridge_part(quick: bool) -> None:
             "amount": {"film_thickness": 2 * s * R},
             "liquid": {"viscosity": ETA, "surface_tension": 0.072, "density": 998.0},
             "motion": {"velocity": V, "gaps": [s * R]}})
-        os.environ["WETCONTACT_CACHE"] = tempfile.mkdtemp(prefix="wetcontact-bench-")
-        t0 = time.perf_counter()
-        c = model.force(sc, preset="default")
-        film.append({"s_over_r": s, "film_over_r": 2 * s, "preset": "default",
-                     "time_cold_s": time.perf_counter() - t0, "dofs": c.diagnostics["dofs"][0],
-                     "film_top": c.settings["film_top"]})
-        print("film", film[-1], flush=True)
+        rows = {}
+        for preset in ("fast", "default", "accurate"):
+            os.environ["WETCONTACT_CACHE"] = tempfile.mkdtemp(prefix="wetcontact-bench-")
+            t0 = time.perf_counter()
+            c = model.force(sc, preset=preset)
+            rows[preset] = (time.perf_counter() - t0, c)
+        acc = rows["accurate"][1].force_viscous[0]
+        for preset, (t, c) in rows.items():
+            film.append({"s_over_r": s, "film_over_r": 2 * s, "preset": preset,
+                         "time_cold_s": t, "dofs": c.diagnostics["dofs"][0],
+                         "f_over_unit": c.force_viscous[0] / unit,
+                         "diff_from_accurate": c.force_viscous[0] / acc - 1,
+                         "film_top": c.settings["film_top"]})
+            print("film", film[-1], flush=True)
 
     comp = []
     lub_model, rf_model = get_model("lubrication"), get_model("reynolds-finite")

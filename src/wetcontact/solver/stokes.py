@@ -696,13 +696,13 @@ class Stokes(Model):
     reference = ("Taylor-Hood axisymmetric Stokes FEM (scikit-fem, gmsh); force by the "
                  "reaction (dissipation) and by the traction integral")
     presets = {
-        "fast": {"n_gap": 3, "h_sphere": 0.08, "growth": 0.25, "far": 1.0e3, "n_film": 4,
+        "fast": {"n_gap": 3, "h_sphere": 0.08, "growth": 0.25, "far": 1.0e3, "n_film": 8,
                      "film_top": "flat", "contact_factor": 2.0,
                      "bridge_growth": 0.08, "default_slip_length": DEFAULT_SLIP},
-        "default": {"n_gap": 4, "h_sphere": 0.05, "growth": 0.15, "far": 1.0e3, "n_film": 6,
+        "default": {"n_gap": 4, "h_sphere": 0.05, "growth": 0.15, "far": 1.0e3, "n_film": 10,
                      "film_top": "flat", "contact_factor": 1.0,
                      "bridge_growth": 0.06, "default_slip_length": DEFAULT_SLIP},
-        "accurate": {"n_gap": 8, "h_sphere": 0.02, "growth": 0.08, "far": 1.0e3, "n_film": 8,
+        "accurate": {"n_gap": 8, "h_sphere": 0.02, "growth": 0.08, "far": 1.0e3, "n_film": 14,
                      "film_top": "flat", "contact_factor": 0.25,
                      "bridge_growth": 0.03, "default_slip_length": DEFAULT_SLIP},
     }
