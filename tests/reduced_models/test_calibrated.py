@@ -55,11 +55,31 @@ def _film_and_bridge_scenes(seed: int = 91) -> list:
     return out
 
 
-def test_films_and_bridges_within_one_percent_of_lubrication() -> None:
-    """Against ``lubrication`` at 256 cells (the project's best reference for films and
-    bridges); Pitois' (1 - S/H)^2 is up to 5 % off on the same points."""
+def test_films_within_one_percent_of_stokes() -> None:
+    """Films against ``stokes`` with the flat film top (default preset), solved here at
+    seeded films the calibration never saw; ``lubrication`` and Pitois' (1 - S/delta)^2 are
+    far off on the same points (the wetted cap is not thin as the sphere leaves the film)."""
+    worst = worst_lub = 0.0
+    for sc in _film_and_bridge_scenes():
+        if sc.amount != "film":
+            continue
+        ref = get_model("stokes").force(sc, preset="default").force_viscous
+        c = get_model("calibrated-viscous").force(sc)
+        worst = max(worst, float(np.max(np.abs(c.force_viscous / ref - 1))))
+        lub = get_model("lubrication").force(sc).force_viscous
+        worst_lub = max(worst_lub, float(np.max(np.abs(lub / ref - 1))))
+    assert worst < 0.01
+    assert worst_lub > 0.05  # the correction is not a no-op on these points
+
+
+def test_bridges_within_one_percent_of_lubrication() -> None:
+    """Bridges against ``lubrication`` at 256 cells (the bridge closures' reference: the
+    contact lines' dissipation that ``stokes`` adds is not modelled); Pitois' (1 - S/H)^2
+    is up to 5 % off on the same points."""
     worst = worst_pitois = 0.0
     for sc in _film_and_bridge_scenes():
+        if sc.amount != "bridge":
+            continue
         ref = get_model("lubrication").force(sc, n=256, levels=3).force_viscous
         c = get_model("calibrated-viscous").force(sc)
         worst = max(worst, float(np.max(np.abs(c.force_viscous / ref - 1))))

@@ -42,6 +42,10 @@ FORMS = {
                       "kappa H/R*, kappa = R*^3 (1/R1^3 + 1/R2^3) (1 for a wall), H the edge "
                       "gap (film thickness, or sqrt(S^2 + V/(pi R*)) for a bridge); "
                       "coefficients (p, c0, ..., c8)"),
+    "film-correction": ("; for films times exp(sum_ij C[i, j] T_i(a) T_j(b)), a = (2 ln(delta/R) "
+                        "- ln d0 - ln d1)/(ln d1 - ln d0), b = (2 sqrt(1 - x) - sqrt(1 - x1) "
+                        "- sqrt(1 - x0))/(sqrt(1 - x0) - sqrt(1 - x1)), [d0, d1] = {d}, "
+                        "[x0, x1] = {x} (the correction to Stokes' flat-top film)"),
     "willett": ("F = -2 pi R sigma exp(f1 - f2 exp(f3 ln S+ + f4 ln^2 S+)), S+ = (S/2) "
                 "sqrt(R/V), f_i = sum_j sum_m k[i, j, m] ln(V/R^3)^j theta^m (Willett et al. "
                 "2000, eq. A1)"),
@@ -112,9 +116,16 @@ def shipped_document(closure: str) -> dict[str, Any]:
         (f"bridge {kind}", kind, "bridge", t) for kind, t in table["bridge"].items()]
     for name, kind, amount, t in finite:
         ho = t["held_out"]
+        corr = t.get("stokes_correction")
+        form, layout, coef = FORMS["finite-liquid"], LAYOUT["finite-liquid"], t["coefficients"]
+        if corr is not None:  # films: times the correction to Stokes' flat-top film
+            na, nb = corr["nodes"]
+            form += FORMS["film-correction"].format(d=corr["delta_over_r"],
+                                                   x=corr["s_over_h"])
+            layout += f", then C[i, j] flattened in C order, shape ({na}, {nb})"
+            coef = list(coef) + [v for row in corr["chebyshev_2d"] for v in row]
         parts.append({"name": name, "geometry": kind, "amount": amount,
-                      "form": FORMS["finite-liquid"], "coefficient_layout":
-                      LAYOUT["finite-liquid"], "coefficients": t["coefficients"],
+                      "form": form, "coefficient_layout": layout, "coefficients": coef,
                       "domain": t["domain"],
                       "held_out": {"points": ho["points"], "seed": ho["seed"],
                                    "reference": t["reference"],
@@ -125,11 +136,12 @@ def shipped_document(closure: str) -> dict[str, Any]:
             "origin": "shipped", "target": "viscous",
             "description": "calibrated viscous closure: immersed sphere-wall and equal spheres "
                            "(Chebyshev in ln S/R), films and bridges (refitted finite-liquid "
-                           "factor times the Reynolds force)",
+                           "factor times the Reynolds force; films times a correction to "
+                           "Stokes)",
             "units": UNITS, "sign_convention": SIGN, "outside_domain": OUTSIDE,
             "parts": parts, "provenance": _provenance(
                 path, table.get("generated_by", ""), "brenner (exact) for immersed; "
-                "lubrication for films and bridges")}
+                "stokes (flat film top) for films; lubrication for bridges")}
 
 
 def refit_document(path: Path) -> dict[str, Any]:
