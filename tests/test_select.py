@@ -1,8 +1,9 @@
 """Selection per force component against independent references on seeded held-out scenes.
 
-References: Brenner's exact series (immersed), ``lubrication`` at 256 cells (viscous force
-of films and bridges; the thin-gap model is the project's reference there), ``meniscus`` at
-its accurate preset (capillary force of bridges). The scenes are drawn with a seed that the
+References: Brenner's exact series (immersed), ``stokes`` with the flat film top (viscous
+force of films, default preset), ``lubrication`` at 256 cells (viscous force of bridges;
+the thin-gap model is the reference of the bridge bounds), ``meniscus`` at its accurate
+preset (capillary force of bridges). The scenes are drawn with a seed that the
 bound tables (``python -m wetcontact.calibrate bounds``) never used.
 """
 
@@ -57,6 +58,9 @@ def references() -> list:
         ref = {}
         if sc.amount == "immersed":
             ref["viscous"] = get_model("brenner").force(sc).force_viscous
+        elif sc.amount == "film":
+            # Stokes' flat film top, the films' viscous reference (bounds_gen.film_reference)
+            ref["viscous"] = get_model("stokes").force(sc, preset="default").force_viscous
         else:
             ref["viscous"] = get_model("lubrication").force(sc, n=256, levels=3).force_viscous
         if sc.amount == "bridge":

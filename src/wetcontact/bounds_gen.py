@@ -8,9 +8,10 @@ bounds on other seeded points):
 - immersed viscous closures (``reynolds``, ``cox-brenner`` up to S/R = 1, ``schaeffer``,
   ``calibrated-viscous``) against the exact Brenner series, sphere-wall and equal spheres,
   binned in log S/R over [1e-5, 100];
-- ``reynolds-finite`` and ``calibrated-viscous`` against ``lubrication`` (256 cells): films over
-  delta/R in [1e-3, 0.1], bridges over V/R_small^3 in [1e-4, 0.1], radius ratio 1-10,
-  binned in S/H; and ``lubrication``'s own fast/default presets against its accurate one;
+- ``reynolds-finite``, ``calibrated-viscous`` and ``lubrication``'s fast/default presets on
+  films over delta/R in [1e-3, 0.1] against ``stokes`` (flat film top; :func:`film_reference`,
+  its own uncertainty added), and on bridges over V/R_small^3 in [1e-4, 0.1], radius ratio
+  1-10, against ``lubrication`` (256 cells); binned in S/H;
 - capillary closures against ``meniscus`` (default preset, 1e-6): sphere-wall and
   sphere-sphere (radius ratio 1-10), V/R_small^3 in [1e-4, 0.1], each contact angle
   0-70 deg, binned in the larger contact angle and in S over the closure's own rupture
@@ -125,9 +126,41 @@ def immersed_tables(rng: np.random.Generator, per_bin: int = 24) -> list[dict[st
     return out
 
 
+FILM_STOKES_MIN_GAP = 1e-5
+"""S/R below which the film reference is ``lubrication`` (n = 256; ``stokes`` refuses
+there, and the thin-gap model's error, of order S/R, is below 1e-4)."""
+FILM_X_MAX = 0.99
+"""Largest S/delta of the film tables (the wetted cap of Stokes' flat-top film vanishes at 1)."""
+
+
+def film_reference(scene: Scene) -> np.ndarray:
+    """Viscous reference of a film scene: ``stokes`` (flat film top, the fast-impact limit;
+    default preset) plus its own uncertainty, ``|F_fast / F_default - 1|`` (the presets
+    converge from above: fast's error bounds default's), returned as a second array; below
+    :data:`FILM_STOKES_MIN_GAP` R, ``lubrication`` at 256 cells with zero uncertainty.
+    Lubrication, the thin-gap limit of the same flow, is 0.4 % (delta/R = 1e-3) to 73 %
+    (0.1) below Stokes at S = 0.9 delta."""
+    st, lub = get_model("stokes"), get_model("lubrication")
+    s = scene.gap_array
+    near = s / scene.radius >= FILM_STOKES_MIN_GAP
+    ref = np.empty(s.size)
+    unc = np.zeros(s.size)
+    if (~near).any():
+        ref[~near] = lub.force(scene.with_gaps(s[~near].tolist()), n=256,
+                               levels=3).force_viscous
+    if near.any():
+        sub = scene.with_gaps(s[near].tolist())
+        ref[near] = st.force(sub, preset="default").force_viscous
+        unc[near] = np.abs(st.force(sub, preset="fast").force_viscous / ref[near] - 1.0)
+    return np.stack([ref, unc])
+
+
 def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
-                         per_bin: int = 4) -> list[dict[str, Any]]:
-    """``reynolds-finite`` and lubrication's presets against lubrication (accurate, n=256)."""
+                         per_bin: int = 4, film_scenes: int = 16) -> list[dict[str, Any]]:
+    """``reynolds-finite``, ``calibrated-viscous`` and lubrication's presets: on films
+    against :func:`film_reference` (Stokes, its uncertainty added to every error; one gap
+    per bin, S/delta up to :data:`FILM_X_MAX`), on bridges against lubrication (accurate,
+    n = 256), the project's best bridge reference that covers their domain."""
     h_edges = np.linspace(0.0, 1.0, 11)
     lub = get_model("lubrication")
     out = []
@@ -135,10 +168,11 @@ def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
                          ("bridge", "sphere-sphere")):
         rows: dict[str, list[np.ndarray]] = {k: [] for k in ("p", "ratio", "x", "rf", "fast",
                                                             "default", "cv")}
-        for _ in range(n_scenes):
-            x = np.concatenate([rng.uniform(lo, hi, per_bin)
+        film = amount == "film"
+        for _ in range(film_scenes if film else n_scenes):
+            x = np.concatenate([rng.uniform(lo, hi, 1 if film else per_bin)
                                 for lo, hi in zip(h_edges[:-1], h_edges[1:], strict=True)])
-            x = np.clip(x, 1e-4, 1 - 1e-4)
+            x = np.clip(x, 1e-4, FILM_X_MAX if film else 1 - 1e-4)
             ratio = 1.0 if kind == "sphere-wall" else float(np.exp(rng.uniform(0, np.log(10))))
             r2 = None if kind == "sphere-wall" else R * ratio
             if amount == "film":
@@ -152,7 +186,11 @@ def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
                 amt = {"bridge_volume": v}
             scene = make_scene(kind, amt, gaps, r2)
             try:
-                ref = lub.force(scene, n=256, levels=3).force_viscous
+                unc = np.zeros(x.size)
+                if film:
+                    ref, unc = film_reference(scene)
+                else:
+                    ref = lub.force(scene, n=256, levels=3).force_viscous
                 got = {pr: lub.force(scene, preset=pr).force_viscous
                        for pr in ("fast", "default")}
             except (InputError, SolverError):
@@ -161,17 +199,17 @@ def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
             rows["ratio"].append(np.full(x.shape, ratio))
             rows["x"].append(x)
             rows["rf"].append(rel_error(get_model("reynolds-finite").force(scene)
-                                        .force_viscous, ref))
+                                        .force_viscous, ref) + unc)
             cv = np.full(x.shape, np.nan)  # calibrated-viscous: inside its domain only
             inside = (x >= 0.01) & (x <= 0.95)
             if inside.any():
                 sub = scene.with_gaps(np.asarray(gaps)[inside].tolist())
                 if get_model("calibrated-viscous").applicable(sub) is None:
                     cv[inside] = rel_error(get_model("calibrated-viscous").force(sub)
-                                           .force_viscous, ref[inside])
+                                           .force_viscous, ref[inside]) + unc[inside]
             rows["cv"].append(cv)
             for pr in ("fast", "default"):
-                rows[pr].append(rel_error(got[pr], ref))
+                rows[pr].append(rel_error(got[pr], ref) + unc)
         cat = {k: np.concatenate(v) for k, v in rows.items()}
         pname = "delta_over_r" if amount == "film" else "v_star"
         p_edges = ([1e-3, 1e-2, 0.1] if amount == "film" else [1e-4, 1e-3, 1e-2, 0.1])
@@ -182,19 +220,20 @@ def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
             axes.append("radius_ratio")
             coords.append(cat["ratio"])
             edges.append([1.0, 10.0])
-        out.append(_table("reynolds-finite", "viscous", kind, amount,
-                          "lubrication (accurate, n = 256)", axes, edges, coords, cat["rf"]))
+        refname = ("stokes (flat film top, default preset; plus its fast-default "
+                   "difference; lubrication n = 256 below S/R = 1e-5)" if film else
+                   "lubrication (accurate, n = 256): the project's best reference covering "
+                   "bridges")
+        out.append(_table("reynolds-finite", "viscous", kind, amount, refname, axes, edges,
+                          coords, cat["rf"]))
         ok = np.isfinite(cat["cv"])
         if ok.any():
-            out.append(_table("calibrated-viscous", "viscous", kind, amount,
-                              "lubrication (n = 256): the project's best reference for films "
-                              "and bridges", axes, edges, [c[ok] for c in coords],
-                              cat["cv"][ok]))
+            out.append(_table("calibrated-viscous", "viscous", kind, amount, refname, axes,
+                              edges, [c[ok] for c in coords], cat["cv"][ok]))
         for pr in ("fast", "default"):
             out.append(_table(f"lubrication:{pr}", "viscous", kind, amount,
-                              "lubrication (n = 256): discretisation only; the thin-gap "
-                              "Reynolds model is the project's reference here", axes, edges,
-                              coords, cat[pr]))
+                              refname + ("" if film else "; discretisation only"), axes,
+                              edges, coords, cat[pr]))
     return out
 
 
@@ -274,7 +313,8 @@ def measure_bounds(seed: int = 20261123, out: Path = DATA_PATH, quick: bool = Fa
     rng = np.random.default_rng(seed)
     t0 = time.perf_counter()
     tabs = immersed_tables(rng, per_bin=6 if quick else 24)
-    tabs += finite_liquid_tables(rng, n_scenes=6 if quick else 24)
+    tabs += finite_liquid_tables(rng, n_scenes=6 if quick else 24,
+                                 film_scenes=4 if quick else 16)
     tabs += capillary_tables(rng, n_scenes=8 if quick else 90, progress=progress)
     data = {"generated_by": "python -m wetcontact.calibrate bounds", "seed": seed,
             "margin": MARGIN, "spurious": SPURIOUS, "quick": quick,

@@ -10,18 +10,26 @@ tolerance there:
 - closures (level 0): the measured held-out tables of
   :mod:`wetcontact.reduced_models.bounds` (outside their bins: not eligible); ``brenner`` is
   the exact series (1e-12, summation accuracy);
-- ``stokes``: its measured preset accuracy on immersed scenes; on films it has no free
-  surface (no suction, no deformation), a model error not measured, so it is not eligible;
-- ``lubrication``: its fast/default presets measured against a 256-cell solution (tables);
-  for films and bridges the thin-gap Reynolds model is the project's best viscous reference
-  (labelled in the bound's reference);
+- ``stokes``: its measured preset accuracy on immersed scenes. On films its flat top is the
+  viscous reference of the closures and of ``lubrication`` (the fast-impact limit: no
+  suction, no deformation of the film surface, whose model error against a deforming film
+  is not measured); its own discretisation error there is not tabulated, so it is not
+  eligible;
+- ``lubrication``: its fast/default presets on bridges measured against a 256-cell
+  solution; on films against Stokes' flat-top film, which adds its model error (up to
+  73 % as the sphere leaves the film). The bridge bounds of every viscous model are
+  relative to the thin-gap model: they do not cover the moving contact lines' dissipation,
+  which ``stokes`` adds (19 % at S/R = 1e-3, V/R^3 = 1e-3, 20 deg, 1 nm slip; several
+  times the thin-gap force beyond S/R = 1e-2);
 - ``meniscus``: its preset accuracy against the shooting solution (static bridge);
-- ``thinfilm``: measured for its penalty meniscus contact, discretisation (first order in
-  the wetting width lambda: at most 4 % of the force at the default lambda = 0.05) plus its
-  model error (viscous part within 0.9 % of ``lubrication`` on the wetted zone; the
-  small-slope meniscus pulls 6-11 % less than the finite-element bridge of the same volume)
-  from the README's verification table; kept, conservative, for the sharp contact that is
-  the default since issue 13 (numerical error 0.3 % at the default preset).
+- ``thinfilm``: capillary component only, measured for its penalty meniscus contact,
+  discretisation (first order in the wetting width lambda: at most 4 % of the force at the
+  default lambda = 0.05) plus its model error (the small-slope meniscus pulls 6-11 % less
+  than the finite-element bridge of the same volume) from the README's verification table;
+  kept, conservative, for the sharp contact that is the default since issue 13 (numerical
+  error 0.3 % at the default preset). Its viscous force is not eligible: its meniscus
+  wets a larger zone than the flat film top, the films' viscous reference, and the two
+  differ by 1.2-40x (a different film model, not an error that a bound could state).
 
 If no candidate meets the tolerance for a component, the one with the smallest bound is
 used (a costlier one only if it cuts the bound by :data:`FALLBACK_RATIO`) and the choice
@@ -140,11 +148,19 @@ def component_bound(model: Model, preset: str, component: str,
             return f"preset '{preset}' not measured on this scene"
         return got
     if model.name == "thinfilm":
-        b = THINFILM_BOUND[preset][0 if component == "viscous" else 1]
+        if component == "viscous":
+            return ("viscous force not comparable with the films' flat-top reference (stokes): "
+                    "its meniscus wets a larger zone, 1.2-40x the flat-top force on the "
+                    "held-out films")
+        b = THINFILM_BOUND[preset][1]
         return np.full(n, b), "discretisation + small-slope model error (README)"
     if model.name == "stokes":
+        if scene.amount == "film":
+            return ("flat film top: the films' viscous reference, its discretisation "
+                    "error not tabulated; its model error (no suction) not measured")
         if scene.amount != "immersed":
-            return "rigid flat free surface: model error (no suction) not measured"
+            return ("quasi-static bridge: the bridge bounds are relative to the thin-gap "
+                    "model (no contact-line dissipation); its own not tabulated")
         return (np.full(n, float(model.error_bound[preset])),
                 "Brenner's series (measured preset accuracy)")
     if preset in model.error_bound:
