@@ -237,7 +237,7 @@ def check_set(files: list[str], theta: float, workers: int = 2) -> dict:
     over = dict.fromkeys(QUANTITIES, 0)
     over_any, n_done, not_conv = 0, 0, []
     diag = {"max_self_check": 0.0, "max_step_check": 0.0, "max_abs_d_residual": 0.0}
-    flagged = []
+    flagged, per_file = [], {}
     load0, t0, t_print = os.getloadavg(), time.perf_counter(), time.perf_counter()
     with ProcessPoolExecutor(max_workers=workers) as pool:
         for r in pool.map(_check_chunk, tasks):
@@ -250,6 +250,10 @@ def check_set(files: list[str], theta: float, workers: int = 2) -> dict:
                     worst[q] = {"rel_error": float(e[i]), "file": r["file"],
                                 "line": int(r["lines"][i]), "D*": float(r["rows"][i, 0]),
                                 "u*": float(r["rows"][i, 1])}
+            pf = per_file.setdefault(r["file"], {"rows": 0, **dict.fromkeys(QUANTITIES, 0.0)})
+            pf["rows"] += int(r["rows"].shape[0])
+            for q in QUANTITIES:
+                pf[q] = max(pf[q], float(np.max(np.where(conv, r["err"][q], 0.0))))
             e_all = np.max(np.stack([r["err"][q] for q in QUANTITIES if q != "u*"]), axis=0)
             bad = (e_all > LIMIT) | ~conv
             over_any += int(np.sum(bad))
@@ -277,7 +281,7 @@ def check_set(files: list[str], theta: float, workers: int = 2) -> dict:
     flagged.sort(key=lambda x: -x["max_rel_error"] if x["converged"] else -math.inf)
     return {"rows_checked": total, "limit": LIMIT, "wall_time_s": time.perf_counter() - t0,
             "load_before": load0, "load_after": os.getloadavg(), "workers": workers,
-            "worst": worst, "rows_over_limit": over,
+            "worst": worst, "rows_over_limit": over, "max_rel_error_per_file": per_file,
             "rows_over_limit_any_but_suction": over_any,
             "not_converged": not_conv, "diagnostics": diag,
             "flagged_rows_worst_50": flagged[:50],
@@ -296,10 +300,14 @@ def rows_part(theta_deg: float, files_dir: Path | None) -> None:
         if files_dir is None:
             files_dir = Path(tmp) / "caps"
             load0, t0 = os.getloadavg(), time.perf_counter()
+            c0 = _cpu_children() + time.process_time()
             res = export_yade(theta_deg, files_dir, n_suctions=350, n_distances=80, workers=2)
-            gen = {"wall_time_s": time.perf_counter() - t0, "load_before": load0,
-                   "load_after": os.getloadavg(), "n_elements": res["n_elements"],
-                   "rows": sum(t["rows"] for t in res["tables"])}
+            gen = {"wall_time_s": time.perf_counter() - t0,
+                   "cpu_time_s": _cpu_children() + time.process_time() - c0,
+                   "load_before": load0, "load_after": os.getloadavg(),
+                   "n_elements": res["n_elements"],
+                   "rows": sum(t["rows"] for t in res["tables"]),
+                   "rows_polished": sum(t["polished"] for t in res["tables"])}
             print(f"generated: {gen}", flush=True)
         files = [str(Path(files_dir) / file_name(r, default_suffix(theta_deg)))
                  for r in RATIOS]
