@@ -24,7 +24,8 @@ as above, or read from DIR) against the exact bridge at the row's (D*, u*) from 
 shooting of tests/export/yade_rows.py (independent of the finite-element meniscus solver),
 2 processes, a progress line every 10 s; per quantity the largest relative error, where it
 sits (file, line, D*, u*) and the number of rows above 1e-6. Merged into
-``benchmarks/results/export_yade_rows.json`` under ``theta<DEG>`` (about 5-10 min).
+``benchmarks/results/export_yade_rows.json`` under ``theta<DEG>``, chart
+``export_yade_rows.png`` (about 10 min: 4-6 to generate, 4-5 to check).
 """
 
 from __future__ import annotations
@@ -292,6 +293,35 @@ def check_set(files: list[str], theta: float, workers: int = 2) -> dict:
                       "max(u*, suction_floor)"}
 
 
+def chart_rows(data: dict) -> None:
+    """Largest relative error per file and quantity, each angle checked (log scale)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    keys = sorted(k for k in data if k.startswith("theta"))
+    fig, axes = plt.subplots(1, len(keys), figsize=(5.5 * len(keys), 4.2), squeeze=False)
+    markers = "osD^v<>"
+    for ax, key in zip(axes[0], keys, strict=True):
+        per = data[key]["max_rel_error_per_file"]
+        ratios = [float(f.split("=")[1].split(")")[0]) for f in per]
+        for k, q in enumerate(data[key]["worst"]):
+            ax.plot(ratios, [per[f][q] for f in per], marker=markers[k % len(markers)],
+                    ls=("-", "--", ":")[k % 3],
+                    label="u*, read back from V*" if q == "u*" else q)
+        ax.axhline(LIMIT, color="r", lw=1.0, label="1e-6 (acceptance)")
+        low = min(v for f in per.values() for q, v in f.items() if q != "rows" and v > 0)
+        ax.set_ylim(low / 3, 5 * LIMIT)
+        ax.set(xscale="log", yscale="log", xlabel="radius ratio r = R2/R1",
+               ylabel="largest relative error in the file",
+               title=f"Yade files, {key.replace('theta', 'theta = ')} deg: every row "
+                     f"({data[key]['rows_checked']}) vs shooting")
+        ax.legend(fontsize=7, ncol=2)
+    fig.tight_layout()
+    fig.savefig(RESULTS / "export_yade_rows.png", dpi=120)
+
+
 def rows_part(theta_deg: float, files_dir: Path | None) -> None:
     path = RESULTS / "export_yade_rows.json"
     data = json.loads(path.read_text()) if path.exists() else {}
@@ -317,6 +347,7 @@ def rows_part(theta_deg: float, files_dir: Path | None) -> None:
                                               "rows_over_limit", "diagnostics")}, indent=1))
     data[f"theta{theta_deg:g}"] = summary
     write_json("export_yade_rows", {k: v for k, v in data.items() if k != "cpu_count"})
+    chart_rows(data)
 
 
 def main() -> None:

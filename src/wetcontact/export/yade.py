@@ -35,16 +35,17 @@ discretisation error of the gap at fixed (u*, delta1) (up to 5e-8 R2 at 32 eleme
 measured against the ODE shooting of tests/export/yade_rows.py) reaches a row as that error
 times ``d ln V / dD`` (and the like for the other columns), which grows like
 ``1/sqrt(S_fold - D)``. Rows where the branch's secant ``|d ln V / dD*|`` exceeds
-``POLISH_SLOPE`` (5e-7 at 32 elements), and all rows of the branch's last interval before
-its fold, are therefore re-solved at fixed (D*, u*) on ``POLISH_ELEMENTS`` elements (4096x
-smaller error at the declared 4th order than 32); no row is written closer than ``FOLD_MARGIN``
-(relative) to its fold, where no mesh would hold it to 1e-6 (the largest distance of the
-grid is the largest rupture distance times ``1 - FOLD_MARGIN``; Yade's own generator puts
-the rupture distances 1e-3 apart from the exact ones). At small suction the volume hardly
-depends on the suction: read back through the volume (the volume-controlled reading of a
-row, ``u(D*, V*)``), the suction's relative error is the volume's divided by
-``max(u*, 0.002) |d ln V / du*|`` (about 2e-3 at u* = 0.002), so rows where that factor is
-below ``POLISH_ELASTICITY`` are re-solved on ``POLISH_ELEMENTS`` elements as well.
+``POLISH_SLOPE`` (a V* error above 10 x 5e-8 at 32 elements), and all rows of the
+branch's last interval before its fold, are therefore re-solved at fixed (D*, u*) on
+``POLISH_ELEMENTS`` elements (4096x smaller error at the declared 4th order than 32); no
+row is written closer than ``FOLD_MARGIN`` (relative) to its fold, where no mesh would
+hold it to 1e-6 (the largest distance of the grid is the largest rupture distance times
+``1 - FOLD_MARGIN``; Yade's own generator puts the rupture distances 1e-3 apart from the
+exact ones). At small suction the volume hardly depends on the suction: read back through
+the volume (the volume-controlled reading of a row, ``u(D*, V*)``), the suction's relative
+error is the volume's divided by ``max(u*, 0.002) |d ln V / du*|`` (about 2e-3 at
+u* = 0.002), so rows where that factor is below ``POLISH_ELASTICITY`` are re-solved on
+``POLISH_ELEMENTS`` elements as well.
 """
 
 from __future__ import annotations
@@ -76,7 +77,7 @@ DEFAULT_ELEMENTS = 32    # P2 elements: rows within 1e-7 of the 128-element solv
 POLISH_ELEMENTS = 256    # rows re-solved on the finer mesh: next to their fold,
 POLISH_SLOPE = 10.0      # ... those where |d ln V / dD*| > 10 (at fixed u*), or in the
                          # branch's last interval before the fold
-POLISH_ELASTICITY = 0.3  # ... and where max(u*, 0.002) |d ln V / du*| < 0.3 (small u*)
+POLISH_ELASTICITY = 0.6  # ... and where max(u*, 0.002) |d ln V / du*| < 0.6 (small u*)
 FOLD_MARGIN = 1e-4       # no row within 1e-4 (relative) of its fold (see the module notes)
 
 
@@ -160,8 +161,8 @@ def _polish(dc, df, g: _Geo, x: np.ndarray, P: float, S: float) -> np.ndarray:
     """The bridge at (P, S) on the fine discretisation, from the coarse solution x."""
     nw = _newton(df, g, _transfer(dc, x, df), (Fixed(df.iP, P), Fixed(df.iS, S)), maxit=20)
     if not nw.converged or abs(nw.x[df.ic1] - x[dc.ic1]) > 1e-4:
-        raise SolverError(f"yade export: the {df.n_el}-element re-solve next to the fold "
-                          f"failed at D* = {S:.6g}, u* = {-P:.6g}")
+        raise SolverError(f"yade export: the {df.n_el}-element re-solve failed at "
+                          f"D* = {S:.6g}, u* = {-P:.6g}")
     return nw.x
 
 
