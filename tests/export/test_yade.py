@@ -2,10 +2,12 @@
 Yade's reader, and (marker ``yade``) Yade itself reading the files.
 
 References: the volume-controlled solver at the row's volume and gap (another closing of
-the same discretisation, at 4x the elements), the ODE shooting solution of
-tests/solver/shooting.py (independent code), and the rupture distances at zero suction that
-Yade's own generator prints (writesCapFile.m: maxD = 0.3995, 0.2772, 0.1615 for r = 1, 2, 5,
-theta = 0, from a 2e-6 Euler profile and a 0.5 deg filling-angle grid: 1e-3 relative).
+the same discretisation, at 4x the elements), the ODE shooting solutions of
+tests/solver/shooting.py and tests/export/yade_rows.py (independent code; the latter checks
+every row, also of the full set in ``benchmarks/bench_export_yade.py --part rows``), and
+the rupture distances at zero suction that Yade's own generator prints (writesCapFile.m:
+maxD = 0.3995, 0.2772, 0.1615 for r = 1, 2, 5, theta = 0, from a 2e-6 Euler profile and a
+0.5 deg filling-angle grid: 1e-3 relative).
 """
 
 from __future__ import annotations
@@ -31,7 +33,9 @@ from wetcontact.export.yade import (
 from wetcontact.solver.meniscus import Bridge, solve_suction, solve_volume
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "solver"))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
 from shooting import shoot_volume  # noqa: E402
+from yade_rows import QUANTITIES, check_rows  # noqa: E402
 
 DEG = math.pi / 180.0
 
@@ -59,6 +63,35 @@ def test_rows_match_the_volume_controlled_solver(ratio, theta):
         assert d2 == pytest.approx(math.degrees(sol.filling_angle2), abs=1e-6)
         # 2 nn11 + nn33 is the liquid-gas area
         assert 2 * nn11 + nn33 == pytest.approx(sol.area, rel=1e-6)
+
+
+@pytest.mark.parametrize("ratio, theta", [(1.0, 0.0), (10.0, 40.0)])
+def test_every_row_matches_the_exact_bridge_at_its_grid_point(ratio, theta):
+    """Every row of a reduced table (its fold rows included) within 1e-6 (relative) of the
+    exact bridge at its (D*, u*) from the ODE shooting of yade_rows.py, the checker the
+    benchmark runs on the full set (``bench_export_yade.py --part rows``).
+
+    The suction is the row's key (written exactly) and is checked as read back through the
+    row's volume, u(D*, V*), relative to max(u*, 0.002) (u* = 0 rows: the first positive
+    grid suction as the floor).
+    """
+    tab = capillary_table(ratio, theta * DEG, n_suctions=10, n_distances=12)
+    res = check_rows(ratio, theta * DEG, tab.rows)
+    assert res["converged"].all()
+    assert np.max(res["self_check"]) < 1e-12        # the force is the same at both ends
+    assert np.max(res["step_check"]) < 1e-9         # the shooting's own error (step halved)
+    for q in QUANTITIES:
+        assert np.max(res["err"][q]) < 1e-6, (q, tab.rows[np.argmax(res["err"][q])])
+    # the rows reach their folds (the checker sees the hard cases) ...
+    assert np.min(np.abs(res["dD_ddelta1"])) < 0.05 * np.median(np.abs(res["dD_ddelta1"]))
+    # ... and it notices an error of 2e-6 in any one column
+    cols = {2: "V*", 3: "F*", 4: "delta1", 5: "delta2", 6: "nn11*", 7: "nn33*"}
+    bad = np.repeat(tab.rows[5:6], len(cols), axis=0)
+    for k, col in enumerate(cols):
+        bad[k, col] *= 1 + 2e-6
+    err = check_rows(ratio, theta * DEG, bad)["err"]
+    for k, q in enumerate(cols.values()):
+        assert err[q][k] > 1e-6, q
 
 
 def test_rows_match_the_shooting_solution(table_r2):

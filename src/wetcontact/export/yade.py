@@ -29,6 +29,23 @@ the suction-controlled continuation of :mod:`wetcontact.solver.meniscus.continua
 at ``min(90 deg - theta, 70 deg)`` (the meniscus model's range; Yade's generator goes to
 ``90 - theta``): below that suction's smallest admitted gap no row is written and Yade
 extrapolates in suction from the rows it has.
+
+Near the fold every quantity at fixed (D*, u*) varies like ``sqrt(S_fold - D)``: the
+discretisation error of the gap at fixed (u*, delta1) (up to 5e-8 R2 at 32 elements,
+measured against the ODE shooting of tests/export/yade_rows.py) reaches a row as that error
+times ``d ln V / dD`` (and the like for the other columns), which grows like
+``1/sqrt(S_fold - D)``. Rows where the branch's secant ``|d ln V / dD*|`` exceeds
+``POLISH_SLOPE`` (a V* error above 10 x 5e-8 at 32 elements), and all rows of the
+branch's last interval before its fold, are therefore re-solved at fixed (D*, u*) on
+``POLISH_ELEMENTS`` elements (4096x smaller error at the declared 4th order than 32); no
+row is written closer than ``FOLD_MARGIN`` (relative) to its fold, where no mesh would
+hold it to 1e-6 (the largest distance of the grid is the largest rupture distance times
+``1 - FOLD_MARGIN``; Yade's own generator puts the rupture distances 1e-3 apart from the
+exact ones). At small suction the volume hardly depends on the suction: read back through
+the volume (the volume-controlled reading of a row, ``u(D*, V*)``), the suction's relative
+error is the volume's divided by ``max(u*, 0.002) |d ln V / du*|`` (about 2e-3 at
+u* = 0.002), so rows where that factor is below ``POLISH_ELASTICITY`` are re-solved on
+``POLISH_ELEMENTS`` elements as well.
 """
 
 from __future__ import annotations
@@ -57,6 +74,11 @@ COLUMNS = ("D*", "u*", "V*", "F*", "delta1_deg", "delta2_deg", "nn11*", "nn33*")
 U_FIRST = 0.002          # first positive u* (Yade's generator, after Scholtes 2008)
 FILLING_AT_MAX_U = 0.7   # deg: mean filling angle at contact at the largest suction
 DEFAULT_ELEMENTS = 32    # P2 elements: rows within 1e-7 of the 128-element solve (test)
+POLISH_ELEMENTS = 256    # rows re-solved on the finer mesh: next to their fold,
+POLISH_SLOPE = 10.0      # ... those where |d ln V / dD*| > 10 (at fixed u*), or in the
+                         # branch's last interval before the fold
+POLISH_ELASTICITY = 0.6  # ... and where max(u*, 0.002) |d ln V / du*| < 0.6 (small u*)
+FOLD_MARGIN = 1e-4       # no row within 1e-4 (relative) of its fold (see the module notes)
 
 
 def file_name(ratio: float, suffix: str = "") -> str:
@@ -85,6 +107,8 @@ class CapillaryTable:
         D* of the fold (largest gap) at each suction.
     solves, wall_time_s
         Newton solves spent and the wall time of the table.
+    polished
+        Rows re-solved on ``POLISH_ELEMENTS`` elements (next to their fold, small suction).
     """
 
     ratio: float
@@ -95,6 +119,7 @@ class CapillaryTable:
     rupture: np.ndarray
     solves: int
     wall_time_s: float
+    polished: int = 0
 
     def blocks(self) -> list[np.ndarray]:
         """Rows grouped by distance, as Yade reads them."""
@@ -111,6 +136,51 @@ def _row(d, g: _Geo, x: np.ndarray, D: float, u: float) -> list[float]:
     nn11, nn33 = interface_terms(d, x)
     return [D, u, float(_volume(d, g, x)), f, math.degrees(c1), math.degrees(c2),
             nn11, nn33]
+
+
+def _transfer(dc, x: np.ndarray, df) -> np.ndarray:
+    """A coarse solution on the fine discretisation: its P2 fields evaluated at the fine
+    nodes (exact interpolation), the scalar unknowns copied."""
+    t = dc.t[dc.sorted]                        # coarse nodes 0, h/2, h, ... (sorted)
+    h = 1.0 / dc.n_el
+    k = np.minimum((df.t / h).astype(int), dc.n_el - 1)
+    xi = df.t / h - k
+    w = (2 * (xi - 0.5) * (xi - 1), -4 * xi * (xi - 1), 2 * xi * (xi - 0.5))
+    if not np.allclose(t[2 * k] + 0.5 * h, t[2 * k + 1]):
+        raise SolverError("yade export: unexpected node layout in the mesh transfer")
+    out = np.empty(df.m)
+    for f in range(3):
+        fc = x[f * dc.n:(f + 1) * dc.n][dc.sorted]
+        out[f * df.n:(f + 1) * df.n] = w[0] * fc[2 * k] + w[1] * fc[2 * k + 1] \
+            + w[2] * fc[2 * k + 2]
+    out[3 * df.n:] = x[3 * dc.n:]
+    return out
+
+
+def _polish(dc, df, g: _Geo, x: np.ndarray, P: float, S: float) -> np.ndarray:
+    """The bridge at (P, S) on the fine discretisation, from the coarse solution x."""
+    nw = _newton(df, g, _transfer(dc, x, df), (Fixed(df.iP, P), Fixed(df.iS, S)), maxit=20)
+    if not nw.converged or abs(nw.x[df.ic1] - x[dc.ic1]) > 1e-4:
+        raise SolverError(f"yade export: the {df.n_el}-element re-solve failed at "
+                          f"D* = {S:.6g}, u* = {-P:.6g}")
+    return nw.x
+
+
+def _flat_in_suction(rows: np.ndarray) -> np.ndarray:
+    """Rows whose volume barely depends on the suction at their distance:
+    ``max(u*, U_FIRST) |d ln V / du*| < POLISH_ELASTICITY`` (the derivative along the D
+    block by finite differences; blocks of one row count as flat)."""
+    flat = np.zeros(rows.shape[0], bool)
+    for D in np.unique(rows[:, 0]):
+        idx = np.flatnonzero(rows[:, 0] == D)
+        idx = idx[np.argsort(rows[idx, 1])]
+        if idx.size < 2:
+            flat[idx] = True
+            continue
+        u = rows[idx, 1]
+        slope = np.gradient(np.log(rows[idx, 2]), u)
+        flat[idx] = np.maximum(u, U_FIRST) * np.abs(slope) < POLISH_ELASTICITY
+    return flat
 
 
 def _largest_suction(d, g: _Geo) -> tuple[float, np.ndarray]:
@@ -186,21 +256,43 @@ def capillary_table(ratio: float, contact_angle: float, n_suctions: int = 350,
         x, u_prev = start, float(u)
     branches = branches[::-1]
     rupture = np.array([br.S_fold for br in branches])
-    D_max = float(np.max(rupture)) * (1.0 - 1e-9)
+    D_max = float(np.max(rupture)) * (1.0 - FOLD_MARGIN)
     distances = np.linspace(0.0, D_max, n_distances)
-    rows = []
+    df = _disc(max(POLISH_ELEMENTS, int(n_elements)))
+    rows, polished, coarse = [], 0, []
     for u, br in zip(suctions, branches, strict=True):
-        sel = distances[(distances >= br.S_start - 1e-13) & (distances <= br.S_fold)]
+        top = br.S_fold * (1.0 - FOLD_MARGIN)
+        sel = distances[(distances >= br.S_start - 1e-13) & (distances <= top)]
+        Ss = np.array([p[d.iS] for p in br.points])
+        lnV = np.log([_volume(d, g, p) for p in br.points])
         for D, xs in zip(sel, suction_at_gaps(br, sel), strict=True):
-            rows.append(_row(d, g, xs, float(D), float(u)))
+            k = int(np.clip(np.searchsorted(Ss, D) - 1, 0, len(Ss) - 2))
+            last = k == len(Ss) - 2
+            steep = abs(lnV[k + 1] - lnV[k]) > POLISH_SLOPE * max(Ss[k + 1] - Ss[k], 1e-300)
+            if (last or steep) and df.n_el > d.n_el:
+                rows.append(_row(df, g, _polish(d, df, g, xs, -float(u), float(D)),
+                                 float(D), float(u)))
+                solves += 1
+                polished += 1
+            else:
+                coarse.append((len(rows), xs))
+                rows.append(_row(d, g, xs, float(D), float(u)))
         solves += sel.size
     arr = np.array(rows)
+    if df.n_el > d.n_el:
+        flat = _flat_in_suction(arr)
+        for i, xs in coarse:
+            if flat[i]:
+                D, u = float(arr[i, 0]), float(arr[i, 1])
+                arr[i] = _row(df, g, _polish(d, df, g, xs, -u, D), D, u)
+                solves += 1
+                polished += 1
     arr = arr[np.lexsort((arr[:, 1], arr[:, 0]))]
     missing = [float(D) for D in distances if not np.any(arr[:, 0] == D)]
     if missing:
         raise SolverError(f"yade export: no bridge at D* = {missing[0]:.6g} for r = {ratio:g}")
     return CapillaryTable(float(ratio), float(contact_angle), distances, suctions, arr,
-                          rupture, solves, time.perf_counter() - t0)
+                          rupture, solves, time.perf_counter() - t0, polished)
 
 
 def format_table(table: CapillaryTable) -> str:
@@ -235,7 +327,7 @@ def _one(args: tuple) -> dict:
     return {"ratio": ratio, "file": path, "rows": int(tab.rows.shape[0]),
             "suctions": int(tab.suctions.size), "distances": int(tab.distances.size),
             "max_distance": float(tab.distances[-1]), "max_suction": float(tab.suctions[-1]),
-            "solves": tab.solves, "wall_time_s": tab.wall_time_s}
+            "solves": tab.solves, "polished": tab.polished, "wall_time_s": tab.wall_time_s}
 
 
 def export_yade(contact_angle_deg: float, out: Path, n_suctions: int = 350,
