@@ -101,9 +101,10 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="two gaps, three levels, 2 repeats")
     ap.add_argument("--repeats", type=int, default=5)
-    ap.add_argument("--part", choices=("all", "slip", "bridge"), default="all",
+    ap.add_argument("--part", choices=("all", "slip", "bridge", "cost"), default="all",
                     help="'slip': only the slip, Basset and unequal-sphere sections; "
-                    "'bridge': only the liquid-bridge sections")
+                    "'bridge': only the liquid-bridge sections; 'cost': median cost per gap "
+                    "of bridges and films at the default preset (run it on a quiet machine)")
     args = ap.parse_args()
     repeats = 2 if args.quick else args.repeats
     if args.part == "bridge":
@@ -111,6 +112,9 @@ def main() -> None:
         return
     if args.part == "slip":
         slip_part(args.quick, repeats)
+        return
+    if args.part == "cost":
+        cost_part(repeats)
         return
     gaps = [1e-3, 0.1] if args.quick else [1e-3, 1e-2, 0.1, 1.0]
     levels = (["coarse", "fast", "default"] if args.quick else list(LEVELS))
@@ -392,6 +396,48 @@ def bridge_part(quick: bool) -> None:
                  "loaded; theta = 20 deg, b = 1 nm = 1e-6 R unless stated"})
     write_json("stokes", data)
     plot_bridge(comp, slip, RESULTS / "stokes_bridge.png")
+
+
+def cost_part(repeats: int) -> None:
+    """Median wall time per gap at the default preset, meshing included (goal 2 s), of the
+    bridges (V/R^3 = 1e-3, 20 deg, 1 nm slip) and films (delta = 2S) of ``bridge_part``,
+    each solved ``repeats`` times with a cold mesh cache; the load average is recorded."""
+    import json
+    import os
+    import statistics
+
+    model = get_model("stokes")
+    model.force(bridge_scene("sphere-wall", 1e-2, 1e-3), preset="fast")  # imports, JIT
+    rows = []
+    cases = [("bridge", kind, q, s) for kind, q in (("sphere-wall", 1.0),
+                                                    ("sphere-sphere", 1.0),
+                                                    ("sphere-sphere", 2.0))
+             for s in (1e-3, 1e-2)] + [("film", "sphere-wall", 1.0, s)
+                                       for s in (1e-3, 1e-2, 0.1)]
+    for amount, kind, q, s in cases:
+        if amount == "bridge":
+            sc = bridge_scene(kind, s, 1e-3, radius2=q)
+        else:
+            sc = scene_from_dict({
+                "name": "bench-film", "geometry": {"kind": "sphere-wall", "radius": R},
+                "amount": {"film_thickness": 2 * s * R},
+                "liquid": {"viscosity": ETA, "surface_tension": 0.072, "density": 998.0},
+                "motion": {"velocity": V, "gaps": [s * R]}})
+        times = []
+        load = os.getloadavg()[0]
+        for _ in range(repeats):
+            os.environ["WETCONTACT_CACHE"] = tempfile.mkdtemp(prefix="wetcontact-bench-")
+            t0 = time.perf_counter()
+            model.force(sc, preset="default")
+            times.append(time.perf_counter() - t0)
+        rows.append({"amount": amount, "kind": kind, "r2_over_r": q, "s_over_r": s,
+                     "median_s": statistics.median(times), "min_s": min(times),
+                     "max_s": max(times), "repeats": repeats, "load_average_1min": load})
+        print(rows[-1], flush=True)
+    path = RESULTS / "stokes.json"
+    data = json.loads(path.read_text()) if path.exists() else {"benchmark": "stokes"}
+    data["cost_per_gap_default"] = rows
+    write_json("stokes", data)
 
 
 def plot_bridge(comp: list[dict], slip: list[dict], out: Path) -> None:
