@@ -56,7 +56,7 @@ from wetcontact.models import ForceCurve, Model, get_model
 from wetcontact.reduced_models import capillary as cap
 from wetcontact.reduced_models import rupture as rup
 from wetcontact.reduced_models import viscous as visc
-from wetcontact.reduced_models.calibrated import FILM_D, FILM_X, film_coords
+from wetcontact.reduced_models.calibrated import FILM_D, FILM_X, film_coords, film_point
 from wetcontact.scene import Scene
 
 Arrays = Mapping[str, np.ndarray]
@@ -943,13 +943,10 @@ def fit_film_stokes(base: np.ndarray, nodes: tuple[int, int] = (10, 12), n_held_
     na, nb = nodes
     ta = np.cos(np.pi * (np.arange(na) + 0.5) / na)
     tb = np.cos(np.pi * (np.arange(nb) + 0.5) / nb)
-    lo, hi = math.log(FILM_D[0]), math.log(FILM_D[1])
-    slo, shi = math.sqrt(1.0 - FILM_X[1]), math.sqrt(1.0 - FILM_X[0])
-    xs = 1.0 - (0.5 * (tb * (shi - slo) + slo + shi)) ** 2
+    ds, xs = film_point(ta, tb)
     aa, bb, yy = [], [], []
-    for t in ta:
-        d = math.exp(0.5 * (t * (hi - lo) + lo + hi))
-        scene, f = _stokes_film(d, xs, preset)
+    for t, d in zip(ta, ds, strict=True):
+        scene, f = _stokes_film(float(d), xs, preset)
         form = finite_liquid_form(base, scene_inputs(fam, scene))
         aa.append(np.full(nb, t))
         bb.append(tb)

@@ -53,6 +53,14 @@ def film_coords(delta_over_r: np.ndarray, s_over_h: np.ndarray) -> tuple[np.ndar
     return a, b
 
 
+def film_point(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(delta/R, S/delta) at the coordinates (a, b): the inverse of :func:`film_coords`."""
+    lo, hi = math.log(FILM_D[0]), math.log(FILM_D[1])
+    slo, shi = math.sqrt(1.0 - FILM_X[1]), math.sqrt(1.0 - FILM_X[0])
+    return (np.exp(0.5 * (a * (hi - lo) + lo + hi)),
+            1.0 - (0.5 * (b * (shi - slo) + slo + shi)) ** 2)
+
+
 @cache
 def viscous_table() -> dict[str, Any] | None:
     """The shipped table, or ``None`` before ``python -m wetcontact.calibrate viscous``."""
