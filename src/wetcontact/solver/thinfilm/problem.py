@@ -76,13 +76,34 @@ def graded_cells(dr_fine: float, domain: float, fine_radius: float, growth: floa
 
 
 @dataclass(frozen=True)
-class FilmProblem:
-    r"""Parameters and grid of one thin-film run (SI units).
+class FilmPhysics:
+    """The physical parameters of a sphere approaching a film (SI units), shared by the
+    penalty-contact :class:`FilmProblem` and the sharp-contact
+    :class:`~wetcontact.solver.thinfilm.sharp.SharpFilm`.
 
     Attributes
     ----------
     radius, viscosity, surface_tension, density, gravity, film_thickness, velocity
         R (m), eta (Pa s), sigma (N/m), rho (kg/m^3), g (m/s^2), delta (m), v (m/s).
+    """
+
+    radius: float
+    viscosity: float
+    surface_tension: float
+    density: float
+    gravity: float
+    film_thickness: float
+    velocity: float
+
+
+@dataclass(frozen=True)
+class FilmProblem(FilmPhysics):
+    r"""Parameters and grid of one thin-film run (SI units).
+
+    Attributes
+    ----------
+    radius, viscosity, surface_tension, density, gravity, film_thickness, velocity
+        From :class:`FilmPhysics`.
     cells
         Number of finite-volume cells on [0, L].
     domain
@@ -109,13 +130,6 @@ class FilmProblem:
         lambda: relative width (in h/g) of the diffuse contact zone of the meniscus model.
     """
 
-    radius: float
-    viscosity: float
-    surface_tension: float
-    density: float
-    gravity: float
-    film_thickness: float
-    velocity: float
     cells: int
     domain: float
     penetration: float = 1e-3

@@ -70,7 +70,7 @@ from wetcontact.solver.meniscus.young_laplace import (
 )
 from wetcontact.solver.thinfilm.forces import Snapshot
 from wetcontact.solver.thinfilm.integrate import RunResult, next_gap
-from wetcontact.solver.thinfilm.problem import graded_faces
+from wetcontact.solver.thinfilm.problem import FilmPhysics, graded_faces
 
 # ---- the inner meniscus ----------------------------------------------------------------
 
@@ -208,20 +208,14 @@ class InnerMeniscus:
 
 
 @dataclass(frozen=True)
-class SharpFilm:
-    """Parameters of a sharp-contact run (SI units).
+class SharpFilm(FilmPhysics):
+    """Parameters of a sharp-contact run (SI units): the physics of :class:`FilmPhysics`,
+    the outer radius ``domain`` (m) and the sphere's contact angle ``angle_sphere`` (rad).
 
     ``cells`` film cells on [a, L], uniform in xi on [0, ``fine_fraction``] then growing
     by ``growth``; ``n_elements`` elements of the inner bridge.
     """
 
-    radius: float
-    viscosity: float
-    surface_tension: float
-    density: float
-    gravity: float
-    film_thickness: float
-    velocity: float
     domain: float
     angle_sphere: float
     cells: int = 200
