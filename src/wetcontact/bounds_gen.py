@@ -15,7 +15,8 @@ bounds on other seeded points):
 - capillary closures against ``meniscus`` (default preset, 1e-6): sphere-wall and
   sphere-sphere (radius ratio 1-10), V/R_small^3 in [1e-4, 0.1], each contact angle
   0-70 deg, binned in the larger contact angle and in S over the closure's own rupture
-  distance (to 3 S_c: past rupture a zero force is exact only if the reference ruptured too).
+  distance (to 3 S_c: past rupture a zero force is exact only if the reference ruptured too);
+  ``calibrated-capillary`` on its own domain, one contact angle on both solids.
 
 Relative error per gap: ``|F - F_ref| / |F_ref|``; where the reference is zero (ruptured)
 it is 0 if the closure is zero too and :data:`SPURIOUS` otherwise.
@@ -306,6 +307,53 @@ def capillary_tables(rng: np.random.Generator, n_scenes: int = 90,
     return out
 
 
+def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
+                                progress: bool = False) -> list[dict[str, Any]]:
+    """``calibrated-capillary`` against ``meniscus`` on its own domain (one contact angle
+    on both solids, which the independent-angle scenes of :func:`capillary_tables` never
+    draw), binned like the other capillary closures."""
+    men = get_model("meniscus")
+    model = get_model("calibrated-capillary")
+    se = np.asarray(S_OVER_SC_EDGES)
+    out = []
+    for kind in ("sphere-wall", "sphere-sphere"):
+        errs, coords = [], []
+        t0 = time.perf_counter()
+        for i in range(n_scenes):
+            ratio = 1.0 if kind == "sphere-wall" else float(np.exp(rng.uniform(0, np.log(10))))
+            r2 = None if kind == "sphere-wall" else R * ratio
+            vstar = float(np.exp(rng.uniform(np.log(1e-4), np.log(0.1))))
+            th = float(rng.uniform(0, 70))
+            base = make_scene(kind, {"bridge_volume": vstar * R**3}, [1e-6], r2, (th, th))
+            if model.applicable(base) is not None:
+                continue
+            sc = model.rupture_distance(base)
+            x = np.maximum(np.concatenate([rng.uniform(lo, hi, 1) for lo, hi in
+                                           zip(se[:-1], se[1:], strict=True)]), 1e-3)
+            gaps = x * sc
+            ref = men.force(base, gaps=gaps).force_capillary
+            f = model.force(base, gaps=gaps).force_capillary
+            errs.append(rel_error(f, ref))
+            coords.append(np.column_stack([np.full(x.size, th), x, np.full(x.size, vstar),
+                                           np.full(x.size, ratio)]))
+            if progress:
+                print(f"  calibrated-capillary {kind}: {i + 1}/{n_scenes} scenes, "
+                      f"{time.perf_counter() - t0:.0f} s", flush=True)
+        if not errs:
+            continue
+        c = np.concatenate(coords)
+        axes = ["theta_deg", "s_over_sc", "v_star"]
+        edges = [THETA_EDGES, S_OVER_SC_EDGES, [1e-4, 0.1]]
+        cols = [c[:, 0], c[:, 1], c[:, 2]]
+        if kind == "sphere-sphere":
+            axes.append("radius_ratio")
+            edges.append([1.0, 10.0])
+            cols.append(c[:, 3])
+        out.append(_table("calibrated-capillary", "capillary", kind, "bridge",
+                          "meniscus (default preset)", axes, edges, cols, np.concatenate(errs)))
+    return out
+
+
 def measure_bounds(seed: int = 20261123, out: Path = DATA_PATH, quick: bool = False,
                    progress: bool = False) -> dict[str, Any]:
     """Measure every table and write the JSON (``out``); returns the JSON object."""
@@ -316,6 +364,9 @@ def measure_bounds(seed: int = 20261123, out: Path = DATA_PATH, quick: bool = Fa
     tabs += finite_liquid_tables(rng, n_scenes=6 if quick else 24,
                                  film_scenes=4 if quick else 16)
     tabs += capillary_tables(rng, n_scenes=8 if quick else 90, progress=progress)
+    # its own stream, so that adding it left the other tables' points unchanged
+    tabs += calibrated_capillary_tables(np.random.default_rng([seed, 11]),
+                                        n_scenes=8 if quick else 40, progress=progress)
     data = {"generated_by": "python -m wetcontact.calibrate bounds", "seed": seed,
             "margin": MARGIN, "spurious": SPURIOUS, "quick": quick,
             "wall_time_s": round(time.perf_counter() - t0, 1), "tables": tabs}

@@ -1037,7 +1037,23 @@ def main(argv: list[str] | None = None) -> int:
     f.add_argument("--held-out", type=int, default=16)
     f.add_argument("--reuse", action="store_true", help="refit from the saved points")
     sub.add_parser("viscous", help="regenerate the calibrated-viscous closure")
+    c = sub.add_parser("capillary", help="regenerate the calibrated-capillary closure")
+    c.add_argument("--kind", choices=["sphere-wall", "sphere-sphere", "all"], default="all")
+    c.add_argument("--workers", type=int, default=2)
+    c.add_argument("--held-out", type=int, default=120, help="held-out bridges per kind")
     args = p.parse_args(argv)
+    if args.command == "capillary":
+        from wetcontact.calibrate_capillary import generate_calibrated_capillary
+
+        kinds = ("sphere-wall", "sphere-sphere") if args.kind == "all" else (args.kind,)
+        data = generate_calibrated_capillary(kinds=kinds, workers=args.workers,
+                                             n_held_out=args.held_out)
+        for kind in kinds:
+            ho = data[kind]["held_out"]
+            print(f"{kind}: held-out max rupture {ho['rupture_distance']['max']:.3g}, "
+                  f"force {ho['force']['max']:.3g} ({ho['force']['points']} points)")
+        print(f"{data['wall_time_s']} s")
+        return 0
     if args.command == "viscous":
         data = generate_calibrated_viscous()
         for k, v in data["immersed"].items():

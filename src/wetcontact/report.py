@@ -461,6 +461,7 @@ def run_all(cases: Path = Path("cases"), out: Path | None = None, mode: str = "d
                              "folder of wetcontact calibrate's JSON outputs")
         cal_data = load_calibrations(calibration)
     viscous_path = DATA_DIR / "calibrated_viscous.json"
+    capillary_path = DATA_DIR / "calibrated_capillary.json"
     scenes = load_cases(cases)
     out = Path(out).absolute()
     if out.exists() and not out.is_dir():
@@ -473,6 +474,10 @@ def run_all(cases: Path = Path("cases"), out: Path | None = None, mode: str = "d
                        bench_path="" if bench_data is None else str(bench),
                        calibration=cal_data, calibrated_viscous=load_json(viscous_path),
                        calibrated_viscous_path="wetcontact/" + viscous_path.relative_to(
+                           DATA_DIR.parents[1]).as_posix(),
+                       calibrated_capillary=(load_json(capillary_path)
+                                             if capillary_path.is_file() else None),
+                       calibrated_capillary_path="wetcontact/" + capillary_path.relative_to(
                            DATA_DIR.parents[1]).as_posix())
     with _locked(out), _Heartbeat(progress) as beat:
         _recover(out)

@@ -39,6 +39,8 @@ class StudyContext:
         ``benchmarks/results/calibration/*.json``), for the held-out tables.
     calibrated_viscous, calibrated_viscous_path
         The shipped ``calibrated-viscous`` closure's table (its package data) and its path.
+    calibrated_capillary, calibrated_capillary_path
+        The same for ``calibrated-capillary``.
     """
 
     quick: bool = False
@@ -48,3 +50,5 @@ class StudyContext:
     calibration: tuple[tuple[str, dict[str, Any]], ...] = field(default=(), compare=False)
     calibrated_viscous: dict[str, Any] | None = field(default=None, compare=False)
     calibrated_viscous_path: str = ""
+    calibrated_capillary: dict[str, Any] | None = field(default=None, compare=False)
+    calibrated_capillary_path: str = ""

@@ -1,9 +1,10 @@
-"""Held-out error tables of the refitted closure families and the shipped calibrated closure.
+"""Held-out error tables of the refitted closure families and the shipped calibrated closures.
 
 Renders from calibration outputs, never solving: each family's JSON written by
 ``wetcontact calibrate`` (:func:`wetcontact.calibrate.write_calibration`; the committed ones
-are ``benchmarks/results/calibration/*.json``) and the ``calibrated-viscous`` closure's
-package data (``reduced_models/data/calibrated_viscous.json``), both named in the
+are ``benchmarks/results/calibration/*.json``) and the ``calibrated-viscous`` and
+``calibrated-capillary`` closures' package data (``reduced_models/data/calibrated_*.json``),
+named in the
 :class:`~wetcontact.tables.StudyContext` by ``wetcontact run``.
 
 For each family: the relative error ``|F_closure / F_reference - 1|`` on the held-out points
@@ -121,6 +122,29 @@ def viscous_rows(path: str, data: dict[str, Any]) -> list[dict[str, Any]]:
     return rows
 
 
+def capillary_rows(path: str, data: dict[str, Any]) -> list[dict[str, Any]]:
+    """CSV rows of the shipped ``calibrated-capillary`` closure's held-out tables (rupture
+    distance and force, per kind)."""
+    goals = data.get("goals", {"force": 1e-3, "rupture_distance": 5e-4})
+    dom = dict(data.get("domain", {}))
+    rows = []
+    for kind in ("sphere-wall", "sphere-sphere"):
+        if kind not in data:
+            continue
+        ho = data[kind]["held_out"]
+        d = {k: v for k, v in dom.items() if kind == "sphere-sphere" or k != "radius_ratio"}
+        for part in ("rupture_distance", "force"):
+            e = ho[part]
+            rows.append({"closure": "calibrated-capillary", "part": f"{kind} {part}",
+                         "coefficients": "shipped", "reference": ho.get("reference", ""),
+                         "points": e["points"], "seed": ho.get("seed"), "max": e["max"],
+                         "mean": e["mean"], "p95": e["p95"], "max_at": _where(e["max_at"]),
+                         "goal": goals[part], "goal_met": e["max"] <= goals[part],
+                         "domain": _domain(d) + ", one contact angle on both solids",
+                         "source": path})
+    return rows
+
+
 def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
     """Write ``calibration_heldout.csv`` into ``out``; return the Markdown section."""
     out = Path(out)
@@ -164,6 +188,23 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
                f"(`{cv.get('generated_by', 'python -m wetcontact.calibrate viscous')}`)."]
     else:
         md.append("Its table was not given.")
+    md += ["", "### Shipped closure `calibrated-capillary`", ""]
+    ccap = ctx.calibrated_capillary
+    if ccap is not None:
+        cr = capillary_rows(ctx.calibrated_capillary_path, ccap)
+        rows += cr
+        md += ["Tensor Chebyshev interpolation of `meniscus` (force and rupture distance), one "
+               "contact angle on both solids; held-out bridges are seeded and off the nodes, "
+               "gaps uniform in [0, 0.999] S_c.", "",
+               "| part | reference | held-out points | max / mean / p95 | goal (max) | max at "
+               "| domain |", "|---|---|---|---|---|---|---|"]
+        md += [f"| {r['part']} | {r['reference']} | {r['points']} | {_mmp(r)} | "
+               f"{r['goal']:g}: {'met' if r['goal_met'] else '**not met**'} | {r['max_at']} | "
+               f"{r['domain']} |" for r in cr]
+        md += ["", f"Source: `{ctx.calibrated_capillary_path}` (`{ccap.get('generated_by')}`, "
+               f"{ccap.get('wall_time_s', '?')} s)."]
+    else:
+        md.append("Its table was not generated (`python -m wetcontact.calibrate capillary`).")
     if rows:
         with (out / CSV_NAME).open("w", newline="") as fh:
             w = csv.DictWriter(fh, fieldnames=list(FIELDS))

@@ -4,6 +4,7 @@ force-separation curve (SI units in and out; the solver works in units of R1).""
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -143,27 +144,51 @@ def solve_suction(bridge: Bridge, gap: float, laplace_pressure: float,
                  nw.iterations)
 
 
+def _checked_fractions(fractions: Any) -> np.ndarray:
+    f = np.asarray(fractions, dtype=float)
+    if f.ndim != 1 or f.size < 1 or not f[0] >= 0 or f[-1] != 1.0 or np.any(np.diff(f) <= 0):
+        raise InputError("meniscus: fractions of the rupture distance must increase from "
+                         ">= 0 to exactly 1")
+    return f
+
+
 def force_separation_curve(bridge: Bridge, volume: float, n_points: int = 100,
-                           n_elements: int = DEFAULT_ELEMENTS) -> SeparationCurve:
+                           n_elements: int = DEFAULT_ELEMENTS,
+                           fractions: np.ndarray | Callable[[float], np.ndarray] | None = None
+                           ) -> SeparationCurve:
     """Force-separation curve at fixed volume: ``n_points`` gaps evenly spaced from 0 to
-    rupture (the last one is the turning point), each warm-started from its neighbour."""
-    if n_points < 2:
-        raise InputError(f"meniscus: n_points = {n_points}; allowed: >= 2")
+    rupture (the last one is the turning point), each warm-started from its neighbour.
+
+    ``fractions`` (increasing, in [0, 1], the last one 1) replaces the even spacing: the
+    gaps are ``fractions * S_c``, for samplers that need given points of the branch. It may
+    be a function of S_c (m) returning them, when the points depend on the rupture distance.
+    """
+    if fractions is None:
+        if n_points < 2:
+            raise InputError(f"meniscus: n_points = {n_points}; allowed: >= 2")
+        fractions = np.linspace(0.0, 1.0, n_points)
+    if not callable(fractions):
+        fractions = _checked_fractions(fractions)
     br, ell = _branch_for(bridge, volume, n_elements, n_steps=20)
+    if callable(fractions):
+        fractions = _checked_fractions(fractions(br.S_fold * ell))
+    n_points = fractions.size
     d, g = br.d, br.g
-    Sg = np.linspace(0.0, br.S_fold, n_points)
+    Sg = fractions * br.S_fold
+    # predictor: the continuation points bracketing S, linearly interpolated (S is monotone
+    # between them on the stable branch). A secant through the previous requested gaps can
+    # overshoot onto another solution of the same volume and gap when they are far apart.
+    pts = [*br.xs, br.x_fold]
+    Sb = np.array([p[d.iS] for p in pts])
     out = []
-    x = br.xs[0]
-    x_prev = None
     for k, S in enumerate(Sg):
         if k == n_points - 1:
             x, it = br.x_fold, 0
         else:
-            guess = x.copy()
-            if x_prev is not None and x[d.iS] > x_prev[d.iS]:  # secant predictor in S
-                guess += (x - x_prev) * (S - x[d.iS]) / (x[d.iS] - x_prev[d.iS])
+            j = int(np.clip(np.searchsorted(Sb, S) - 1, 0, len(pts) - 2))
+            lam = (S - Sb[j]) / (Sb[j + 1] - Sb[j]) if Sb[j + 1] > Sb[j] else 0.0
+            guess = pts[j] + min(max(lam, 0.0), 1.0) * (pts[j + 1] - pts[j])
             guess[d.iS] = S
-            x_prev = x
             nw = _newton(d, g, guess, (VolumeIs(br.V), Fixed(d.iS, S)))
             if not nw.converged or (S > 0.7 * br.S_fold and _stability(d, g, nw.x) < 0):
                 nw = _on_branch(br, S)

@@ -1,0 +1,271 @@
+r"""Calibrated capillary closure (level 0, ``calibrated-capillary``): tensor Chebyshev
+interpolants of the ``meniscus`` force and rupture distance, one contact angle per pair.
+
+Scope
+-----
+A pendular bridge of volume V between a sphere and a wall, or two spheres of radii
+``R_s <= R_l`` (radius ratio ``r = R_l/R_s`` in [1, 10]), with ``v = V/R_s^3`` in
+[1e-4, 0.1] and **the same** contact angle theta in [0, 70 deg] on both solids (what Yade's
+capillary law and Willett's fit assume), no gravity, any gap up to rupture. Outside, the
+model refuses and names ``meniscus``.
+
+Form
+----
+Rupture distance and force, with ``R* = R_s R_l/(R_s + R_l)`` (``R* = R`` on a wall) and
+``rho = R*/R_s``:
+
+.. math::
+    S_c = R_s\, v^{1/3} \exp\Big(\sum_{ij} C^{rup}_{ij\ldots} T_i(a) T_j(b) \ldots\Big),\qquad
+    F = 2\pi\sigma R^* (2\cos\theta)\,
+        \exp\Big(\sum_{ijk} C^{F}_{ijk\ldots} T_i(a) T_j(b) T_k(c) \ldots\Big),
+
+the Derjaguin force at contact times a smooth correction (Derjaguin 1934; PHYSICS.md
+section 2). The coordinates, each mapped to [-1, 1]: ``a`` from ln v, ``b`` from theta,
+``w = (ln r)^(1/3)`` for sphere pairs (between equal spheres a symmetry-breaking
+bifurcation ends the branch at larger angles; a small inequality of the radii unfolds it
+into a fold at ``S_b - k (ln r)^(2/3)``, so ``S_c`` is smooth in w, not in r), and ``c``
+from the gap,
+
+.. math::
+    z = \sqrt{1 - \ln(1 + S/\varepsilon)/\ln(1 + S_c/\varepsilon)},\qquad
+    \varepsilon = \sqrt{V/(\pi R^*)},
+
+which resolves both the drop of the force over the bridge's thin-gap height ``epsilon``
+(Willett et al. 2000 scale their gap by it) and the square-root shape of the branch at its
+fold (``F - F_c ~ sqrt(S_c - S)``). The coefficients interpolate ``meniscus`` at tensor
+Chebyshev-Lobatto points (:mod:`wetcontact.calibrate_capillary`); the package data
+``data/calibrated_capillary.json`` holds them with their held-out error tables.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from functools import cache
+from importlib import resources
+from typing import Any
+
+import numpy as np
+
+from wetcontact.errors import ValidityError
+from wetcontact.models import ForceCurve, Model, register
+from wetcontact.reduced_models.bounds import estimate_or_none
+from wetcontact.scene import Scene
+
+CAPILLARY_FILE = "calibrated_capillary.json"
+
+V_RANGE = (1e-4, 0.1)
+"""V/R_small^3."""
+THETA_RANGE_DEG = (0.0, 70.0)
+"""The one contact angle of the pair (deg)."""
+RATIO_RANGE = (1.0, 10.0)
+"""R_large/R_small of a sphere pair."""
+W_MAX = math.log(RATIO_RANGE[1]) ** (1.0 / 3.0)
+ANGLE_TOL = 1e-9
+"""Two contact angles closer than this (rad) count as one."""
+
+
+@cache
+def capillary_table() -> dict[str, Any] | None:
+    """The shipped table, or ``None`` before ``python -m wetcontact.calibrate capillary``."""
+    path = resources.files("wetcontact.reduced_models") / "data" / CAPILLARY_FILE
+    return json.loads(path.read_text()) if path.is_file() else None
+
+
+def _map(x: np.ndarray, lo: float, hi: float) -> np.ndarray:
+    return (2.0 * x - lo - hi) / (hi - lo)
+
+
+def coordinates(v: np.ndarray, theta: np.ndarray, ratio: np.ndarray | None = None
+                ) -> list[np.ndarray]:
+    """Chebyshev coordinates (each in [-1, 1]) of a bridge: ``a`` from ln v, ``b`` from
+    theta (rad), and for sphere pairs ``w`` from (ln r)^(1/3); order (w, a, b)."""
+    a = _map(np.log(v), math.log(V_RANGE[0]), math.log(V_RANGE[1]))
+    b = _map(np.degrees(theta), *THETA_RANGE_DEG)
+    if ratio is None:
+        return [a, b]
+    return [_map(np.cbrt(np.log(ratio)), 0.0, W_MAX), a, b]
+
+
+def gap_coordinate(s: np.ndarray, s_c: np.ndarray, eps: np.ndarray) -> np.ndarray:
+    """``c = 2 z - 1`` with ``z = sqrt(1 - ln(1 + S/eps)/ln(1 + S_c/eps))`` (S, S_c, eps in
+    one unit); S = 0 maps to 1, the rupture distance to -1."""
+    ratio = np.log1p(s / eps) / np.log1p(s_c / eps)
+    return 2.0 * np.sqrt(np.clip(1.0 - ratio, 0.0, 1.0)) - 1.0
+
+
+def gap_from_coordinate(c: np.ndarray, s_c: float, eps: float) -> np.ndarray:
+    """The gap at coordinate ``c``: the inverse of :func:`gap_coordinate`."""
+    z = 0.5 * (np.asarray(c) + 1.0)
+    return eps * np.expm1((1.0 - z**2) * math.log1p(s_c / eps))
+
+
+def _cheb_matrix(t: np.ndarray, n: int) -> np.ndarray:
+    """``T_k(t)`` for k < n, shape (len(t), n), by the three-term recurrence."""
+    out = np.empty((t.size, n))
+    out[:, 0] = 1.0
+    if n > 1:
+        out[:, 1] = t
+    for k in range(2, n):
+        out[:, k] = 2.0 * t * out[:, k - 1] - out[:, k - 2]
+    return out
+
+
+def _outer_rows(pts: list[np.ndarray], shape: tuple[int, ...]) -> np.ndarray:
+    """Rows ``T_i(x_1) T_j(x_2) ...`` over the leading axes, shape (n, prod(shape))."""
+    outer = _cheb_matrix(pts[0], shape[0])
+    for d in range(1, len(shape)):
+        m = _cheb_matrix(pts[d], shape[d])
+        outer = (outer[:, :, None] * m[:, None, :]).reshape(outer.shape[0], -1)
+    return outer
+
+
+def chebyshev_tensor(coef: np.ndarray, coords: list[np.ndarray], chunk: int = 8192
+                     ) -> np.ndarray:
+    """``sum C_{i..k} T_i(x_1) ... T_k(x_d)`` at points (x_1..x_d)[n], vectorised.
+
+    The last axis is contracted by one matrix product, the others by a running outer
+    product of the points' Chebyshev rows (cost ``prod(shape)`` multiply-adds a point).
+    """
+    coef = np.asarray(coef, dtype=float)
+    pts = [np.ravel(np.asarray(x, dtype=float)) for x in coords]
+    n = pts[0].size
+    out = np.empty(n)
+    if coef.ndim == 1:
+        return (_cheb_matrix(pts[0], coef.size) @ coef).reshape(np.shape(coords[0]))
+    head = coef.reshape(-1, coef.shape[-1]).T  # (n_last, prod(others))
+    for lo in range(0, n, chunk):
+        sl = slice(lo, min(n, lo + chunk))
+        acc = _cheb_matrix(pts[-1][sl], coef.shape[-1]) @ head
+        out[sl] = np.einsum("ij,ij->i", acc, _outer_rows([p[sl] for p in pts[:-1]],
+                                                         coef.shape[:-1]))
+    return out.reshape(np.shape(coords[0]))
+
+
+def _entry(kind: str) -> dict[str, Any]:
+    table = capillary_table()
+    if table is None or kind not in table:
+        raise ValidityError("calibrated-capillary", f"no {kind} coefficient table generated "
+                            "(python -m wetcontact.calibrate capillary)", "meniscus")
+    return table[kind]
+
+
+def rupture_star(kind: str, v: np.ndarray, theta: np.ndarray,
+                 ratio: np.ndarray | None = None) -> np.ndarray:
+    """Rupture distance S_c/R_s."""
+    e = _entry(kind)
+    x = coordinates(np.asarray(v), np.asarray(theta), None if kind == "sphere-wall" else ratio)
+    return np.cbrt(v) * np.exp(chebyshev_tensor(np.asarray(e["rupture"]), x))
+
+
+def reduced_star(kind: str, ratio: np.ndarray | None) -> np.ndarray | float:
+    """R*/R_s: 1 on a wall, r/(1 + r) for a sphere pair."""
+    return 1.0 if kind == "sphere-wall" else ratio / (1.0 + ratio)
+
+
+def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
+               ratio: np.ndarray | None = None, chunk: int = 8192
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """Attractive force ``F/(2 pi sigma R_s)`` at gap ``s = S/R_s`` (0 at and beyond
+    rupture) and the rupture distance ``S_c/R_s``, in one pass (the Chebyshev rows of
+    (w,) a, b serve both tables)."""
+    e = _entry(kind)
+    v, theta, s = np.broadcast_arrays(np.asarray(v, float), np.asarray(theta, float),
+                                      np.asarray(s, float))
+    shape = v.shape
+    v, theta, s = v.ravel(), theta.ravel(), s.ravel()
+    if ratio is not None:
+        ratio = np.broadcast_to(np.asarray(ratio, float), shape).ravel()
+    rup, frc = np.asarray(e["rupture"]), np.asarray(e["force"])
+    head = frc.reshape(-1, frc.shape[-1]).T
+    x = coordinates(v, theta, None if kind == "sphere-wall" else ratio)
+    rho = reduced_star(kind, ratio)
+    eps = np.sqrt(v / (np.pi * rho))
+    f, s_c = np.empty(v.size), np.empty(v.size)
+    for lo in range(0, v.size, chunk):
+        sl = slice(lo, min(v.size, lo + chunk))
+        outer = _outer_rows([p[sl] for p in x], rup.shape)
+        sc = np.cbrt(v[sl]) * np.exp(outer @ rup.ravel())
+        inside = s[sl] < sc
+        c = gap_coordinate(np.where(inside, s[sl], 0.0), sc, eps[sl])
+        q = np.exp(np.einsum("ij,ij->i", _cheb_matrix(c, frc.shape[-1]) @ head, outer))
+        rr = rho if np.ndim(rho) == 0 else rho[sl]
+        f[sl] = np.where(inside, rr * 2.0 * np.cos(theta[sl]) * q, 0.0)
+        s_c[sl] = sc
+    return f.reshape(shape), s_c.reshape(shape)
+
+
+@register
+class CalibratedCapillary(Model):
+    """Calibrated capillary closure: ``meniscus`` interpolated to about 1e-4 (held-out
+    tables in the package data), one contact angle per pair."""
+
+    name = "calibrated-capillary"
+    component = "capillary"
+    level = 0
+    validity = ("pendular bridge on a wall or between spheres of radius ratio 1-10, "
+                "V/R_small^3 in [1e-4, 0.1], one contact angle in [0, 70] deg on both "
+                "solids, no gravity; any gap (0 beyond its rupture distance)")
+    reference = "calibrated here: tensor Chebyshev interpolation of meniscus"
+    cost = 1e-6
+
+    def check(self, scene: Scene) -> None:
+        if scene.amount != "bridge":
+            raise ValidityError(self.name, f"needs a liquid bridge (amount = 'bridge'), got "
+                                f"amount = {scene.amount!r}",
+                                "brenner" if scene.amount == "immersed" else "thinfilm")
+        _entry(scene.kind)
+        th1, th2 = scene.contact_angle_sphere, scene.contact_angle_wall
+        other = "wall" if scene.kind == "sphere-wall" else "sphere 2"
+        if abs(th1 - th2) > ANGLE_TOL:
+            raise ValidityError(self.name, f"contact angles {math.degrees(th1):.4g} deg "
+                                f"(sphere) and {math.degrees(th2):.4g} deg ({other}) differ; "
+                                "calibrated for one angle on both solids", "meniscus")
+        deg = math.degrees(th1)
+        if not THETA_RANGE_DEG[0] <= deg <= THETA_RANGE_DEG[1] * (1 + 1e-12):
+            raise ValidityError(self.name, f"contact angle {deg:.4g} deg outside the "
+                                f"calibrated [0, {THETA_RANGE_DEG[1]:g}] deg", "meniscus")
+        if scene.gravity > 0 and scene.density > 0:
+            raise ValidityError(self.name, "calibrated without gravity", "meniscus")
+        v, ratio = self._v_ratio(scene)
+        if not V_RANGE[0] * (1 - 1e-9) <= v <= V_RANGE[1] * (1 + 1e-9):
+            raise ValidityError(self.name, f"V/R_small^3 = {v:.4g} outside the calibrated "
+                                f"[{V_RANGE[0]:g}, {V_RANGE[1]:g}]", "meniscus")
+        if ratio is not None and ratio > RATIO_RANGE[1] * (1 + 1e-9):
+            raise ValidityError(self.name, f"radius ratio {ratio:.4g} outside the calibrated "
+                                f"[1, {RATIO_RANGE[1]:g}]", "meniscus")
+
+    @staticmethod
+    def _v_ratio(scene: Scene) -> tuple[float, float | None]:
+        assert scene.bridge_volume is not None
+        if scene.kind == "sphere-wall":
+            return scene.bridge_volume / scene.radius**3, None
+        assert scene.radius2 is not None
+        rs, rl = sorted((scene.radius, scene.radius2))
+        return scene.bridge_volume / rs**3, rl / rs
+
+    def small_radius(self, scene: Scene) -> float:
+        """R_s: the sphere's radius on a wall, the smaller radius of a pair."""
+        return scene.radius if scene.kind == "sphere-wall" else min(scene.radius,
+                                                                    scene.radius2)
+
+    def rupture_distance(self, scene: Scene) -> float:
+        """S_c (m)."""
+        v, ratio = self._v_ratio(scene)
+        th = np.array(scene.contact_angle_sphere)
+        return float(rupture_star(scene.kind, np.array(v), th,
+                                  None if ratio is None else np.array(ratio))
+                     * self.small_radius(scene))
+
+    def _force(self, scene: Scene, preset: str, **opts: Any) -> ForceCurve:
+        rs = self.small_radius(scene)
+        v, ratio = self._v_ratio(scene)
+        gap = scene.gap_array
+        f, s_c = force_star(scene.kind, v, scene.contact_angle_sphere, gap / rs, ratio)
+        sc = float(s_c.flat[0]) * rs
+        force = 2.0 * np.pi * scene.surface_tension * rs * f
+        est = estimate_or_none(self.name, "capillary", scene, sc)
+        return ForceCurve(case=scene.name, model=self.name, gap=gap, force_viscous=None,
+                          force_capillary=-force,
+                          extras={"rupture_distance": np.full(gap.shape, sc)},
+                          error_estimate=est)

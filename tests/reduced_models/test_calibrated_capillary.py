@@ -1,0 +1,143 @@
+"""calibrated-capillary: its arithmetic against numpy, and its forces and rupture distances
+against ``meniscus`` solved here at seeded bridges that are not interpolation nodes."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from wetcontact.bounds_gen import make_scene
+from wetcontact.calibrate_capillary import lobatto, lobatto_coefficients
+from wetcontact.errors import InputError, ValidityError
+from wetcontact.models import get_model
+from wetcontact.reduced_models import calibrated_capillary as cc
+from wetcontact.solver.meniscus import Bridge, force_separation_curve, solve_volume
+
+R = 1.0e-3
+GOAL_FORCE, GOAL_RUPTURE = 1e-3, 5e-4  # issue 11
+
+
+@pytest.mark.parametrize("shape", [(5,), (4, 6), (3, 5, 7), (3, 4, 5, 6)])
+def test_tensor_sum_matches_numpy(shape: tuple[int, ...]) -> None:
+    rng = np.random.default_rng(5)
+    coef = rng.normal(size=shape)
+    pts = [rng.uniform(-1, 1, 40) for _ in shape]
+    ref = np.array([np.polynomial.chebyshev.chebval(pts[0][k], coef) if len(shape) == 1 else
+                    _nested(coef, [p[k] for p in pts]) for k in range(40)])
+    np.testing.assert_allclose(cc.chebyshev_tensor(coef, pts, chunk=7), ref,
+                               rtol=1e-12, atol=1e-12)
+
+
+def _nested(coef: np.ndarray, x: list[float]) -> float:
+    """The tensor sum by numpy's 1-D chebval, one axis at a time (last axis first)."""
+    c = coef
+    for xi in reversed(x):
+        c = np.polynomial.chebyshev.chebval(xi, np.moveaxis(c, -1, 0))
+    return float(c)
+
+
+def test_lobatto_coefficients_interpolate() -> None:
+    """Exact at the nodes, and spectrally accurate between them for a smooth function."""
+    f = lambda a, b: np.exp(0.4 * a - 0.3 * a * b) + np.cos(b)  # noqa: E731
+    xa, xb = lobatto(9), lobatto(11)
+    c = lobatto_coefficients(f(*np.meshgrid(xa, xb, indexing="ij")))
+    ga, gb = (g.ravel() for g in np.meshgrid(xa, xb, indexing="ij"))
+    np.testing.assert_allclose(cc.chebyshev_tensor(c, [ga, gb]), f(ga, gb), atol=1e-14)
+    p = np.random.default_rng(2).uniform(-1, 1, (2, 50))
+    assert np.max(np.abs(cc.chebyshev_tensor(c, list(p)) - f(*p))) < 1e-7
+
+
+def test_gap_coordinate_inverts() -> None:
+    c = np.linspace(-1, 1, 11)
+    s = cc.gap_from_coordinate(c, 0.3, 0.01)
+    assert s[0] == pytest.approx(0.3, rel=1e-14) and s[-1] == 0.0
+    np.testing.assert_allclose(cc.gap_coordinate(s, 0.3, 0.01), c, atol=1e-7)
+
+
+def _seeded(kind: str, n: int, seed: int) -> list[tuple[float, float, float | None, float]]:
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(n):
+        ratio = float(np.exp(rng.uniform(0, math.log(10)))) if kind == "sphere-sphere" else None
+        out.append((float(np.exp(rng.uniform(math.log(1e-4), math.log(0.1)))),
+                    float(rng.uniform(0, 70)), ratio, float(rng.uniform(0.0, 0.99))))
+    return out
+
+
+@pytest.mark.parametrize("kind", ["sphere-wall", "sphere-sphere"])
+def test_against_meniscus_at_seeded_bridges(kind: str) -> None:
+    """Rupture distance (``rupture_distance`` of the volume-controlled branch) and force
+    (``solve_volume`` at the gap, a toroidal start and Newton: not the sampler's branch
+    walk) at seeded bridges; the held-out tables in the package data are the larger
+    version of this check."""
+    model = get_model("calibrated-capillary")
+    e_f, e_r = [], []
+    for v, th, ratio, x in _seeded(kind, 6, 4242):
+        r2 = None if ratio is None else R * ratio
+        scene = make_scene(kind, {"bridge_volume": v * R**3}, [R * 1e-3], r2, (th, th))
+        br = Bridge.from_scene(scene)
+        sc_ref = force_separation_curve(br, v * R**3, fractions=np.array([0.0, 1.0])
+                                        ).rupture_distance
+        gap = x * sc_ref
+        ref = solve_volume(br, gap, v * R**3)
+        got = model.force(scene, gaps=[gap])
+        e_r.append(abs(float(got.extras["rupture_distance"][0]) / sc_ref - 1))
+        e_f.append(abs(float(got.force_capillary[0]) / ref.force - 1))
+    assert max(e_r) < GOAL_RUPTURE, e_r
+    assert max(e_f) < GOAL_FORCE, e_f
+
+
+def test_zero_beyond_rupture_and_attractive_inside() -> None:
+    scene = make_scene("sphere-wall", {"bridge_volume": 1e-3 * R**3}, [1e-6], None, (20, 20))
+    model = get_model("calibrated-capillary")
+    sc = model.rupture_distance(scene)
+    f = model.force(scene, gaps=[1e-9, 0.5 * sc, 0.999 * sc, sc, 2 * sc]).force_capillary
+    assert np.all(f[:3] < 0) and np.all(f[3:] == 0)
+
+
+@pytest.mark.parametrize(("changes", "why", "instead"), [
+    ({"theta": (20, 30)}, "differ", "meniscus"),
+    ({"theta": (75, 75)}, "contact angle", "meniscus"),
+    ({"volume": 5e-5}, "V/R_small", "meniscus"),
+    ({"volume": 0.2}, "V/R_small", "meniscus"),
+    ({"ratio": 12.0}, "radius ratio", None),  # meniscus refuses it too: a closure is named
+])
+def test_refuses_outside_its_domain_naming_a_model(changes: dict, why: str,
+                                                   instead: str | None) -> None:
+    th = changes.get("theta", (20, 20))
+    v = changes.get("volume", 1e-3)
+    ratio = changes.get("ratio")
+    kind = "sphere-sphere" if ratio else "sphere-wall"
+    scene = make_scene(kind, {"bridge_volume": v * R**3}, [1e-6],
+                       None if ratio is None else R * ratio, th)
+    with pytest.raises(ValidityError, match=why) as e:
+        get_model("calibrated-capillary").force(scene)
+    assert e.value.use_instead == (instead or e.value.use_instead)
+    assert e.value.use_instead is not None
+
+
+def test_refuses_films_and_immersed() -> None:
+    film = make_scene("sphere-wall", {"film_thickness": 1e-2 * R}, [1e-6])
+    with pytest.raises(ValidityError, match="bridge"):
+        get_model("calibrated-capillary").force(film)
+
+
+def test_fractions_must_rise_to_one() -> None:
+    br = Bridge(radius=1.0, surface_tension=1.0)
+    with pytest.raises(InputError, match="fractions"):
+        force_separation_curve(br, 1e-3, fractions=np.array([0.0, 0.5]))
+
+
+def test_branch_points_at_uneven_fractions_stay_on_the_branch() -> None:
+    """A secant predictor through far-apart requested gaps once landed on another solution
+    of the same volume and gap (force 0.0016 instead of 0.0388 here); each point must equal
+    ``solve_volume`` at that gap."""
+    th = math.radians(25.872157996713785)
+    br = Bridge(radius=1.0, contact_angle1=th, contact_angle2=th, surface_tension=1.0)
+    v = 1.4036776450555922e-4
+    fr = np.array([0.1873, 0.2459, 0.6328, 0.6881, 0.6904, 0.7235, 0.744, 0.9802, 1.0])
+    cur = force_separation_curve(br, v, fractions=fr)
+    for s in cur.solutions[:-1]:
+        assert s.force == pytest.approx(solve_volume(br, s.gap, v).force, rel=1e-8)
