@@ -4,7 +4,10 @@ Writes ``benchmarks/results/calibrate.json`` and ``calibrate.png``. Run:
 ``python benchmarks/bench_calibrate.py``. Medians of a few runs on a shared 2-core
 machine: read them as orders of magnitude. The shipped ``calibrated-viscous`` table is
 regenerated into a temporary file (the package data is not touched); the bound tables'
-regeneration time is the one recorded in ``bounds.json`` when it was generated.
+regeneration time is the one recorded in ``bounds.json`` when it was generated, and so is
+``calibrated-capillary``'s (``wall_time_s`` of its package data, written by
+``python -m wetcontact.calibrate capillary`` on 2 processes; ``--regenerate-capillary``
+times it afresh into a temporary file, about 15 minutes).
 """
 
 from __future__ import annotations
@@ -23,6 +26,7 @@ from _common import RESULTS, median_time, write_json  # noqa: E402
 from wetcontact import calibrate as cal  # noqa: E402
 from wetcontact.models import load_all  # noqa: E402
 from wetcontact.reduced_models import bounds  # noqa: E402
+from wetcontact.reduced_models import calibrated_capillary as ccap  # noqa: E402
 from wetcontact.reduced_models.calibrated import immersed_lambda, viscous_table  # noqa: E402
 from wetcontact.reduced_models.viscous import brenner_lambda, schaeffer_lambda  # noqa: E402
 
@@ -59,6 +63,20 @@ def main() -> None:
     for name, fn in cases.items():
         t, _ = median_time(fn, repeats=7, warmup=1)
         per_point[name] = t / N
+    cap = ccap.capillary_table()
+    if cap is not None:
+        v = np.exp(rng.uniform(np.log(1e-4), np.log(0.1), N))
+        th = np.radians(rng.uniform(0, 70, N))
+        ratio = np.exp(rng.uniform(0, np.log(10), N))
+        for kind in ("sphere-wall", "sphere-sphere"):
+            if kind not in cap:
+                continue
+            rr = ratio if kind == "sphere-sphere" else None
+            _, sc = ccap.force_star(kind, v, th, np.zeros(N), rr)
+            gap = rng.uniform(0, 1.0, N) * sc
+            t, _ = median_time(lambda kind=kind, rr=rr, gap=gap: ccap.force_star(
+                kind, v, th, gap, rr), repeats=7, warmup=1)
+            per_point[f"calibrated-capillary {kind} (force and S_c)"] = t / N
     s_small = s[:1000]
     t, _ = median_time(lambda: brenner_lambda(s_small), repeats=3, warmup=1)
     per_point["brenner (exact series, 1e3 points)"] = t / s_small.size
@@ -74,11 +92,28 @@ def main() -> None:
     held["film (vs lubrication)"] = data["film"]["held_out"]["after"]["max"]
     for k, v in data["bridge"].items():
         held[f"bridge {k} (vs lubrication)"] = v["held_out"]["after"]["max"]
+    cap_regen = {"recorded_wall_time_s": cap.get("wall_time_s"),
+                 "fit_time_s": {k: cap[k].get("fit_time_s") for k in ("sphere-wall",
+                                                                       "sphere-sphere")
+                                if k in cap}} if cap else None
+    if "--regenerate-capillary" in sys.argv:
+        from wetcontact.calibrate_capillary import generate_calibrated_capillary
+
+        with tempfile.TemporaryDirectory() as tmp:
+            t0 = time.perf_counter()
+            generate_calibrated_capillary(Path(tmp) / "cc.json", workers=2,
+                                          cache_dir=Path(tmp))  # from scratch
+            cap_regen = {"measured_wall_time_s": time.perf_counter() - t0, "workers": 2}
+        ccap.capillary_table.cache_clear()
     out = {"points": N, "seconds_per_point": per_point,
            "regenerate_calibrated_viscous_s": regen,
            "regenerate_bounds_s_recorded": bounds_time,
            "calibrated_viscous_held_out_max": held,
-           "calibrated_capillary": "not built (see README: selection and calibration)"}
+           "regenerate_calibrated_capillary": cap_regen,
+           "calibrated_capillary_held_out_max": {
+               f"{k} {p}": cap[k]["held_out"][p]["max"] for k in ("sphere-wall",
+                                                                  "sphere-sphere")
+               if k in cap for p in ("rupture_distance", "force")} if cap else None}
     write_json("calibrate", out)
     chart(per_point, regen)
     print(json.dumps(out, indent=1))
@@ -96,7 +131,8 @@ def chart(per_point: dict[str, float], regen: float) -> None:
     ax.set_xscale("log")
     ax.set_xlabel("ns per point (vectorised, 1e5 points; brenner 1e3)")
     ax.set_title(f"closure evaluation cost per point\n(calibrated-viscous regenerated in "
-                 f"{regen:.0f} s)", fontsize=10)
+                 f"{regen:.0f} s; calibrated-capillary: all inputs vary per point)",
+                 fontsize=10)
     fig.tight_layout()
     fig.savefig(RESULTS / "calibrate.png", dpi=110)
     plt.close(fig)

@@ -47,6 +47,13 @@ def _held_out_scenes(seed: int = 4242) -> list:
         sc = 1.05 * np.cbrt(v)  # about Lian's rupture distance: gaps to beyond rupture
         s = np.sort(rng.uniform(0.01, 1.0, 4)) * sc * (1.2 if i % 4 == 1 else 0.6)
         out.append(make_scene(kind, {"bridge_volume": v}, s, r2, th, name=f"bridge-{i}"))
+    for i in range(8):  # bridges with one contact angle on both solids (calibrated-capillary)
+        kind = "sphere-wall" if i % 2 == 0 else "sphere-sphere"
+        r2 = None if kind == "sphere-wall" else R * 10 ** rng.uniform(0, 1)
+        v = 10 ** rng.uniform(-4, -1) * R**3
+        t = float(rng.uniform(0, 70))
+        s = np.sort(rng.uniform(0.01, 1.0, 4)) * 1.05 * np.cbrt(v) * (1.2 if i % 4 == 1 else 0.6)
+        out.append(make_scene(kind, {"bridge_volume": v}, s, r2, (t, t), name=f"bridge-eq-{i}"))
     return out
 
 

@@ -56,25 +56,32 @@ def test_gap_coordinate_inverts() -> None:
     np.testing.assert_allclose(cc.gap_coordinate(s, 0.3, 0.01), c, atol=1e-7)
 
 
-def _seeded(kind: str, n: int, seed: int) -> list[tuple[float, float, float | None, float]]:
+def _seeded(kind: str, n: int, seed: int, r_max: float = 10.0,
+            theta: tuple[float, float] = (0.0, 70.0)
+            ) -> list[tuple[float, float, float | None, float]]:
     rng = np.random.default_rng(seed)
     out = []
     for _ in range(n):
-        ratio = float(np.exp(rng.uniform(0, math.log(10)))) if kind == "sphere-sphere" else None
+        ratio = (float(np.exp(rng.uniform(0, math.log(r_max)))) if kind == "sphere-sphere"
+                 else None)
         out.append((float(np.exp(rng.uniform(math.log(1e-4), math.log(0.1)))),
-                    float(rng.uniform(0, 70)), ratio, float(rng.uniform(0.0, 0.99))))
+                    float(rng.uniform(*theta)), ratio, float(rng.uniform(0.0, 0.99))))
     return out
 
 
-@pytest.mark.parametrize("kind", ["sphere-wall", "sphere-sphere"])
-def test_against_meniscus_at_seeded_bridges(kind: str) -> None:
+@pytest.mark.parametrize(("kind", "r_max", "theta"), [
+    ("sphere-wall", 10.0, (0.0, 70.0)), ("sphere-sphere", 10.0, (0.0, 70.0)),
+    ("sphere-sphere", 1.1, (20.0, 45.0)),  # nearly equal spheres around the split angle
+])
+def test_against_meniscus_at_seeded_bridges(kind: str, r_max: float,
+                                            theta: tuple[float, float]) -> None:
     """Rupture distance (``rupture_distance`` of the volume-controlled branch) and force
     (``solve_volume`` at the gap, a toroidal start and Newton: not the sampler's branch
     walk) at seeded bridges; the held-out tables in the package data are the larger
     version of this check."""
     model = get_model("calibrated-capillary")
     e_f, e_r = [], []
-    for v, th, ratio, x in _seeded(kind, 6, 4242):
+    for v, th, ratio, x in _seeded(kind, 6, 4242, r_max, theta):
         r2 = None if ratio is None else R * ratio
         scene = make_scene(kind, {"bridge_volume": v * R**3}, [R * 1e-3], r2, (th, th))
         br = Bridge.from_scene(scene)
@@ -87,6 +94,19 @@ def test_against_meniscus_at_seeded_bridges(kind: str) -> None:
         e_f.append(abs(float(got.force_capillary[0]) / ref.force - 1))
     assert max(e_r) < GOAL_RUPTURE, e_r
     assert max(e_f) < GOAL_FORCE, e_f
+
+
+def test_split_angle_separates_fold_from_bifurcation() -> None:
+    """Between equal spheres the branch ends at a fold below the table's split angle and
+    at a symmetry-breaking bifurcation above it, at volumes between its nodes."""
+    from wetcontact.calibrate_capillary import branch_end
+
+    entry = cc.capillary_table()["sphere-sphere"]
+    for v in (3e-4, 2e-2):
+        split = float(cc.theta_split_deg(entry, cc.volume_coordinate(np.array([v])))[0])
+        assert 29.0 < split < 32.0
+        assert branch_end(split - 0.02, v) == "fold"
+        assert branch_end(split + 0.02, v) == "bifurcation"
 
 
 def test_zero_beyond_rupture_and_attractive_inside() -> None:
@@ -141,3 +161,21 @@ def test_branch_points_at_uneven_fractions_stay_on_the_branch() -> None:
     cur = force_separation_curve(br, v, fractions=fr)
     for s in cur.solutions[:-1]:
         assert s.force == pytest.approx(solve_volume(br, s.gap, v).force, rel=1e-8)
+
+
+def test_node_cache_keeps_solved_nodes_across_runs(tmp_path) -> None:
+    """A generation that is killed loses nothing already solved: each node is one line,
+    read back by the next run (a line cut by the kill is skipped)."""
+    from wetcontact.calibrate_capillary import NodeCache
+
+    job = ((0, 1, 2), "sphere-sphere", 2.5, 1e-3, 0.3, np.zeros(19))
+    other = ((0, 1, 3), "sphere-sphere", 2.5, 1e-3, 0.31, np.zeros(19))
+    cache = NodeCache(tmp_path)
+    assert cache.get(job) is None
+    cache.put(job, ((0, 1, 2), 0.123, np.arange(3.0)))
+    with cache.path.open("a") as fh:
+        fh.write('{"key": "cut')
+    again = NodeCache(tmp_path)
+    s_c, q = again.get(job)
+    assert s_c == 0.123 and q.tolist() == [0.0, 1.0, 2.0]
+    assert again.get(other) is None

@@ -20,7 +20,8 @@ Rupture distance and force, with ``R* = R_s R_l/(R_s + R_l)`` (``R* = R`` on a w
         \exp\Big(\sum_{ijk} C^{F}_{ijk\ldots} T_i(a) T_j(b) T_k(c) \ldots\Big),
 
 the Derjaguin force at contact times a smooth correction (Derjaguin 1934; PHYSICS.md
-section 2). The coordinates, each mapped to [-1, 1]: ``a`` from ln v, ``b`` from theta,
+section 2). The coordinates, each mapped to [-1, 1]: ``a`` from ln v, ``b`` from theta
+(within its piece, below),
 ``w = (ln r)^(1/3)`` for sphere pairs (between equal spheres a symmetry-breaking
 bifurcation ends the branch at larger angles; a small inequality of the radii unfolds it
 into a fold at ``S_b - k (ln r)^(2/3)``, so ``S_c`` is smooth in w, not in r), and ``c``
@@ -32,8 +33,14 @@ from the gap,
 
 which resolves both the drop of the force over the bridge's thin-gap height ``epsilon``
 (Willett et al. 2000 scale their gap by it) and the square-root shape of the branch at its
-fold (``F - F_c ~ sqrt(S_c - S)``). The coefficients interpolate ``meniscus`` at tensor
-Chebyshev-Lobatto points (:mod:`wetcontact.calibrate_capillary`); the package data
+fold (``F - F_c ~ sqrt(S_c - S)``).
+
+Between equal spheres the stable branch ends at a fold below an angle theta_s(V) of about
+30-31 deg and at a symmetry-breaking bifurcation above it (Maddocks 1987), so S_c has a
+kink there; sphere pairs therefore carry two tables, theta in [0, theta_s(V)] and
+[theta_s(V), 70 deg], b mapped within each, and theta_s as a Chebyshev series in ``a``
+(located by bisection on the branch's end). The coefficients interpolate ``meniscus`` at
+tensor Chebyshev-Lobatto points (:mod:`wetcontact.calibrate_capillary`); the package data
 ``data/calibrated_capillary.json`` holds them with their held-out error tables.
 """
 
@@ -72,19 +79,40 @@ def capillary_table() -> dict[str, Any] | None:
     return json.loads(path.read_text()) if path.is_file() else None
 
 
-def _map(x: np.ndarray, lo: float, hi: float) -> np.ndarray:
+def _map(x: np.ndarray, lo: Any, hi: Any) -> np.ndarray:
     return (2.0 * x - lo - hi) / (hi - lo)
 
 
-def coordinates(v: np.ndarray, theta: np.ndarray, ratio: np.ndarray | None = None
-                ) -> list[np.ndarray]:
-    """Chebyshev coordinates (each in [-1, 1]) of a bridge: ``a`` from ln v, ``b`` from
-    theta (rad), and for sphere pairs ``w`` from (ln r)^(1/3); order (w, a, b)."""
-    a = _map(np.log(v), math.log(V_RANGE[0]), math.log(V_RANGE[1]))
-    b = _map(np.degrees(theta), *THETA_RANGE_DEG)
-    if ratio is None:
-        return [a, b]
-    return [_map(np.cbrt(np.log(ratio)), 0.0, W_MAX), a, b]
+def volume_coordinate(v: np.ndarray) -> np.ndarray:
+    """``a`` in [-1, 1] from ln v over :data:`V_RANGE`."""
+    return _map(np.log(v), math.log(V_RANGE[0]), math.log(V_RANGE[1]))
+
+
+def ratio_coordinate(ratio: np.ndarray) -> np.ndarray:
+    """``w`` in [-1, 1] from (ln r)^(1/3) over :data:`RATIO_RANGE`."""
+    return _map(np.cbrt(np.log(ratio)), 0.0, W_MAX)
+
+
+def theta_split_deg(entry: dict[str, Any], a: np.ndarray) -> np.ndarray | None:
+    """The angle (deg) where the equal-sphere branch's end changes from fold to bifurcation,
+    as a function of the volume coordinate ``a``; ``None`` when the table has no split."""
+    ts = entry.get("theta_split")
+    return None if ts is None else chebyshev_tensor(np.asarray(ts["chebyshev"]), [a])
+
+
+def piece_range(piece: dict[str, Any], split: np.ndarray | None, n: int
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """A piece's theta range (deg) per point: a number, or ``None`` for the split angle."""
+    ends = []
+    for e in piece["theta_deg"]:
+        if e is None:
+            if split is None:
+                raise ValueError("calibrated-capillary: a piece bounded by the split angle "
+                                 "in a table without one")
+            ends.append(np.asarray(split, dtype=float))
+        else:
+            ends.append(np.full(n, float(e)))
+    return ends[0], ends[1]
 
 
 def gap_coordinate(s: np.ndarray, s_c: np.ndarray, eps: np.ndarray) -> np.ndarray:
@@ -153,9 +181,8 @@ def _entry(kind: str) -> dict[str, Any]:
 def rupture_star(kind: str, v: np.ndarray, theta: np.ndarray,
                  ratio: np.ndarray | None = None) -> np.ndarray:
     """Rupture distance S_c/R_s."""
-    e = _entry(kind)
-    x = coordinates(np.asarray(v), np.asarray(theta), None if kind == "sphere-wall" else ratio)
-    return np.cbrt(v) * np.exp(chebyshev_tensor(np.asarray(e["rupture"]), x))
+    v = np.asarray(v, dtype=float)
+    return force_star(kind, v, theta, np.zeros(v.shape), ratio)[1]
 
 
 def reduced_star(kind: str, ratio: np.ndarray | None) -> np.ndarray | float:
@@ -164,34 +191,49 @@ def reduced_star(kind: str, ratio: np.ndarray | None) -> np.ndarray | float:
 
 
 def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
-               ratio: np.ndarray | None = None, chunk: int = 8192
+               ratio: np.ndarray | None = None, chunk: int = 4096
                ) -> tuple[np.ndarray, np.ndarray]:
     """Attractive force ``F/(2 pi sigma R_s)`` at gap ``s = S/R_s`` (0 at and beyond
     rupture) and the rupture distance ``S_c/R_s``, in one pass (the Chebyshev rows of
-    (w,) a, b serve both tables)."""
+    (w,) a, b serve both tables).
+
+    Each point is evaluated in the theta piece that contains it: between equal spheres the
+    rupture distance has a kink where the branch's end changes from a fold to a
+    symmetry-breaking bifurcation (theta about 30-31 deg, moving with V), so sphere pairs
+    carry two tables, below and above that angle (``theta_split``)."""
     e = _entry(kind)
     v, theta, s = np.broadcast_arrays(np.asarray(v, float), np.asarray(theta, float),
                                       np.asarray(s, float))
     shape = v.shape
     v, theta, s = v.ravel(), theta.ravel(), s.ravel()
+    n = v.size
     if ratio is not None:
         ratio = np.broadcast_to(np.asarray(ratio, float), shape).ravel()
-    rup, frc = np.asarray(e["rupture"]), np.asarray(e["force"])
-    head = frc.reshape(-1, frc.shape[-1]).T
-    x = coordinates(v, theta, None if kind == "sphere-wall" else ratio)
+    a = volume_coordinate(v)
+    lead = [a] if kind == "sphere-wall" else [ratio_coordinate(ratio), a]
+    deg = np.degrees(theta)
+    split = theta_split_deg(e, a)
     rho = reduced_star(kind, ratio)
+    rho = np.broadcast_to(np.asarray(rho, dtype=float), (n,))
     eps = np.sqrt(v / (np.pi * rho))
-    f, s_c = np.empty(v.size), np.empty(v.size)
-    for lo in range(0, v.size, chunk):
-        sl = slice(lo, min(v.size, lo + chunk))
-        outer = _outer_rows([p[sl] for p in x], rup.shape)
-        sc = np.cbrt(v[sl]) * np.exp(outer @ rup.ravel())
-        inside = s[sl] < sc
-        c = gap_coordinate(np.where(inside, s[sl], 0.0), sc, eps[sl])
-        q = np.exp(np.einsum("ij,ij->i", _cheb_matrix(c, frc.shape[-1]) @ head, outer))
-        rr = rho if np.ndim(rho) == 0 else rho[sl]
-        f[sl] = np.where(inside, rr * 2.0 * np.cos(theta[sl]) * q, 0.0)
-        s_c[sl] = sc
+    f, s_c = np.full(n, np.nan), np.full(n, np.nan)
+    todo = np.ones(n, dtype=bool)
+    for piece in e["pieces"]:
+        lo, hi = piece_range(piece, split, n)
+        idx = np.flatnonzero(todo & (deg <= hi))
+        todo[idx] = False
+        rup, frc = np.asarray(piece["rupture"]), np.asarray(piece["force"])
+        head = frc.reshape(-1, frc.shape[-1]).T
+        for k in range(0, idx.size, chunk):
+            sl = idx[k:k + chunk]
+            b = _map(deg[sl], lo[sl], hi[sl])
+            outer = _outer_rows([*(x[sl] for x in lead), b], rup.shape)
+            sc = np.cbrt(v[sl]) * np.exp(outer @ rup.ravel())
+            inside = s[sl] < sc
+            c = gap_coordinate(np.where(inside, s[sl], 0.0), sc, eps[sl])
+            q = np.exp(np.einsum("ij,ij->i", _cheb_matrix(c, frc.shape[-1]) @ head, outer))
+            f[sl] = np.where(inside, rho[sl] * 2.0 * np.cos(theta[sl]) * q, 0.0)
+            s_c[sl] = sc
     return f.reshape(shape), s_c.reshape(shape)
 
 

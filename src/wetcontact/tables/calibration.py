@@ -65,7 +65,7 @@ def points(ctx: StudyContext) -> list[Point]:
 
 
 def _where(at: dict[str, float]) -> str:
-    return ", ".join(f"{k} {v:.3g}" for k, v in at.items())
+    return ", ".join(f"{k} {v:.3g}" for k, v in at.items() if v is not None)
 
 
 def _domain(dom: dict[str, Any]) -> str:
@@ -129,19 +129,24 @@ def capillary_rows(path: str, data: dict[str, Any]) -> list[dict[str, Any]]:
     dom = dict(data.get("domain", {}))
     rows = []
     for kind in ("sphere-wall", "sphere-sphere"):
-        if kind not in data:
+        if "held_out" not in data.get(kind, {}):
             continue
-        ho = data[kind]["held_out"]
-        d = {k: v for k, v in dom.items() if kind == "sphere-sphere" or k != "radius_ratio"}
-        for part in ("rupture_distance", "force"):
-            e = ho[part]
-            rows.append({"closure": "calibrated-capillary", "part": f"{kind} {part}",
-                         "coefficients": "shipped", "reference": ho.get("reference", ""),
-                         "points": e["points"], "seed": ho.get("seed"), "max": e["max"],
-                         "mean": e["mean"], "p95": e["p95"], "max_at": _where(e["max_at"]),
-                         "goal": goals[part], "goal_met": e["max"] <= goals[part],
-                         "domain": _domain(d) + ", one contact angle on both solids",
-                         "source": path})
+        for key, label in (("held_out", ""), ("held_out_near_equal", " (nearly equal)")):
+            if key not in data[kind]:
+                continue
+            ho = data[kind][key]
+            d = {k: v for k, v in {**dom, **ho.get("stratum", {})}.items()
+                 if kind == "sphere-sphere" or k != "radius_ratio"}
+            for part in ("rupture_distance", "force"):
+                e = ho[part]
+                rows.append({"closure": "calibrated-capillary",
+                             "part": f"{kind}{label} {part}", "coefficients": "shipped",
+                             "reference": ho.get("reference", ""), "points": e["points"],
+                             "seed": ho.get("seed"), "max": e["max"], "mean": e["mean"],
+                             "p95": e["p95"], "max_at": _where(e["max_at"]),
+                             "goal": goals[part], "goal_met": e["max"] <= goals[part],
+                             "domain": _domain(d) + ", one contact angle on both solids",
+                             "source": path})
     return rows
 
 

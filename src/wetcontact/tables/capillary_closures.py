@@ -3,15 +3,16 @@
 For a sphere on a wall and two equal spheres (R = 1 mm, sigma = 0.072 N/m, the same contact
 angle on both solids), over V* = V/R^3 in [1e-4, 0.1], theta in [0, 50] deg and gaps from
 contact (S = 1e-6 R) to 0.95 of the FE rupture distance, every registered capillary closure
-(toroidal, Mikami, Willett, Willett simple, Rabinovich, Lambert, Bagheri) is swept as a
+(toroidal, Mikami, Willett, Willett simple, Rabinovich, Lambert, Bagheri, and the shipped
+``calibrated-capillary``) is swept as a
 point of the report's study and compared with the finite-element Young-Laplace bridge
 (model ``meniscus``, force error ~1e-9) by :func:`wetcontact.compare.compare`: relative
 error ``|F_closure - F_FE|/|F_FE|``. The gaps are a derived axis: stage 1
 (:func:`points`) sweeps the FE bridge at contact for its rupture distance S_c, stage 2
 (:func:`derived_points`) the gaps S/S_c. A closure that refuses a scene (its ``check``
 raises ValidityError, or it fails) is counted as "n/a", not as an error. The rupture
-correlations (Lian 1993, Willett 2000, Mikami pp/pw) are compared with the FE turning
-point.
+correlations (Lian 1993, Willett 2000, Mikami pp/pw, ``calibrated-capillary``) are compared
+with the FE turning point.
 """
 
 from __future__ import annotations
@@ -31,7 +32,8 @@ from wetcontact.tables import StudyContext
 
 R, SIGMA = 1.0e-3, 0.072
 CLOSURES = ("toroidal", "mikami", "willett", "willett-simple", "rabinovich", "lambert",
-            "bagheri")
+            "bagheri", "calibrated-capillary")
+RUPTURE = ("lian", "willett", "mikami-pp", "mikami-pw", "calibrated-capillary")
 KINDS = ("sphere-wall", "sphere-sphere")
 CONTACT = 1e-6 * R  # the gap "at contact"
 
@@ -59,6 +61,10 @@ def _rupture_correlations(kind: str, V: float, th: float) -> dict[str, float]:
         out["mikami-pp"] = float(rp.mikami_rupture_distance_pp(V, R, th))
     else:
         out["mikami-pw"] = float(rp.mikami_rupture_distance_pw(V, R, th))
+    model = get_model("calibrated-capillary")
+    scene = _scene(kind, V / R**3, math.degrees(th), [CONTACT])
+    if model.applicable(scene) is None:
+        out["calibrated-capillary"] = float(model.rupture_distance(scene))
     return out
 
 
@@ -217,7 +223,7 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
                 best = (name, p95)
     lines += ["", "Rupture distance correlations against the FE turning point:", "",
               "| correlation | geometry | max | mean |", "|---|---|---|---|"]
-    for name in ("lian", "willett", "mikami-pp", "mikami-pw"):
+    for name in RUPTURE:
         for kind in ("sphere-wall", "sphere-sphere"):
             e = np.array([r["rel_error"] for r in rup if r["correlation"] == name
                           and r["kind"] == kind])

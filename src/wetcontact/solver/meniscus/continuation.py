@@ -204,7 +204,10 @@ def _branch(d: _Disc, g: _Geo, V: float, n_steps: int = 40,
 
     def dS(lam: float) -> float:
         guess = min(known, key=lambda y: abs(float(sec @ y) - base - lam * span))
-        w = _newton(d, g, guess, (VolumeIs(V), Linear(sec, base + lam * span)))
+        closing = (VolumeIs(V), Linear(sec, base + lam * span))
+        w = _newton(d, g, guess, closing)
+        if not w.converged:  # the nearest known bridge can be too far: the secant point
+            w = _newton(d, g, xa + lam * (xb - xa), closing)
         if not w.converged:
             raise SolverError(f"meniscus: no converged bridge near rupture (lam = {lam:.3g})")
         known.append(w.x)

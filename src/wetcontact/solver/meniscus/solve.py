@@ -47,11 +47,15 @@ class SeparationCurve:
         S_c (m), the turning point of the branch.
     unstable
         Bridges just past the fold (unstable branch, stability = -1).
+    end
+        How the stable branch ends: ``"fold"`` (turning point) or ``"bifurcation"`` (the
+        symmetric bridge between equal spheres loses stability to an asymmetric mode).
     """
 
     solutions: tuple[BridgeSolution, ...]
     rupture_distance: float
     unstable: tuple[BridgeSolution, ...] = ()
+    end: str = "fold"
 
     @property
     def gap(self) -> np.ndarray:
@@ -196,4 +200,4 @@ def force_separation_curve(bridge: Bridge, volume: float, n_points: int = 100,
         out.append(_post(_State(x, d.n_el, g, ell, bridge.surface_tension, bridge), 1.0, it))
     uns = tuple(_post(_State(x, d.n_el, g, ell, bridge.surface_tension, bridge), -1.0)
                 for x in br.xs_after)
-    return SeparationCurve(tuple(out), br.S_fold * ell, uns)
+    return SeparationCurve(tuple(out), br.S_fold * ell, uns, br.end)
