@@ -20,17 +20,18 @@ from wetcontact.reduced_models.calibrated import viscous_table
 
 HEADER_NAME = "wetcontact_closures.h"
 FUNCTIONS = ("wc_viscous_force_immersed", "wc_viscous_force_bridge", "wc_capillary_force",
-             "wc_rupture_distance")
+             "wc_rupture_distance", "wc_capillary_force_refit", "wc_rupture_distance_refit")
 
 
-def c_array(values: Any, per_line: int = 4) -> str:
+def c_array(values: Any, per_line: int = 4, indent: int = 8) -> str:
     """Doubles as a C initializer, each at full precision (shortest round-trip repr)."""
     vals = [repr(float(v)) for v in values]
     for v in vals:
         if not math.isfinite(float(v)):
             raise ValueError(f"non-finite coefficient {v} in an exported table")
     lines = [", ".join(vals[i:i + per_line]) for i in range(0, len(vals), per_line)]
-    return "{\n        " + ",\n        ".join(lines) + "}"
+    pad = "\n" + " " * indent
+    return "{" + pad + ("," + pad).join(lines) + "}"
 
 
 HEAD = """\
@@ -79,18 +80,33 @@ HEAD = """\
 """
 
 CAP_COMMENT = """\
- * !!! CAPILLARY PAIR: {shipped_word}
- * !!! wc_capillary_force and wc_rupture_distance implement
+ * wc_capillary_force, wc_rupture_distance: the shipped `calibrated-capillary` closure, a
+ *   tensor Chebyshev interpolant of the `meniscus` finite-element bridge:
+ *   S_c = R_s v^(1/3) exp(sum C_rup[i][j][k] T_i(w) T_j(a) T_k(b)),
+ *   F = -2 pi sigma R_s rho (2 cos theta) exp(sum C_F[i][j][k][l] T_i(w) T_j(a) T_k(b) T_l(c)),
+ *   R_s the smaller radius (r1 for a plane), v = V/R_s^3, r = R_l/R_s, rho = r/(1 + r)
+ *   (1 for a plane), each coordinate mapped to [-1, 1]: a from ln v, b from theta (deg),
+ *   w from (ln r)^(1/3) (for a plane the w axis has one entry, T_0 = 1), c = 2 z - 1,
+ *   z = sqrt(1 - ln(1 + s/eps)/ln(1 + s_c/eps)), eps = sqrt(v/(pi rho)), s = S/R_s.
+ *   Held-out max relative error against `meniscus`:
+ *     {cap_held_out}
+ *   Domain: a plane or two spheres with r in [{q_lo:.6g}, {q_hi:.6g}], v in
+ *   [{cv_lo:.6g}, {cv_hi:.6g}], ONE contact angle: theta1 = theta2 (within {angle_tol:.0e} rad) in
+ *   [{ct_lo:.6g}, {ct_hi:.6g}] deg (two different angles return NAN: use the *_refit pair);
+ *   the force also gap >= 0 (gap = 0 is the value at contact; an overlap returns NAN) and
+ *   surface_tension > 0. The force is exactly 0 at and past the rupture distance.
+ *   Tables: {cap_src}, sha256 {cap_sha}.
+ *
+ * !!! wc_capillary_force_refit, wc_rupture_distance_refit: REFITTED families, NOT A
+ * !!! SHIPPED CALIBRATED CLOSURE, kept for two different contact angles:
  * !!!   {label}.
- * !!! The shipped `calibrated-capillary` closure does not exist yet; when it does, a
- * !!! new export replaces only the two functions below the CAPILLARY marker.
- *   wc_rupture_distance: S_c = R ((a + b theta) V*^(1/3) + c V*^(2/3)), V* = V/R^3
+ *   wc_rupture_distance_refit: S_c = R ((a + b theta) V*^(1/3) + c V*^(2/3)), V* = V/R^3
  *     (Lian et al. 1993 form, refitted against the meniscus solver;
  *     source {rup_src}, sha256 {rup_sha}).
- *   wc_capillary_force: -2 pi R sigma exp(f1 - f2 exp(f3 ln S+ + f4 ln^2 S+)),
+ *   wc_capillary_force_refit: -2 pi R sigma exp(f1 - f2 exp(f3 ln S+ + f4 ln^2 S+)),
  *     S+ = (S/2) sqrt(R/V), f_i quadratic in theta and cubic in ln V* (Willett et al.
  *     2000, eq. A1 form, 48 refitted coefficients;
- *     source {cap_src}, sha256 {cap_sha}).
+ *     source {refit_src}, sha256 {refit_sha}).
  *   theta = acos((cos theta1 + cos theta2)/2) (the cosine mean of the two angles).
  *   Domain (both): equal spheres (|r2 - r1| <= 1e-12 r1; a plane returns NAN),
  *     V/R^3 in [{v_lo:.6g}, {v_hi:.6g}], theta in [{t_lo:.6g}, {t_hi:.6g}] deg;
@@ -197,7 +213,125 @@ static inline double wc_viscous_force_bridge(double r1, double r2, double viscos
                              approach_speed, gap);
 }}
 
-/* ---- CAPILLARY: replace from here when calibrated-capillary ships ------------------- */
+/* ---- CAPILLARY: the shipped calibrated-capillary closure ----------------------------- */
+
+#define WC__CAP_NMAX {cap_nmax}
+
+/* The tables of one geometry, axes (w, a, b) for the rupture distance and (w, a, b, c) for
+ * the force, row-major; a plane has nw = 1. Returns 0 when its table was not generated. */
+struct wc__cap_table {{
+    int nw, na, nb, nc;
+    const double *rupture, *force;
+}};
+
+static inline int wc__cap_table(int plane, struct wc__cap_table *t)
+{{
+{cap_tables}
+}}
+
+/* T_0(t) ... T_{{n-1}}(t) by the three-term recurrence. */
+static inline void wc__cheb_rows(double t, double *out, int n)
+{{
+    int k;
+    out[0] = 1.0;
+    if (n > 1)
+        out[1] = t;
+    for (k = 2; k < n; ++k)
+        out[k] = 2.0 * t * out[k - 1] - out[k - 2];
+}}
+
+/* x in [lo, hi] mapped to [-1, 1]. */
+static inline double wc__map(double x, double lo, double hi)
+{{
+    return (2.0 * x - lo - hi) / (hi - lo);
+}}
+
+/* Shared by the two capillary functions: the domain test (0 outside), R_s, v = V/R_s^3,
+ * rho = R* / R_s, the Chebyshev rows of w, a, b and s_c = S_c / R_s. */
+static inline int wc__cap_bridge(double r1, double r2, double volume, double theta1_deg,
+                                 double theta2_deg, struct wc__cap_table *tab, double *rs,
+                                 double *v, double *rho, double *tw, double *ta, double *tb,
+                                 double *sc)
+{{
+    int plane = isinf(r2) && r2 > 0, i, j, k;
+    double ratio, sum = 0.0;
+    if (!(r1 > 0) || !isfinite(r1) || !(r2 > 0) || !(volume > 0) || !isfinite(volume))
+        return 0;
+    if (!(theta1_deg >= 0 && theta1_deg < 180 && theta2_deg >= 0 && theta2_deg < 180))
+        return 0;
+    if (!(fabs(theta1_deg * (WC_PI / 180.0) - theta2_deg * (WC_PI / 180.0)) <= {angle_tol_r}))
+        return 0;
+    if (!(theta1_deg >= {ct_lo_r} && theta1_deg <= {ct_hi_r} * (1 + 1e-12)))
+        return 0;
+    if (!wc__cap_table(plane, tab))
+        return 0;
+    *rs = plane ? r1 : (r1 < r2 ? r1 : r2);
+    ratio = plane ? 1.0 : (r1 < r2 ? r2 : r1) / *rs;
+    *v = volume / (*rs * *rs * *rs);
+    if (!(*v >= {cv_lo_r} * (1 - 1e-9) && *v <= {cv_hi_r} * (1 + 1e-9)))
+        return 0;
+    if (!plane && !(ratio <= {q_hi_r} * (1 + 1e-9)))
+        return 0;
+    *rho = plane ? 1.0 : ratio / (1.0 + ratio);
+    wc__cheb_rows(plane ? 0.0 : wc__map(cbrt(log(ratio)), 0.0, {w_max_r}), tw, tab->nw);
+    wc__cheb_rows(wc__map(log(*v), {lnv_lo_r}, {lnv_hi_r}), ta, tab->na);
+    wc__cheb_rows(wc__map(theta1_deg, {ct_lo_r}, {ct_hi_r}), tb, tab->nb);
+    for (i = 0; i < tab->nw; ++i)
+        for (j = 0; j < tab->na; ++j)
+            for (k = 0; k < tab->nb; ++k)
+                sum += tab->rupture[(i * tab->na + j) * tab->nb + k] * (tw[i] * ta[j] * tb[k]);
+    *sc = cbrt(*v) * exp(sum);
+    return 1;
+}}
+
+static inline double wc_rupture_distance(double r1, double r2, double volume,
+                                         double theta1_deg, double theta2_deg)
+{{
+    struct wc__cap_table tab;
+    double tw[WC__CAP_NMAX], ta[WC__CAP_NMAX], tb[WC__CAP_NMAX];
+    double rs = 0.0, v = 0.0, rho = 0.0, sc = 0.0;
+    if (!wc__cap_bridge(r1, r2, volume, theta1_deg, theta2_deg, &tab, &rs, &v, &rho, tw, ta,
+                        tb, &sc))
+        return NAN;
+    return sc * rs;
+}}
+
+static inline double wc_capillary_force(double r1, double r2, double volume, double gap,
+                                        double surface_tension, double theta1_deg,
+                                        double theta2_deg)
+{{
+    struct wc__cap_table tab;
+    double tw[WC__CAP_NMAX], ta[WC__CAP_NMAX], tb[WC__CAP_NMAX], tc[WC__CAP_NMAX];
+    double rs = 0.0, v = 0.0, rho = 0.0, sc = 0.0, s, eps, x, sum = 0.0, acc, f;
+    const double *row;
+    int i, j, k, l;
+    if (!(gap >= 0) || !isfinite(gap) || !(surface_tension > 0) || !isfinite(surface_tension))
+        return NAN;
+    if (!wc__cap_bridge(r1, r2, volume, theta1_deg, theta2_deg, &tab, &rs, &v, &rho, tw, ta,
+                        tb, &sc))
+        return NAN;
+    s = gap / rs;
+    if (!(s < sc))
+        return 0.0;
+    eps = sqrt(v / (WC_PI * rho));
+    x = 1.0 - log1p(s / eps) / log1p(sc / eps);
+    x = x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x;
+    wc__cheb_rows(2.0 * sqrt(x) - 1.0, tc, tab.nc);
+    row = tab.force;
+    for (i = 0; i < tab.nw; ++i)
+        for (j = 0; j < tab.na; ++j)
+            for (k = 0; k < tab.nb; ++k) {{
+                acc = 0.0;
+                for (l = 0; l < tab.nc; ++l)
+                    acc += row[l] * tc[l];
+                row += tab.nc;
+                sum += acc * (tw[i] * ta[j] * tb[k]);
+            }}
+    f = rho * 2.0 * cos(theta1_deg * (WC_PI / 180.0)) * exp(sum);
+    return -(2.0 * WC_PI * surface_tension * rs * f);
+}}
+
+/* ---- REFITTED capillary pair (willett, lian-rupture): two contact angles ------------- */
 
 /* Cosine-mean contact angle (rad) of two angles in degrees; NAN outside [0, 180). */
 static inline double wc__mean_angle(double theta1_deg, double theta2_deg)
@@ -216,8 +350,8 @@ static inline int wc__capillary_domain(double r1, double r2, double volume, doub
            && wc__in_domain(theta * (180.0 / WC_PI), {t_lo}, {t_hi});
 }}
 
-static inline double wc_rupture_distance(double r1, double r2, double volume,
-                                         double theta1_deg, double theta2_deg)
+static inline double wc_rupture_distance_refit(double r1, double r2, double volume,
+                                               double theta1_deg, double theta2_deg)
 {{
     static const double k[3] = {lian};
     double theta = wc__mean_angle(theta1_deg, theta2_deg), c3;
@@ -227,9 +361,9 @@ static inline double wc_rupture_distance(double r1, double r2, double volume,
     return r1 * ((k[0] + k[1] * theta) * c3 + k[2] * c3 * c3);
 }}
 
-static inline double wc_capillary_force(double r1, double r2, double volume, double gap,
-                                        double surface_tension, double theta1_deg,
-                                        double theta2_deg)
+static inline double wc_capillary_force_refit(double r1, double r2, double volume,
+                                              double gap, double surface_tension,
+                                              double theta1_deg, double theta2_deg)
 {{
     /* k[i][j][m]: f_i = sum_j sum_m k[i][j][m] ln(V*)^j theta^m */
     static const double k[4][4][3] = {willett};
@@ -238,7 +372,7 @@ static inline double wc_capillary_force(double r1, double r2, double volume, dou
     int i, j, m;
     if (!isfinite(surface_tension) || !(gap >= 0) || !isfinite(gap))
         return NAN;
-    sc = wc_rupture_distance(r1, r2, volume, theta1_deg, theta2_deg);
+    sc = wc_rupture_distance_refit(r1, r2, volume, theta1_deg, theta2_deg);
     if (isnan(sc))
         return NAN;
     if (gap >= sc)
@@ -297,12 +431,17 @@ def header_text(source: CapillarySource) -> str:
         version=__version__, imm_err_wall=w["held_out"]["max"],
         imm_err_ss=ss["held_out"]["max"], s_lo=math.exp(lo), s_hi=math.exp(hi),
         cap_comment=CAP_COMMENT.format(
-            shipped_word="shipped" if source.shipped else "NOT A SHIPPED CALIBRATED CLOSURE",
-            label=_wrap(source.label), rup_src=Path(rup.source).name, rup_sha=rup.sha256[:16],
-            cap_src=Path(cap.source).name, cap_sha=cap.sha256[:16], v_lo=v_lo, v_hi=v_hi,
-            t_lo=t_lo, t_hi=t_hi, s_lo=s_lo_cap, s_hi=s_hi_cap))
+            **capillary_fields(source),
+            cap_held_out="\n *     ".join(held_out_lines(source)),
+            cap_src=Path(source.table.source).name, cap_sha=source.table.sha256[:16],
+            label=_wrap(source.refit_label), rup_src=Path(rup.source).name,
+            rup_sha=rup.sha256[:16], refit_src=Path(cap.source).name,
+            refit_sha=cap.sha256[:16], v_lo=v_lo, v_hi=v_hi, t_lo=t_lo, t_hi=t_hi,
+            s_lo=s_lo_cap, s_hi=s_hi_cap))
     body = BODY.format(
-        **br,
+        **br, **capillary_fields(source),
+        cap_nmax=max(max(p.force.shape) for p in source.table.parts.values()),
+        cap_tables=_cap_tables(source),
         n_wall=len(w["chebyshev"]), cheb_wall=c_array(w["chebyshev"]),
         n_ss=len(ss["chebyshev"]), cheb_ss=c_array(ss["chebyshev"]), log_lo=repr(lo),
         log_hi=repr(hi), s_lo=repr(math.exp(lo)), s_hi=repr(math.exp(hi)),
@@ -310,6 +449,51 @@ def header_text(source: CapillarySource) -> str:
         lian=c_array(rup.coefficients), willett=_nested(cap.coefficients),
         s_lo_cap=repr(s_lo_cap), s_hi_cap=repr(s_hi_cap))
     return head + body
+
+
+def capillary_fields(source: CapillarySource) -> dict[str, Any]:
+    """Domain limits and held-out errors of the shipped capillary table, for the templates
+    (``{x}`` for comments, ``{x_r}`` at full precision for code)."""
+    t = source.table
+    limits = {"cv_lo": t.v_range[0], "cv_hi": t.v_range[1], "ct_lo": t.theta_range_deg[0],
+              "ct_hi": t.theta_range_deg[1], "q_lo": t.ratio_range[0],
+              "q_hi": t.ratio_range[1], "lnv_lo": math.log(t.v_range[0]),
+              "lnv_hi": math.log(t.v_range[1]), "w_max": t.w_max, "angle_tol": t.angle_tol}
+    fields: dict[str, Any] = {}
+    for k, v in limits.items():
+        fields[k], fields[k + "_r"] = float(v), repr(float(v))
+    return fields
+
+
+def held_out_lines(source: CapillarySource) -> list[str]:
+    """One line per geometry: the shipped table's held-out errors, or that it is missing."""
+    t = source.table
+    names = {"sphere-wall": "plane", "sphere-sphere": "sphere pairs"}
+    return [f"{names[k]}: {t.held_out_text(k)}" if k in t.parts else
+            f"{names[k]}: table not generated (NaN)" for k in names]
+
+
+def _cap_tables(source: CapillarySource) -> str:
+    """The body of ``wc__cap_table``: each generated geometry's tables as static arrays
+    (a plane's with a leading axis of one entry), ``return 0`` for a missing one."""
+    out = []
+    for kind, cond in (("sphere-wall", "plane"), ("sphere-sphere", "!plane")):
+        part = source.table.parts.get(kind)
+        if part is None:
+            out.append(f"    if ({cond})\n        return 0;  /* {kind}: not generated */")
+            continue
+        shape = part.force.shape if kind == "sphere-sphere" else (1, *part.force.shape)
+        nw, na, nb, nc = shape
+        out.append(
+            f"    if ({cond}) {{  /* {kind} */\n"
+            f"        static const double rupture[{nw * na * nb}] = "
+            f"{c_array(part.rupture.ravel(), indent=12)};\n"
+            f"        static const double force[{nw * na * nb * nc}] = "
+            f"{c_array(part.force.ravel(), indent=12)};\n"
+            f"        t->nw = {nw};\n        t->na = {na};\n        t->nb = {nb};\n"
+            f"        t->nc = {nc};\n        t->rupture = rupture;\n"
+            f"        t->force = force;\n        return 1;\n    }}")
+    return "\n".join(out) + "\n    return 0;"
 
 
 def _bridge_fields(bw: dict[str, Any], bs: dict[str, Any]) -> dict[str, Any]:
