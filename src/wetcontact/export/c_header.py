@@ -302,7 +302,8 @@ static inline double wc_capillary_force(double r1, double r2, double volume, dou
 {{
     struct wc__cap_table tab;
     double tw[WC__CAP_NMAX], ta[WC__CAP_NMAX], tb[WC__CAP_NMAX], tc[WC__CAP_NMAX];
-    double rs = 0.0, v = 0.0, rho = 0.0, sc = 0.0, s, eps, x, sum = 0.0, acc, f;
+    double g[WC__CAP_NMAX]; /* the force table contracted over w, a, b: a series in c */
+    double rs = 0.0, v = 0.0, rho = 0.0, sc = 0.0, s, eps, x, sum = 0.0, weight, f;
     const double *row;
     int i, j, k, l;
     if (!(gap >= 0) || !isfinite(gap) || !(surface_tension > 0) || !isfinite(surface_tension))
@@ -317,16 +318,19 @@ static inline double wc_capillary_force(double r1, double r2, double volume, dou
     x = 1.0 - log1p(s / eps) / log1p(sc / eps);
     x = x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x;
     wc__cheb_rows(2.0 * sqrt(x) - 1.0, tc, tab.nc);
+    for (l = 0; l < tab.nc; ++l)
+        g[l] = 0.0;
     row = tab.force;
-    for (i = 0; i < tab.nw; ++i)
+    for (i = 0; i < tab.nw; ++i)  /* axpy over the gap axis: vectorisable without -ffast-math */
         for (j = 0; j < tab.na; ++j)
             for (k = 0; k < tab.nb; ++k) {{
-                acc = 0.0;
+                weight = tw[i] * ta[j] * tb[k];
                 for (l = 0; l < tab.nc; ++l)
-                    acc += row[l] * tc[l];
+                    g[l] += row[l] * weight;
                 row += tab.nc;
-                sum += acc * (tw[i] * ta[j] * tb[k]);
             }}
+    for (l = 0; l < tab.nc; ++l)
+        sum += g[l] * tc[l];
     f = rho * 2.0 * cos(theta1_deg * (WC_PI / 180.0)) * exp(sum);
     return -(2.0 * WC_PI * surface_tension * rs * f);
 }}
