@@ -45,8 +45,8 @@ REL = 1e-12  # a few ulps of libm through exp(f1 - f2 exp(...)); not loosened
 #: z = sqrt(1 - ln(1 + S/eps)/ln(1 + S_c/eps)) turns a relative delta of S_c into about
 #: delta/(2 z^2) of z, z^2 <= 1 - S/S_c (the fold's square root, F - F_c ~ sqrt(S_c - S)):
 #: the force's relative difference may reach FOLD/sqrt(1 - S/S_c) there (measured: up to
-#: 0.33 (numpy module) and 0.40 (C) of REL + FOLD/sqrt(1 - S/S_c), 1.1e-11 at
-#: 1 - S/S_c = 1.3e-9; 4e-13 at most where 1 - S/S_c > 1e-6)
+#: 0.39 (numpy module) and 0.47 (C) of REL + FOLD/sqrt(1 - S/S_c), 1.1e-11 within 4e-8 of
+#: S_c; 3.1e-13 at most where 1 - S/S_c > 1e-6)
 FOLD = 1e-15
 N = 1500  # points per function (9000 in all)
 N_RUPTURE = 300  # of the capillary_force points, moved to within 1e-3 of the rupture distance
@@ -137,11 +137,12 @@ def shipped_design(rng: np.random.Generator) -> tuple[dict[str, np.ndarray], ...
 
 
 def near_rupture(cap: dict[str, np.ndarray], sc: np.ndarray, seed: int = 7) -> None:
-    """Move ``N_RUPTURE`` capillary points with a rupture distance to within a relative
-    1e-9 ... 1e-3 of it, half before, half after (in place)."""
+    """Move a third of the capillary points with a rupture distance (at most
+    ``N_RUPTURE``) to within a relative 1e-9 ... 1e-3 of it, half before, half after (in
+    place)."""
     rng = np.random.default_rng(seed)
-    idx = np.flatnonzero(np.isfinite(sc) & np.isfinite(cap["gap"]))[:N_RUPTURE]
-    assert idx.size == N_RUPTURE
+    have = np.flatnonzero(np.isfinite(sc) & np.isfinite(cap["gap"]))
+    idx = np.sort(rng.choice(have, size=min(N_RUPTURE, have.size // 3), replace=False))
     rel = 10.0 ** rng.uniform(-9, -3, idx.size) * np.where(np.arange(idx.size) % 2, 1, -1)
     cap["gap"][idx] = sc[idx] * (1.0 + rel)
 
@@ -198,6 +199,8 @@ def _compare(name: str, got: np.ndarray, want: np.ndarray,
     zero = want == 0.0
     assert np.array_equal(got == 0.0, zero), f"{name}: zeros differ"
     ok = ~nan_w & ~zero
+    if not np.any(ok):
+        return
     rel = np.abs(got[ok] / want[ok] - 1.0)
     worst = np.argmax(rel / np.broadcast_to(tol, got.shape)[ok])
     assert np.all(rel <= np.broadcast_to(tol, got.shape)[ok]), (
@@ -241,14 +244,14 @@ def test_design_covers_domain_refusals_and_rupture(points, source):
     gap, y = pts["capillary_force"]["gap"], ref["capillary_force"]
     rs = np.minimum(pts["capillary_force"]["r1"], pts["capillary_force"]["r2"])
     finite = np.isfinite(y) & (y != 0)
-    assert np.sum(finite & (gap < 1e-6 * rs)) > 50  # near contact
+    assert np.sum(finite & (gap < 1e-6 * rs)) > 30  # near contact
     assert np.sum(finite & (gap == 0.0)) > 5  # at contact
     assert np.sum(np.isnan(y[gap < 0])) == np.sum(gap < 0) > 5  # overlap
     sc = package_evaluation_many("rupture_distance", source, **{
         k: pts["capillary_force"][k] for k in ARGS["rupture_distance"]})
     with np.errstate(invalid="ignore"):
         near = np.abs(gap / sc - 1.0) < 1e-3
-    assert np.sum(near & finite) > 100 and np.sum(near & (y == 0.0)) > 100
+    assert np.sum(near & finite) > 50 and np.sum(near & (y == 0.0)) > 50
 
 
 def _run_python_module(source, pts, d: Path, names=tuple(ARGS)) -> dict[str, np.ndarray]:
@@ -310,6 +313,9 @@ def test_refit_functions_keep_the_refit_values(source, tmp_path):
         refit = package_evaluation_many(name + "_refit", source, **pts[name])
         assert np.all(np.isfinite(refit))
         _compare(name + "_refit", got[name + "_refit"], refit)
+        if "sphere-sphere" not in source.table.parts:
+            assert np.all(np.isnan(got[name]))  # no table for spheres: the package refuses
+            continue
         shipped = got[name]
         assert np.all(np.isfinite(shipped))
         diff = np.abs(got[name + "_refit"] / shipped - 1.0)

@@ -80,7 +80,7 @@ class RefitTable:
     sha256: str
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class CapillaryPart:
     """One geometry of the shipped ``calibrated-capillary`` table.
 
@@ -95,7 +95,7 @@ class CapillaryPart:
     held_out: dict[str, Any]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class CapillaryTable:
     """The shipped ``calibrated-capillary`` table (package data) and the model's domain."""
 
