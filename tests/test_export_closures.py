@@ -414,12 +414,14 @@ def test_c_header_matches_package(points, c_program, tmp_path, tol):
 
 
 def _perturbed(source, kind: str, table: str):
-    """``source`` with the leading coefficient of one shipped table moved by 1e-9 (a
-    relative 1e-9 in the force or the rupture distance, 1000x the comparison's 1e-12)."""
+    """``source`` with the leading coefficient of one shipped table (the first theta piece
+    of one geometry) moved by 1e-9 (a relative 1e-9 in the force or the rupture distance,
+    1000x the comparison's 1e-12)."""
     part = source.table.parts[kind]
-    arr = getattr(part, table).copy()
+    arr = getattr(part.pieces[0], table).copy()
     arr.flat[0] += 1e-9
-    parts = {**source.table.parts, kind: replace(part, **{table: arr})}
+    pieces = (replace(part.pieces[0], **{table: arr}), *part.pieces[1:])
+    parts = {**source.table.parts, kind: replace(part, pieces=pieces)}
     return replace(source, table=replace(source.table, parts=parts))
 
 
@@ -460,7 +462,8 @@ def test_c_header_names_shipped_and_refit(source, tmp_path):
     for kind, part in source.table.parts.items():
         ho = part.held_out
         assert f"force max {ho['force']['max']:.2g}" in text, kind
-        assert f"static const double force[{part.force.size}]" in text, kind
+        for n, piece in enumerate(part.pieces):
+            assert f"static const double force{n}[{piece.force.size}]" in text, kind
     assert "#include <math.h>" in text and text.count("#include") == 1
     assert "malloc" not in text and "calloc" not in text
 
@@ -502,19 +505,25 @@ def test_json_calibrated_capillary_matches_table_and_schema(tmp_path, source):
     _validator().validate(doc)
     assert doc["origin"] == "shipped" and doc["target"] == "capillary"
     assert "attraction < 0" in doc["sign_convention"]
-    parts = {p["name"]: p for p in doc["parts"]}
-    assert len(parts) == 2 * len(source.table.parts)
+    parts = iter(doc["parts"])
+    assert len(doc["parts"]) == 2 * sum(len(p.pieces) for p in source.table.parts.values())
     for kind, part in source.table.parts.items():
-        for name, arr, held in (("rupture distance", part.rupture, "rupture_distance"),
-                                ("force", part.force, "force")):
-            p = parts[f"{name} {kind}"]
-            shape = tuple(int(n) for n in p["coefficient_layout"].split("shape (")[1]
-                          .split(")")[0].split(", "))
-            assert shape == arr.shape
-            assert np.array_equal(np.reshape(p["coefficients"], shape), arr)
-            assert p["held_out"]["relative_error"]["max"] == part.held_out[held]["max"]
-            assert p["domain"]["v"] == [1e-4, 0.1] and p["domain"]["theta_deg"] == [0.0, 70.0]
-            assert ("radius_ratio" in p["domain"]) == (kind == "sphere-sphere")
+        for piece in part.pieces:
+            for name, arr, held in (("rupture distance", piece.rupture, "rupture_distance"),
+                                    ("force", piece.force, "force")):
+                p = next(parts)
+                assert p["name"].startswith(f"{name} {kind}") and p["geometry"] == kind
+                shape = tuple(int(n) for n in p["coefficient_layout"].split("shape (")[1]
+                              .split(")")[0].split(", "))
+                assert shape == arr.shape
+                coef = np.asarray(p["coefficients"])
+                if None in (piece.theta_lo, piece.theta_hi):  # the split series first
+                    assert np.array_equal(coef[:part.split.size], part.split)
+                    coef = coef[part.split.size:]
+                assert np.array_equal(coef.reshape(shape), arr)
+                assert p["held_out"]["relative_error"]["max"] == part.held_out[held]["max"]
+                assert p["domain"]["v"] == [1e-4, 0.1]
+                assert ("radius_ratio" in p["domain"]) == (kind == "sphere-sphere")
 
 
 @pytest.mark.parametrize("family", ["willett", "lian-rupture", "finite-liquid-bridge-ss",

@@ -85,9 +85,12 @@ CAP_COMMENT = """\
  *   S_c = R_s v^(1/3) exp(sum C_rup[i][j][k] T_i(w) T_j(a) T_k(b)),
  *   F = -2 pi sigma R_s rho (2 cos theta) exp(sum C_F[i][j][k][l] T_i(w) T_j(a) T_k(b) T_l(c)),
  *   R_s the smaller radius (r1 for a plane), v = V/R_s^3, r = R_l/R_s, rho = r/(1 + r)
- *   (1 for a plane), each coordinate mapped to [-1, 1]: a from ln v, b from theta (deg),
- *   w from (ln r)^(1/3) (for a plane the w axis has one entry, T_0 = 1), c = 2 z - 1,
- *   z = sqrt(1 - ln(1 + s/eps)/ln(1 + s_c/eps)), eps = sqrt(v/(pi rho)), s = S/R_s.
+ *   (1 for a plane), each coordinate mapped to [-1, 1]: a from ln v, b from theta (deg)
+ *   within its theta piece (a geometry may carry several tables, e.g. below and above a
+ *   split angle theta_s(V) = sum s_k T_k(a), where the branch's end changes from a fold to
+ *   a bifurcation), w from (ln r)^(1/3) (for a plane the w axis has one entry, T_0 = 1),
+ *   c = 2 z - 1, z = sqrt(1 - ln(1 + s/eps)/ln(1 + s_c/eps)), eps = sqrt(v/(pi rho)),
+ *   s = S/R_s.
  *   Held-out max relative error against `meniscus`:
  *     {cap_held_out}
  *   Domain: a plane or two spheres with r in [{q_lo:.6g}, {q_hi:.6g}], v in
@@ -216,14 +219,43 @@ static inline double wc_viscous_force_bridge(double r1, double r2, double viscos
 /* ---- CAPILLARY: the shipped calibrated-capillary closure ----------------------------- */
 
 #define WC__CAP_NMAX {cap_nmax}
+#define WC__CAP_PIECES {cap_pieces}
 
-/* The tables of one geometry, axes (w, a, b) for the rupture distance and (w, a, b, c) for
- * the force, row-major; a plane has nw = 1. Returns 0 when its table was not generated. */
-struct wc__cap_table {{
+/* One theta piece of one geometry: its ends (deg, or the split angle), the sizes of its
+ * axes (w, a, b) for the rupture distance and (w, a, b, c) for the force, row-major; a
+ * plane has nw = 1. */
+struct wc__cap_piece {{
+    int lo_split, hi_split;
+    double lo, hi;
     int nw, na, nb, nc;
     const double *rupture, *force;
 }};
 
+/* One geometry: its pieces (a point belongs to the first whose upper end is at or above
+ * its angle) and the split angle (deg) as sum_k split[k] T_k(a). */
+struct wc__cap_table {{
+    int npieces, nsplit;
+    const double *split;
+    struct wc__cap_piece piece[WC__CAP_PIECES];
+}};
+
+static inline void wc__cap_set(struct wc__cap_piece *p, int lo_split, double lo, int hi_split,
+                               double hi, int nw, int na, int nb, int nc,
+                               const double *rupture, const double *force)
+{{
+    p->lo_split = lo_split;
+    p->lo = lo;
+    p->hi_split = hi_split;
+    p->hi = hi;
+    p->nw = nw;
+    p->na = na;
+    p->nb = nb;
+    p->nc = nc;
+    p->rupture = rupture;
+    p->force = force;
+}}
+
+/* The tables of the plane (plane = 1) or of sphere pairs; 0 when not generated. */
 static inline int wc__cap_table(int plane, struct wc__cap_table *t)
 {{
 {cap_tables}
@@ -246,15 +278,16 @@ static inline double wc__map(double x, double lo, double hi)
     return (2.0 * x - lo - hi) / (hi - lo);
 }}
 
-/* Shared by the two capillary functions: the domain test (0 outside), R_s, v = V/R_s^3,
- * rho = R* / R_s, the Chebyshev rows of w, a, b and s_c = S_c / R_s. */
+/* Shared by the two capillary functions: the domain test (0 outside), the piece, R_s,
+ * v = V / R_s^3, rho = R* / R_s, the Chebyshev rows of w, a, b and s_c = S_c / R_s. */
 static inline int wc__cap_bridge(double r1, double r2, double volume, double theta1_deg,
-                                 double theta2_deg, struct wc__cap_table *tab, double *rs,
-                                 double *v, double *rho, double *tw, double *ta, double *tb,
-                                 double *sc)
+                                 double theta2_deg, struct wc__cap_table *tab,
+                                 const struct wc__cap_piece **piece, double *rs, double *v,
+                                 double *rho, double *tw, double *ta, double *tb, double *sc)
 {{
-    int plane = isinf(r2) && r2 > 0, i, j, k;
-    double ratio, sum = 0.0;
+    int plane = isinf(r2) && r2 > 0, i, j, k, p;
+    double ratio, a, split = 0.0, lo, hi = 0.0, sum = 0.0;
+    const struct wc__cap_piece *pc;
     if (!(r1 > 0) || !isfinite(r1) || !(r2 > 0) || !(volume > 0) || !isfinite(volume))
         return 0;
     if (!(theta1_deg >= 0 && theta1_deg < 180 && theta2_deg >= 0 && theta2_deg < 180))
@@ -273,14 +306,30 @@ static inline int wc__cap_bridge(double r1, double r2, double volume, double the
     if (!plane && !(ratio <= {q_hi_r} * (1 + 1e-9)))
         return 0;
     *rho = plane ? 1.0 : ratio / (1.0 + ratio);
-    wc__cheb_rows(plane ? 0.0 : wc__map(cbrt(log(ratio)), 0.0, {w_max_r}), tw, tab->nw);
-    wc__cheb_rows(wc__map(log(*v), {lnv_lo_r}, {lnv_hi_r}), ta, tab->na);
-    wc__cheb_rows(wc__map(theta1_deg, {ct_lo_r}, {ct_hi_r}), tb, tab->nb);
-    for (i = 0; i < tab->nw; ++i)
-        for (j = 0; j < tab->na; ++j)
-            for (k = 0; k < tab->nb; ++k)
-                sum += tab->rupture[(i * tab->na + j) * tab->nb + k] * (tw[i] * ta[j] * tb[k]);
+    a = wc__map(log(*v), {lnv_lo_r}, {lnv_hi_r});
+    if (tab->nsplit > 0) {{
+        wc__cheb_rows(a, tb, tab->nsplit);
+        for (k = 0; k < tab->nsplit; ++k)
+            split += tab->split[k] * tb[k];
+    }}
+    for (p = 0; p < tab->npieces; ++p) {{
+        hi = tab->piece[p].hi_split ? split : tab->piece[p].hi;
+        if (theta1_deg <= hi)
+            break;
+    }}
+    if (p == tab->npieces)
+        return 0;
+    pc = &tab->piece[p];
+    lo = pc->lo_split ? split : pc->lo;
+    wc__cheb_rows(plane ? 0.0 : wc__map(cbrt(log(ratio)), 0.0, {w_max_r}), tw, pc->nw);
+    wc__cheb_rows(a, ta, pc->na);
+    wc__cheb_rows(wc__map(theta1_deg, lo, hi), tb, pc->nb);
+    for (i = 0; i < pc->nw; ++i)
+        for (j = 0; j < pc->na; ++j)
+            for (k = 0; k < pc->nb; ++k)
+                sum += pc->rupture[(i * pc->na + j) * pc->nb + k] * (tw[i] * ta[j] * tb[k]);
     *sc = cbrt(*v) * exp(sum);
+    *piece = pc;
     return 1;
 }}
 
@@ -288,10 +337,11 @@ static inline double wc_rupture_distance(double r1, double r2, double volume,
                                          double theta1_deg, double theta2_deg)
 {{
     struct wc__cap_table tab;
+    const struct wc__cap_piece *pc;
     double tw[WC__CAP_NMAX], ta[WC__CAP_NMAX], tb[WC__CAP_NMAX];
     double rs = 0.0, v = 0.0, rho = 0.0, sc = 0.0;
-    if (!wc__cap_bridge(r1, r2, volume, theta1_deg, theta2_deg, &tab, &rs, &v, &rho, tw, ta,
-                        tb, &sc))
+    if (!wc__cap_bridge(r1, r2, volume, theta1_deg, theta2_deg, &tab, &pc, &rs, &v, &rho, tw,
+                        ta, tb, &sc))
         return NAN;
     return sc * rs;
 }}
@@ -301,6 +351,7 @@ static inline double wc_capillary_force(double r1, double r2, double volume, dou
                                         double theta2_deg)
 {{
     struct wc__cap_table tab;
+    const struct wc__cap_piece *pc;
     double tw[WC__CAP_NMAX], ta[WC__CAP_NMAX], tb[WC__CAP_NMAX], tc[WC__CAP_NMAX];
     double g[WC__CAP_NMAX]; /* the force table contracted over w, a, b: a series in c */
     double rs = 0.0, v = 0.0, rho = 0.0, sc = 0.0, s, eps, x, sum = 0.0, weight, f;
@@ -308,8 +359,8 @@ static inline double wc_capillary_force(double r1, double r2, double volume, dou
     int i, j, k, l;
     if (!(gap >= 0) || !isfinite(gap) || !(surface_tension > 0) || !isfinite(surface_tension))
         return NAN;
-    if (!wc__cap_bridge(r1, r2, volume, theta1_deg, theta2_deg, &tab, &rs, &v, &rho, tw, ta,
-                        tb, &sc))
+    if (!wc__cap_bridge(r1, r2, volume, theta1_deg, theta2_deg, &tab, &pc, &rs, &v, &rho, tw,
+                        ta, tb, &sc))
         return NAN;
     s = gap / rs;
     if (!(s < sc))
@@ -317,19 +368,19 @@ static inline double wc_capillary_force(double r1, double r2, double volume, dou
     eps = sqrt(v / (WC_PI * rho));
     x = 1.0 - log1p(s / eps) / log1p(sc / eps);
     x = x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x;
-    wc__cheb_rows(2.0 * sqrt(x) - 1.0, tc, tab.nc);
-    for (l = 0; l < tab.nc; ++l)
+    wc__cheb_rows(2.0 * sqrt(x) - 1.0, tc, pc->nc);
+    for (l = 0; l < pc->nc; ++l)
         g[l] = 0.0;
-    row = tab.force;
-    for (i = 0; i < tab.nw; ++i)  /* axpy over the gap axis: vectorisable without -ffast-math */
-        for (j = 0; j < tab.na; ++j)
-            for (k = 0; k < tab.nb; ++k) {{
+    row = pc->force;
+    for (i = 0; i < pc->nw; ++i)  /* axpy over the gap axis: vectorisable without -ffast-math */
+        for (j = 0; j < pc->na; ++j)
+            for (k = 0; k < pc->nb; ++k) {{
                 weight = tw[i] * ta[j] * tb[k];
-                for (l = 0; l < tab.nc; ++l)
+                for (l = 0; l < pc->nc; ++l)
                     g[l] += row[l] * weight;
-                row += tab.nc;
+                row += pc->nc;
             }}
-    for (l = 0; l < tab.nc; ++l)
+    for (l = 0; l < pc->nc; ++l)
         sum += g[l] * tc[l];
     f = rho * 2.0 * cos(theta1_deg * (WC_PI / 180.0)) * exp(sum);
     return -(2.0 * WC_PI * surface_tension * rs * f);
@@ -444,7 +495,11 @@ def header_text(source: CapillarySource) -> str:
             s_lo=s_lo_cap, s_hi=s_hi_cap))
     body = BODY.format(
         **br, **capillary_fields(source),
-        cap_nmax=max(max(p.force.shape) for p in source.table.parts.values()),
+        cap_nmax=max([max(pc.force.shape) for p in source.table.parts.values()
+                      for pc in p.pieces]
+                     + [p.split.size for p in source.table.parts.values()
+                        if p.split is not None]),
+        cap_pieces=max(len(p.pieces) for p in source.table.parts.values()),
         cap_tables=_cap_tables(source),
         n_wall=len(w["chebyshev"]), cheb_wall=c_array(w["chebyshev"]),
         n_ss=len(ss["chebyshev"]), cheb_ss=c_array(ss["chebyshev"]), log_lo=repr(lo),
@@ -478,25 +533,37 @@ def held_out_lines(source: CapillarySource) -> list[str]:
 
 
 def _cap_tables(source: CapillarySource) -> str:
-    """The body of ``wc__cap_table``: each generated geometry's tables as static arrays
-    (a plane's with a leading axis of one entry), ``return 0`` for a missing one."""
+    """The body of ``wc__cap_table``: each generated geometry's pieces as static arrays (a
+    plane's with a leading axis of one entry) and its split series, ``return 0`` for a
+    missing one."""
     out = []
     for kind, cond in (("sphere-wall", "plane"), ("sphere-sphere", "!plane")):
         part = source.table.parts.get(kind)
         if part is None:
             out.append(f"    if ({cond})\n        return 0;  /* {kind}: not generated */")
             continue
-        shape = part.force.shape if kind == "sphere-sphere" else (1, *part.force.shape)
-        nw, na, nb, nc = shape
-        out.append(
-            f"    if ({cond}) {{  /* {kind} */\n"
-            f"        static const double rupture[{nw * na * nb}] = "
-            f"{c_array(part.rupture.ravel(), indent=12)};\n"
-            f"        static const double force[{nw * na * nb * nc}] = "
-            f"{c_array(part.force.ravel(), indent=12)};\n"
-            f"        t->nw = {nw};\n        t->na = {na};\n        t->nb = {nb};\n"
-            f"        t->nc = {nc};\n        t->rupture = rupture;\n"
-            f"        t->force = force;\n        return 1;\n    }}")
+        lines = [f"    if ({cond}) {{  /* {kind} */"]
+        split = "(const double *)0"
+        if part.split is not None:
+            lines.append(f"        static const double split[{part.split.size}] = "
+                         f"{c_array(part.split, indent=12)};")
+            split = "split"
+        for n, p in enumerate(part.pieces):
+            lines.append(f"        static const double rupture{n}[{p.rupture.size}] = "
+                         f"{c_array(p.rupture.ravel(), indent=12)};")
+            lines.append(f"        static const double force{n}[{p.force.size}] = "
+                         f"{c_array(p.force.ravel(), indent=12)};")
+        lines.append(f"        t->npieces = {len(part.pieces)};")
+        lines.append(f"        t->nsplit = {0 if part.split is None else part.split.size};")
+        lines.append(f"        t->split = {split};")
+        for n, p in enumerate(part.pieces):
+            shape = p.force.shape if kind == "sphere-sphere" else (1, *p.force.shape)
+            ends = ["1, 0.0" if e is None else f"0, {e!r}" for e in (p.theta_lo, p.theta_hi)]
+            lines.append(f"        wc__cap_set(&t->piece[{n}], {ends[0]}, {ends[1]}, "
+                         f"{', '.join(str(x) for x in shape)},\n"
+                         f"                    rupture{n}, force{n});")
+        lines.append("        return 1;\n    }")
+        out.append("\n".join(lines))
     return "\n".join(out) + "\n    return 0;"
 
 

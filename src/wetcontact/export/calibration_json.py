@@ -68,6 +68,10 @@ FORMS = {
         "s_c/eps)), s = S/R_s, s_c = S_c/R_s from the rupture part, eps = sqrt(v/(pi rho)); "
         "w, a, b as in the rupture part (Derjaguin's force at contact times a smooth "
         "correction)"),
+    "capillary-piece": (
+        "; this part covers theta from {lo} to {hi} deg (a point belongs to the first part "
+        "of its geometry whose upper end is at or above its angle) and b = m(theta_deg; lo, "
+        "hi) within it, where 'split' is the split angle theta_s = sum_k s_k T_k(a) (deg)"),
 }
 LAYOUT = {"willett": "k[i, j, m] flattened in C order, shape (4, 4, 3)",
           "finite-liquid": "(p, c0, ..., c8)", "lian-rupture": "(a, b, c)"}
@@ -168,25 +172,42 @@ def capillary_document() -> dict[str, Any]:
     t = shipped_capillary()
     parts = []
     for kind, part in t.parts.items():
+        ho = part.held_out
+        if not all(isinstance(ho.get(k), dict) for k in ("force", "rupture_distance")):
+            raise InputError(f"{t.source}: {kind} has no held-out table; allowed: a table "
+                             "written by `python -m wetcontact.calibrate capillary`")
         axes = "(w, a, b)" if kind == "sphere-sphere" else "(a, b)"
-        domain = {"v": list(t.v_range), "theta_deg": list(t.theta_range_deg)}
+        domain = {"v": list(t.v_range)}
         if kind == "sphere-sphere":
             domain["radius_ratio"] = list(t.ratio_range)
-        for name, form, arr, held, extra in (
-                ("rupture distance", "capillary-rupture", part.rupture, "rupture_distance", {}),
-                ("force", "capillary-force", part.force, "force", {"s_over_sc": [0.0, 1.0]})):
-            ho = part.held_out
-            shape = ", ".join(str(n) for n in arr.shape)
-            layout = (f"C flattened in C order, shape ({shape}), axes "
-                      + (axes if arr is part.rupture else axes[:-1] + ", c)"))
-            parts.append({"name": f"{name} {kind}", "geometry": kind, "amount": "bridge",
-                          "form": FORMS[form], "coefficient_layout": layout,
-                          "coefficients": [float(c) for c in arr.ravel()],
-                          "domain": {**domain, **extra},
-                          "held_out": {"points": int(ho[held]["points"]),
-                                       "seed": int(ho["seed"]),
-                                       "reference": str(ho["reference"]),
-                                       "relative_error": _errors(ho[held])}})
+        for piece in part.pieces:
+            ends = ["split" if e is None else f"{e:g}" for e in (piece.theta_lo, piece.theta_hi)]
+            where = "" if len(part.pieces) == 1 else f" (theta {ends[0]} to {ends[1]} deg)"
+            lo = t.theta_range_deg[0] if piece.theta_lo is None else piece.theta_lo
+            hi = t.theta_range_deg[1] if piece.theta_hi is None else piece.theta_hi
+            for name, form, arr, held, extra in (
+                    ("rupture distance", "capillary-rupture", piece.rupture, "rupture_distance",
+                     {}),
+                    ("force", "capillary-force", piece.force, "force", {"s_over_sc": [0.0, 1.0]})):
+                shape = ", ".join(str(n) for n in arr.shape)
+                layout = (f"C flattened in C order, shape ({shape}), axes "
+                          + (axes if held != "force" else axes[:-1] + ", c)"))
+                coef = [float(c) for c in arr.ravel()]
+                text = FORMS[form]
+                if len(part.pieces) > 1:
+                    text += FORMS["capillary-piece"].format(lo=ends[0], hi=ends[1])
+                if "split" in ends:  # the split series first, then the tensor
+                    layout = (f"first the split angle's {part.split.size} Chebyshev "
+                              f"coefficients s_k, then {layout}")
+                    coef = [float(c) for c in part.split] + coef
+                parts.append({"name": f"{name} {kind}{where}", "geometry": kind,
+                              "amount": "bridge", "form": text, "coefficient_layout": layout,
+                              "coefficients": coef,
+                              "domain": {**domain, "theta_deg": [lo, hi], **extra},
+                              "held_out": {"points": int(ho[held]["points"]),
+                                           "seed": int(ho["seed"]),
+                                           "reference": str(ho["reference"]) + " (geometry "
+                                           "as a whole)", "relative_error": _errors(ho[held])}})
     from wetcontact.reduced_models.calibrated_capillary import capillary_table
 
     return {"format": "wetcontact-calibration", "format_version": 1,

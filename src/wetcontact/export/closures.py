@@ -34,8 +34,9 @@ for a plane:
     which ``calibrated-capillary`` does not cover (it refuses and names ``meniscus``).
 
 :class:`CapillarySource` is the one place that names the capillary tables the exports
-carry: the shipped ``calibrated-capillary`` table (whatever geometries and node counts its
-package data holds) and the two refits.
+carry: the shipped ``calibrated-capillary`` table (whatever geometries, theta pieces, split
+angle and node counts its package data holds: one table per geometry, or ``pieces`` in
+theta with a ``theta_split`` series) and the two refits.
 
 Outside the calibrated domain (or for inputs no closure covers: unequal spheres for the
 immersed part, two contact angles for ``calibrated-capillary``, a geometry whose table is
@@ -81,18 +82,39 @@ class RefitTable:
 
 
 @dataclass(frozen=True, eq=False)
-class CapillaryPart:
-    """One geometry of the shipped ``calibrated-capillary`` table.
+class CapillaryPiece:
+    """The tables of one theta piece of one geometry: ``rupture`` has the shape of ``force``
+    without its last (gap) axis; a sphere pair's axes are (w, a, b[, c]), a wall's
+    (a, b[, c]). ``theta_lo``/``theta_hi`` (deg) bound the piece; ``None`` is the
+    geometry's split angle (b is mapped from theta within the piece)."""
 
-    ``rupture`` has the shape of ``force`` without its last (gap) axis; a sphere pair's
-    axes are (w, a, b[, c]), a wall's (a, b[, c]) (see
-    :func:`~wetcontact.reduced_models.calibrated_capillary.coordinates`).
-    """
-
-    kind: str
+    theta_lo: float | None
+    theta_hi: float | None
     rupture: np.ndarray
     force: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class CapillaryPart:
+    """One geometry of the shipped ``calibrated-capillary`` table: its theta pieces (a point
+    belongs to the first whose upper end is at or above its angle) and, where a piece ends
+    at the split angle, that angle (deg) as a Chebyshev series in the volume coordinate
+    ``a`` (``split``)."""
+
+    kind: str
+    pieces: tuple[CapillaryPiece, ...]
+    split: np.ndarray | None
     held_out: dict[str, Any]
+
+    @property
+    def rupture(self) -> np.ndarray:
+        """The first piece's rupture table."""
+        return self.pieces[0].rupture
+
+    @property
+    def force(self) -> np.ndarray:
+        """The first piece's force table."""
+        return self.pieces[0].force
 
 
 @dataclass(frozen=True, eq=False)
@@ -111,14 +133,48 @@ class CapillaryTable:
     def held_out_text(self, kind: str) -> str:
         """``force max X (n points), rupture distance max Y (m)`` of one geometry."""
         ho = self.parts[kind].held_out
+        if "force" not in ho or "rupture_distance" not in ho:
+            return "held-out errors not in the package data"
         f, r = ho["force"], ho["rupture_distance"]
         return (f"force max {f['max']:.2g} ({f['points']} points), rupture distance max "
                 f"{r['max']:.2g} ({r['points']} bridges)")
 
 
+def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
+    """One geometry's entry: ``pieces`` (and ``theta_split``), or one table (``rupture``,
+    ``force``) over the whole angle range."""
+    from wetcontact.reduced_models.calibrated_capillary import THETA_RANGE_DEG
+
+    raw = e.get("pieces") or [{"theta_deg": list(THETA_RANGE_DEG), "rupture": e["rupture"],
+                               "force": e["force"]}]
+    ndim = 2 if kind == "sphere-wall" else 3
+    pieces = []
+    for i, p in enumerate(raw):
+        rup, frc = np.asarray(p["rupture"], dtype=float), np.asarray(p["force"], dtype=float)
+        if rup.ndim != ndim or frc.shape[:-1] != rup.shape or not (
+                np.all(np.isfinite(rup)) and np.all(np.isfinite(frc))):
+            raise InputError(f"{path}: {kind} piece {i}: tables of shapes {rup.shape} "
+                             f"(rupture) and {frc.shape} (force); allowed: finite, rupture "
+                             f"{ndim}-D and force the same plus a gap axis")
+        lo, hi = p["theta_deg"]
+        pieces.append(CapillaryPiece(None if lo is None else float(lo),
+                                     None if hi is None else float(hi), rup, frc))
+    ts = e.get("theta_split")
+    split = None if ts is None else np.asarray(ts["chebyshev"], dtype=float)
+    bounds = [x for p in pieces for x in (p.theta_lo, p.theta_hi)]
+    ends = [(p.theta_lo, p.theta_hi) for p in pieces]
+    contiguous = all(p.theta_hi == q.theta_lo for p, q in zip(pieces, pieces[1:], strict=False))
+    if (None in bounds and (split is None or split.ndim != 1)) or not contiguous or (
+            pieces[0].theta_lo, pieces[-1].theta_hi) != tuple(THETA_RANGE_DEG):
+        raise InputError(f"{path}: {kind} theta pieces {ends}; allowed: contiguous from "
+                         f"{THETA_RANGE_DEG[0]:g} to {THETA_RANGE_DEG[1]:g} deg, None (the "
+                         "split angle) only with a theta_split series")
+    return CapillaryPart(kind, tuple(pieces), split, e.get("held_out", {}))
+
+
 def shipped_capillary() -> CapillaryTable:
     """The package's ``calibrated-capillary`` table; an :class:`InputError` before it is
-    generated. Shapes and geometries are read from the data, never assumed."""
+    generated. Geometries, theta pieces and shapes are read from the data, never assumed."""
     from wetcontact.reduced_models import calibrated_capillary as cc
 
     table = cc.capillary_table()
@@ -126,19 +182,8 @@ def shipped_capillary() -> CapillaryTable:
     if table is None or not path.is_file():
         raise InputError("calibrated-capillary: coefficient table not generated; run "
                          "`python -m wetcontact.calibrate capillary`")
-    parts = {}
-    for kind in ("sphere-wall", "sphere-sphere"):
-        if kind not in table:
-            continue
-        e = table[kind]
-        rup, frc = np.asarray(e["rupture"], dtype=float), np.asarray(e["force"], dtype=float)
-        ndim = 2 if kind == "sphere-wall" else 3
-        if rup.ndim != ndim or frc.shape[:-1] != rup.shape or not (
-                np.all(np.isfinite(rup)) and np.all(np.isfinite(frc))):
-            raise InputError(f"{path}: {kind} tables of shapes {rup.shape} (rupture) and "
-                             f"{frc.shape} (force); allowed: finite, rupture {ndim}-D and "
-                             "force the same plus a gap axis")
-        parts[kind] = CapillaryPart(kind, rup, frc, e.get("held_out", {}))
+    parts = {kind: _capillary_part(path, kind, table[kind])
+             for kind in ("sphere-wall", "sphere-sphere") if kind in table}
     for key, want in (("v", cc.V_RANGE), ("theta_deg", cc.THETA_RANGE_DEG),
                       ("radius_ratio", cc.RATIO_RANGE)):
         if tuple(table["domain"][key]) != tuple(want):

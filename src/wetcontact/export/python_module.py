@@ -58,9 +58,10 @@ Chebyshev interpolant of the `meniscus` finite-element bridge:
 S_c = R_s v^(1/3) exp(sum C_rup T(w) T(a) T(b)) and
 F = -2 pi sigma R_s rho (2 cos theta) exp(sum C_F T(w) T(a) T(b) T(c)),
 R_s the smaller radius (r1 on a plane), v = V/R_s^3, r = R_l/R_s, rho = r/(1 + r) (1 on a
-plane), coordinates in [-1, 1]: a from ln v, b from theta, w from (ln r)^(1/3) (sphere pairs
-only), c = 2 z - 1 with z = sqrt(1 - ln(1 + S/eps)/ln(1 + S_c/eps)), eps = sqrt(v/(pi rho))
-(all lengths over R_s). Held-out max relative error against `meniscus`:
+plane), coordinates in [-1, 1]: a from ln v, b from theta within its theta piece (a
+geometry may carry several tables, e.g. below and above a split angle theta_s(V), a
+Chebyshev series in a), w from (ln r)^(1/3) (sphere pairs only), c = 2 z - 1 with
+z = sqrt(1 - ln(1 + S/eps)/ln(1 + S_c/eps)), eps = sqrt(v/(pi rho)) (all lengths over R_s). Held-out max relative error against `meniscus`:
 {cap_held_out}
 Domain: a plane or two spheres with r in [{q_lo:.6g}, {q_hi:.6g}], v in [{cv_lo:.6g}, {cv_hi:.6g}],
 ONE contact angle: theta1 = theta2 in [{ct_lo:.6g}, {ct_hi:.6g}] deg (two different angles
@@ -179,7 +180,8 @@ _CAP_LNV_LO, _CAP_LNV_HI = {lnv_lo_r}, {lnv_hi_r}
 _CAP_T_LO, _CAP_T_HI = {ct_lo_r}, {ct_hi_r}
 _CAP_Q_HI, _CAP_W_MAX = {q_hi_r}, {w_max_r}
 _CAP_ANGLE_TOL = {angle_tol_r}  # rad: two angles closer than this count as one
-# per geometry: (rupture table, force table); None where the table was not generated.
+# per geometry: the theta pieces (lo, hi, rupture table, force table), lo/hi in deg or None
+# for the split angle, a Chebyshev series in a ("split"); None where no table was generated.
 # Axes: sphere pair (w, a, b[, c]), plane (a, b[, c]).
 _CAP = {{"wall": {cap_wall}, "spheres": {cap_ss}}}
 _CHUNK = 4096
@@ -246,22 +248,35 @@ def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
     f, s_c = np.full(r1.size, np.nan), np.full(r1.size, np.nan)
     for name, sel in (("wall", plane), ("spheres", ~plane)):
         idx = np.flatnonzero(ok & sel)
-        if _CAP[name] is None:
+        table = _CAP[name]
+        if table is None:
             ok[idx] = False
             continue
         if idx.size == 0:
             continue
         vi, ti = v[idx], t1[idx]
-        coords = [_cap_map(np.log(vi), _CAP_LNV_LO, _CAP_LNV_HI),
-                  _cap_map(ti, _CAP_T_LO, _CAP_T_HI)]
-        rho = np.ones(idx.size)
+        a = _cap_map(np.log(vi), _CAP_LNV_LO, _CAP_LNV_HI)
+        lead, rho = [a], np.ones(idx.size)
         if name == "spheres":
             q = ratio[idx]
-            coords.insert(0, _cap_map(np.cbrt(np.log(q)), 0.0, _CAP_W_MAX))
-            rho = q / (1.0 + q)
-        fi, sci = _cap_star(_CAP[name], coords, vi, rho, np.cos(np.radians(ti)),
-                            None if s_over_rs is None else s_over_rs[idx])
-        f[idx], s_c[idx] = fi, sci
+            lead, rho = [_cap_map(np.cbrt(np.log(q)), 0.0, _CAP_W_MAX), a], q / (1.0 + q)
+        split = table["split"]
+        sp = None if split is None else _cap_rows(a, split.size) @ split
+        cos_t = np.cos(np.radians(ti))
+        si = None if s_over_rs is None else s_over_rs[idx]
+        todo = np.ones(idx.size, dtype=bool)
+        for lo, hi, rup, frc in table["pieces"]:
+            lo = sp if lo is None else np.full(idx.size, lo)
+            hi = sp if hi is None else np.full(idx.size, hi)
+            j = np.flatnonzero(todo & (ti <= hi))
+            todo[j] = False
+            if j.size == 0:
+                continue
+            coords = [x[j] for x in lead] + [_cap_map(ti[j], lo[j], hi[j])]
+            fj, scj = _cap_star((rup, frc), coords, vi[j], rho[j], cos_t[j],
+                                None if si is None else si[j])
+            f[idx[j]], s_c[idx[j]] = fj, scj
+        ok[idx[todo]] = False
     return f, s_c, rs, ok
 
 
@@ -377,11 +392,17 @@ def module_text(source: CapillarySource) -> str:
 
 
 def _tables(part: CapillaryPart | None) -> str:
-    """``(rupture, force)`` arrays of one geometry as Python source, or ``None``."""
+    """One geometry's pieces and split series as Python source, or ``None``."""
     if part is None:
         return "None"
-    return (f"(\n    np.array({_list(part.rupture.ravel(), 4)}).reshape({part.rupture.shape}),"
-            f"\n    np.array({_list(part.force.ravel(), 4)}).reshape({part.force.shape}))")
+    pieces = []
+    for p in part.pieces:
+        pieces.append(
+            f"(\n        {p.theta_lo!r}, {p.theta_hi!r},"
+            f"\n        np.array({_list(p.rupture.ravel(), 4)}).reshape({p.rupture.shape}),"
+            f"\n        np.array({_list(p.force.ravel(), 4)}).reshape({p.force.shape}))")
+    split = "None" if part.split is None else f"np.array({_list(part.split, 4)})"
+    return f'{{"split": {split},\n    "pieces": [' + ",\n    ".join(pieces) + "]}"
 
 
 def _list(values: Any, per_line: int = 3) -> str:
