@@ -61,7 +61,8 @@ R_s the smaller radius (r1 on a plane), v = V/R_s^3, r = R_l/R_s, rho = r/(1 + r
 plane), coordinates in [-1, 1]: a from ln v, b from theta within its theta piece (a
 geometry may carry several tables, e.g. below and above a split angle theta_s(V), a
 Chebyshev series in a), w from (ln r)^(1/3) (sphere pairs only), c = 2 z - 1 with
-z = sqrt(1 - ln(1 + S/eps)/ln(1 + S_c/eps)), eps = sqrt(v/(pi rho)) (all lengths over R_s). Held-out max relative error against `meniscus`:
+z = sqrt(1 - ln(1 + S/eps)/ln(1 + S_c/eps)), eps = sqrt(v/(pi rho)) (all lengths over R_s).
+Held-out max relative error against `meniscus`:
 {cap_held_out}
 Domain: a plane or two spheres with r in [{q_lo:.6g}, {q_hi:.6g}], v in [{cv_lo:.6g}, {cv_hi:.6g}],
 ONE contact angle: theta1 = theta2 in [{ct_lo:.6g}, {ct_hi:.6g}] deg (two different angles
@@ -377,12 +378,12 @@ def module_text(source: CapillarySource) -> str:
     parts = source.table.parts
     return TEMPLATE.format(
         **br, **capillary_fields(source),
-        cap_held_out=textwrap.fill("; ".join(held_out_lines(source)) + ".", 88),
+        cap_held_out=textwrap.fill("; ".join(held_out_lines(source)) + ".", 88, break_on_hyphens=False),
         cap_wall=_tables(parts.get("sphere-wall")), cap_ss=_tables(parts.get("sphere-sphere")),
         br_err_wall=bw["held_out"]["after"]["max"], br_err_ss=bs["held_out"]["after"]["max"],
         version=__version__, imm_err_wall=w["held_out"]["max"],
         imm_err_ss=ss["held_out"]["max"], s_lo=math.exp(lo), s_hi=math.exp(hi),
-        refit_label=textwrap.fill(source.refit_label + ".", 88), v_lo=v_lo, v_hi=v_hi,
+        refit_label=textwrap.fill(source.refit_label + ".", 88, break_on_hyphens=False), v_lo=v_lo, v_hi=v_hi,
         t_lo=t_lo, t_hi=t_hi, sc_lo=sc_lo, sc_hi=sc_hi, cheb_wall=_list(w["chebyshev"]),
         cheb_ss=_list(ss["chebyshev"]),
         log_lo=repr(lo), log_hi=repr(hi), s_lo_r=repr(math.exp(lo)), s_hi_r=repr(math.exp(hi)),
