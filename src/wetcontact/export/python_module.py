@@ -378,18 +378,23 @@ def module_text(source: CapillarySource) -> str:
     parts = source.table.parts
     return TEMPLATE.format(
         **br, **capillary_fields(source),
-        cap_held_out=textwrap.fill("; ".join(held_out_lines(source)) + ".", 88, break_on_hyphens=False),
+        cap_held_out=_fill("; ".join(held_out_lines(source)) + "."),
         cap_wall=_tables(parts.get("sphere-wall")), cap_ss=_tables(parts.get("sphere-sphere")),
         br_err_wall=bw["held_out"]["after"]["max"], br_err_ss=bs["held_out"]["after"]["max"],
         version=__version__, imm_err_wall=w["held_out"]["max"],
         imm_err_ss=ss["held_out"]["max"], s_lo=math.exp(lo), s_hi=math.exp(hi),
-        refit_label=textwrap.fill(source.refit_label + ".", 88, break_on_hyphens=False), v_lo=v_lo, v_hi=v_hi,
+        refit_label=_fill(source.refit_label + "."), v_lo=v_lo, v_hi=v_hi,
         t_lo=t_lo, t_hi=t_hi, sc_lo=sc_lo, sc_hi=sc_hi, cheb_wall=_list(w["chebyshev"]),
         cheb_ss=_list(ss["chebyshev"]),
         log_lo=repr(lo), log_hi=repr(hi), s_lo_r=repr(math.exp(lo)), s_hi_r=repr(math.exp(hi)),
         v_lo_r=repr(v_lo), v_hi_r=repr(v_hi), t_lo_r=repr(t_lo), t_hi_r=repr(t_hi),
         sc_lo_r=repr(sc_lo), sc_hi_r=repr(sc_hi), lian=_list(rup.coefficients),
         willett=_list(cap.coefficients))
+
+
+def _fill(text: str) -> str:
+    """``text`` wrapped to 88 columns for the module's docstring (names kept whole)."""
+    return textwrap.fill(text, 88, break_on_hyphens=False)
 
 
 def _tables(part: CapillaryPart | None) -> str:
