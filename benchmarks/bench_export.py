@@ -8,8 +8,8 @@ read them as orders of magnitude.
 - command: ``wetcontact export ...`` end to end in a subprocess (interpreter start-up and
   imports included: what a user waits for);
 - evaluation: seconds per point of the exported numpy module (1e5 points, vectorised) and of
-  the C header (1e6 calls in a loop, ``cc -O2``, CPU time by ``clock()``), and the
-  compile time of a program including the header.
+  the C header (1e6 calls in a loop, 1e5 for calibrated-capillary, ``cc -O2``, CPU time by
+  ``clock()``), and the compile time of a program including the header.
 """
 
 from __future__ import annotations
@@ -33,36 +33,39 @@ from wetcontact.export.closures import REFIT_DIR, REFIT_FILES, capillary_source 
 from wetcontact.export.python_module import write_module  # noqa: E402
 
 C_BENCH = r"""
+#include <math.h>
 #include <stdio.h>
 #include <time.h>
 #include "wetcontact_closures.h"
 
+#define TIME(k, n, call) do { c0 = clock(); for (i = 0; i < (n); ++i) acc += (call); \
+    t[k] = (double)(clock() - c0) / CLOCKS_PER_SEC / (n); } while (0)
+
 int main(void)
 {
-    const int n = 1000000;
-    double acc = 0.0, t[4];
+    const int n = 1000000, m = 100000;
+    double acc = 0.0, t[8];
     clock_t c0;
-    int i;
-    c0 = clock();
-    for (i = 0; i < n; ++i)
-        acc += wc_viscous_force_immersed(1e-3, INFINITY, 1e-3, 0.1, 1e-7 * (1 + i % 1000));
-    t[0] = (double)(clock() - c0) / CLOCKS_PER_SEC / n;
-    c0 = clock();
-    for (i = 0; i < n; ++i)
-        acc += wc_viscous_force_bridge(1e-3, 2e-3, 1e-3, 1e-11, 0.1, 1e-7 * (1 + i % 100));
-    t[3] = (double)(clock() - c0) / CLOCKS_PER_SEC / n;
-    c0 = clock();
-    for (i = 0; i < n; ++i)
-        acc += wc_rupture_distance(1e-3, 1e-3, 1e-11 * (1 + i % 50), 10.0, 30.0);
-    t[1] = (double)(clock() - c0) / CLOCKS_PER_SEC / n;
-    c0 = clock();
-    for (i = 0; i < n; ++i)
-        acc += wc_capillary_force(1e-3, 1e-3, 1e-11, 1e-7 * (1 + i % 1000), 0.072, 10.0, 30.0);
-    t[2] = (double)(clock() - c0) / CLOCKS_PER_SEC / n;
-    printf("%.6g %.6g %.6g %.6g %.17g\n", t[0], t[1], t[2], t[3], acc);
+    int i, k;
+    TIME(0, n, wc_viscous_force_immersed(1e-3, INFINITY, 1e-3, 0.1, 1e-7 * (1 + i % 1000)));
+    TIME(1, n, wc_viscous_force_bridge(1e-3, 2e-3, 1e-3, 1e-11, 0.1, 1e-7 * (1 + i % 100)));
+    TIME(2, m, wc_rupture_distance(1e-3, INFINITY, 1e-11 * (1 + i % 50), 20.0, 20.0));
+    TIME(3, m, wc_capillary_force(1e-3, INFINITY, 1e-11, 1e-7 * (1 + i % 1000), 0.072, 20.0,
+                                  20.0));
+    TIME(4, m, wc_rupture_distance(1e-3, 2e-3, 1e-11 * (1 + i % 50), 20.0, 20.0));
+    TIME(5, m, wc_capillary_force(1e-3, 2e-3, 1e-11, 1e-7 * (1 + i % 1000), 0.072, 20.0, 20.0));
+    TIME(6, n, wc_rupture_distance_refit(1e-3, 1e-3, 1e-11 * (1 + i % 50), 10.0, 30.0));
+    TIME(7, n, wc_capillary_force_refit(1e-3, 1e-3, 1e-11, 1e-7 * (1 + i % 1000), 0.072, 10.0,
+                                        30.0));
+    for (k = 0; k < 8; ++k)
+        printf("%.6g ", t[k]);
+    printf("%.17g\n", acc);
     return 0;
 }
 """
+C_NAMES = ("viscous_force_immersed", "viscous_force_bridge", "rupture_distance (plane)",
+           "capillary_force (plane)", "rupture_distance (spheres, r = 2)",
+           "capillary_force (spheres, r = 2)", "rupture_distance_refit", "capillary_force_refit")
 
 N_PY = 100_000
 
@@ -73,6 +76,8 @@ def main() -> None:
     writers = {
         "json (calibrated-viscous)": lambda: export_json(tmp / "cv.json",
                                                          closure="calibrated-viscous"),
+        "json (calibrated-capillary)": lambda: export_json(tmp / "cc.json",
+                                                           closure="calibrated-capillary"),
         "json (willett refit)": lambda: export_json(
             tmp / "w.json", coefficients=REFIT_DIR / REFIT_FILES["willett"]),
         "python": lambda: write_module(tmp, capillary_source()),
@@ -83,6 +88,8 @@ def main() -> None:
     commands = {
         "json (calibrated-viscous)": ["json", "--closure", "calibrated-viscous", "--out",
                                       str(tmp / "cv.json")],
+        "json (calibrated-capillary)": ["json", "--closure", "calibrated-capillary", "--out",
+                                        str(tmp / "cc.json")],
         "python": ["python", "--out", str(tmp)],
         "c": ["c", "--out", str(tmp)],
     }
@@ -98,16 +105,28 @@ def main() -> None:
     vol = np.full(N_PY, 1e-11)
     sc = mod.rupture_distance(1e-3, 1e-3, vol, 10.0, 30.0)
     cgap = sc * rng.uniform(0.02, 1.0, N_PY)
+    def per_point(fn):
+        return median_time(fn, repeats=5)[0] / N_PY
+
     py_eval = {
-        "viscous_force_immersed": median_time(lambda: mod.viscous_force_immersed(
-            1e-3, np.inf, 1e-3, 0.1, gap), repeats=5)[0] / N_PY,
-        "viscous_force_bridge": median_time(lambda: mod.viscous_force_bridge(
-            1e-3, 2e-3, 1e-3, vol, 0.1, gap * 1e-2), repeats=5)[0] / N_PY,
-        "rupture_distance": median_time(lambda: mod.rupture_distance(
-            1e-3, 1e-3, vol, 10.0, 30.0), repeats=5)[0] / N_PY,
-        "capillary_force": median_time(lambda: mod.capillary_force(
-            1e-3, 1e-3, vol, cgap, 0.072, 10.0, 30.0), repeats=5)[0] / N_PY,
+        "viscous_force_immersed": per_point(lambda: mod.viscous_force_immersed(
+            1e-3, np.inf, 1e-3, 0.1, gap)),
+        "viscous_force_bridge": per_point(lambda: mod.viscous_force_bridge(
+            1e-3, 2e-3, 1e-3, vol, 0.1, gap * 1e-2)),
     }
+    for label, r2 in (("plane", np.inf), ("spheres, r = 2", 2e-3)):
+        sc = mod.rupture_distance(1e-3, r2, vol, 20.0, 20.0)
+        cgap = sc * rng.uniform(0.0, 1.0, N_PY)
+        py_eval[f"rupture_distance ({label})"] = per_point(lambda r2=r2: mod.rupture_distance(
+            1e-3, r2, vol, 20.0, 20.0))
+        py_eval[f"capillary_force ({label})"] = per_point(
+            lambda r2=r2, cgap=cgap: mod.capillary_force(1e-3, r2, vol, cgap, 0.072, 20.0, 20.0))
+    sc = mod.rupture_distance_refit(1e-3, 1e-3, vol, 10.0, 30.0)
+    cgap = sc * rng.uniform(0.02, 1.0, N_PY)
+    py_eval["rupture_distance_refit"] = per_point(lambda: mod.rupture_distance_refit(
+        1e-3, 1e-3, vol, 10.0, 30.0))
+    py_eval["capillary_force_refit"] = per_point(lambda: mod.capillary_force_refit(
+        1e-3, 1e-3, vol, cgap, 0.072, 10.0, 30.0))
     c_eval, compile_s = None, None
     cc = shutil.which("cc")
     if cc:
@@ -118,12 +137,13 @@ def main() -> None:
         runs = [subprocess.run([str(tmp / "bench")], check=True, capture_output=True,
                                text=True).stdout.split() for _ in range(3)]
         c_eval = {name: float(np.median([float(r[i]) for r in runs])) for i, name in
-                  enumerate(("viscous_force_immersed", "rupture_distance", "capillary_force",
-                             "viscous_force_bridge"))}
+                  enumerate(C_NAMES)}
     shutil.rmtree(tmp, ignore_errors=True)
     out = {"writer_median_s": writer_s, "command_median_s": command_s,
            "python_module_s_per_point": py_eval, "python_points": N_PY,
-           "c_header_s_per_call": c_eval, "c_calls": 1_000_000, "c_compile_median_s": compile_s,
+           "c_header_s_per_call": c_eval,
+           "c_calls": {"calibrated-capillary": 100_000, "other": 1_000_000},
+           "c_compile_median_s": compile_s,
            "capillary": source.label}
     write_json("export", out)
     chart(writer_s, command_s)

@@ -419,7 +419,8 @@ def _add_export_closure_parsers(fmt: argparse._SubParsersAction) -> None:
                        description="Coefficients, domain, held-out errors, units, sign "
                        "convention and provenance, validated against the package's schema.")
     src = j.add_mutually_exclusive_group(required=True)
-    src.add_argument("--closure", help="a shipped calibrated closure (calibrated-viscous)")
+    src.add_argument("--closure", help="a shipped calibrated closure (calibrated-viscous or "
+                     "calibrated-capillary)")
     src.add_argument("--coefficients", type=Path, metavar="FILE.json",
                      help="a refit written by `python -m wetcontact.calibrate fit`")
     j.add_argument("--out", type=Path, required=True, help="JSON file to write")
@@ -430,16 +431,17 @@ def _add_export_closure_parsers(fmt: argparse._SubParsersAction) -> None:
             ("c", "one header-only C99 file with the calibrated closures",
              "wetcontact_closures.h")):
         q = fmt.add_parser(name, help=what, description=what.capitalize() + ": the shipped "
-                           "calibrated-viscous (immersed) and, until calibrated-capillary "
-                           "ships, the REFITTED willett force and lian-rupture distance.")
+                           "calibrated-viscous (immersed and bridge) and calibrated-capillary "
+                           "(one contact angle), and the REFITTED willett force and "
+                           "lian-rupture distance as *_refit (two contact angles).")
         q.add_argument("--out", type=Path, required=True,
                        help=f"file to write (or a folder: {default} in it)")
         q.add_argument("--capillary", type=Path, default=None, metavar="FILE.json",
-                       help="willett refit (default: benchmarks/results/calibration/"
-                       "willett.json of the source checkout)")
+                       help="willett refit for capillary_force_refit (default: the "
+                       "package's copy of benchmarks/results/calibration/willett.json)")
         q.add_argument("--rupture", type=Path, default=None, metavar="FILE.json",
-                       help="lian-rupture refit (default: benchmarks/results/calibration/"
-                       "lian-rupture.json)")
+                       help="lian-rupture refit for rupture_distance_refit (default: the "
+                       "package's copy of benchmarks/results/calibration/lian-rupture.json)")
         q.add_argument("--json", action="store_true", help="print one JSON object")
 
 

@@ -20,17 +20,18 @@ from wetcontact.reduced_models.calibrated import viscous_table
 
 HEADER_NAME = "wetcontact_closures.h"
 FUNCTIONS = ("wc_viscous_force_immersed", "wc_viscous_force_bridge", "wc_capillary_force",
-             "wc_rupture_distance")
+             "wc_rupture_distance", "wc_capillary_force_refit", "wc_rupture_distance_refit")
 
 
-def c_array(values: Any, per_line: int = 4) -> str:
+def c_array(values: Any, per_line: int = 4, indent: int = 8) -> str:
     """Doubles as a C initializer, each at full precision (shortest round-trip repr)."""
     vals = [repr(float(v)) for v in values]
     for v in vals:
         if not math.isfinite(float(v)):
             raise ValueError(f"non-finite coefficient {v} in an exported table")
     lines = [", ".join(vals[i:i + per_line]) for i in range(0, len(vals), per_line)]
-    return "{\n        " + ",\n        ".join(lines) + "}"
+    pad = "\n" + " " * indent
+    return "{" + pad + ("," + pad).join(lines) + "}"
 
 
 HEAD = """\
@@ -79,18 +80,36 @@ HEAD = """\
 """
 
 CAP_COMMENT = """\
- * !!! CAPILLARY PAIR: {shipped_word}
- * !!! wc_capillary_force and wc_rupture_distance implement
+ * wc_capillary_force, wc_rupture_distance: the shipped `calibrated-capillary` closure, a
+ *   tensor Chebyshev interpolant of the `meniscus` finite-element bridge:
+ *   S_c = R_s v^(1/3) exp(sum C_rup[i][j][k] T_i(w) T_j(a) T_k(b)),
+ *   F = -2 pi sigma R_s rho (2 cos theta) exp(sum C_F[i][j][k][l] T_i(w) T_j(a) T_k(b) T_l(c)),
+ *   R_s the smaller radius (r1 for a plane), v = V/R_s^3, r = R_l/R_s, rho = r/(1 + r)
+ *   (1 for a plane), each coordinate mapped to [-1, 1]: a from ln v, b from theta (deg)
+ *   within its theta piece (a geometry may carry several tables, e.g. below and above a
+ *   split angle theta_s(V) = sum s_k T_k(a), where the branch's end changes from a fold to
+ *   a bifurcation), w from (ln r)^(1/3) (for a plane the w axis has one entry, T_0 = 1),
+ *   c = 2 z - 1, z = sqrt(1 - ln(1 + s/eps)/ln(1 + s_c/eps)), eps = sqrt(v/(pi rho)),
+ *   s = S/R_s.
+ *   Held-out max relative error against `meniscus`:
+ *     {cap_held_out}
+ *   Domain: a plane or two spheres with r in [{q_lo:.6g}, {q_hi:.6g}], v in
+ *   [{cv_lo:.6g}, {cv_hi:.6g}], ONE contact angle: theta1 = theta2 (within {angle_tol:.0e} rad) in
+ *   [{ct_lo:.6g}, {ct_hi:.6g}] deg (two different angles return NAN: use the *_refit pair);
+ *   the force also gap >= 0 (gap = 0 is the value at contact; an overlap returns NAN) and
+ *   surface_tension > 0. The force is exactly 0 at and past the rupture distance.
+ *   Tables: {cap_src}, sha256 {cap_sha}.
+ *
+ * !!! wc_capillary_force_refit, wc_rupture_distance_refit: REFITTED families, NOT A
+ * !!! SHIPPED CALIBRATED CLOSURE, kept for two different contact angles:
  * !!!   {label}.
- * !!! The shipped `calibrated-capillary` closure does not exist yet; when it does, a
- * !!! new export replaces only the two functions below the CAPILLARY marker.
- *   wc_rupture_distance: S_c = R ((a + b theta) V*^(1/3) + c V*^(2/3)), V* = V/R^3
+ *   wc_rupture_distance_refit: S_c = R ((a + b theta) V*^(1/3) + c V*^(2/3)), V* = V/R^3
  *     (Lian et al. 1993 form, refitted against the meniscus solver;
  *     source {rup_src}, sha256 {rup_sha}).
- *   wc_capillary_force: -2 pi R sigma exp(f1 - f2 exp(f3 ln S+ + f4 ln^2 S+)),
+ *   wc_capillary_force_refit: -2 pi R sigma exp(f1 - f2 exp(f3 ln S+ + f4 ln^2 S+)),
  *     S+ = (S/2) sqrt(R/V), f_i quadratic in theta and cubic in ln V* (Willett et al.
  *     2000, eq. A1 form, 48 refitted coefficients;
- *     source {cap_src}, sha256 {cap_sha}).
+ *     source {refit_src}, sha256 {refit_sha}).
  *   theta = acos((cos theta1 + cos theta2)/2) (the cosine mean of the two angles).
  *   Domain (both): equal spheres (|r2 - r1| <= 1e-12 r1; a plane returns NAN),
  *     V/R^3 in [{v_lo:.6g}, {v_hi:.6g}], theta in [{t_lo:.6g}, {t_hi:.6g}] deg;
@@ -197,7 +216,177 @@ static inline double wc_viscous_force_bridge(double r1, double r2, double viscos
                              approach_speed, gap);
 }}
 
-/* ---- CAPILLARY: replace from here when calibrated-capillary ships ------------------- */
+/* ---- CAPILLARY: the shipped calibrated-capillary closure ----------------------------- */
+
+#define WC__CAP_NMAX {cap_nmax}
+#define WC__CAP_PIECES {cap_pieces}
+
+/* One theta piece of one geometry: its ends (deg, or the split angle), the sizes of its
+ * axes (w, a, b) for the rupture distance and (w, a, b, c) for the force, row-major; a
+ * plane has nw = 1. */
+struct wc__cap_piece {{
+    int lo_split, hi_split;
+    double lo, hi;
+    int nw, na, nb, nc;
+    const double *rupture, *force;
+}};
+
+/* One geometry: its pieces (a point belongs to the first whose upper end is at or above
+ * its angle) and the split angle (deg) as sum_k split[k] T_k(a). */
+struct wc__cap_table {{
+    int npieces, nsplit;
+    const double *split;
+    struct wc__cap_piece piece[WC__CAP_PIECES];
+}};
+
+static inline void wc__cap_set(struct wc__cap_piece *p, int lo_split, double lo, int hi_split,
+                               double hi, int nw, int na, int nb, int nc,
+                               const double *rupture, const double *force)
+{{
+    p->lo_split = lo_split;
+    p->lo = lo;
+    p->hi_split = hi_split;
+    p->hi = hi;
+    p->nw = nw;
+    p->na = na;
+    p->nb = nb;
+    p->nc = nc;
+    p->rupture = rupture;
+    p->force = force;
+}}
+
+/* The tables of the plane (plane = 1) or of sphere pairs; 0 when not generated. */
+static inline int wc__cap_table(int plane, struct wc__cap_table *t)
+{{
+{cap_tables}
+}}
+
+/* T_0(t) ... T_{{n-1}}(t) by the three-term recurrence. */
+static inline void wc__cheb_rows(double t, double *out, int n)
+{{
+    int k;
+    out[0] = 1.0;
+    if (n > 1)
+        out[1] = t;
+    for (k = 2; k < n; ++k)
+        out[k] = 2.0 * t * out[k - 1] - out[k - 2];
+}}
+
+/* x in [lo, hi] mapped to [-1, 1]. */
+static inline double wc__map(double x, double lo, double hi)
+{{
+    return (2.0 * x - lo - hi) / (hi - lo);
+}}
+
+/* Shared by the two capillary functions: the domain test (0 outside), the piece, R_s,
+ * v = V / R_s^3, rho = R* / R_s, the Chebyshev rows of w, a, b and s_c = S_c / R_s. */
+static inline int wc__cap_bridge(double r1, double r2, double volume, double theta1_deg,
+                                 double theta2_deg, struct wc__cap_table *tab,
+                                 const struct wc__cap_piece **piece, double *rs, double *v,
+                                 double *rho, double *tw, double *ta, double *tb, double *sc)
+{{
+    int plane = isinf(r2) && r2 > 0, i, j, k, p;
+    double ratio, a, split = 0.0, lo, hi = 0.0, sum = 0.0;
+    const struct wc__cap_piece *pc;
+    if (!(r1 > 0) || !isfinite(r1) || !(r2 > 0) || !(volume > 0) || !isfinite(volume))
+        return 0;
+    if (!(theta1_deg >= 0 && theta1_deg < 180 && theta2_deg >= 0 && theta2_deg < 180))
+        return 0;
+    if (!(fabs(theta1_deg * (WC_PI / 180.0) - theta2_deg * (WC_PI / 180.0)) <= {angle_tol_r}))
+        return 0;
+    if (!(theta1_deg >= {ct_lo_r} && theta1_deg <= {ct_hi_r} * (1 + 1e-12)))
+        return 0;
+    if (!wc__cap_table(plane, tab))
+        return 0;
+    *rs = plane ? r1 : (r1 < r2 ? r1 : r2);
+    ratio = plane ? 1.0 : (r1 < r2 ? r2 : r1) / *rs;
+    *v = volume / (*rs * *rs * *rs);
+    if (!(*v >= {cv_lo_r} * (1 - 1e-9) && *v <= {cv_hi_r} * (1 + 1e-9)))
+        return 0;
+    if (!plane && !(ratio <= {q_hi_r} * (1 + 1e-9)))
+        return 0;
+    *rho = plane ? 1.0 : ratio / (1.0 + ratio);
+    a = wc__map(log(*v), {lnv_lo_r}, {lnv_hi_r});
+    if (tab->nsplit > 0) {{
+        wc__cheb_rows(a, tb, tab->nsplit);
+        for (k = 0; k < tab->nsplit; ++k)
+            split += tab->split[k] * tb[k];
+    }}
+    for (p = 0; p < tab->npieces; ++p) {{
+        hi = tab->piece[p].hi_split ? split : tab->piece[p].hi;
+        if (theta1_deg <= hi)
+            break;
+    }}
+    if (p == tab->npieces)
+        return 0;
+    pc = &tab->piece[p];
+    lo = pc->lo_split ? split : pc->lo;
+    wc__cheb_rows(plane ? 0.0 : wc__map(cbrt(log(ratio)), 0.0, {w_max_r}), tw, pc->nw);
+    wc__cheb_rows(a, ta, pc->na);
+    wc__cheb_rows(wc__map(theta1_deg, lo, hi), tb, pc->nb);
+    for (i = 0; i < pc->nw; ++i)
+        for (j = 0; j < pc->na; ++j)
+            for (k = 0; k < pc->nb; ++k)
+                sum += pc->rupture[(i * pc->na + j) * pc->nb + k] * (tw[i] * ta[j] * tb[k]);
+    *sc = cbrt(*v) * exp(sum);
+    *piece = pc;
+    return 1;
+}}
+
+static inline double wc_rupture_distance(double r1, double r2, double volume,
+                                         double theta1_deg, double theta2_deg)
+{{
+    struct wc__cap_table tab;
+    const struct wc__cap_piece *pc;
+    double tw[WC__CAP_NMAX], ta[WC__CAP_NMAX], tb[WC__CAP_NMAX];
+    double rs = 0.0, v = 0.0, rho = 0.0, sc = 0.0;
+    if (!wc__cap_bridge(r1, r2, volume, theta1_deg, theta2_deg, &tab, &pc, &rs, &v, &rho, tw,
+                        ta, tb, &sc))
+        return NAN;
+    return sc * rs;
+}}
+
+static inline double wc_capillary_force(double r1, double r2, double volume, double gap,
+                                        double surface_tension, double theta1_deg,
+                                        double theta2_deg)
+{{
+    struct wc__cap_table tab;
+    const struct wc__cap_piece *pc;
+    double tw[WC__CAP_NMAX], ta[WC__CAP_NMAX], tb[WC__CAP_NMAX], tc[WC__CAP_NMAX];
+    double g[WC__CAP_NMAX]; /* the force table contracted over w, a, b: a series in c */
+    double rs = 0.0, v = 0.0, rho = 0.0, sc = 0.0, s, eps, x, sum = 0.0, weight, f;
+    const double *row;
+    int i, j, k, l;
+    if (!(gap >= 0) || !isfinite(gap) || !(surface_tension > 0) || !isfinite(surface_tension))
+        return NAN;
+    if (!wc__cap_bridge(r1, r2, volume, theta1_deg, theta2_deg, &tab, &pc, &rs, &v, &rho, tw,
+                        ta, tb, &sc))
+        return NAN;
+    s = gap / rs;
+    if (!(s < sc))
+        return 0.0;
+    eps = sqrt(v / (WC_PI * rho));
+    x = 1.0 - log1p(s / eps) / log1p(sc / eps);
+    x = x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x;
+    wc__cheb_rows(2.0 * sqrt(x) - 1.0, tc, pc->nc);
+    for (l = 0; l < pc->nc; ++l)
+        g[l] = 0.0;
+    row = pc->force;
+    for (i = 0; i < pc->nw; ++i)  /* axpy over the gap axis: vectorisable without -ffast-math */
+        for (j = 0; j < pc->na; ++j)
+            for (k = 0; k < pc->nb; ++k) {{
+                weight = tw[i] * ta[j] * tb[k];
+                for (l = 0; l < pc->nc; ++l)
+                    g[l] += row[l] * weight;
+                row += pc->nc;
+            }}
+    for (l = 0; l < pc->nc; ++l)
+        sum += g[l] * tc[l];
+    f = rho * 2.0 * cos(theta1_deg * (WC_PI / 180.0)) * exp(sum);
+    return -(2.0 * WC_PI * surface_tension * rs * f);
+}}
+
+/* ---- REFITTED capillary pair (willett, lian-rupture): two contact angles ------------- */
 
 /* Cosine-mean contact angle (rad) of two angles in degrees; NAN outside [0, 180). */
 static inline double wc__mean_angle(double theta1_deg, double theta2_deg)
@@ -216,8 +405,8 @@ static inline int wc__capillary_domain(double r1, double r2, double volume, doub
            && wc__in_domain(theta * (180.0 / WC_PI), {t_lo}, {t_hi});
 }}
 
-static inline double wc_rupture_distance(double r1, double r2, double volume,
-                                         double theta1_deg, double theta2_deg)
+static inline double wc_rupture_distance_refit(double r1, double r2, double volume,
+                                               double theta1_deg, double theta2_deg)
 {{
     static const double k[3] = {lian};
     double theta = wc__mean_angle(theta1_deg, theta2_deg), c3;
@@ -227,9 +416,9 @@ static inline double wc_rupture_distance(double r1, double r2, double volume,
     return r1 * ((k[0] + k[1] * theta) * c3 + k[2] * c3 * c3);
 }}
 
-static inline double wc_capillary_force(double r1, double r2, double volume, double gap,
-                                        double surface_tension, double theta1_deg,
-                                        double theta2_deg)
+static inline double wc_capillary_force_refit(double r1, double r2, double volume,
+                                              double gap, double surface_tension,
+                                              double theta1_deg, double theta2_deg)
 {{
     /* k[i][j][m]: f_i = sum_j sum_m k[i][j][m] ln(V*)^j theta^m */
     static const double k[4][4][3] = {willett};
@@ -238,7 +427,7 @@ static inline double wc_capillary_force(double r1, double r2, double volume, dou
     int i, j, m;
     if (!isfinite(surface_tension) || !(gap >= 0) || !isfinite(gap))
         return NAN;
-    sc = wc_rupture_distance(r1, r2, volume, theta1_deg, theta2_deg);
+    sc = wc_rupture_distance_refit(r1, r2, volume, theta1_deg, theta2_deg);
     if (isnan(sc))
         return NAN;
     if (gap >= sc)
@@ -297,12 +486,21 @@ def header_text(source: CapillarySource) -> str:
         version=__version__, imm_err_wall=w["held_out"]["max"],
         imm_err_ss=ss["held_out"]["max"], s_lo=math.exp(lo), s_hi=math.exp(hi),
         cap_comment=CAP_COMMENT.format(
-            shipped_word="shipped" if source.shipped else "NOT A SHIPPED CALIBRATED CLOSURE",
-            label=_wrap(source.label), rup_src=Path(rup.source).name, rup_sha=rup.sha256[:16],
-            cap_src=Path(cap.source).name, cap_sha=cap.sha256[:16], v_lo=v_lo, v_hi=v_hi,
-            t_lo=t_lo, t_hi=t_hi, s_lo=s_lo_cap, s_hi=s_hi_cap))
+            **capillary_fields(source),
+            cap_held_out="\n *     ".join(held_out_lines(source)),
+            cap_src=Path(source.table.source).name, cap_sha=source.table.sha256[:16],
+            label=_wrap(source.refit_label), rup_src=Path(rup.source).name,
+            rup_sha=rup.sha256[:16], refit_src=Path(cap.source).name,
+            refit_sha=cap.sha256[:16], v_lo=v_lo, v_hi=v_hi, t_lo=t_lo, t_hi=t_hi,
+            s_lo=s_lo_cap, s_hi=s_hi_cap))
     body = BODY.format(
-        **br,
+        **br, **capillary_fields(source),
+        cap_nmax=max([max(pc.force.shape) for p in source.table.parts.values()
+                      for pc in p.pieces]
+                     + [p.split.size for p in source.table.parts.values()
+                        if p.split is not None]),
+        cap_pieces=max(len(p.pieces) for p in source.table.parts.values()),
+        cap_tables=_cap_tables(source),
         n_wall=len(w["chebyshev"]), cheb_wall=c_array(w["chebyshev"]),
         n_ss=len(ss["chebyshev"]), cheb_ss=c_array(ss["chebyshev"]), log_lo=repr(lo),
         log_hi=repr(hi), s_lo=repr(math.exp(lo)), s_hi=repr(math.exp(hi)),
@@ -310,6 +508,63 @@ def header_text(source: CapillarySource) -> str:
         lian=c_array(rup.coefficients), willett=_nested(cap.coefficients),
         s_lo_cap=repr(s_lo_cap), s_hi_cap=repr(s_hi_cap))
     return head + body
+
+
+def capillary_fields(source: CapillarySource) -> dict[str, Any]:
+    """Domain limits and held-out errors of the shipped capillary table, for the templates
+    (``{x}`` for comments, ``{x_r}`` at full precision for code)."""
+    t = source.table
+    limits = {"cv_lo": t.v_range[0], "cv_hi": t.v_range[1], "ct_lo": t.theta_range_deg[0],
+              "ct_hi": t.theta_range_deg[1], "q_lo": t.ratio_range[0],
+              "q_hi": t.ratio_range[1], "lnv_lo": math.log(t.v_range[0]),
+              "lnv_hi": math.log(t.v_range[1]), "w_max": t.w_max, "angle_tol": t.angle_tol}
+    fields: dict[str, Any] = {}
+    for k, v in limits.items():
+        fields[k], fields[k + "_r"] = float(v), repr(float(v))
+    return fields
+
+
+def held_out_lines(source: CapillarySource) -> list[str]:
+    """One line per geometry: the shipped table's held-out errors, or that it is missing."""
+    t = source.table
+    names = {"sphere-wall": "plane", "sphere-sphere": "sphere pairs"}
+    return [f"{names[k]}: {t.held_out_text(k)}" if k in t.parts else
+            f"{names[k]}: table not generated (NaN)" for k in names]
+
+
+def _cap_tables(source: CapillarySource) -> str:
+    """The body of ``wc__cap_table``: each generated geometry's pieces as static arrays (a
+    plane's with a leading axis of one entry) and its split series, ``return 0`` for a
+    missing one."""
+    out = []
+    for kind, cond in (("sphere-wall", "plane"), ("sphere-sphere", "!plane")):
+        part = source.table.parts.get(kind)
+        if part is None:
+            out.append(f"    if ({cond})\n        return 0;  /* {kind}: not generated */")
+            continue
+        lines = [f"    if ({cond}) {{  /* {kind} */"]
+        split = "(const double *)0"
+        if part.split is not None:
+            lines.append(f"        static const double split[{part.split.size}] = "
+                         f"{c_array(part.split, indent=12)};")
+            split = "split"
+        for n, p in enumerate(part.pieces):
+            lines.append(f"        static const double rupture{n}[{p.rupture.size}] = "
+                         f"{c_array(p.rupture.ravel(), indent=12)};")
+            lines.append(f"        static const double force{n}[{p.force.size}] = "
+                         f"{c_array(p.force.ravel(), indent=12)};")
+        lines.append(f"        t->npieces = {len(part.pieces)};")
+        lines.append(f"        t->nsplit = {0 if part.split is None else part.split.size};")
+        lines.append(f"        t->split = {split};")
+        for n, p in enumerate(part.pieces):
+            shape = p.force.shape if kind == "sphere-sphere" else (1, *p.force.shape)
+            ends = ["1, 0.0" if e is None else f"0, {e!r}" for e in (p.theta_lo, p.theta_hi)]
+            lines.append(f"        wc__cap_set(&t->piece[{n}], {ends[0]}, {ends[1]}, "
+                         f"{', '.join(str(x) for x in shape)},\n"
+                         f"                    rupture{n}, force{n});")
+        lines.append("        return 1;\n    }")
+        out.append("\n".join(lines))
+    return "\n".join(out) + "\n    return 0;"
 
 
 def _bridge_fields(bw: dict[str, Any], bs: dict[str, Any]) -> dict[str, Any]:

@@ -54,6 +54,24 @@ FORMS = {
     "mikami": "F = -pi R sigma (exp(A S/R + B) + C) (Mikami et al. 1998), A, B, C in V* and "
               "theta",
     "bagheri": "Bagheri, Roy & Poeschel (2024) eqs. 24-30",
+    "capillary-rupture": (
+        "S_c = R_s v^(1/3) exp(sum C[i, j, k] T_i(w) T_j(a) T_k(b)) (a wall: no w axis, "
+        "C[j, k]), R_s the smaller radius (the sphere's on a wall), v = V/R_s^3, r = R_l/R_s; "
+        "T_n Chebyshev polynomials of the first kind; each coordinate mapped to [-1, 1] as "
+        "m(x; lo, hi) = (2 x - lo - hi)/(hi - lo): a = m(ln v; ln v0, ln v1), b = m(theta_deg; "
+        "t0, t1), w = m((ln r)^(1/3); 0, (ln r1)^(1/3)), [v0, v1], [t0, t1], [1, r1] the "
+        "domain's v, theta_deg and radius_ratio; one contact angle theta on both solids"),
+    "capillary-force": (
+        "F = -2 pi sigma R_s rho (2 cos theta) exp(sum C[i, j, k, l] T_i(w) T_j(a) T_k(b) "
+        "T_l(c)) for S < S_c (a wall: no w axis, C[j, k, l]), exactly 0 at and past S_c; rho "
+        "= R*/R_s = r/(1 + r) (1 on a wall), c = 2 z - 1, z = sqrt(1 - ln(1 + s/eps)/ln(1 + "
+        "s_c/eps)), s = S/R_s, s_c = S_c/R_s from the rupture part, eps = sqrt(v/(pi rho)); "
+        "w, a, b as in the rupture part (Derjaguin's force at contact times a smooth "
+        "correction)"),
+    "capillary-piece": (
+        "; this part covers theta from {lo} to {hi} deg (a point belongs to the first part "
+        "of its geometry whose upper end is at or above its angle) and b = m(theta_deg; lo, "
+        "hi) within it, where 'split' is the split angle theta_s = sum_k s_k T_k(a) (deg)"),
 }
 LAYOUT = {"willett": "k[i, j, m] flattened in C order, shape (4, 4, 3)",
           "finite-liquid": "(p, c0, ..., c8)", "lian-rupture": "(a, b, c)"}
@@ -89,13 +107,15 @@ def _provenance(path: Path, generated_by: str, reference: str) -> dict[str, Any]
 
 
 def shipped_document(closure: str) -> dict[str, Any]:
-    """The shipped closure ``closure`` (today only ``calibrated-viscous``)."""
+    """The shipped closure ``closure`` (``calibrated-viscous`` or ``calibrated-capillary``)."""
     from wetcontact.reduced_models.calibrated import VISCOUS_FILE, viscous_table
 
+    if closure == "calibrated-capillary":
+        return capillary_document()
     if closure != "calibrated-viscous":
-        raise InputError(f"--closure = {closure!r}; allowed: 'calibrated-viscous' (the only "
-                         "shipped calibrated closure; calibrated-capillary does not exist "
-                         "yet: export a refit with --coefficients FILE.json)")
+        raise InputError(f"--closure = {closure!r}; allowed: 'calibrated-viscous', "
+                         "'calibrated-capillary' (the shipped calibrated closures; export a "
+                         "refit with --coefficients FILE.json)")
     table = viscous_table()
     if table is None:
         raise InputError("calibrated-viscous: coefficient table not generated; run "
@@ -144,6 +164,66 @@ def shipped_document(closure: str) -> dict[str, Any]:
                 "stokes (flat film top) for films; lubrication for bridges")}
 
 
+def capillary_document() -> dict[str, Any]:
+    """The shipped ``calibrated-capillary`` closure: per generated geometry a rupture part
+    and a force part, each tensor flattened in C order (its shape in the layout)."""
+    from wetcontact.export.closures import shipped_capillary
+
+    t = shipped_capillary()
+    parts = []
+    for kind, part in t.parts.items():
+        ho = part.held_out
+        if not all(isinstance(ho.get(k), dict) for k in ("force", "rupture_distance")):
+            raise InputError(f"{t.source}: {kind} has no held-out table; allowed: a table "
+                             "written by `python -m wetcontact.calibrate capillary`")
+        axes = "(w, a, b)" if kind == "sphere-sphere" else "(a, b)"
+        domain = {"v": list(t.v_range)}
+        if kind == "sphere-sphere":
+            domain["radius_ratio"] = list(t.ratio_range)
+        for piece in part.pieces:
+            ends = ["split" if e is None else f"{e:g}" for e in (piece.theta_lo, piece.theta_hi)]
+            where = "" if len(part.pieces) == 1 else f" (theta {ends[0]} to {ends[1]} deg)"
+            lo = t.theta_range_deg[0] if piece.theta_lo is None else piece.theta_lo
+            hi = t.theta_range_deg[1] if piece.theta_hi is None else piece.theta_hi
+            for name, form, arr, held, extra in (
+                    ("rupture distance", "capillary-rupture", piece.rupture, "rupture_distance",
+                     {}),
+                    ("force", "capillary-force", piece.force, "force", {"s_over_sc": [0.0, 1.0]})):
+                shape = ", ".join(str(n) for n in arr.shape)
+                layout = (f"C flattened in C order, shape ({shape}), axes "
+                          + (axes if held != "force" else axes[:-1] + ", c)"))
+                coef = [float(c) for c in arr.ravel()]
+                text = FORMS[form]
+                if len(part.pieces) > 1:
+                    text += FORMS["capillary-piece"].format(lo=ends[0], hi=ends[1])
+                if "split" in ends:  # the split series first, then the tensor
+                    layout = (f"first the split angle's {part.split.size} Chebyshev "
+                              f"coefficients s_k, then {layout}")
+                    coef = [float(c) for c in part.split] + coef
+                parts.append({"name": f"{name} {kind}{where}", "geometry": kind,
+                              "amount": "bridge", "form": text, "coefficient_layout": layout,
+                              "coefficients": coef,
+                              "domain": {**domain, "theta_deg": [lo, hi], **extra},
+                              "held_out": {"points": int(ho[held]["points"]),
+                                           "seed": int(ho["seed"]),
+                                           "reference": str(ho["reference"]) + " (geometry "
+                                           "as a whole)", "relative_error": _errors(ho[held])}})
+    from wetcontact.reduced_models.calibrated_capillary import capillary_table
+
+    return {"format": "wetcontact-calibration", "format_version": 1,
+            "closure": "calibrated-capillary", "origin": "shipped", "target": "capillary",
+            "description": "calibrated capillary closure: tensor Chebyshev interpolants of the "
+                           "meniscus solver's rupture distance and force of a pendular "
+                           "bridge, sphere-wall and two spheres (radius ratio 1-10), one "
+                           "contact angle on both solids, any gap (0 at and past rupture)"
+                           + "".join(f"; {k}: not generated" for k in
+                                     ("sphere-wall", "sphere-sphere") if k not in t.parts),
+            "units": UNITS, "sign_convention": SIGN, "outside_domain": OUTSIDE,
+            "parts": parts, "provenance": _provenance(
+                Path(t.source), str((capillary_table() or {}).get("generated_by", "")),
+                "meniscus")}
+
+
 def refit_document(path: Path) -> dict[str, Any]:
     """A calibration JSON written by ``wetcontact calibrate`` / ``python -m
     wetcontact.calibrate fit`` (validated by :func:`~wetcontact.calibrate.load_coefficients`)."""
@@ -186,8 +266,9 @@ def write_json(out: str | Path, closure: str | None = None,
                coefficients: Path | None = None) -> dict[str, Any]:
     """Build, validate and write the document (exactly one of ``closure``, ``coefficients``)."""
     if (closure is None) == (coefficients is None):
-        raise InputError("export json: give exactly one of --closure calibrated-viscous or "
-                         "--coefficients FILE.json")
+        raise InputError("export json: give exactly one of --closure NAME "
+                         "(calibrated-viscous, calibrated-capillary) or --coefficients "
+                         "FILE.json")
     doc = shipped_document(closure) if closure else refit_document(Path(coefficients))
     validate(doc)
     text = json.dumps(doc, indent=1, allow_nan=False) + "\n"

@@ -1,8 +1,9 @@
 """The calibrated closures the ``python`` and ``c`` exports carry, and the package's own
 evaluation of them (the reference those exports are tested against).
 
-Four functions, in SI units, force on the first particle along the line of centres,
-positive = pushing the particles apart, ``r2 = inf`` for a plane:
+Six functions, in SI units, force on the first particle along the line of centres,
+positive = pushing the particles apart (a bridge's attraction is negative), ``r2 = inf``
+for a plane:
 
 ``viscous_force_immersed(r1, r2, viscosity, approach_speed, gap)``
     The shipped ``calibrated-viscous`` closure (immersed part): ``F = 6 pi eta R v lambda``
@@ -14,21 +15,32 @@ positive = pushing the particles apart, ``r2 = inf`` for a plane:
     refitted finite-liquid factor (held-out error 0.2-0.3 % against ``lubrication``).
     Domain: V/r_small^3 in [1e-4, 0.1], S/H in [0.01, 0.95], radius ratio 1-10.
 ``rupture_distance(r1, r2, volume, theta1_deg, theta2_deg)``
-    The REFITTED ``lian-rupture`` family (``S_c = R ((a + b theta) V*^(1/3) + c V*^(2/3))``,
-    Lian et al. 1993), equal spheres only, V* = V/R^3 in [1e-4, 0.1], cosine-mean contact
-    angle in [0, 50] deg.
+    The shipped ``calibrated-capillary`` closure (:mod:`wetcontact.reduced_models.
+    calibrated_capillary`): ``S_c = R_s v^(1/3) exp(sum C T_i(w) T_j(a) T_k(b))``, a tensor
+    Chebyshev interpolant of ``meniscus``. Domain: a plane or a sphere pair with
+    ``r = R_l/R_s`` in [1, 10], ``v = V/R_s^3`` in [1e-4, 0.1], ONE contact angle
+    (theta1 = theta2) in [0, 70] deg.
 ``capillary_force(r1, r2, volume, gap, surface_tension, theta1_deg, theta2_deg)``
-    The REFITTED ``willett`` family (Willett et al. 2000, eq. A1, 48 coefficients), equal
-    spheres only, same V* and angle domain, S/S_c(Willett) in the fitted range; 0 at and
-    past the (refitted Lian) rupture distance.
+    The shipped ``calibrated-capillary`` closure: ``F = -2 pi sigma R* (2 cos theta)
+    exp(sum C T_i(w) T_j(a) T_k(b) T_l(c))``, c the gap coordinate
+    (:func:`~wetcontact.reduced_models.calibrated_capillary.gap_coordinate`); same domain,
+    any gap ``S >= 0`` (``S = 0`` is the limit at contact), exactly 0 at and past ``S_c``.
+``rupture_distance_refit``, ``capillary_force_refit`` (same arguments)
+    The REFITTED ``lian-rupture`` (``S_c = R ((a + b theta) V*^(1/3) + c V*^(2/3))``, Lian
+    et al. 1993) and ``willett`` (Willett et al. 2000, eq. A1, 48 coefficients) families:
+    equal spheres only, V* = V/R^3 in [1e-4, 0.1], the cosine mean of two contact angles in
+    [0, 50] deg, the force also S/S_c(Willett) in the fitted range; 0 at and past the
+    refitted Lian rupture distance. Kept for contacts with two different contact angles,
+    which ``calibrated-capillary`` does not cover (it refuses and names ``meniscus``).
 
-The shipped capillary closure (``calibrated-capillary``) does not exist yet: the capillary
-pair is the best refitted family available, labelled so in every export with its measured
-held-out error. :class:`CapillarySource` is the one place that names it; a shipped table
-replaces it there.
+:class:`CapillarySource` is the one place that names the capillary tables the exports
+carry: the shipped ``calibrated-capillary`` table (whatever geometries, theta pieces, split
+angle and node counts its package data holds: one table per geometry, or ``pieces`` in
+theta with a ``theta_split`` series) and the two refits.
 
-Outside the calibrated domain (or for inputs no closure covers: unequal spheres, a plane for
-the capillary pair, a non-finite number) every function returns NaN: this is the documented
+Outside the calibrated domain (or for inputs no closure covers: unequal spheres for the
+immersed part, two contact angles for ``calibrated-capillary``, a geometry whose table is
+not generated, a non-finite number) every function returns NaN: this is the documented
 contract of the exported C and Python code, where an exception is not available; the
 package itself (:func:`package_evaluation`) reports the same points as refusals
 (:class:`~wetcontact.errors.ValidityError`) and maps them to NaN only here, for comparison.
@@ -69,27 +81,153 @@ class RefitTable:
     sha256: str
 
 
+@dataclass(frozen=True, eq=False)
+class CapillaryPiece:
+    """The tables of one theta piece of one geometry: ``rupture`` has the shape of ``force``
+    without its last (gap) axis; a sphere pair's axes are (w, a, b[, c]), a wall's
+    (a, b[, c]). ``theta_lo``/``theta_hi`` (deg) bound the piece; ``None`` is the
+    geometry's split angle (b is mapped from theta within the piece)."""
+
+    theta_lo: float | None
+    theta_hi: float | None
+    rupture: np.ndarray
+    force: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class CapillaryPart:
+    """One geometry of the shipped ``calibrated-capillary`` table: its theta pieces (a point
+    belongs to the first whose upper end is at or above its angle) and, where a piece ends
+    at the split angle, that angle (deg) as a Chebyshev series in the volume coordinate
+    ``a`` (``split``)."""
+
+    kind: str
+    pieces: tuple[CapillaryPiece, ...]
+    split: np.ndarray | None
+    held_out: dict[str, Any]
+
+    @property
+    def rupture(self) -> np.ndarray:
+        """The first piece's rupture table."""
+        return self.pieces[0].rupture
+
+    @property
+    def force(self) -> np.ndarray:
+        """The first piece's force table."""
+        return self.pieces[0].force
+
+
+@dataclass(frozen=True, eq=False)
+class CapillaryTable:
+    """The shipped ``calibrated-capillary`` table (package data) and the model's domain."""
+
+    parts: dict[str, CapillaryPart]
+    v_range: tuple[float, float]
+    theta_range_deg: tuple[float, float]
+    ratio_range: tuple[float, float]
+    angle_tol: float
+    w_max: float
+    source: str
+    sha256: str
+
+    def held_out_text(self, kind: str) -> str:
+        """``force max X (n points), rupture distance max Y (m)`` of one geometry."""
+        ho = self.parts[kind].held_out
+        if "force" not in ho or "rupture_distance" not in ho:
+            return "held-out errors not in the package data"
+        f, r = ho["force"], ho["rupture_distance"]
+        return (f"force max {f['max']:.2g} ({f['points']} points), rupture distance max "
+                f"{r['max']:.2g} ({r['points']} bridges)")
+
+
+def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
+    """One geometry's entry: ``pieces`` (and ``theta_split``), or one table (``rupture``,
+    ``force``) over the whole angle range."""
+    from wetcontact.reduced_models.calibrated_capillary import THETA_RANGE_DEG
+
+    raw = e.get("pieces") or [{"theta_deg": list(THETA_RANGE_DEG), "rupture": e["rupture"],
+                               "force": e["force"]}]
+    ndim = 2 if kind == "sphere-wall" else 3
+    pieces = []
+    for i, p in enumerate(raw):
+        rup, frc = np.asarray(p["rupture"], dtype=float), np.asarray(p["force"], dtype=float)
+        if rup.ndim != ndim or frc.shape[:-1] != rup.shape or not (
+                np.all(np.isfinite(rup)) and np.all(np.isfinite(frc))):
+            raise InputError(f"{path}: {kind} piece {i}: tables of shapes {rup.shape} "
+                             f"(rupture) and {frc.shape} (force); allowed: finite, rupture "
+                             f"{ndim}-D and force the same plus a gap axis")
+        lo, hi = p["theta_deg"]
+        pieces.append(CapillaryPiece(None if lo is None else float(lo),
+                                     None if hi is None else float(hi), rup, frc))
+    ts = e.get("theta_split")
+    split = None if ts is None else np.asarray(ts["chebyshev"], dtype=float)
+    bounds = [x for p in pieces for x in (p.theta_lo, p.theta_hi)]
+    ends = [(p.theta_lo, p.theta_hi) for p in pieces]
+    contiguous = all(p.theta_hi == q.theta_lo for p, q in zip(pieces, pieces[1:], strict=False))
+    if (None in bounds and (split is None or split.ndim != 1)) or not contiguous or (
+            pieces[0].theta_lo, pieces[-1].theta_hi) != tuple(THETA_RANGE_DEG):
+        raise InputError(f"{path}: {kind} theta pieces {ends}; allowed: contiguous from "
+                         f"{THETA_RANGE_DEG[0]:g} to {THETA_RANGE_DEG[1]:g} deg, None (the "
+                         "split angle) only with a theta_split series")
+    return CapillaryPart(kind, tuple(pieces), split, e.get("held_out", {}))
+
+
+def shipped_capillary() -> CapillaryTable:
+    """The package's ``calibrated-capillary`` table; an :class:`InputError` before it is
+    generated. Geometries, theta pieces and shapes are read from the data, never assumed."""
+    from wetcontact.reduced_models import calibrated_capillary as cc
+
+    table = cc.capillary_table()
+    path = Path(__file__).resolve().parents[1] / "reduced_models" / "data" / cc.CAPILLARY_FILE
+    if table is None or not path.is_file():
+        raise InputError("calibrated-capillary: coefficient table not generated; run "
+                         "`python -m wetcontact.calibrate capillary`")
+    parts = {kind: _capillary_part(path, kind, table[kind])
+             for kind in ("sphere-wall", "sphere-sphere") if kind in table}
+    for key, want in (("v", cc.V_RANGE), ("theta_deg", cc.THETA_RANGE_DEG),
+                      ("radius_ratio", cc.RATIO_RANGE)):
+        if tuple(table["domain"][key]) != tuple(want):
+            raise InputError(f"{path}: domain.{key} = {table['domain'][key]}; allowed: "
+                             f"{list(want)} (the model's range)")
+    return CapillaryTable(parts, cc.V_RANGE, cc.THETA_RANGE_DEG, cc.RATIO_RANGE,
+                          cc.ANGLE_TOL, cc.W_MAX, str(path),
+                          hashlib.sha256(path.read_bytes()).hexdigest())
+
+
 @dataclass(frozen=True)
 class CapillarySource:
-    """The capillary pair the exports carry: force and rupture distance.
+    """The capillary tables the exports carry.
 
-    Today the refitted ``willett`` force and ``lian-rupture`` distance (``shipped`` False);
-    a shipped ``calibrated-capillary`` table takes their place here.
+    ``table``: the shipped ``calibrated-capillary`` closure (``capillary_force``,
+    ``rupture_distance``); ``force`` and ``rupture``: the refitted ``willett`` force and
+    ``lian-rupture`` distance (``capillary_force_refit``, ``rupture_distance_refit``).
     """
 
+    table: CapillaryTable
     force: RefitTable
     rupture: RefitTable
-    shipped: bool = False
+
+    @property
+    def shipped_label(self) -> str:
+        shipped = "; ".join(f"{k}: {self.table.held_out_text(k)}" for k in self.table.parts)
+        missing = [k for k in ("sphere-wall", "sphere-sphere") if k not in self.table.parts]
+        return ("the shipped 'calibrated-capillary' closure (held-out relative error "
+                f"against meniscus, {shipped}"
+                + (f"; {', '.join(missing)}: not generated, NaN" if missing else "") + ")")
+
+    @property
+    def refit_label(self) -> str:
+        return (f"'{self.force.family}' refit (held-out max error "
+                f"{100 * self.force.held_out_max:.1f} % against meniscus, "
+                f"{self.force.held_out_points} points) and '{self.rupture.family}' refit "
+                f"(held-out max error {100 * self.rupture.held_out_max:.1f} %, "
+                f"{self.rupture.held_out_points} points)")
 
     @property
     def label(self) -> str:
-        return ("REFITTED families, not a shipped calibrated closure: capillary force = "
-                f"'{self.force.family}' refit (held-out max error "
-                f"{100 * self.force.held_out_max:.1f} % against meniscus, "
-                f"{self.force.held_out_points} points), rupture distance = "
-                f"'{self.rupture.family}' refit (held-out max error "
-                f"{100 * self.rupture.held_out_max:.1f} %, {self.rupture.held_out_points} "
-                "points)")
+        return (f"capillary_force and rupture_distance = {self.shipped_label}; "
+                "capillary_force_refit and rupture_distance_refit = REFITTED families, not "
+                f"a shipped closure: {self.refit_label}")
 
 
 def read_refit(path: Path | str, family: str) -> RefitTable:
@@ -117,8 +255,10 @@ def read_refit(path: Path | str, family: str) -> RefitTable:
 
 def capillary_source(force: Path | str | None = None,
                      rupture: Path | str | None = None) -> CapillarySource:
-    """The capillary pair from the given files, or the package's shipped refits."""
+    """The shipped ``calibrated-capillary`` table and the refitted pair from the given files
+    (default: the package's shipped refits)."""
     return CapillarySource(
+        shipped_capillary(),
         read_refit(force or REFIT_DIR / REFIT_FILES["willett"], "willett"),
         read_refit(rupture or REFIT_DIR / REFIT_FILES["lian-rupture"], "lian-rupture"))
 
@@ -142,7 +282,7 @@ def _scene(r1: float, r2: float, gap: float, amount: dict[str, Any], liquid: dic
     from wetcontact.scene import scene_from_dict
 
     geo: dict[str, Any] = {"kind": "sphere-wall", "radius": r1}
-    if not math.isinf(r2):
+    if not (math.isinf(r2) and r2 > 0):  # r2 = +inf is a plane (-inf: a bad radius)
         geo = {"kind": "sphere-sphere", "radius": r1, "radius2": r2}
     liq = {"viscosity": 1e-3, "surface_tension": 0.072, "density": 1000.0, **liquid}
     if geo["kind"] == "sphere-wall" and "contact_angle_sphere2" in liq:
@@ -158,8 +298,9 @@ def package_evaluation(function: str, source: CapillarySource | None = None,
     package refuses: a :class:`ValidityError` or an input a Scene rejects).
 
     ``function`` is ``viscous_force_immersed``, ``viscous_force_bridge``,
-    ``rupture_distance`` or
-    ``capillary_force``; ``args`` are the exported function's arguments (SI, degrees).
+    ``rupture_distance``, ``capillary_force`` (``calibrated-capillary``),
+    ``rupture_distance_refit`` or ``capillary_force_refit`` (the refits of ``source``);
+    ``args`` are the exported function's arguments (SI, degrees).
     """
     from wetcontact.models import get_model
 
@@ -173,22 +314,51 @@ def package_evaluation(function: str, source: CapillarySource | None = None,
                            {"bridge_volume": args["volume"]}, {"viscosity": args["viscosity"]},
                            args["approach_speed"])
             return float(get_model("calibrated-viscous").force(scene).force_viscous[0])
-        assert source is not None
         liquid = {"contact_angle_sphere": args["theta1_deg"],
                   "contact_angle_sphere2": args["theta2_deg"]}
-        gap = args.get("gap", 1e-3 * args["r1"])
-        if function == "capillary_force":
+        if function.startswith("capillary_force"):
             liquid["surface_tension"] = args["surface_tension"]
+        if function in ("rupture_distance", "capillary_force"):
+            return _calibrated_capillary(function, liquid, **args)
+        assert source is not None
+        gap = args.get("gap", 1e-3 * args["r1"])
         scene = _scene(args["r1"], args["r2"], gap, {"bridge_volume": args["volume"]}, liquid)
         rupture = _closure(source.rupture)
         sc = float(rupture.force(scene).extras["rupture_distance"][0])
-        if function == "rupture_distance":
+        if function == "rupture_distance_refit":
             return sc
         if gap >= sc:
             return 0.0
         return float(_closure(source.force).force(scene).force_capillary[0])
     except (ValidityError, InputError):
         return math.nan
+
+
+def _calibrated_capillary(function: str, liquid: dict[str, Any], **args: float) -> float:
+    """``calibrated-capillary`` through its model: the scene's checks, its rupture distance
+    and its force (0 at and past rupture). Two gaps a Scene does not hold are answered by
+    the model's own formula: S = 0 (the limit at contact, :func:`force_star` at s = 0) and
+    S > 100 r1 (past any rupture distance: 0)."""
+    from wetcontact.models import get_model
+    from wetcontact.reduced_models.calibrated_capillary import force_star
+
+    model = get_model("calibrated-capillary")
+    r1, r2 = args["r1"], args["r2"]
+    nominal = _scene(r1, r2, 1e-3 * r1, {"bridge_volume": args["volume"]}, liquid)
+    model.check(nominal)
+    sc = model.rupture_distance(nominal)
+    if function == "rupture_distance":
+        return sc
+    gap = args["gap"]
+    if gap == 0.0:
+        v, ratio = model._v_ratio(nominal)
+        rs = model.small_radius(nominal)
+        f, _ = force_star(nominal.kind, v, nominal.contact_angle_sphere, 0.0, ratio)
+        return -float(2.0 * math.pi * nominal.surface_tension * rs * f)
+    if gap > 100.0 * r1 and math.isfinite(gap):
+        assert gap > sc
+        return 0.0
+    return float(model.force(nominal, gaps=[gap]).force_capillary[0])
 
 
 def _closure(table: RefitTable):

@@ -1,6 +1,6 @@
 """``wetcontact export python``: one numpy-only module with the calibrated closures.
 
-The written module imports only numpy (never wetcontact) and holds the same three
+The written module imports only numpy (never wetcontact) and holds the same six
 functions as the C header (:mod:`wetcontact.export.c_header`), vectorised: arguments
 broadcast against each other, results are float arrays (0-d for scalar input), NaN outside
 the calibrated domain, 0 past rupture. The generator fills coefficient tables and domain
@@ -10,12 +10,18 @@ limits into fixed arithmetic (:data:`TEMPLATE`).
 from __future__ import annotations
 
 import math
+import textwrap
 from pathlib import Path
 from typing import Any
 
 from wetcontact import __version__
-from wetcontact.export.c_header import FUNCTIONS, _bridge_fields
-from wetcontact.export.closures import CapillarySource, immersed_tables
+from wetcontact.export.c_header import (
+    FUNCTIONS,
+    _bridge_fields,
+    capillary_fields,
+    held_out_lines,
+)
+from wetcontact.export.closures import CapillaryPart, CapillarySource, immersed_tables
 from wetcontact.fileio import atomic_write_text
 from wetcontact.reduced_models.calibrated import viscous_table
 
@@ -47,11 +53,27 @@ the refitted finite-liquid factor; held-out max relative error {br_err_wall:.2g}
 [{bv_lo:.6g}, {bv_hi:.6g}], S/H in [{bh_lo:.6g}, {bh_hi:.6g}] (H = sqrt(S^2 + V/(pi R*))), two
 spheres also r_large/r_small in [{bq_lo:.6g}, {bq_hi:.6g}].
 
-CAPILLARY PAIR: {shipped_word}. capillary_force and rupture_distance implement
-{label}. The shipped `calibrated-capillary` closure does not exist yet; a new export
-replaces only the functions below the CAPILLARY marker. Domain (both): equal spheres (a
-plane returns NaN), V/R^3 in [{v_lo:.6g}, {v_hi:.6g}], cosine-mean contact angle in
-[{t_lo:.6g}, {t_hi:.6g}] deg; the force also needs gap/S_c,Willett in [{sc_lo:.6g}, {sc_hi:.6g}],
+capillary_force, rupture_distance: the shipped `calibrated-capillary` closure, a tensor
+Chebyshev interpolant of the `meniscus` finite-element bridge:
+S_c = R_s v^(1/3) exp(sum C_rup T(w) T(a) T(b)) and
+F = -2 pi sigma R_s rho (2 cos theta) exp(sum C_F T(w) T(a) T(b) T(c)),
+R_s the smaller radius (r1 on a plane), v = V/R_s^3, r = R_l/R_s, rho = r/(1 + r) (1 on a
+plane), coordinates in [-1, 1]: a from ln v, b from theta within its theta piece (a
+geometry may carry several tables, e.g. below and above a split angle theta_s(V), a
+Chebyshev series in a), w from (ln r)^(1/3) (sphere pairs only), c = 2 z - 1 with
+z = sqrt(1 - ln(1 + S/eps)/ln(1 + S_c/eps)), eps = sqrt(v/(pi rho)) (all lengths over R_s).
+Held-out max relative error against `meniscus`:
+{cap_held_out}
+Domain: a plane or two spheres with r in [{q_lo:.6g}, {q_hi:.6g}], v in [{cv_lo:.6g}, {cv_hi:.6g}],
+ONE contact angle: theta1 = theta2 in [{ct_lo:.6g}, {ct_hi:.6g}] deg (two different angles
+return NaN: use the *_refit pair below); the force also gap >= 0 (gap = 0 is the contact
+value) and surface_tension > 0; the force is exactly 0 at and past S_c.
+
+capillary_force_refit, rupture_distance_refit: REFITTED families, not a shipped closure:
+{refit_label}
+Domain (both): equal spheres (a plane returns NaN), V/R^3 in
+[{v_lo:.6g}, {v_hi:.6g}], cosine-mean contact angle in [{t_lo:.6g}, {t_hi:.6g}] deg; the
+force also needs gap/S_c,Willett in [{sc_lo:.6g}, {sc_hi:.6g}],
 S_c,Willett = R (1 + theta/2)(V*^(1/3) + 0.1 V*^(2/3)) (NaN below it, near contact; 0 at
 and past the refitted rupture distance; NaN between the top of that range and rupture).
 """
@@ -59,7 +81,7 @@ and past the refitted rupture distance; NaN between the top of that range and ru
 import numpy as np
 
 __all__ = ["viscous_force_immersed", "viscous_force_bridge", "capillary_force",
-           "rupture_distance"]
+           "rupture_distance", "capillary_force_refit", "rupture_distance_refit"]
 
 _CHEB_WALL = np.array({cheb_wall})
 _CHEB_SPHERES = np.array({cheb_ss})
@@ -152,7 +174,143 @@ def viscous_force_bridge(r1, r2, viscosity, volume, approach_speed, gap):
     return out[()]
 
 
-# ---- CAPILLARY: replace from here when calibrated-capillary ships ------------------------
+# ---- CAPILLARY: the shipped calibrated-capillary closure --------------------------------
+
+_CAP_V_LO, _CAP_V_HI = {cv_lo_r}, {cv_hi_r}
+_CAP_LNV_LO, _CAP_LNV_HI = {lnv_lo_r}, {lnv_hi_r}
+_CAP_T_LO, _CAP_T_HI = {ct_lo_r}, {ct_hi_r}
+_CAP_Q_HI, _CAP_W_MAX = {q_hi_r}, {w_max_r}
+_CAP_ANGLE_TOL = {angle_tol_r}  # rad: two angles closer than this count as one
+# per geometry: the theta pieces (lo, hi, rupture table, force table), lo/hi in deg or None
+# for the split angle, a Chebyshev series in a ("split"); None where no table was generated.
+# Axes: sphere pair (w, a, b[, c]), plane (a, b[, c]).
+_CAP = {{"wall": {cap_wall}, "spheres": {cap_ss}}}
+_CHUNK = 4096
+
+
+def _cap_map(x, lo, hi):
+    return (2.0 * x - lo - hi) / (hi - lo)
+
+
+def _cap_rows(t, n):
+    """T_k(t) for k < n, shape (len(t), n), by the three-term recurrence."""
+    out = np.empty((t.size, n))
+    out[:, 0] = 1.0
+    if n > 1:
+        out[:, 1] = t
+    for k in range(2, n):
+        out[:, k] = 2.0 * t * out[:, k - 1] - out[:, k - 2]
+    return out
+
+
+def _cap_outer(pts, shape):
+    """Rows T_i(x_1) T_j(x_2) ... over the given axes, shape (n, prod(shape))."""
+    outer = _cap_rows(pts[0], shape[0])
+    for d in range(1, len(shape)):
+        m = _cap_rows(pts[d], shape[d])
+        outer = (outer[:, :, None] * m[:, None, :]).reshape(outer.shape[0], -1)
+    return outer
+
+
+def _cap_star(tables, coords, v, rho, cos_t, s):
+    """(F/(2 pi sigma R_s), S_c/R_s) at s = S/R_s (F 0 at and past S_c; s None: S_c only)."""
+    rup, frc = tables
+    head = frc.reshape(-1, frc.shape[-1]).T
+    f, s_c = np.empty(v.size), np.empty(v.size)
+    for lo in range(0, v.size, _CHUNK):
+        sl = slice(lo, min(v.size, lo + _CHUNK))
+        outer = _cap_outer([x[sl] for x in coords], rup.shape)
+        sc = np.cbrt(v[sl]) * np.exp(outer @ rup.ravel())
+        s_c[sl] = sc
+        if s is None:
+            continue
+        inside = s[sl] < sc
+        eps = np.sqrt(v[sl] / (np.pi * rho[sl]))
+        ratio = np.log1p(np.where(inside, s[sl], 0.0) / eps) / np.log1p(sc / eps)
+        c = 2.0 * np.sqrt(np.clip(1.0 - ratio, 0.0, 1.0)) - 1.0
+        q = np.exp(np.einsum("ij,ij->i", _cap_rows(c, frc.shape[-1]) @ head, outer))
+        f[sl] = np.where(inside, rho[sl] * 2.0 * cos_t[sl] * q, 0.0)
+    return f, s_c
+
+
+def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
+    """Shared by the two capillary functions: (F*, S_c*, R_s, ok) on flat arrays."""
+    plane = np.isinf(r2) & (r2 > 0)
+    ok = ((r1 > 0) & np.isfinite(r1) & (r2 > 0) & (vol > 0) & np.isfinite(vol)
+          & (t1 >= 0) & (t1 < 180) & (t2 >= 0) & (t2 < 180))
+    with np.errstate(all="ignore"):
+        ok &= np.abs(np.radians(t1) - np.radians(t2)) <= _CAP_ANGLE_TOL
+        ok &= (t1 >= _CAP_T_LO) & (t1 <= _CAP_T_HI * (1 + 1e-12))
+        rs = np.where(plane, r1, np.minimum(r1, r2))
+        ratio = np.where(plane, 1.0, np.maximum(r1, r2) / rs)
+        v = vol / rs**3
+        ok &= (v >= _CAP_V_LO * (1 - 1e-9)) & (v <= _CAP_V_HI * (1 + 1e-9))
+        ok &= plane | (ratio <= _CAP_Q_HI * (1 + 1e-9))
+    f, s_c = np.full(r1.size, np.nan), np.full(r1.size, np.nan)
+    for name, sel in (("wall", plane), ("spheres", ~plane)):
+        idx = np.flatnonzero(ok & sel)
+        table = _CAP[name]
+        if table is None:
+            ok[idx] = False
+            continue
+        if idx.size == 0:
+            continue
+        vi, ti = v[idx], t1[idx]
+        a = _cap_map(np.log(vi), _CAP_LNV_LO, _CAP_LNV_HI)
+        lead, rho = [a], np.ones(idx.size)
+        if name == "spheres":
+            q = ratio[idx]
+            lead, rho = [_cap_map(np.cbrt(np.log(q)), 0.0, _CAP_W_MAX), a], q / (1.0 + q)
+        split = table["split"]
+        sp = None if split is None else _cap_rows(a, split.size) @ split
+        cos_t = np.cos(np.radians(ti))
+        si = None if s_over_rs is None else s_over_rs[idx]
+        todo = np.ones(idx.size, dtype=bool)
+        for lo, hi, rup, frc in table["pieces"]:
+            lo = sp if lo is None else np.full(idx.size, lo)
+            hi = sp if hi is None else np.full(idx.size, hi)
+            j = np.flatnonzero(todo & (ti <= hi))
+            todo[j] = False
+            if j.size == 0:
+                continue
+            coords = [x[j] for x in lead] + [_cap_map(ti[j], lo[j], hi[j])]
+            fj, scj = _cap_star((rup, frc), coords, vi[j], rho[j], cos_t[j],
+                                None if si is None else si[j])
+            f[idx[j]], s_c[idx[j]] = fj, scj
+        ok[idx[todo]] = False
+    return f, s_c, rs, ok
+
+
+def rupture_distance(r1, r2, volume, theta1_deg, theta2_deg):
+    """Rupture distance (m), the surface gap at which the bridge breaks
+    (`calibrated-capillary`; one contact angle, theta1 = theta2)."""
+    args = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in
+                                 (r1, r2, volume, theta1_deg, theta2_deg)))
+    shape = args[0].shape
+    _, s_c, rs, ok = _cap_eval(*(a.ravel() for a in args))
+    return np.where(ok, s_c * rs, np.nan).reshape(shape)[()]
+
+
+def capillary_force(r1, r2, volume, gap, surface_tension, theta1_deg, theta2_deg):
+    """Capillary force (N) of a pendular bridge (`calibrated-capillary`; one contact angle,
+    theta1 = theta2): negative (attraction), exactly 0 at and past the rupture distance."""
+    args = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in
+                                 (r1, r2, volume, gap, surface_tension, theta1_deg,
+                                  theta2_deg)))
+    shape = args[0].shape
+    r1, r2, vol, gap, sigma, t1, t2 = (a.ravel() for a in args)
+    good_gap = (gap >= 0) & np.isfinite(gap)
+    with np.errstate(all="ignore"):
+        rs0 = np.where(np.isinf(r2) & (r2 > 0), r1, np.minimum(r1, r2))
+        s = np.where(good_gap, gap / rs0, 0.0)
+    f, _, rs, ok = _cap_eval(r1, r2, vol, t1, t2, s)
+    ok &= good_gap & (sigma > 0) & np.isfinite(sigma)
+    with np.errstate(all="ignore"):
+        force = -(2.0 * np.pi * sigma * rs * f)
+    return np.where(ok, force, np.nan).reshape(shape)[()]
+
+
+# ---- REFITTED capillary pair (willett, lian-rupture): two contact angles -----------------
 
 
 def _mean_angle(theta1_deg, theta2_deg):
@@ -167,8 +325,8 @@ def _capillary_domain(r1, r2, volume, theta):
                                                                     _T_LO, _T_HI)
 
 
-def rupture_distance(r1, r2, volume, theta1_deg, theta2_deg):
-    """Rupture distance (m), the full surface gap at which the bridge breaks."""
+def rupture_distance_refit(r1, r2, volume, theta1_deg, theta2_deg):
+    """Rupture distance (m) of the refitted lian-rupture family (equal spheres)."""
     r1, r2, vol, t1, t2 = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in
                                                 (r1, r2, volume, theta1_deg, theta2_deg)))
     with np.errstate(all="ignore"):
@@ -179,12 +337,13 @@ def rupture_distance(r1, r2, volume, theta1_deg, theta2_deg):
     return np.where(ok, sc, np.nan)[()]
 
 
-def capillary_force(r1, r2, volume, gap, surface_tension, theta1_deg, theta2_deg):
-    """Capillary force (N) of a pendular bridge: negative (attraction), 0 past rupture."""
+def capillary_force_refit(r1, r2, volume, gap, surface_tension, theta1_deg, theta2_deg):
+    """Capillary force (N) of the refitted willett family (equal spheres): negative
+    (attraction), 0 past the refitted rupture distance."""
     r1, r2, vol, gap, sigma, t1, t2 = np.broadcast_arrays(*(
         np.asarray(a, dtype=float) for a in (r1, r2, volume, gap, surface_tension,
                                              theta1_deg, theta2_deg)))
-    sc = np.asarray(rupture_distance(r1, r2, vol, t1, t2))
+    sc = np.asarray(rupture_distance_refit(r1, r2, vol, t1, t2))
     ok = np.isfinite(sigma) & (gap >= 0) & np.isfinite(gap) & ~np.isnan(sc)
     broken = ok & (gap >= sc)
     with np.errstate(all="ignore"):
@@ -204,7 +363,7 @@ def capillary_force(r1, r2, volume, gap, surface_tension, theta1_deg, theta2_deg
 
 
 def module_text(source: CapillarySource) -> str:
-    """The text of the numpy-only module for the shipped immersed tables and ``source``."""
+    """The text of the numpy-only module for the shipped tables and ``source``."""
     imm = immersed_tables()
     w, ss = imm["sphere-wall"], imm["sphere-sphere"]
     if w["log_range"] != ss["log_range"]:
@@ -216,18 +375,40 @@ def module_text(source: CapillarySource) -> str:
     bw, bs = viscous_table()["bridge"]["sphere-wall"], viscous_table()["bridge"]["sphere-sphere"]
     br = _bridge_fields(bw, bs)
     br.update(br_wall=_list(bw["coefficients"]), br_ss=_list(bs["coefficients"]))
+    parts = source.table.parts
     return TEMPLATE.format(
-        **br,
+        **br, **capillary_fields(source),
+        cap_held_out=_fill("; ".join(held_out_lines(source)) + "."),
+        cap_wall=_tables(parts.get("sphere-wall")), cap_ss=_tables(parts.get("sphere-sphere")),
         br_err_wall=bw["held_out"]["after"]["max"], br_err_ss=bs["held_out"]["after"]["max"],
         version=__version__, imm_err_wall=w["held_out"]["max"],
         imm_err_ss=ss["held_out"]["max"], s_lo=math.exp(lo), s_hi=math.exp(hi),
-        shipped_word="shipped" if source.shipped else "NOT A SHIPPED CALIBRATED CLOSURE",
-        label=source.label, v_lo=v_lo, v_hi=v_hi, t_lo=t_lo, t_hi=t_hi, sc_lo=sc_lo,
-        sc_hi=sc_hi, cheb_wall=_list(w["chebyshev"]), cheb_ss=_list(ss["chebyshev"]),
+        refit_label=_fill(source.refit_label + "."), v_lo=v_lo, v_hi=v_hi,
+        t_lo=t_lo, t_hi=t_hi, sc_lo=sc_lo, sc_hi=sc_hi, cheb_wall=_list(w["chebyshev"]),
+        cheb_ss=_list(ss["chebyshev"]),
         log_lo=repr(lo), log_hi=repr(hi), s_lo_r=repr(math.exp(lo)), s_hi_r=repr(math.exp(hi)),
         v_lo_r=repr(v_lo), v_hi_r=repr(v_hi), t_lo_r=repr(t_lo), t_hi_r=repr(t_hi),
         sc_lo_r=repr(sc_lo), sc_hi_r=repr(sc_hi), lian=_list(rup.coefficients),
         willett=_list(cap.coefficients))
+
+
+def _fill(text: str) -> str:
+    """``text`` wrapped to 88 columns for the module's docstring (names kept whole)."""
+    return textwrap.fill(text, 88, break_on_hyphens=False)
+
+
+def _tables(part: CapillaryPart | None) -> str:
+    """One geometry's pieces and split series as Python source, or ``None``."""
+    if part is None:
+        return "None"
+    pieces = []
+    for p in part.pieces:
+        pieces.append(
+            f"(\n        {p.theta_lo!r}, {p.theta_hi!r},"
+            f"\n        np.array({_list(p.rupture.ravel(), 4)}).reshape({p.rupture.shape}),"
+            f"\n        np.array({_list(p.force.ravel(), 4)}).reshape({p.force.shape}))")
+    split = "None" if part.split is None else f"np.array({_list(part.split, 4)})"
+    return f'{{"split": {split},\n    "pieces": [' + ",\n    ".join(pieces) + "]}"
 
 
 def _list(values: Any, per_line: int = 3) -> str:
