@@ -118,3 +118,28 @@ def test_run_renders_the_section_from_the_folder_it_is_given(tmp_path, monkeypat
     with pytest.raises(InputError, match="not a folder"):
         report.run_all(cases=cases, out=tmp_path / "rep2", progress=False, bench=None,
                        calibration=tmp_path / "missing")
+
+
+def test_capillary_rows_flag_each_goal_and_the_near_equal_stratum():
+    """Rows of the shipped calibrated-capillary table: one per (geometry, stratum, part),
+    goal_met computed from the goal (1e-3 force, 5e-4 rupture distance), not copied."""
+    def ho(force: float, rupture: float, **extra) -> dict:
+        return {"seed": 1, "reference": "meniscus",
+                "force": {"points": 8, **_summary(force)},
+                "rupture_distance": {"points": 2, **_summary(rupture)}, **extra}
+
+    data = {"goals": {"force": 1e-3, "rupture_distance": 5e-4},
+            "domain": {"v": [1e-4, 0.1], "theta_deg": [0, 70], "radius_ratio": [1, 10]},
+            "sphere-wall": {"held_out": ho(2e-3, 1e-5)},
+            "sphere-sphere": {"held_out": ho(1e-4, 6e-4),
+                              "held_out_near_equal": ho(1e-5, 1e-5, stratum={
+                                  "radius_ratio": [1, 1.1]})}}
+    rows = table.capillary_rows("x.json", data)
+    got = {r["part"]: r["goal_met"] for r in rows}
+    assert got == {"sphere-wall rupture_distance": True, "sphere-wall force": False,
+                   "sphere-sphere rupture_distance": False, "sphere-sphere force": True,
+                   "sphere-sphere (nearly equal) rupture_distance": True,
+                   "sphere-sphere (nearly equal) force": True}
+    near = [r for r in rows if "nearly" in r["part"]][0]
+    assert "radius_ratio [1, 1.1]" in near["domain"]
+    assert "radius_ratio" not in rows[0]["domain"]  # a wall has no ratio
