@@ -126,12 +126,12 @@ def chart(per_point: dict[str, float], regen: float) -> None:
     import matplotlib.pyplot as plt
 
     names = list(per_point)
-    fig, ax = plt.subplots(figsize=(8, 3.8))
+    fig, ax = plt.subplots(figsize=(9, 4.2))
     ax.barh(names, [per_point[n] * 1e9 for n in names], color="C0")
     ax.set_xscale("log")
     ax.set_xlabel("ns per point (vectorised, 1e5 points; brenner 1e3)")
     ax.set_title(f"closure evaluation cost per point\n(calibrated-viscous regenerated in "
-                 f"{regen:.0f} s; calibrated-capillary: all inputs vary per point)",
+                 f"{regen:.0f} s;\ncalibrated-capillary: all inputs vary per point)",
                  fontsize=10)
     fig.tight_layout()
     fig.savefig(RESULTS / "calibrate.png", dpi=110)
