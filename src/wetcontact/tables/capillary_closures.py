@@ -233,8 +233,8 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
     _plot_regions(out, reg)
     if best is not None:
         lines += ["", f"Conclusion: for two equal spheres the most accurate closure over this "
-                  f"range is **{best[0]}** (95th-percentile error {best[1]:.2%}); every closure "
-                  "degrades towards rupture."]
+                  f"range is **{best[0]}** (95th-percentile error {100 * best[1]:.2g} %); "
+                  "the published closures degrade towards rupture."]
     return "\n".join(lines) + "\n"
 
 
