@@ -296,13 +296,10 @@ def held_out(kind: str, n: int = 120, gaps_per: int = 8, seed: int = 2611,
     res = _map_jobs(_held_job, jobs, workers, f"held-out {kind}")
     e_rup, e_f, where_r, where_f = [], [], [], []
     for d, (s_c, gaps, f) in zip(design, res, strict=True):
-        ratio = None if d["ratio"] is None else np.array(d["ratio"])
         th = math.radians(d["theta_deg"])
-        sc_hat = float(cc.rupture_star(kind, np.array(d["v"]), np.array(th), ratio))
-        e_rup.append(abs(sc_hat / s_c - 1.0))
+        f_hat, sc_hat = cc.force_star(kind, d["v"], th, gaps, d["ratio"])
+        e_rup.append(abs(float(sc_hat[0]) / s_c - 1.0))
         where_r.append({k: d[k] for k in ("v", "theta_deg", "ratio") if d[k] is not None})
-        f_hat, _ = cc.force_star(kind, np.full(gaps.shape, d["v"]), np.full(gaps.shape, th),
-                              gaps, None if ratio is None else np.full(gaps.shape, ratio))
         e_f.extend(np.abs(f_hat / f - 1.0))
         where_f += [{**where_r[-1], "s_over_sc": float(x)} for x in d["fractions"]]
 
