@@ -35,8 +35,8 @@ for a plane:
 
 :class:`CapillarySource` is the one place that names the capillary tables the exports
 carry: the shipped ``calibrated-capillary`` table (whatever geometries, theta pieces, split
-angle and node counts its package data holds: one table per geometry, or ``pieces`` in
-theta with a ``theta_split`` series) and the two refits.
+angle and node counts its package data holds: ``pieces`` in theta, with a ``theta_split``
+series where a piece ends at the split angle) and the two refits.
 
 Outside the calibrated domain (or for inputs no closure covers: unequal spheres for the
 immersed part, two contact angles for ``calibrated-capillary``, a geometry whose table is
@@ -106,16 +106,6 @@ class CapillaryPart:
     split: np.ndarray | None
     held_out: dict[str, Any]
 
-    @property
-    def rupture(self) -> np.ndarray:
-        """The first piece's rupture table."""
-        return self.pieces[0].rupture
-
-    @property
-    def force(self) -> np.ndarray:
-        """The first piece's force table."""
-        return self.pieces[0].force
-
 
 @dataclass(frozen=True, eq=False)
 class CapillaryTable:
@@ -141,12 +131,14 @@ class CapillaryTable:
 
 
 def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
-    """One geometry's entry: ``pieces`` (and ``theta_split``), or one table (``rupture``,
-    ``force``) over the whole angle range."""
+    """One geometry's entry: its ``pieces`` (and ``theta_split``), the layout the model
+    (:func:`~wetcontact.reduced_models.calibrated_capillary.force_star`) reads."""
     from wetcontact.reduced_models.calibrated_capillary import THETA_RANGE_DEG
 
-    raw = e.get("pieces") or [{"theta_deg": list(THETA_RANGE_DEG), "rupture": e["rupture"],
-                               "force": e["force"]}]
+    raw = e.get("pieces")
+    if not raw:
+        raise InputError(f"{path}: {kind}: field 'pieces' missing or empty; allowed: the "
+                         "layout written by python -m wetcontact.calibrate capillary")
     ndim = 2 if kind == "sphere-wall" else 3
     pieces = []
     for i, p in enumerate(raw):
