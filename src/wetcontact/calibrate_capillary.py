@@ -102,12 +102,35 @@ def _split_job(v: float) -> float:
     return 0.5 * (lo + hi)
 
 
-def fit_split(workers: int = 2) -> dict[str, Any]:
+def fit_split(workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
     """Chebyshev coefficients (in the volume coordinate a) of the split angle (deg)."""
     vs = _volume_nodes(SPLIT_NODES)
-    th = np.array(_map_jobs(_split_job, list(vs), workers, "split angle"))
+    th = np.array(_cached_map(_split_job, list(vs), lambda v: f"split|{v!r}",
+                              lambda v, t: (t, []), lambda v, got: got[0],
+                              workers, "split angle", cache_dir))
     return {"chebyshev": lobatto_coefficients(th).tolist(), "at_nodes_deg": th.tolist(),
             "v_nodes": vs.tolist(), "tolerance_deg": SPLIT_TOL_DEG}
+
+
+BRANCHES = {"solved": 0, "reused": 0}
+"""Branch jobs of this process: solved, and reused from the :class:`NodeCache` (the
+generator records both, so that its wall time is read with them)."""
+
+
+def _cached_map(fn, jobs: list, key, pack, unpack, workers: int, label: str,
+                cache_dir: Path | None) -> list:
+    """:func:`_map_jobs` through the :class:`NodeCache`: a job whose ``key(job)`` is cached
+    is not rerun (``unpack(job, (s_c, q))`` rebuilds its result); each new result is kept
+    as it arrives (``pack(job, result) -> (s_c, q)``)."""
+    cache = NodeCache(cache_dir)
+    got = {k: cache.get(k) for k in map(key, jobs)}
+    todo = [j for j in jobs if got[key(j)] is None]
+    BRANCHES["reused"] += len(jobs) - len(todo)
+    BRANCHES["solved"] += len(todo)
+    fresh = dict(zip(map(key, todo), _map_jobs(
+        fn, todo, workers, f"{label} ({len(jobs) - len(todo)} reused)",
+        on_result=lambda j, r: cache.put(key(j), (None, *pack(j, r)))), strict=True))
+    return [fresh[key(j)] if got[key(j)] is None else unpack(j, got[key(j)]) for j in jobs]
 
 
 def solve_branch(kind: str, ratio: float | None, v: float, theta: float,
@@ -165,17 +188,19 @@ def _map_jobs(fn, jobs: list, workers: int, label: str, on_result=None) -> list:
 
 
 class NodeCache:
-    """Solved nodes, appended one JSON line each as they arrive, so that a generation that
-    is killed or fails loses nothing already computed: a rerun of the same code reuses
-    them. One file per code version (:func:`wetcontact.store.code_version`, which covers the
-    solver) in ``$XDG_CACHE_HOME/wetcontact`` (``~/.cache/wetcontact``)."""
+    """Solved branches (the tensor nodes, the split angle's bisection steps and the
+    held-out bridges), appended one JSON line each as they arrive, so that a generation
+    that is killed or fails loses nothing already computed: a rerun reuses them. One file
+    per version of the sources the branches depend on (:data:`NODE_SOURCES`, hashed by
+    :func:`wetcontact.store.source_hash`; editing the closure's own evaluation does not
+    invalidate it) in ``$XDG_CACHE_HOME/wetcontact`` (``~/.cache/wetcontact``)."""
 
     def __init__(self, folder: Path | None = None):
-        from wetcontact.store import code_version
+        from wetcontact.store import source_hash
 
         base = folder or Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
         self.path = (base if folder else base / "wetcontact") / (
-            "calibrated_capillary-" + code_version().replace("+", "_") + ".jsonl")
+            "calibrated_capillary-" + source_hash(NODE_SOURCES) + ".jsonl")
         self.rows: dict[str, tuple[float, list[float]]] = {}
         if self.path.is_file():
             for line in self.path.read_text().splitlines():
@@ -190,19 +215,65 @@ class NodeCache:
         _idx, kind, ratio, v, theta, c_nodes = job
         return f"{kind}|{ratio!r}|{v!r}|{theta!r}|{len(c_nodes)}"
 
-    def get(self, job: tuple) -> tuple[float, np.ndarray] | None:
-        got = self.rows.get(self.key(job))
+    def get(self, job: tuple | str) -> tuple[float, np.ndarray] | None:
+        got = self.rows.get(job if isinstance(job, str) else self.key(job))
         return None if got is None else (got[0], np.asarray(got[1]))
 
-    def put(self, job: tuple, result: tuple) -> None:
+    def put(self, job: tuple | str, result: tuple) -> None:
+        """Keep ``result = (anything, s_c, q)`` under the job's key (or ``job`` itself)."""
         _idx, s_c, q = result
+        key = job if isinstance(job, str) else self.key(job)
+        self.rows[key] = (float(s_c), np.asarray(q, dtype=float).tolist())
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
             with self.path.open("a") as fh:
-                fh.write(json.dumps({"key": self.key(job), "s_c": float(s_c),
-                                     "q": np.asarray(q).tolist()}) + "\n")
+                fh.write(json.dumps({"key": key, "s_c": float(s_c),
+                                     "q": np.asarray(q, dtype=float).tolist()}) + "\n")
         except OSError:
             pass  # a read-only cache costs a rerun, not the generation
+
+
+NODE_SOURCES = ("models.py", "scene.py", "errors.py", "solver/meniscus")
+"""What a solved branch depends on: the ``meniscus`` solver and what it imports."""
+
+FACTOR_TOL = 5e-5
+"""Largest change of the force exponent (a relative change of the force) that the low-rank
+form may make on its probe: 5 % of the 1e-3 force goal."""
+FACTOR_LEFT_AXES = 2
+"""Axes on the left of the factorised unfolding: (a, b) on a wall, (w, a) for pairs."""
+
+
+def factor_table(coef: np.ndarray, n_left: int = FACTOR_LEFT_AXES, tol: float = FACTOR_TOL,
+                 n_probe: int = 20000, seed: int = 0
+                 ) -> tuple[np.ndarray, np.ndarray, float]:
+    """Low-rank form of a tensor Chebyshev table: ``C_{IJ} = sum_{k<r} L_{Ik} R_{kJ}``.
+
+    ``(L, R)`` is the truncated SVD (Eckart & Young 1936) of the unfolding of ``coef``
+    over its first ``n_left`` axes (I) against the rest (J), at the smallest rank r whose
+    sum changes by at most ``tol`` at every probe point: the Chebyshev-Lobatto grid of the
+    table's shape and ``n_probe`` seeded uniform points in [-1, 1]^d.
+
+    Returns
+    -------
+    left, right, err
+        ``left`` of shape (*coef.shape[:n_left], r), ``right`` (r, *coef.shape[n_left:]),
+        and the largest change on the probe.
+    """
+    sh = coef.shape
+    u, sv, vt = np.linalg.svd(coef.reshape(int(np.prod(sh[:n_left])), -1),
+                              full_matrices=False)
+    rng = np.random.default_rng(seed)
+    grid = np.meshgrid(*(lobatto(m) for m in sh), indexing="ij")
+    pts = [np.concatenate([g.ravel(), rng.uniform(-1.0, 1.0, n_probe)]) for g in grid]
+    a = cc._outer_rows(pts[:n_left], sh[:n_left]) @ (u * sv)
+    b = cc._outer_rows(pts[n_left:], sh[n_left:]) @ vt.T
+    terms = a * b  # the rank-one terms at each probe point
+    full = terms.sum(axis=1)
+    # change of the sum when truncated after k terms, for every k
+    change = np.abs(full[:, None] - np.cumsum(terms, axis=1)).max(axis=0)
+    r = int(np.argmax(change <= tol)) + 1 if np.any(change <= tol) else sv.size
+    return ((u[:, :r] * sv[:r]).reshape(*sh[:n_left], r), vt[:r].reshape(r, *sh[n_left:]),
+            float(change[r - 1]))
 
 
 def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
@@ -228,24 +299,24 @@ def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
         jobs.append((idx, kind, ratio, float(vs[i_v]), theta, c_nodes))
     rup = np.empty(nodes[:-1])
     q = np.empty(nodes)
-    cache = NodeCache(cache_dir)
-    results = [(j[0], *got) for j in jobs if (got := cache.get(j)) is not None]
-    todo = [j for j in jobs if cache.get(j) is None]
-    label = (f"calibrated-capillary {kind} theta {piece['theta_deg']} "
-             f"({len(results)} nodes reused)")
-    results += _map_jobs(_node_job, todo, workers, label, on_result=cache.put)
+    results = _cached_map(_node_job, jobs, NodeCache.key, lambda j, r: (r[1], r[2]),
+                          lambda j, got: (j[0], *got), workers,
+                          f"calibrated-capillary {kind} theta {piece['theta_deg']}", cache_dir)
     for idx, s_c, qq in results:
         rup[idx] = math.log(s_c / vs[idx[-2]] ** (1.0 / 3.0))
         q[idx] = np.log(qq)
+    left, right, err = factor_table(lobatto_coefficients(q, (q.ndim - 2,) if gauss_b else ()))
     return {"theta_deg": piece["theta_deg"], "nodes": list(nodes),
             "theta_points": "gauss" if gauss_b else "lobatto",
             "rupture": lobatto_coefficients(rup, (rup.ndim - 1,) if gauss_b else ()).tolist(),
-            "force": lobatto_coefficients(q, (q.ndim - 2,) if gauss_b else ()).tolist()}
+            "force_left": left.tolist(), "force_right": right.tolist(),
+            "force_rank": int(left.shape[-1]), "force_factor_change": err}
 
 
 def fit_kind(kind: str, workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
     """Every theta piece of one kind (and the split angle for sphere pairs)."""
-    split = fit_split(workers) if any(None in p["theta_deg"] for p in PIECES[kind]) else None
+    split = (fit_split(workers, cache_dir) if any(None in p["theta_deg"] for p in PIECES[kind])
+             else None)
     out: dict[str, Any] = {"theta_split": split}
     out["pieces"] = [fit_piece(kind, p, split, workers, cache_dir) for p in PIECES[kind]]
     return out
@@ -286,18 +357,27 @@ def _held_job(args: tuple) -> tuple[float, np.ndarray, np.ndarray]:
 
 
 def held_out(kind: str, n: int = 120, gaps_per: int = 8, seed: int = 2611,
-             workers: int = 2, near_equal: bool = False) -> dict[str, Any]:
-    """Held-out error table of the shipped table against ``meniscus`` (relative errors of
-    the rupture distance and of the force, max / mean / 95th percentile, where the maximum
-    sits)."""
+             workers: int = 2, near_equal: bool = False, entry: dict[str, Any] | None = None,
+             cache_dir: Path | None = None) -> dict[str, Any]:
+    """Held-out error table of a table (``entry``: one kind's, default the shipped one)
+    against ``meniscus`` (relative errors of the rupture distance and of the force, max /
+    mean / 95th percentile, where the maximum sits)."""
     design = held_out_design(kind, n, gaps_per, seed, near_equal)
     jobs = [(d["ratio"], d["v"], math.radians(d["theta_deg"]), np.array(d["fractions"]))
             for d in design]
-    res = _map_jobs(_held_job, jobs, workers, f"held-out {kind}")
+    n_g = gaps_per
+
+    def key(job: tuple) -> str:
+        ratio, v, theta, fr = job
+        return f"held|{kind}|{ratio!r}|{v!r}|{theta!r}|{np.asarray(fr).tolist()!r}"
+
+    res = _cached_map(_held_job, jobs, key, lambda j, r: (r[0], np.append(r[1], r[2])),
+                      lambda j, got: (got[0], got[1][:n_g], got[1][n_g:]), workers,
+                      f"held-out {kind}", cache_dir)
     e_rup, e_f, where_r, where_f = [], [], [], []
     for d, (s_c, gaps, f) in zip(design, res, strict=True):
         th = math.radians(d["theta_deg"])
-        f_hat, sc_hat = cc.force_star(kind, d["v"], th, gaps, d["ratio"])
+        f_hat, sc_hat = cc.force_star(kind, d["v"], th, gaps, d["ratio"], entry=entry)
         e_rup.append(abs(float(sc_hat[0]) / s_c - 1.0))
         where_r.append({k: d[k] for k in ("v", "theta_deg", "ratio") if d[k] is not None})
         e_f.extend(np.abs(f_hat / f - 1.0))
@@ -325,6 +405,7 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = (
     nodes and the held-out error table, and the wall time. Solved nodes are kept in a
     :class:`NodeCache` (``cache_dir``, default the user cache) and reused by a rerun."""
     t0 = time.perf_counter()
+    start = dict(BRANCHES)
     out = Path(out) if out else Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
     old = json.loads(out.read_text()) if out.is_file() else {}
     data: dict[str, Any] = {
@@ -341,13 +422,17 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = (
         t1 = time.perf_counter()
         data[kind] = fit_kind(kind, workers=workers, cache_dir=cache_dir)
         data[kind]["fit_time_s"] = round(time.perf_counter() - t1, 1)
-        _write(out, data)  # the held-out check reads the new coefficients from the file
-        data[kind]["held_out"] = held_out(kind, n=n_held_out, workers=workers)
+        _write(out, data)
+        entry = cc.as_arrays({kind: json.loads(json.dumps(data[kind]))})[kind]
+        data[kind]["held_out"] = held_out(kind, n=n_held_out, workers=workers, entry=entry,
+                                          cache_dir=cache_dir)
         if kind == "sphere-sphere":
             data[kind]["held_out_near_equal"] = {
                 **held_out(kind, n=max(n_held_out // 3, 8), seed=2612, workers=workers,
-                           near_equal=True), "stratum": NEAR_EQUAL}
+                           near_equal=True, entry=entry, cache_dir=cache_dir),
+                "stratum": NEAR_EQUAL}
         _write(out, data)
     data["wall_time_s"] = round(time.perf_counter() - t0, 1)
+    data["branches"] = {k: BRANCHES[k] - start[k] for k in BRANCHES}
     _write(out, data)
     return data

@@ -84,15 +84,21 @@ def code_version() -> str:
     """
     from wetcontact import __version__
 
+    return f"{__version__}+{source_hash(_NUMERIC_SOURCES)}"
+
+
+def source_hash(names: tuple[str, ...]) -> str:
+    """First 12 hex digits of a SHA-256 over the package's ``.py`` files under ``names``
+    (files or folders relative to the package, by relative path and content)."""
     root = Path(__file__).resolve().parent
     files: list[Path] = []
-    for name in _NUMERIC_SOURCES:
+    for name in names:
         p = root / name
         files += sorted(p.rglob("*.py")) if p.is_dir() else [p] if p.exists() else []
     h = hashlib.sha256()
     for f in files:
         h.update(f.relative_to(root).as_posix().encode() + b"\0" + f.read_bytes() + b"\0")
-    return f"{__version__}+{h.hexdigest()[:12]}"
+    return h.hexdigest()[:12]
 
 
 def curve_key(scene: Scene, model: str, settings: dict[str, Any],

@@ -179,3 +179,82 @@ def test_node_cache_keeps_solved_nodes_across_runs(tmp_path) -> None:
     s_c, q = again.get(job)
     assert s_c == 0.123 and q.tolist() == [0.0, 1.0, 2.0]
     assert again.get(other) is None
+
+
+def test_factor_table_is_the_smallest_rank_within_its_tolerance() -> None:
+    """The low-rank form of a table with a known SVD: a rank-6 table plus a 1e-7 tail. The
+    factors change the sum by at most ``tol`` on a probe the fit did not use, the next
+    lower rank does not meet it, and the product of the factors is the truncated SVD."""
+    from wetcontact.calibrate_capillary import factor_table
+
+    rng = np.random.default_rng(8)
+    shape = (5, 6, 7, 8)
+    q_left = np.linalg.qr(rng.normal(size=(30, 30)))[0]
+    q_right = np.linalg.qr(rng.normal(size=(56, 30)))[0]
+    sv = np.array([1.0, 0.3, 0.1, 3e-2, 1e-2, 3e-3] + [1e-7] * 24)
+    coef = ((q_left * sv) @ q_right.T).reshape(shape)
+    pts = [rng.uniform(-1, 1, 3000) for _ in shape]
+    full = cc.chebyshev_tensor(coef, pts)
+    for tol in (1e-2, 1e-4, 1e-5):
+        left, right, err = factor_table(coef, n_left=2, tol=tol)
+        r = left.shape[-1]
+        assert left.shape == (5, 6, r) and right.shape == (r, 7, 8)
+        assert err <= tol
+        rows_l = cc._outer_rows(pts[:2], shape[:2]).T  # coefficient-major
+        rows_r = cc._outer_rows(pts[2:], shape[2:]).T
+        assert np.max(np.abs(cc.low_rank_rows(left, right, rows_l, rows_r) - full)) < 3 * tol
+        np.testing.assert_allclose(
+            cc.low_rank_rows(left, right, rows_l, rows_r),
+            cc.chebyshev_tensor(np.tensordot(left, right, axes=1), pts), atol=1e-13)
+        if r > 1:
+            worse = cc.low_rank_rows(left[..., :r - 1], right[:r - 1], rows_l, rows_r)
+            assert np.max(np.abs(worse - full)) > tol  # one rank less misses it
+    assert factor_table(coef, n_left=2, tol=1e-9)[0].shape[-1] > 6  # the tail is kept
+
+
+def test_shipped_factors_are_the_declared_rank_and_change() -> None:
+    """The shipped pieces carry the rank and the probe change the generator measured, the
+    latter within its tolerance."""
+    from wetcontact.calibrate_capillary import FACTOR_TOL
+
+    for kind in ("sphere-wall", "sphere-sphere"):
+        for piece in cc.capillary_table()[kind]["pieces"]:
+            left, right = piece["force_left"], piece["force_right"]
+            assert left.shape[-1] == right.shape[0] == piece["force_rank"]
+            assert (*left.shape[:-1], *right.shape[1:]) == tuple(piece["nodes"])
+            assert 0.0 <= piece["force_factor_change"] <= FACTOR_TOL
+
+
+def test_node_cache_key_ignores_the_closures_own_code(tmp_path, monkeypatch) -> None:
+    """Solved branches depend on the meniscus solver, not on the closure's evaluation:
+    the cache file is named by a hash of NODE_SOURCES only, which moves when one of them
+    changes."""
+    from wetcontact import store
+    from wetcontact.calibrate_capillary import NODE_SOURCES, NodeCache
+
+    name = NodeCache(tmp_path).path.name
+    assert store.source_hash(NODE_SOURCES) in name
+    assert store.source_hash(("reduced_models",)) not in name
+    calls = []
+    real = store.source_hash
+    monkeypatch.setattr(store, "source_hash",
+                        lambda names: calls.append(names) or real(("reduced_models",)))
+    assert NodeCache(tmp_path).path.name != name and calls == [NODE_SOURCES]
+
+
+def test_cached_map_reruns_only_what_is_missing(tmp_path) -> None:
+    """A held-out or split job already in the cache is not rerun; new results are kept."""
+    from wetcontact.calibrate_capillary import _cached_map
+
+    ran = []
+
+    def job(x: float) -> tuple[float, np.ndarray]:
+        ran.append(x)
+        return 2.0 * x, np.array([x, x + 1.0])
+
+    args = ("k{!r}".format, lambda j, r: r, lambda j, got: (got[0], got[1]), 1, "t", tmp_path)
+    first = _cached_map(job, [1.0, 2.0], *args)
+    second = _cached_map(job, [1.0, 2.0, 3.0], *args)
+    assert ran == [1.0, 2.0, 3.0]
+    for a, b in zip(first + [second[-1]], second, strict=True):
+        assert a[0] == b[0] and np.array_equal(a[1], b[1])

@@ -142,7 +142,20 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
     ndim = 2 if kind == "sphere-wall" else 3
     pieces = []
     for i, p in enumerate(raw):
-        rup, frc = np.asarray(p["rupture"], dtype=float), np.asarray(p["force"], dtype=float)
+        try:
+            rup = np.asarray(p["rupture"], dtype=float)
+            left = np.asarray(p["force_left"], dtype=float)
+            right = np.asarray(p["force_right"], dtype=float)
+        except (KeyError, ValueError) as exc:
+            raise InputError(f"{path}: {kind} piece {i}: fields 'rupture', 'force_left' and "
+                             f"'force_right' (numeric arrays) expected ({exc}); allowed: the "
+                             "layout written by python -m wetcontact.calibrate capillary"
+                             ) from None
+        if left.ndim < 2 or right.ndim < 2 or left.shape[-1] != right.shape[0]:
+            raise InputError(f"{path}: {kind} piece {i}: force factors of shapes "
+                             f"{left.shape} and {right.shape}; allowed: (..., r) and (r, ...)")
+        # the exports sum the whole table; the factors' product is it to round-off
+        frc = np.tensordot(left, right, axes=1)
         if rup.ndim != ndim or frc.shape[:-1] != rup.shape or not (
                 np.all(np.isfinite(rup)) and np.all(np.isfinite(frc))):
             raise InputError(f"{path}: {kind} piece {i}: tables of shapes {rup.shape} "

@@ -42,6 +42,13 @@ kink there; sphere pairs therefore carry two tables, theta in [0, theta_s(V)] an
 (located by bisection on the branch's end). The coefficients interpolate ``meniscus`` at
 tensor Chebyshev-Lobatto points (:mod:`wetcontact.calibrate_capillary`); the package data
 ``data/calibrated_capillary.json`` holds them with their held-out error tables.
+
+The force table is stored in low-rank form: its unfolding over the first two axes
+((a, b) on a wall, (w, a) for sphere pairs) against the rest is a truncated SVD,
+``C^F_{IJ} = sum_{k<r} L_{Ik} R_{kJ}``, with the smallest rank r whose change of the
+exponent stays below 5e-5 on a seeded probe (5 % of the force goal; the generator's
+``FACTOR_TOL``). A point then costs ``r (P_left + P_right)`` multiply-adds instead of the
+table's size (sphere pairs: about a third; :func:`low_rank_rows`).
 """
 
 from __future__ import annotations
@@ -76,7 +83,22 @@ ANGLE_TOL = 1e-9
 def capillary_table() -> dict[str, Any] | None:
     """The shipped table, or ``None`` before ``python -m wetcontact.calibrate capillary``."""
     path = resources.files("wetcontact.reduced_models") / "data" / CAPILLARY_FILE
-    return json.loads(path.read_text()) if path.is_file() else None
+    return as_arrays(json.loads(path.read_text())) if path.is_file() else None
+
+
+TABLE_FIELDS = ("rupture", "force_left", "force_right")
+"""A piece's coefficient arrays (the force as the two factors of its low-rank form)."""
+
+
+def as_arrays(table: dict[str, Any]) -> dict[str, Any]:
+    """The table with each piece's coefficient lists as float arrays (converted once)."""
+    for entry in table.values():
+        if isinstance(entry, dict):
+            for piece in entry.get("pieces", []):
+                for name in TABLE_FIELDS:
+                    if name in piece:
+                        piece[name] = np.asarray(piece[name], dtype=float)
+    return table
 
 
 def _map(x: np.ndarray, lo: Any, hi: Any) -> np.ndarray:
@@ -128,24 +150,49 @@ def gap_from_coordinate(c: np.ndarray, s_c: float, eps: float) -> np.ndarray:
     return eps * np.expm1((1.0 - z**2) * math.log1p(s_c / eps))
 
 
-def _cheb_matrix(t: np.ndarray, n: int) -> np.ndarray:
-    """``T_k(t)`` for k < n, shape (len(t), n), by the three-term recurrence."""
-    out = np.empty((t.size, n))
-    out[:, 0] = 1.0
+def _cheb_rows(t: np.ndarray, n: int) -> np.ndarray:
+    """``T_k(t)`` for k < n, shape (n, len(t)) (coefficient-major: each row contiguous),
+    by the three-term recurrence ``T_k = 2 t T_{k-1} - T_{k-2}``."""
+    out = np.empty((n, t.size))
+    out[0] = 1.0
     if n > 1:
-        out[:, 1] = t
+        out[1] = t
+    t2 = 2.0 * t
     for k in range(2, n):
-        out[:, k] = 2.0 * t * out[:, k - 1] - out[:, k - 2]
+        np.multiply(t2, out[k - 1], out=out[k])
+        out[k] -= out[k - 2]
+    return out
+
+
+def _cheb_matrix(t: np.ndarray, n: int) -> np.ndarray:
+    """``T_k(t)`` for k < n, shape (len(t), n) (a view of :func:`_cheb_rows`)."""
+    return _cheb_rows(t, n).T
+
+
+def _outer(rows: list[np.ndarray]) -> np.ndarray:
+    """Outer product of coefficient-major Chebyshev rows per point, shape
+    (prod of their lengths, n points)."""
+    out = rows[0]
+    for m in rows[1:]:
+        out = (out[:, None, :] * m[None, :, :]).reshape(-1, out.shape[-1])
     return out
 
 
 def _outer_rows(pts: list[np.ndarray], shape: tuple[int, ...]) -> np.ndarray:
     """Rows ``T_i(x_1) T_j(x_2) ...`` over the leading axes, shape (n, prod(shape))."""
-    outer = _cheb_matrix(pts[0], shape[0])
-    for d in range(1, len(shape)):
-        m = _cheb_matrix(pts[d], shape[d])
-        outer = (outer[:, :, None] * m[:, None, :]).reshape(outer.shape[0], -1)
-    return outer
+    return _outer([_cheb_rows(p, m) for p, m in zip(pts, shape, strict=True)]).T
+
+
+def low_rank_rows(left: np.ndarray, right: np.ndarray, rows_left: np.ndarray,
+                  rows_right: np.ndarray) -> np.ndarray:
+    """``sum_k (sum_I L_{I k} T_I(x)) (sum_J R_{k J} T_J(y))`` per point: the tensor
+    Chebyshev sum with coefficients ``C_{IJ} = sum_k L_{Ik} R_{kJ}`` (a truncated SVD of
+    the table's (left axes) x (right axes) unfolding, :func:`wetcontact.calibrate_capillary
+    .factor_table`), from the points' outer Chebyshev rows over the left and right axes
+    (coefficient-major, :func:`_outer`: shapes (P, n) and (Q, n))."""
+    lf = left.reshape(-1, left.shape[-1])
+    rf = right.reshape(right.shape[0], -1)
+    return np.einsum("kj,kj->j", lf.T @ rows_left, rf @ rows_right)
 
 
 def chebyshev_tensor(coef: np.ndarray, coords: list[np.ndarray], chunk: int = 8192
@@ -191,8 +238,8 @@ def reduced_star(kind: str, ratio: np.ndarray | None) -> np.ndarray | float:
 
 
 def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
-               ratio: np.ndarray | None = None, chunk: int = 4096
-               ) -> tuple[np.ndarray, np.ndarray]:
+               ratio: np.ndarray | None = None, chunk: int = 2048,
+               entry: dict[str, Any] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Attractive force ``F/(2 pi sigma R_s)`` at gap ``s = S/R_s`` (0 at and beyond
     rupture) and the rupture distance ``S_c/R_s``, in one pass (the Chebyshev rows of
     (w,) a, b serve both tables).
@@ -200,8 +247,10 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
     Each point is evaluated in the theta piece that contains it: between equal spheres the
     rupture distance has a kink where the branch's end changes from a fold to a
     symmetry-breaking bifurcation (theta about 30-31 deg, moving with V), so sphere pairs
-    carry two tables, below and above that angle (``theta_split``)."""
-    e = _entry(kind)
+    carry two tables, below and above that angle (``theta_split``). The force exponent is
+    the rank-r sum :func:`low_rank_rows` (cost ``r (P_left + P_right)`` multiply-adds a
+    point). ``entry``: one kind's table (default: the shipped one)."""
+    e = _entry(kind) if entry is None else entry
     v, theta, s = np.broadcast_arrays(np.asarray(v, float), np.asarray(theta, float),
                                       np.asarray(s, float))
     shape = v.shape
@@ -222,19 +271,26 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
         lo, hi = piece_range(piece, split, n)
         idx = np.flatnonzero(todo & (deg <= hi))
         todo[idx] = False
-        rup, frc = np.asarray(piece["rupture"]), np.asarray(piece["force"])
-        head = frc.reshape(-1, frc.shape[-1]).T
-        for k in range(0, idx.size, chunk):
-            sl = idx[k:k + chunk]
-            b = _map(deg[sl], lo[sl], hi[sl])
-            outer = _outer_rows([*(x[sl] for x in lead), b], rup.shape)
-            sc = np.cbrt(v[sl]) * np.exp(outer @ rup.ravel())
+        rup = np.asarray(piece["rupture"])
+        left, right = np.asarray(piece["force_left"]), np.asarray(piece["force_right"])
+        dims = (*left.shape[:-1], *right.shape[1:])  # the force table's axes
+        k = left.ndim - 1
+        rup2 = rup.reshape(-1, rup.shape[-1]).T
+        for j in range(0, idx.size, chunk):
+            sl = idx[j:j + chunk]
+            rows = [_cheb_rows(x[sl], m) for x, m in zip(lead, dims, strict=False)]
+            rows.append(_cheb_rows(_map(deg[sl], lo[sl], hi[sl]), dims[len(lead)]))
+            r_lead = _outer(rows[:len(lead)])
+            sc = np.cbrt(v[sl]) * np.exp(np.einsum("ij,ij->j", rup2 @ r_lead, rows[-1]))
             inside = s[sl] < sc
             c = gap_coordinate(np.where(inside, s[sl], 0.0), sc, eps[sl])
-            q = np.exp(np.einsum("ij,ij->i", _cheb_matrix(c, frc.shape[-1]) @ head, outer))
+            rows.append(_cheb_rows(c, dims[-1]))
+            r_left = r_lead if k == len(lead) else _outer(rows[:k])
+            q = np.exp(low_rank_rows(left, right, r_left, _outer(rows[k:])))
             f[sl] = np.where(inside, rho[sl] * 2.0 * np.cos(theta[sl]) * q, 0.0)
             s_c[sl] = sc
     return f.reshape(shape), s_c.reshape(shape)
+
 
 
 @register

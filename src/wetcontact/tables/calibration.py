@@ -206,8 +206,18 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
         md += [f"| {r['part']} | {r['reference']} | {r['points']} | {_mmp(r)} | "
                f"{r['goal']:g}: {'met' if r['goal_met'] else '**not met**'} | {r['max_at']} | "
                f"{r['domain']} |" for r in cr]
+        br = ccap.get("branches") or {}
+        reused = (f", {br['reused']} of {br['reused'] + br['solved']} meniscus branches "
+                  "reused from its cache" if br.get("reused") else "")
+        ranks = ", ".join(f"{k} {'/'.join(str(p['force_rank']) for p in ccap[k]['pieces'])}"
+                          for k in ("sphere-wall", "sphere-sphere")
+                          if all("force_rank" in p for p in ccap.get(k, {}).get("pieces", [])))
+        change = max((p.get("force_factor_change", 0.0) for k in ("sphere-wall",
+                      "sphere-sphere") for p in ccap.get(k, {}).get("pieces", [])), default=0.0)
         md += ["", f"Source: `{ctx.calibrated_capillary_path}` (`{ccap.get('generated_by')}`, "
-               f"{ccap.get('wall_time_s', '?')} s)."]
+               f"{ccap.get('wall_time_s', '?')} s{reused})."
+               + (f" Force tables in low-rank form, rank {ranks} (largest change of the "
+                  f"force on the factorisation's probe {change:.1e})." if ranks else "")]
     else:
         md.append("Its table was not generated (`python -m wetcontact.calibrate capillary`).")
     if rows:
