@@ -292,7 +292,6 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
     return f.reshape(shape), s_c.reshape(shape)
 
 
-
 @register
 class CalibratedCapillary(Model):
     """Calibrated capillary closure: ``meniscus`` interpolated to about 1e-4 (held-out
