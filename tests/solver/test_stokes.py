@@ -273,7 +273,7 @@ def test_film_corner_error_is_first_order_in_the_corner_size():
     corner (velocity ~ rho^(1/2), Richardson 1970), so the force error is of order
     h^(2 lambda) = h in the corner element size h: at delta/R = 0.1, S = 0.95 delta (the
     corner's share of the force is largest there) quartering ``film_corner`` (8e-3, 2e-3,
-    5e-4) shows order 1.0-1.2 (measured). A moving contact line on a no-slip solid
+    5e-4) shows order 1.09 (measured). A moving contact line on a no-slip solid
     (Huh-Scriven) would give a log divergence: equal steps, order 0."""
     f = [_film_force(0.095, 0.1, replace(FILM_RES, film_corner=c)) for c in (8e-3, 2e-3, 5e-4)]
     order = math.log(abs(f[1] - f[0]) / abs(f[2] - f[1])) / math.log(4.0)

@@ -70,19 +70,18 @@ it), so there is no Huh-Scriven divergence and no slip is needed: the corner is 
 integrable singularity of a no-slip wall meeting a traction-free surface (velocity
 ~ rho^(1/2) in the distance rho from it, the stick-slip corner of Richardson 1970; see
 :func:`~wetcontact.meshes.builders.sphere_film`), whose force error is first order in the
-element size there, ``film_corner`` delta (measured orders 1.0-1.2). The presets grade the
-corner to 2e-3, 5e-4 and 1e-4 delta (fast, default, accurate; it was 0.25 delta/n_film,
-0.031-0.018 delta, whose corner error, 2.7e-3 at the default preset and 1.4e-3 at the
-accurate one at delta/R = 0.1 and S = 0.95 delta, shrank only as fast as n_film grew).
-Refining every size by f and the corner size by f^4 (so that it keeps pace with the
-order-4 bulk) the film force shows order 3.5-4.1 (from the fast and the default preset's
-resolution, delta/R = 0.01 and 0.1, S/delta = 0.5 and 0.95), and fast and default are
-within 3.3e-4 and 5.7e-5 of accurate for delta/R = 1e-3 to 0.2 and S/delta = 0.5 and 0.95
-(tests/solver/test_stokes.py).
-A default slip length (as bridges get, whose contact lines do move along the solids) would
-change the film force everywhere by about -2 b/S (Vinogradova's slip factor: -4e-3 at
-b/R = 1e-6 and S/R = 5e-4), not only at the corner; the scene's ``slip_length_sphere`` and
-``slip_length_wall`` apply when given.
+element size there, ``film_corner`` delta (measured order 1.0-1.1 where it dominates). The
+presets grade the corner to 2e-3, 5e-4 and 1e-4 delta (fast, default, accurate). It was
+0.25 delta/n_film, 0.031-0.018 delta, whose corner error (2.7e-3 at the default preset and
+1.4e-3 at the accurate one at delta/R = 0.1 and S = 0.95 delta) shrank only as fast as
+n_film grew. Refining every size by f and the corner size by f^4 (so that it keeps pace
+with the order-4 bulk) the film force shows order 3.5-4.1 (from the fast and the default
+preset's resolution, delta/R = 0.01 and 0.1, S/delta = 0.5 and 0.95), and fast and default
+are within 3.3e-4 and 5.7e-5 of accurate for delta/R = 1e-3 to 0.2 and S/delta = 0.5 and
+0.95 (tests/solver/test_stokes.py). A default slip length (as bridges get, whose contact
+lines do move along the solids) would change the film force everywhere by about -2 b/S
+(Vinogradova's slip factor: -4e-3 at b/R = 1e-6 and S/R = 5e-4), not only at the corner;
+the scene's ``slip_length_sphere`` and ``slip_length_wall`` apply when given.
 
 Force on the sphere, two ways (Brezzi & Fortin; the reaction is the "consistent" or
 "variationally consistent" flux of e.g. Carey, Chow & Seager 1985):
