@@ -28,7 +28,8 @@ bridges (theta = 20 deg on both solids, slip 1 nm = 1e-6 R on both, R = 1 mm):
 * ``bridge_cost``: every preset, sphere-wall and two equal spheres, S/R = 1e-3 and 1e-2:
   wall time of one gap (three meniscus solves, gmsh meshing and the Stokes solve: every
   bridge mesh is new), dofs, and the difference from ``accurate``;
-* ``film_cost``: the flat-top film domain at the default preset, cold (meshing included);
+* ``film_cost``: the flat-top film domain at every preset, cold (meshing included), with the
+  difference from ``accurate`` (also alone: ``--part film``);
 * ``bridge_vs_lubrication``: V/R^3 in {1e-4, 1e-3, 1e-2} and S/R from 1e-4 to 3e-2 at the
   default preset: F_stokes over the Reynolds force of the same wetted radius (the sphere's
   contact radius, pressure released there, same slip), over the ``lubrication`` model
@@ -37,7 +38,8 @@ bridges (theta = 20 deg on both solids, slip 1 nm = 1e-6 R on both, R = 1 mm):
 * ``bridge_slip``: S/R = 1e-3 and 1e-2, V/R^3 = 1e-3, b/R from 1e-3 to 1e-7 on both solids:
   F - F_lub against ln(1/b) and its slope against the Huh-Scriven / Cox prediction.
 
-Run: ``python benchmarks/bench_stokes.py [--quick] [--repeats N] [--part all|slip|bridge]``.
+Run: ``python benchmarks/bench_stokes.py [--quick] [--repeats N] [--part all|slip|bridge|cost|film]
+[--amount all|bridge|film]``.
 The machine is shared: timings are noisy, the median damps that.
 """
 
@@ -101,10 +103,15 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="two gaps, three levels, 2 repeats")
     ap.add_argument("--repeats", type=int, default=5)
-    ap.add_argument("--part", choices=("all", "slip", "bridge", "cost"), default="all",
+    ap.add_argument("--part", choices=("all", "slip", "bridge", "cost", "film"),
+                    default="all",
                     help="'slip': only the slip, Basset and unequal-sphere sections; "
                     "'bridge': only the liquid-bridge sections; 'cost': median cost per gap "
-                    "of bridges and films at the default preset (run it on a quiet machine)")
+                    "of bridges and films at the default preset (run it on a quiet machine); "
+                    "'film': only the film presets' agreement (film_cost)")
+    ap.add_argument("--amount", choices=("all", "bridge", "film"), default="all",
+                    help="with --part cost: only these cases (their rows are replaced in "
+                    "the JSON, the others kept)")
     args = ap.parse_args()
     repeats = 2 if args.quick else args.repeats
     if args.part == "bridge":
@@ -113,8 +120,11 @@ def main() -> None:
     if args.part == "slip":
         slip_part(args.quick, repeats)
         return
+    if args.part == "film":
+        film_part(args.quick)
+        return
     if args.part == "cost":
-        cost_part(repeats)
+        cost_part(repeats, args.amount)
         return
     gaps = [1e-3, 0.1] if args.quick else [1e-3, 1e-2, 0.1, 1.0]
     levels = (["coarse", "fast", "default"] if args.quick else list(LEVELS))
@@ -277,6 +287,54 @@ def _lub_same_radius(kind: str, s: float, rc: float, b: float) -> float:
     return float(sol.force_viscous[0])
 
 
+def film_presets(quick: bool) -> list[dict]:
+    """Every preset on the flat-top film domain, cold (meshing included): the benchmark's
+    films (delta = 2S, S/R = 1e-3, 1e-2, 0.1) and delta/R = 1e-3, 1e-2, 0.1 at
+    S/delta = 0.95, where the film-top corner weighs most; force and difference from
+    ``accurate``."""
+    import os
+
+    model = get_model("stokes")
+    unit = ETA * R * V
+    cases = ([(2e-2, 0.5)] if quick else
+             [(2 * s, 0.5) for s in (1e-3, 1e-2, 0.1)] + [(d, 0.95) for d in (1e-3, 1e-2, 0.1)])
+    film = []
+    for d, x in cases:
+        s = x * d
+        sc = scene_from_dict({
+            "name": "bench-film", "geometry": {"kind": "sphere-wall", "radius": R},
+            "amount": {"film_thickness": d * R},
+            "liquid": {"viscosity": ETA, "surface_tension": 0.072, "density": 998.0},
+            "motion": {"velocity": V, "gaps": [s * R]}})
+        rows = {}
+        for preset in ("fast", "default", "accurate"):
+            os.environ["WETCONTACT_CACHE"] = tempfile.mkdtemp(prefix="wetcontact-bench-")
+            t0 = time.perf_counter()
+            c = model.force(sc, preset=preset)
+            rows[preset] = (time.perf_counter() - t0, c)
+        acc = rows["accurate"][1].force_viscous[0]
+        for preset, (t, c) in rows.items():
+            film.append({"s_over_r": s, "film_over_r": d, "preset": preset,
+                         "time_cold_s": t, "dofs": c.diagnostics["dofs"][0],
+                         "f_over_unit": c.force_viscous[0] / unit,
+                         "diff_from_accurate": c.force_viscous[0] / acc - 1,
+                         "film_top": c.settings["film_top"],
+                         "film_corner": c.settings["film_corner"]})
+            print("film", film[-1], flush=True)
+    return film
+
+
+def film_part(quick: bool) -> None:
+    """Only the ``film_cost`` section (the preset agreement on films), other sections kept."""
+    import json
+
+    path = RESULTS / "stokes.json"
+    data = json.loads(path.read_text()) if path.exists() else {"benchmark": "stokes"}
+    data["film_cost"] = film_presets(quick)
+    data["film_note"] = ("shared 2-core machine (other agents running): timings loaded")
+    write_json("stokes", data)
+
+
 def bridge_part(quick: bool) -> None:
     """Bridge cost per gap, film cost, comparison with lubrication, slip-length study."""
     import json
@@ -311,27 +369,7 @@ def bridge_part(quick: bool) -> None:
                       f"dofs={row['dofs']} "
                       f"diff={row['diff_from_accurate']:+.1e}", flush=True)
 
-    film = []
-    for s in ([1e-2] if quick else [1e-3, 1e-2, 0.1]):
-        sc = scene_from_dict({
-            "name": "bench-film", "geometry": {"kind": "sphere-wall", "radius": R},
-            "amount": {"film_thickness": 2 * s * R},
-            "liquid": {"viscosity": ETA, "surface_tension": 0.072, "density": 998.0},
-            "motion": {"velocity": V, "gaps": [s * R]}})
-        rows = {}
-        for preset in ("fast", "default", "accurate"):
-            os.environ["WETCONTACT_CACHE"] = tempfile.mkdtemp(prefix="wetcontact-bench-")
-            t0 = time.perf_counter()
-            c = model.force(sc, preset=preset)
-            rows[preset] = (time.perf_counter() - t0, c)
-        acc = rows["accurate"][1].force_viscous[0]
-        for preset, (t, c) in rows.items():
-            film.append({"s_over_r": s, "film_over_r": 2 * s, "preset": preset,
-                         "time_cold_s": t, "dofs": c.diagnostics["dofs"][0],
-                         "f_over_unit": c.force_viscous[0] / unit,
-                         "diff_from_accurate": c.force_viscous[0] / acc - 1,
-                         "film_top": c.settings["film_top"]})
-            print("film", film[-1], flush=True)
+    film = film_presets(quick)
 
     comp = []
     lub_model, rf_model = get_model("lubrication"), get_model("reynolds-finite")
@@ -398,10 +436,12 @@ def bridge_part(quick: bool) -> None:
     plot_bridge(comp, slip, RESULTS / "stokes_bridge.png")
 
 
-def cost_part(repeats: int) -> None:
+def cost_part(repeats: int, amount: str = "all") -> None:
     """Median wall time per gap at the default preset, meshing included (goal 2 s), of the
     bridges (V/R^3 = 1e-3, 20 deg, 1 nm slip) and films (delta = 2S) of ``bridge_part``,
-    each solved ``repeats`` times with a cold mesh cache; the load average is recorded."""
+    each solved ``repeats`` times with a cold mesh cache; the load average is recorded.
+    ``amount`` ``"bridge"`` or ``"film"``: only those cases, whose rows replace theirs in
+    the JSON (the other rows are kept)."""
     import json
     import os
     import statistics
@@ -414,8 +454,9 @@ def cost_part(repeats: int) -> None:
                                                     ("sphere-sphere", 2.0))
              for s in (1e-3, 1e-2)] + [("film", "sphere-wall", 1.0, s)
                                        for s in (1e-3, 1e-2, 0.1)]
-    for amount, kind, q, s in cases:
-        if amount == "bridge":
+    cases = [c for c in cases if amount in ("all", c[0])]
+    for amount_i, kind, q, s in cases:
+        if amount_i == "bridge":
             sc = bridge_scene(kind, s, 1e-3, radius2=q)
         else:
             sc = scene_from_dict({
@@ -430,13 +471,15 @@ def cost_part(repeats: int) -> None:
             t0 = time.perf_counter()
             model.force(sc, preset="default")
             times.append(time.perf_counter() - t0)
-        rows.append({"amount": amount, "kind": kind, "r2_over_r": q, "s_over_r": s,
+        rows.append({"amount": amount_i, "kind": kind, "r2_over_r": q, "s_over_r": s,
                      "median_s": statistics.median(times), "min_s": min(times),
                      "max_s": max(times), "repeats": repeats, "load_average_1min": load})
         print(rows[-1], flush=True)
     path = RESULTS / "stokes.json"
     data = json.loads(path.read_text()) if path.exists() else {"benchmark": "stokes"}
-    data["cost_per_gap_default"] = rows
+    kept = [r for r in data.get("cost_per_gap_default", [])
+            if amount != "all" and r["amount"] != amount]
+    data["cost_per_gap_default"] = kept + rows
     write_json("stokes", data)
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -93,6 +94,25 @@ def test_film_mesh_has_flat_free_surface_at_delta():
     assert mesh.p[1].max() == pytest.approx(film, abs=1e-14)
     with pytest.raises(InputError, match="film thickness"):
         builders.sphere_film(0.1, 0.05, COARSE)
+
+
+def test_film_mesh_is_graded_to_the_corner():
+    """The smallest free-surface edge, at the corner (r_c, delta), is ``film_corner`` delta
+    (gmsh's size field within a factor 2), and the size floors at ``MIN_CORNER``."""
+    gap, film = 0.01, 0.05
+    for corner, expect in ((1e-3, 1e-3 * film), (1e-6, builders.MIN_CORNER)):
+        res = dataclasses.replace(COARSE, film_corner=corner)
+        mesh = to_skfem(builders.sphere_film(gap, film, res))
+        f = mesh.facets[:, mesh.boundaries["free_surface"]]
+        p0, p1 = mesh.p[:, f[0]], mesh.p[:, f[1]]
+        length = np.hypot(*(p1 - p0))
+        rc = builders.film_contact_radius(gap, film)
+        at = np.argmin(np.minimum(p0[0], p1[0]))
+        assert min(p0[0, at], p1[0, at]) == pytest.approx(rc, rel=1e-12)
+        assert 0.5 * expect < length[at] < 2.0 * expect
+        assert length[at] == pytest.approx(length.min())
+    with pytest.raises(InputError, match="film_corner"):
+        builders.Resolution(film_corner=0.0)
 
 
 def test_bridge_mesh_follows_the_toroidal_profile():

@@ -27,7 +27,7 @@ from wetcontact.errors import InputError
 from wetcontact.meshes import builders
 from wetcontact.meshes.io import read_msh, to_skfem
 
-MESH_VERSION = 5
+MESH_VERSION = 6
 """Bump when a builder changes the mesh it produces for the same parameters."""
 
 BUILDERS = {
