@@ -413,14 +413,22 @@ def test_c_header_matches_package(points, c_program, tmp_path, tol):
         _compare(name, _run_c(c_program, pts, name, tmp_path), ref[name], tol[name])
 
 
+#: the array of a piece each table's perturbation moves (the force is carried as the two
+#: factors of its low-rank form; the left one's leading entry multiplies the right factor's
+#: first row, of norm 1, so it moves the force's exponent by up to 1e-9 at every point)
+PERTURBED_ARRAY = {"force": "force_left", "rupture": "rupture"}
+
+
 def _perturbed(source, kind: str, table: str):
     """``source`` with the leading coefficient of one shipped table (the first theta piece
-    of one geometry) moved by 1e-9 (a relative 1e-9 in the force or the rupture distance,
-    1000x the comparison's 1e-12)."""
+    of one geometry; for the force, the leading entry of its left factor) moved by 1e-9
+    (a relative change of up to 1e-9 in the force or the rupture distance, 1000x the
+    comparison's 1e-12)."""
     part = source.table.parts[kind]
-    arr = getattr(part.pieces[0], table).copy()
+    field = PERTURBED_ARRAY[table]
+    arr = getattr(part.pieces[0], field).copy()
     arr.flat[0] += 1e-9
-    pieces = (replace(part.pieces[0], **{table: arr}), *part.pieces[1:])
+    pieces = (replace(part.pieces[0], **{field: arr}), *part.pieces[1:])
     parts = {**source.table.parts, kind: replace(part, pieces=pieces)}
     return replace(source, table=replace(source.table, parts=parts))
 
@@ -463,7 +471,9 @@ def test_c_header_names_shipped_and_refit(source, tmp_path):
         ho = part.held_out
         assert f"force max {ho['force']['max']:.2g}" in text, kind
         for n, piece in enumerate(part.pieces):
-            assert f"static const double force{n}[{piece.force.size}]" in text, kind
+            assert f"static const double left{n}[{piece.force_left.size}]" in text, kind
+            assert f"static const double right{n}[{piece.force_right.size}]" in text, kind
+            assert f"static const double force{n}[" not in text  # the dense table: not carried
     assert "#include <math.h>" in text and text.count("#include") == 1
     assert "malloc" not in text and "calloc" not in text
 
