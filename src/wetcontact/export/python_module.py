@@ -219,19 +219,22 @@ def _cap_outer(pts, shape):
 
 def _cap_star(tables, coords, v, rho, cos_t, s):
     """(F/(2 pi sigma R_s), S_c/R_s) at s = S/R_s (F 0 at and past S_c; s None: S_c only).
-    The force exponent in the table's low-rank form: the Chebyshev rows of the left axes
-    times force_left (r numbers), of the right axes times force_right (r numbers), their
-    dot product."""
+    The rupture exponent: the Chebyshev rows of the axes before b times the table, dotted
+    with the rows of b. The force exponent in the table's low-rank form: the Chebyshev rows
+    of the left axes times force_left (r numbers), of the right axes times force_right (r
+    numbers), their dot product."""
     rup, left, right = tables
     k = left.ndim - 1  # the force table's axes carried by force_left
     lf = left.reshape(-1, left.shape[-1])
     rf = right.reshape(right.shape[0], -1).T
+    rup2 = rup.reshape(-1, rup.shape[-1])
     f, s_c = np.empty(v.size), np.empty(v.size)
     for lo in range(0, v.size, _CHUNK):
         sl = slice(lo, min(v.size, lo + _CHUNK))
         pts = [x[sl] for x in coords]
-        outer = _cap_outer(pts, rup.shape)
-        sc = np.cbrt(v[sl]) * np.exp(outer @ rup.ravel())
+        lead = _cap_outer(pts[:-1], rup.shape[:-1])  # rows over all axes but b
+        tb = _cap_rows(pts[-1], rup.shape[-1])
+        sc = np.cbrt(v[sl]) * np.exp(np.einsum("ij,ij->i", lead @ rup2, tb))
         s_c[sl] = sc
         if s is None:
             continue
@@ -239,8 +242,11 @@ def _cap_star(tables, coords, v, rho, cos_t, s):
         eps = np.sqrt(v[sl] / (np.pi * rho[sl]))
         ratio = np.log1p(np.where(inside, s[sl], 0.0) / eps) / np.log1p(sc / eps)
         pts.append(2.0 * np.sqrt(np.clip(1.0 - ratio, 0.0, 1.0)) - 1.0)
-        rows_left = outer if k == rup.ndim else _cap_outer(pts[:k], left.shape[:-1])
-        u = rows_left @ lf
+        if k == rup.ndim:  # left over every axis of rupture: b contracted last
+            m = lead @ left.reshape(lead.shape[1], -1)
+            u = np.einsum("ibr,ib->ir", m.reshape(m.shape[0], tb.shape[1], -1), tb)
+        else:
+            u = (lead if k == rup.ndim - 1 else _cap_outer(pts[:k], left.shape[:-1])) @ lf
         w = _cap_outer(pts[k:], right.shape[1:]) @ rf
         q = np.exp(np.einsum("ij,ij->i", u, w))
         f[sl] = np.where(inside, rho[sl] * 2.0 * cos_t[sl] * q, 0.0)
