@@ -413,14 +413,99 @@ def test_c_header_matches_package(points, c_program, tmp_path, tol):
         _compare(name, _run_c(c_program, pts, name, tmp_path), ref[name], tol[name])
 
 
+C_CONTACT_DRIVER = r"""
+#include <stdio.h>
+#include <stdlib.h>
+#include "wetcontact_closures.h"
+
+/* argv: n, input file (7 x n doubles: capillary_force's arguments), output file. Per point
+ * one contact set up once, then the force at GAP_FACTORS times the point's gap, in that
+ * order (inside, at contact, past rupture, back inside), through the contact and through
+ * wc_capillary_force: 2 x NG x n doubles. */
+#define NG 6
+int main(int argc, char **argv)
+{
+    static const double factor[NG] = {1.0, 0.0, 0.5, 1e3, 1.0, -1.0};
+    struct wc_capillary_contact c;
+    int n, i, k;
+    double *x, *y, gap;
+    FILE *in, *out;
+    if (argc != 4) return 2;
+    n = atoi(argv[1]);
+    x = malloc(sizeof(double) * (size_t)(7 * n));
+    y = malloc(sizeof(double) * (size_t)(2 * NG * n));
+    in = fopen(argv[2], "rb");
+    if (!x || !y || !in || fread(x, sizeof(double), (size_t)(7 * n), in) != (size_t)(7 * n))
+        return 3;
+    fclose(in);
+    for (i = 0; i < n; ++i) {
+        wc_capillary_contact_init(&c, x[i], x[n + i], x[2 * n + i], x[4 * n + i],
+                                  x[5 * n + i], x[6 * n + i]);
+        for (k = 0; k < NG; ++k) {
+            gap = x[3 * n + i] * factor[k];
+            y[k * n + i] = wc_capillary_force_at(&c, gap);
+            y[(NG + k) * n + i] = wc_capillary_force(x[i], x[n + i], x[2 * n + i], gap,
+                                                     x[4 * n + i], x[5 * n + i], x[6 * n + i]);
+        }
+    }
+    out = fopen(argv[3], "wb");
+    if (!out || fwrite(y, sizeof(double), (size_t)(2 * NG * n), out) != (size_t)(2 * NG * n))
+        return 4;
+    fclose(out);
+    free(x);
+    free(y);
+    return 0;
+}
+"""
+
+
+def test_c_contact_api_is_the_force(points, c_program, tmp_path, tol):
+    """``wc_capillary_contact_init`` once per bridge, then ``wc_capillary_force_at`` at
+    gaps that move inside, to contact, past rupture and back (and to an overlap): bit for
+    bit ``wc_capillary_force`` at the same arguments (NaN and 0 at the same points), and at
+    the point's own gap within the comparison's tolerance of the package."""
+    pts, ref = points
+    d = c_program.parent
+    (d / "contact.c").write_text(C_CONTACT_DRIVER)
+    exe = d / "contact"
+    run = subprocess.run([shutil.which("cc"), "-std=c99", "-Wall", "-Wextra", "-pedantic",
+                          "-Werror", "-O2", "-o", str(exe), str(d / "contact.c"), "-lm"],
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    cap = pts["capillary_force"]
+    x = np.ascontiguousarray(np.stack([cap[k] for k in ARGS["capillary_force"]]), dtype="<f8")
+    x.tofile(tmp_path / "in.bin")
+    run = subprocess.run([str(exe), str(N), str(tmp_path / "in.bin"),
+                          str(tmp_path / "out.bin")], capture_output=True, timeout=60)
+    assert run.returncode == 0, run.stderr
+    at, direct = np.fromfile(tmp_path / "out.bin", dtype="<f8").reshape(2, 6, N)
+    assert np.array_equal(at, direct, equal_nan=True)
+    inside = np.isfinite(at[0]) & (at[0] != 0)
+    assert np.sum(inside) > N // 3
+    broke = inside & (at[3] == 0.0)  # inside, then past rupture, then back inside
+    assert np.sum(broke) > 200 and np.all(at[4][broke] == at[0][broke])
+    assert np.all(at[1][inside] < 0.0)  # at contact: finite, attractive
+    assert np.all(np.isnan(at[5][inside & (cap["gap"] > 0)]))  # overlap
+    _compare("capillary_force (contact)", at[0], ref["capillary_force"],
+             tol["capillary_force"])
+
+
+#: the array of a piece each table's perturbation moves (the force is carried as the two
+#: factors of its low-rank form; the left one's leading entry multiplies the right factor's
+#: first row, of norm 1, so it moves the force's exponent by up to 1e-9 at every point)
+PERTURBED_ARRAY = {"force": "force_left", "rupture": "rupture"}
+
+
 def _perturbed(source, kind: str, table: str):
     """``source`` with the leading coefficient of one shipped table (the first theta piece
-    of one geometry) moved by 1e-9 (a relative 1e-9 in the force or the rupture distance,
-    1000x the comparison's 1e-12)."""
+    of one geometry; for the force, the leading entry of its left factor) moved by 1e-9
+    (a relative change of up to 1e-9 in the force or the rupture distance, 1000x the
+    comparison's 1e-12)."""
     part = source.table.parts[kind]
-    arr = getattr(part.pieces[0], table).copy()
+    field = PERTURBED_ARRAY[table]
+    arr = getattr(part.pieces[0], field).copy()
     arr.flat[0] += 1e-9
-    pieces = (replace(part.pieces[0], **{table: arr}), *part.pieces[1:])
+    pieces = (replace(part.pieces[0], **{field: arr}), *part.pieces[1:])
     parts = {**source.table.parts, kind: replace(part, pieces=pieces)}
     return replace(source, table=replace(source.table, parts=parts))
 
@@ -463,7 +548,9 @@ def test_c_header_names_shipped_and_refit(source, tmp_path):
         ho = part.held_out
         assert f"force max {ho['force']['max']:.2g}" in text, kind
         for n, piece in enumerate(part.pieces):
-            assert f"static const double force{n}[{piece.force.size}]" in text, kind
+            assert f"static const double left{n}[{piece.force_left.size}]" in text, kind
+            assert f"static const double right{n}[{piece.force_right.size}]" in text, kind
+            assert f"static const double force{n}[" not in text  # the dense table: not carried
     assert "#include <math.h>" in text and text.count("#include") == 1
     assert "malloc" not in text and "calloc" not in text
 

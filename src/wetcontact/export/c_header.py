@@ -90,7 +90,15 @@ CAP_COMMENT = """\
  *   split angle theta_s(V) = sum s_k T_k(a), where the branch's end changes from a fold to
  *   a bifurcation), w from (ln r)^(1/3) (for a plane the w axis has one entry, T_0 = 1),
  *   c = 2 z - 1, z = sqrt(1 - ln(1 + s/eps)/ln(1 + s_c/eps)), eps = sqrt(v/(pi rho)),
- *   s = S/R_s.
+ *   s = S/R_s. C_F is stored in its low-rank form (the package's own layout),
+ *   C_F = sum_q L[..][q] R[q][..] with L over the leading axes and R over the others, and
+ *   evaluated as such: the left rows contracted with L (rank numbers), the right rows with
+ *   R, their dot product (rank (size of L + size of R) multiply-adds, not the table's size).
+ *   For a DEM contact whose volume, radii, surface tension and angle stay fixed while the
+ *   gap changes: wc_capillary_contact_init(&c, r1, r2, volume, surface_tension, theta1_deg,
+ *   theta2_deg) contracts all but the gap axis once (0 outside the domain), and
+ *   wc_capillary_force_at(&c, gap) is then wc_capillary_force at that gap, bit for bit,
+ *   for a few multiply-adds, log1p, sqrt and exp.
  *   Held-out max relative error against `meniscus`:
  *     {cap_held_out}
  *   Domain: a plane or two spheres with r in [{q_lo:.6g}, {q_hi:.6g}], v in
@@ -219,16 +227,19 @@ static inline double wc_viscous_force_bridge(double r1, double r2, double viscos
 /* ---- CAPILLARY: the shipped calibrated-capillary closure ----------------------------- */
 
 #define WC__CAP_NMAX {cap_nmax}
+#define WC__CAP_RMAX {cap_rmax}
 #define WC__CAP_PIECES {cap_pieces}
 
 /* One theta piece of one geometry: its ends (deg, or the split angle), the sizes of its
  * axes (w, a, b) for the rupture distance and (w, a, b, c) for the force, row-major; a
- * plane has nw = 1. */
+ * plane has nw = 1. The force table is stored in low-rank form,
+ * C_F[w][a][b][c] = sum_q left[..][q] right[q][..]: `left` carries the first nleft of the
+ * axes (w, a, b) and the rank q < rank, `right` the rank and the other axes (c last). */
 struct wc__cap_piece {{
     int lo_split, hi_split;
     double lo, hi;
-    int nw, na, nb, nc;
-    const double *rupture, *force;
+    int nw, na, nb, nc, nleft, rank;
+    const double *rupture, *left, *right;
 }};
 
 /* One geometry: its pieces (a point belongs to the first whose upper end is at or above
@@ -240,8 +251,8 @@ struct wc__cap_table {{
 }};
 
 static inline void wc__cap_set(struct wc__cap_piece *p, int lo_split, double lo, int hi_split,
-                               double hi, int nw, int na, int nb, int nc,
-                               const double *rupture, const double *force)
+                               double hi, int nw, int na, int nb, int nc, int nleft, int rank,
+                               const double *rupture, const double *left, const double *right)
 {{
     p->lo_split = lo_split;
     p->lo = lo;
@@ -251,8 +262,11 @@ static inline void wc__cap_set(struct wc__cap_piece *p, int lo_split, double lo,
     p->na = na;
     p->nb = nb;
     p->nc = nc;
+    p->nleft = nleft;
+    p->rank = rank;
     p->rupture = rupture;
-    p->force = force;
+    p->left = left;
+    p->right = right;
 }}
 
 /* The tables of the plane (plane = 1) or of sphere pairs; 0 when not generated. */
@@ -346,44 +360,140 @@ static inline double wc_rupture_distance(double r1, double r2, double volume,
     return sc * rs;
 }}
 
+/* The force table contracted over every axis but the gap's, g[l] (a series in c), from the
+ * low-rank form: u[q] = sum over the left axes of left[..][q] T(..) (the left contraction),
+ * then g[l] = sum_q u[q] sum over the right axes but c of right[q][..][l] T(..) (the right
+ * contraction with the dot product over q). An axis not in a factor enters it with one
+ * entry, T_0 = 1. Cost: rank (size of left + size of right) multiply-adds. */
+static inline void wc__cap_gap_series(const struct wc__cap_piece *pc, const double *tw,
+                                      const double *ta, const double *tb, double *g)
+{{
+    static const double one[1] = {{1.0}};
+    const double *rows[3], *lrow[3], *rrow[3], *coef;
+    double u[WC__CAP_RMAX], weight;
+    int n[3], ln[3], rn[3], d, i, j, k, q, l;
+    rows[0] = tw;
+    rows[1] = ta;
+    rows[2] = tb;
+    n[0] = pc->nw;
+    n[1] = pc->na;
+    n[2] = pc->nb;
+    for (d = 0; d < 3; ++d) {{
+        lrow[d] = d < pc->nleft ? rows[d] : one;
+        ln[d] = d < pc->nleft ? n[d] : 1;
+        rrow[d] = d < pc->nleft ? one : rows[d];
+        rn[d] = d < pc->nleft ? 1 : n[d];
+    }}
+    for (q = 0; q < pc->rank; ++q)
+        u[q] = 0.0;
+    coef = pc->left;
+    for (i = 0; i < ln[0]; ++i)  /* axpy over the rank: vectorisable without -ffast-math */
+        for (j = 0; j < ln[1]; ++j)
+            for (k = 0; k < ln[2]; ++k) {{
+                weight = lrow[0][i] * lrow[1][j] * lrow[2][k];
+                for (q = 0; q < pc->rank; ++q)
+                    u[q] += coef[q] * weight;
+                coef += pc->rank;
+            }}
+    for (l = 0; l < pc->nc; ++l)
+        g[l] = 0.0;
+    coef = pc->right;
+    for (q = 0; q < pc->rank; ++q)  /* axpy over the gap axis */
+        for (i = 0; i < rn[0]; ++i)
+            for (j = 0; j < rn[1]; ++j)
+                for (k = 0; k < rn[2]; ++k) {{
+                    weight = u[q] * (rrow[0][i] * rrow[1][j] * rrow[2][k]);
+                    for (l = 0; l < pc->nc; ++l)
+                        g[l] += coef[l] * weight;
+                    coef += pc->nc;
+                }}
+}}
+
+/* One liquid bridge whose volume, radii, surface tension and contact angle are fixed and
+ * whose gap changes (a DEM contact): wc_capillary_contact_init contracts the force table
+ * over every axis but the gap's once, wc_capillary_force_at then costs nc multiply-adds,
+ * two log1p, a sqrt and an exp per gap. */
+struct wc_capillary_contact {{
+    int ok;         /* 0: outside the calibrated domain (wc_capillary_force_at gives NAN) */
+    int nc;         /* Chebyshev coefficients of the gap series */
+    double rs;      /* R_s (m), the smaller radius (r1 for a plane) */
+    double sc;      /* S_c / R_s, the rupture distance over R_s */
+    double eps;     /* sqrt(v / (pi rho)) */
+    double factor;  /* rho 2 cos(theta) */
+    double scale;   /* 2 pi sigma R_s (N) */
+    double g[WC__CAP_NMAX];  /* the gap series */
+}};
+
+/* The contact's set-up; the gap series only when gap / R_s < S_c / R_s (pass gap = 0 to
+ * always have it). Returns c->ok. */
+static inline int wc__cap_contact(struct wc_capillary_contact *c, double r1, double r2,
+                                  double volume, double surface_tension, double theta1_deg,
+                                  double theta2_deg, double gap)
+{{
+    struct wc__cap_table tab;
+    const struct wc__cap_piece *pc;
+    double tw[WC__CAP_NMAX], ta[WC__CAP_NMAX], tb[WC__CAP_NMAX];
+    double rs = 0.0, v = 0.0, rho = 0.0, sc = 0.0;
+    c->ok = 0;
+    c->nc = 0;
+    if (!(surface_tension > 0) || !isfinite(surface_tension))
+        return 0;
+    if (!wc__cap_bridge(r1, r2, volume, theta1_deg, theta2_deg, &tab, &pc, &rs, &v, &rho, tw,
+                        ta, tb, &sc))
+        return 0;
+    c->rs = rs;
+    c->sc = sc;
+    c->eps = sqrt(v / (WC_PI * rho));
+    c->factor = rho * 2.0 * cos(theta1_deg * (WC_PI / 180.0));
+    c->scale = 2.0 * WC_PI * surface_tension * rs;
+    if (gap / rs < sc) {{
+        wc__cap_gap_series(pc, tw, ta, tb, c->g);
+        c->nc = pc->nc;
+    }}
+    c->ok = 1;
+    return 1;
+}}
+
+/* Set up one bridge for wc_capillary_force_at (the arguments of wc_capillary_force but the
+ * gap). Returns 1 inside the calibrated domain, 0 outside (then every
+ * wc_capillary_force_at is NAN). */
+static inline int wc_capillary_contact_init(struct wc_capillary_contact *c, double r1,
+                                            double r2, double volume, double surface_tension,
+                                            double theta1_deg, double theta2_deg)
+{{
+    return wc__cap_contact(c, r1, r2, volume, surface_tension, theta1_deg, theta2_deg, 0.0);
+}}
+
+/* The capillary force (N) of a contact set up by wc_capillary_contact_init at `gap` (m):
+ * the value of wc_capillary_force with the contact's arguments, bit for bit (NAN outside
+ * the domain or for gap < 0 or non-finite, exactly 0 at and past the rupture distance). */
+static inline double wc_capillary_force_at(const struct wc_capillary_contact *c, double gap)
+{{
+    double tc[WC__CAP_NMAX], s, x, sum = 0.0;
+    int l;
+    if (!c->ok || !(gap >= 0) || !isfinite(gap))
+        return NAN;
+    s = gap / c->rs;
+    if (!(s < c->sc))
+        return 0.0;
+    x = 1.0 - log1p(s / c->eps) / log1p(c->sc / c->eps);
+    x = x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x;
+    wc__cheb_rows(2.0 * sqrt(x) - 1.0, tc, c->nc);
+    for (l = 0; l < c->nc; ++l)
+        sum += c->g[l] * tc[l];
+    return -(c->scale * (c->factor * exp(sum)));
+}}
+
 static inline double wc_capillary_force(double r1, double r2, double volume, double gap,
                                         double surface_tension, double theta1_deg,
                                         double theta2_deg)
 {{
-    struct wc__cap_table tab;
-    const struct wc__cap_piece *pc;
-    double tw[WC__CAP_NMAX], ta[WC__CAP_NMAX], tb[WC__CAP_NMAX], tc[WC__CAP_NMAX];
-    double g[WC__CAP_NMAX]; /* the force table contracted over w, a, b: a series in c */
-    double rs = 0.0, v = 0.0, rho = 0.0, sc = 0.0, s, eps, x, sum = 0.0, weight, f;
-    const double *row;
-    int i, j, k, l;
-    if (!(gap >= 0) || !isfinite(gap) || !(surface_tension > 0) || !isfinite(surface_tension))
+    struct wc_capillary_contact c;
+    if (!(gap >= 0) || !isfinite(gap))
         return NAN;
-    if (!wc__cap_bridge(r1, r2, volume, theta1_deg, theta2_deg, &tab, &pc, &rs, &v, &rho, tw,
-                        ta, tb, &sc))
+    if (!wc__cap_contact(&c, r1, r2, volume, surface_tension, theta1_deg, theta2_deg, gap))
         return NAN;
-    s = gap / rs;
-    if (!(s < sc))
-        return 0.0;
-    eps = sqrt(v / (WC_PI * rho));
-    x = 1.0 - log1p(s / eps) / log1p(sc / eps);
-    x = x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x;
-    wc__cheb_rows(2.0 * sqrt(x) - 1.0, tc, pc->nc);
-    for (l = 0; l < pc->nc; ++l)
-        g[l] = 0.0;
-    row = pc->force;
-    for (i = 0; i < pc->nw; ++i)  /* axpy over the gap axis: vectorisable without -ffast-math */
-        for (j = 0; j < pc->na; ++j)
-            for (k = 0; k < pc->nb; ++k) {{
-                weight = tw[i] * ta[j] * tb[k];
-                for (l = 0; l < pc->nc; ++l)
-                    g[l] += row[l] * weight;
-                row += pc->nc;
-            }}
-    for (l = 0; l < pc->nc; ++l)
-        sum += g[l] * tc[l];
-    f = rho * 2.0 * cos(theta1_deg * (WC_PI / 180.0)) * exp(sum);
-    return -(2.0 * WC_PI * surface_tension * rs * f);
+    return wc_capillary_force_at(&c, gap);
 }}
 
 /* ---- REFITTED capillary pair (willett, lian-rupture): two contact angles ------------- */
@@ -495,11 +605,12 @@ def header_text(source: CapillarySource) -> str:
             s_lo=s_lo_cap, s_hi=s_hi_cap))
     body = BODY.format(
         **br, **capillary_fields(source),
-        cap_nmax=max([max(pc.force.shape) for p in source.table.parts.values()
+        cap_nmax=max([max(pc.force_shape) for p in source.table.parts.values()
                       for pc in p.pieces]
                      + [p.split.size for p in source.table.parts.values()
                         if p.split is not None]),
         cap_pieces=max(len(p.pieces) for p in source.table.parts.values()),
+        cap_rmax=max(pc.rank for p in source.table.parts.values() for pc in p.pieces),
         cap_tables=_cap_tables(source),
         n_wall=len(w["chebyshev"]), cheb_wall=c_array(w["chebyshev"]),
         n_ss=len(ss["chebyshev"]), cheb_ss=c_array(ss["chebyshev"]), log_lo=repr(lo),
@@ -551,17 +662,21 @@ def _cap_tables(source: CapillarySource) -> str:
         for n, p in enumerate(part.pieces):
             lines.append(f"        static const double rupture{n}[{p.rupture.size}] = "
                          f"{c_array(p.rupture.ravel(), indent=12)};")
-            lines.append(f"        static const double force{n}[{p.force.size}] = "
-                         f"{c_array(p.force.ravel(), indent=12)};")
+            lines.append(f"        static const double left{n}[{p.force_left.size}] = "
+                         f"{c_array(p.force_left.ravel(), indent=12)};")
+            lines.append(f"        static const double right{n}[{p.force_right.size}] = "
+                         f"{c_array(p.force_right.ravel(), indent=12)};")
         lines.append(f"        t->npieces = {len(part.pieces)};")
         lines.append(f"        t->nsplit = {0 if part.split is None else part.split.size};")
         lines.append(f"        t->split = {split};")
         for n, p in enumerate(part.pieces):
-            shape = p.force.shape if kind == "sphere-sphere" else (1, *p.force.shape)
+            plane = kind == "sphere-wall"  # no w axis: one entry in the header's layout
+            shape = (1, *p.force_shape) if plane else p.force_shape
             ends = ["1, 0.0" if e is None else f"0, {e!r}" for e in (p.theta_lo, p.theta_hi)]
             lines.append(f"        wc__cap_set(&t->piece[{n}], {ends[0]}, {ends[1]}, "
-                         f"{', '.join(str(x) for x in shape)},\n"
-                         f"                    rupture{n}, force{n});")
+                         f"{', '.join(str(x) for x in shape)}, {p.n_left + plane}, "
+                         f"{p.rank},\n"
+                         f"                    rupture{n}, left{n}, right{n});")
         lines.append("        return 1;\n    }")
         out.append("\n".join(lines))
     return "\n".join(out) + "\n    return 0;"

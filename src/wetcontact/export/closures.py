@@ -83,15 +83,39 @@ class RefitTable:
 
 @dataclass(frozen=True, eq=False)
 class CapillaryPiece:
-    """The tables of one theta piece of one geometry: ``rupture`` has the shape of ``force``
-    without its last (gap) axis; a sphere pair's axes are (w, a, b[, c]), a wall's
-    (a, b[, c]). ``theta_lo``/``theta_hi`` (deg) bound the piece; ``None`` is the
-    geometry's split angle (b is mapped from theta within the piece)."""
+    """The tables of one theta piece of one geometry: ``rupture`` and the force table in the
+    package's low-rank form, ``C^F = tensordot(force_left, force_right, 1)`` (the force
+    table has the axes of ``rupture`` plus the gap axis c; ``force_left`` carries its first
+    axes and the rank, ``force_right`` the rank and the others). A sphere pair's axes are
+    (w, a, b[, c]), a wall's (a, b[, c]). ``theta_lo``/``theta_hi`` (deg) bound the piece;
+    ``None`` is the geometry's split angle (b is mapped from theta within the piece)."""
 
     theta_lo: float | None
     theta_hi: float | None
     rupture: np.ndarray
-    force: np.ndarray
+    force_left: np.ndarray
+    force_right: np.ndarray
+
+    @property
+    def rank(self) -> int:
+        """The rank r of the force table's factorisation."""
+        return int(self.force_left.shape[-1])
+
+    @property
+    def n_left(self) -> int:
+        """How many of the force table's leading axes ``force_left`` carries."""
+        return self.force_left.ndim - 1
+
+    @property
+    def force_shape(self) -> tuple[int, ...]:
+        """The dense force table's shape: the rupture table's axes plus the gap axis."""
+        return (*self.force_left.shape[:-1], *self.force_right.shape[1:])
+
+    @property
+    def force(self) -> np.ndarray:
+        """The dense force table ``sum_k L[..., k] R[k, ...]`` (the json export writes it;
+        the python and C exports evaluate the factors)."""
+        return np.tensordot(self.force_left, self.force_right, axes=1)
 
 
 @dataclass(frozen=True, eq=False)
@@ -154,16 +178,17 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
         if left.ndim < 2 or right.ndim < 2 or left.shape[-1] != right.shape[0]:
             raise InputError(f"{path}: {kind} piece {i}: force factors of shapes "
                              f"{left.shape} and {right.shape}; allowed: (..., r) and (r, ...)")
-        # the exports sum the whole table; the factors' product is it to round-off
-        frc = np.tensordot(left, right, axes=1)
-        if rup.ndim != ndim or frc.shape[:-1] != rup.shape or not (
-                np.all(np.isfinite(rup)) and np.all(np.isfinite(frc))):
+        shape = (*left.shape[:-1], *right.shape[1:])  # the force table's axes
+        if rup.ndim != ndim or shape[:-1] != rup.shape or not (
+                np.all(np.isfinite(rup)) and np.all(np.isfinite(left))
+                and np.all(np.isfinite(right))):
             raise InputError(f"{path}: {kind} piece {i}: tables of shapes {rup.shape} "
-                             f"(rupture) and {frc.shape} (force); allowed: finite, rupture "
-                             f"{ndim}-D and force the same plus a gap axis")
+                             f"(rupture), {left.shape} and {right.shape} (force factors); "
+                             f"allowed: finite, rupture {ndim}-D, the force (the factors' "
+                             "product) the same plus a gap axis")
         lo, hi = p["theta_deg"]
         pieces.append(CapillaryPiece(None if lo is None else float(lo),
-                                     None if hi is None else float(hi), rup, frc))
+                                     None if hi is None else float(hi), rup, left, right))
     ts = e.get("theta_split")
     split = None if ts is None else np.asarray(ts["chebyshev"], dtype=float)
     bounds = [x for p in pieces for x in (p.theta_lo, p.theta_hi)]

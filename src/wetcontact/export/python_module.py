@@ -62,6 +62,10 @@ plane), coordinates in [-1, 1]: a from ln v, b from theta within its theta piece
 geometry may carry several tables, e.g. below and above a split angle theta_s(V), a
 Chebyshev series in a), w from (ln r)^(1/3) (sphere pairs only), c = 2 z - 1 with
 z = sqrt(1 - ln(1 + S/eps)/ln(1 + S_c/eps)), eps = sqrt(v/(pi rho)) (all lengths over R_s).
+C_F is carried in its low-rank form C_F = sum_k L[..., k] R[k, ...] (rank r, the package's
+own layout) and evaluated as such: the Chebyshev rows of the left axes ((w, a) for sphere
+pairs, (a, b) on a plane in the shipped data) times L, of the other axes times R, the dot
+product of the two.
 Held-out max relative error against `meniscus`:
 {cap_held_out}
 Domain: a plane or two spheres with r in [{q_lo:.6g}, {q_hi:.6g}], v in [{cv_lo:.6g}, {cv_hi:.6g}],
@@ -181,9 +185,10 @@ _CAP_LNV_LO, _CAP_LNV_HI = {lnv_lo_r}, {lnv_hi_r}
 _CAP_T_LO, _CAP_T_HI = {ct_lo_r}, {ct_hi_r}
 _CAP_Q_HI, _CAP_W_MAX = {q_hi_r}, {w_max_r}
 _CAP_ANGLE_TOL = {angle_tol_r}  # rad: two angles closer than this count as one
-# per geometry: the theta pieces (lo, hi, rupture table, force table), lo/hi in deg or None
-# for the split angle, a Chebyshev series in a ("split"); None where no table was generated.
-# Axes: sphere pair (w, a, b[, c]), plane (a, b[, c]).
+# per geometry: the theta pieces (lo, hi, rupture table, force_left, force_right), lo/hi in
+# deg or None for the split angle, a Chebyshev series in a ("split"); None where no table was
+# generated. Axes: sphere pair (w, a, b[, c]), plane (a, b[, c]); the force table is
+# C_F = tensordot(force_left, force_right, 1) (rank r: left (..., r), right (r, ...)).
 _CAP = {{"wall": {cap_wall}, "spheres": {cap_ss}}}
 _CHUNK = 4096
 
@@ -213,22 +218,37 @@ def _cap_outer(pts, shape):
 
 
 def _cap_star(tables, coords, v, rho, cos_t, s):
-    """(F/(2 pi sigma R_s), S_c/R_s) at s = S/R_s (F 0 at and past S_c; s None: S_c only)."""
-    rup, frc = tables
-    head = frc.reshape(-1, frc.shape[-1]).T
+    """(F/(2 pi sigma R_s), S_c/R_s) at s = S/R_s (F 0 at and past S_c; s None: S_c only).
+    The rupture exponent: the Chebyshev rows of the axes before b times the table, dotted
+    with the rows of b. The force exponent in the table's low-rank form: the Chebyshev rows
+    of the left axes times force_left (r numbers), of the right axes times force_right (r
+    numbers), their dot product."""
+    rup, left, right = tables
+    k = left.ndim - 1  # the force table's axes carried by force_left
+    lf = left.reshape(-1, left.shape[-1])
+    rf = right.reshape(right.shape[0], -1).T
+    rup2 = rup.reshape(-1, rup.shape[-1])
     f, s_c = np.empty(v.size), np.empty(v.size)
     for lo in range(0, v.size, _CHUNK):
         sl = slice(lo, min(v.size, lo + _CHUNK))
-        outer = _cap_outer([x[sl] for x in coords], rup.shape)
-        sc = np.cbrt(v[sl]) * np.exp(outer @ rup.ravel())
+        pts = [x[sl] for x in coords]
+        lead = _cap_outer(pts[:-1], rup.shape[:-1])  # rows over all axes but b
+        tb = _cap_rows(pts[-1], rup.shape[-1])
+        sc = np.cbrt(v[sl]) * np.exp(np.einsum("ij,ij->i", lead @ rup2, tb))
         s_c[sl] = sc
         if s is None:
             continue
         inside = s[sl] < sc
         eps = np.sqrt(v[sl] / (np.pi * rho[sl]))
         ratio = np.log1p(np.where(inside, s[sl], 0.0) / eps) / np.log1p(sc / eps)
-        c = 2.0 * np.sqrt(np.clip(1.0 - ratio, 0.0, 1.0)) - 1.0
-        q = np.exp(np.einsum("ij,ij->i", _cap_rows(c, frc.shape[-1]) @ head, outer))
+        pts.append(2.0 * np.sqrt(np.clip(1.0 - ratio, 0.0, 1.0)) - 1.0)
+        if k == rup.ndim:  # left over every axis of rupture: b contracted last
+            m = lead @ left.reshape(lead.shape[1], -1)
+            u = np.einsum("ibr,ib->ir", m.reshape(m.shape[0], tb.shape[1], -1), tb)
+        else:
+            u = (lead if k == rup.ndim - 1 else _cap_outer(pts[:k], left.shape[:-1])) @ lf
+        w = _cap_outer(pts[k:], right.shape[1:]) @ rf
+        q = np.exp(np.einsum("ij,ij->i", u, w))
         f[sl] = np.where(inside, rho[sl] * 2.0 * cos_t[sl] * q, 0.0)
     return f, s_c
 
@@ -266,7 +286,7 @@ def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
         cos_t = np.cos(np.radians(ti))
         si = None if s_over_rs is None else s_over_rs[idx]
         todo = np.ones(idx.size, dtype=bool)
-        for lo, hi, rup, frc in table["pieces"]:
+        for lo, hi, rup, left, right in table["pieces"]:
             lo = sp if lo is None else np.full(idx.size, lo)
             hi = sp if hi is None else np.full(idx.size, hi)
             j = np.flatnonzero(todo & (ti <= hi))
@@ -274,7 +294,7 @@ def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
             if j.size == 0:
                 continue
             coords = [x[j] for x in lead] + [_cap_map(ti[j], lo[j], hi[j])]
-            fj, scj = _cap_star((rup, frc), coords, vi[j], rho[j], cos_t[j],
+            fj, scj = _cap_star((rup, left, right), coords, vi[j], rho[j], cos_t[j],
                                 None if si is None else si[j])
             f[idx[j]], s_c[idx[j]] = fj, scj
         ok[idx[todo]] = False
@@ -406,7 +426,10 @@ def _tables(part: CapillaryPart | None) -> str:
         pieces.append(
             f"(\n        {p.theta_lo!r}, {p.theta_hi!r},"
             f"\n        np.array({_list(p.rupture.ravel(), 4)}).reshape({p.rupture.shape}),"
-            f"\n        np.array({_list(p.force.ravel(), 4)}).reshape({p.force.shape}))")
+            f"\n        np.array({_list(p.force_left.ravel(), 4)}).reshape("
+            f"{p.force_left.shape}),"
+            f"\n        np.array({_list(p.force_right.ravel(), 4)}).reshape("
+            f"{p.force_right.shape}))")
     split = "None" if part.split is None else f"np.array({_list(part.split, 4)})"
     return f'{{"split": {split},\n    "pieces": [' + ",\n    ".join(pieces) + "]}"
 
