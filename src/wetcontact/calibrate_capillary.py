@@ -123,14 +123,13 @@ def _cached_map(fn, jobs: list, key, pack, unpack, workers: int, label: str,
     is not rerun (``unpack(job, (s_c, q))`` rebuilds its result); each new result is kept
     as it arrives (``pack(job, result) -> (s_c, q)``)."""
     cache = NodeCache(cache_dir)
-    got = {k: cache.get(k) for k in map(key, jobs)}
-    todo = [j for j in jobs if got[key(j)] is None]
+    got = [cache.get(key(j)) for j in jobs]
+    todo = [j for j, g in zip(jobs, got, strict=True) if g is None]
     BRANCHES["reused"] += len(jobs) - len(todo)
     BRANCHES["solved"] += len(todo)
-    fresh = dict(zip(map(key, todo), _map_jobs(
-        fn, todo, workers, f"{label} ({len(jobs) - len(todo)} reused)",
-        on_result=lambda j, r: cache.put(key(j), (None, *pack(j, r)))), strict=True))
-    return [fresh[key(j)] if got[key(j)] is None else unpack(j, got[key(j)]) for j in jobs]
+    fresh = iter(_map_jobs(fn, todo, workers, f"{label} ({len(jobs) - len(todo)} reused)",
+                           on_result=lambda j, r: cache.put(key(j), *pack(j, r))))
+    return [next(fresh) if g is None else unpack(j, g) for j, g in zip(jobs, got, strict=True)]
 
 
 def solve_branch(kind: str, ratio: float | None, v: float, theta: float,
@@ -215,20 +214,18 @@ class NodeCache:
         _idx, kind, ratio, v, theta, c_nodes = job
         return f"{kind}|{ratio!r}|{v!r}|{theta!r}|{len(c_nodes)}"
 
-    def get(self, job: tuple | str) -> tuple[float, np.ndarray] | None:
-        got = self.rows.get(job if isinstance(job, str) else self.key(job))
+    def get(self, key: str) -> tuple[float, np.ndarray] | None:
+        got = self.rows.get(key)
         return None if got is None else (got[0], np.asarray(got[1]))
 
-    def put(self, job: tuple | str, result: tuple) -> None:
-        """Keep ``result = (anything, s_c, q)`` under the job's key (or ``job`` itself)."""
-        _idx, s_c, q = result
-        key = job if isinstance(job, str) else self.key(job)
-        self.rows[key] = (float(s_c), np.asarray(q, dtype=float).tolist())
+    def put(self, key: str, s_c: float, q: Any) -> None:
+        """Keep ``(s_c, q)`` under ``key``, in memory and as one line of the file."""
+        row = (float(s_c), np.asarray(q, dtype=float).tolist())
+        self.rows[key] = row
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
             with self.path.open("a") as fh:
-                fh.write(json.dumps({"key": key, "s_c": float(s_c),
-                                     "q": np.asarray(q, dtype=float).tolist()}) + "\n")
+                fh.write(json.dumps({"key": key, "s_c": row[0], "q": row[1]}) + "\n")
         except OSError:
             pass  # a read-only cache costs a rerun, not the generation
 
@@ -365,14 +362,12 @@ def held_out(kind: str, n: int = 120, gaps_per: int = 8, seed: int = 2611,
     design = held_out_design(kind, n, gaps_per, seed, near_equal)
     jobs = [(d["ratio"], d["v"], math.radians(d["theta_deg"]), np.array(d["fractions"]))
             for d in design]
-    n_g = gaps_per
-
     def key(job: tuple) -> str:
         ratio, v, theta, fr = job
         return f"held|{kind}|{ratio!r}|{v!r}|{theta!r}|{np.asarray(fr).tolist()!r}"
 
     res = _cached_map(_held_job, jobs, key, lambda j, r: (r[0], np.append(r[1], r[2])),
-                      lambda j, got: (got[0], got[1][:n_g], got[1][n_g:]), workers,
+                      lambda j, got: (got[0], got[1][:gaps_per], got[1][gaps_per:]), workers,
                       f"held-out {kind}", cache_dir)
     e_rup, e_f, where_r, where_f = [], [], [], []
     for d, (s_c, gaps, f) in zip(design, res, strict=True):
@@ -423,7 +418,7 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = (
         data[kind] = fit_kind(kind, workers=workers, cache_dir=cache_dir)
         data[kind]["fit_time_s"] = round(time.perf_counter() - t1, 1)
         _write(out, data)
-        entry = cc.as_arrays({kind: json.loads(json.dumps(data[kind]))})[kind]
+        entry = cc.as_arrays({kind: data[kind]})[kind]
         data[kind]["held_out"] = held_out(kind, n=n_held_out, workers=workers, entry=entry,
                                           cache_dir=cache_dir)
         if kind == "sphere-sphere":

@@ -171,14 +171,14 @@ def test_node_cache_keeps_solved_nodes_across_runs(tmp_path) -> None:
     job = ((0, 1, 2), "sphere-sphere", 2.5, 1e-3, 0.3, np.zeros(19))
     other = ((0, 1, 3), "sphere-sphere", 2.5, 1e-3, 0.31, np.zeros(19))
     cache = NodeCache(tmp_path)
-    assert cache.get(job) is None
-    cache.put(job, ((0, 1, 2), 0.123, np.arange(3.0)))
+    assert cache.get(NodeCache.key(job)) is None
+    cache.put(NodeCache.key(job), 0.123, np.arange(3.0))
     with cache.path.open("a") as fh:
         fh.write('{"key": "cut')
     again = NodeCache(tmp_path)
-    s_c, q = again.get(job)
+    s_c, q = again.get(NodeCache.key(job))
     assert s_c == 0.123 and q.tolist() == [0.0, 1.0, 2.0]
-    assert again.get(other) is None
+    assert again.get(NodeCache.key(other)) is None
 
 
 def test_factor_table_is_the_smallest_rank_within_its_tolerance() -> None:

@@ -91,14 +91,15 @@ TABLE_FIELDS = ("rupture", "force_left", "force_right")
 
 
 def as_arrays(table: dict[str, Any]) -> dict[str, Any]:
-    """The table with each piece's coefficient lists as float arrays (converted once)."""
-    for entry in table.values():
-        if isinstance(entry, dict):
-            for piece in entry.get("pieces", []):
-                for name in TABLE_FIELDS:
-                    if name in piece:
-                        piece[name] = np.asarray(piece[name], dtype=float)
-    return table
+    """A copy of the table with each piece's coefficient lists as float arrays (the
+    argument is left as it was)."""
+    def entry(e: Any) -> Any:
+        if not isinstance(e, dict) or "pieces" not in e:
+            return e
+        return {**e, "pieces": [{**p, **{n: np.asarray(p[n], dtype=float)
+                                        for n in TABLE_FIELDS if n in p}}
+                                for p in e["pieces"]]}
+    return {k: entry(e) for k, e in table.items()}
 
 
 def _map(x: np.ndarray, lo: Any, hi: Any) -> np.ndarray:

@@ -209,11 +209,13 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
         br = ccap.get("branches") or {}
         reused = (f", {br['reused']} of {br['reused'] + br['solved']} meniscus branches "
                   "reused from its cache" if br.get("reused") else "")
-        ranks = ", ".join(f"{k} {'/'.join(str(p['force_rank']) for p in ccap[k]['pieces'])}"
-                          for k in ("sphere-wall", "sphere-sphere")
-                          if all("force_rank" in p for p in ccap.get(k, {}).get("pieces", [])))
-        change = max((p.get("force_factor_change", 0.0) for k in ("sphere-wall",
-                      "sphere-sphere") for p in ccap.get(k, {}).get("pieces", [])), default=0.0)
+        pieces = {k: ccap[k]["pieces"] for k in ("sphere-wall", "sphere-sphere")
+                  if ccap.get(k, {}).get("pieces")
+                  and all("force_rank" in p for p in ccap[k]["pieces"])}
+        ranks = ", ".join(f"{k} {'/'.join(str(p['force_rank']) for p in ps)}"
+                          for k, ps in pieces.items())
+        change = max((p["force_factor_change"] for ps in pieces.values() for p in ps),
+                     default=0.0)
         md += ["", f"Source: `{ctx.calibrated_capillary_path}` (`{ccap.get('generated_by')}`, "
                f"{ccap.get('wall_time_s', '?')} s{reused})."
                + (f" Force tables in low-rank form, rank {ranks} (largest change of the "
