@@ -16,7 +16,8 @@ bounds on other seeded points):
   sphere-sphere (radius ratio 1-10), V/R_small^3 in [1e-4, 0.1], each contact angle
   0-70 deg, binned in the larger contact angle and in S over the closure's own rupture
   distance (to 3 S_c: past rupture a zero force is exact only if the reference ruptured too);
-  ``calibrated-capillary`` on its own domain, one contact angle on both solids.
+  ``calibrated-capillary`` on its own domain: one contact angle on both solids, and two
+  independent angles on a wall.
 
 Relative error per gap: ``|F - F_ref| / |F_ref|``; where the reference is zero (ruptured)
 it is 0 if the closure is zero too and :data:`SPURIOUS` otherwise.
@@ -308,37 +309,50 @@ def capillary_tables(rng: np.random.Generator, n_scenes: int = 90,
 
 
 def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
-                                progress: bool = False) -> list[dict[str, Any]]:
-    """``calibrated-capillary`` against ``meniscus`` on its own domain (one contact angle
-    on both solids, which the independent-angle scenes of :func:`capillary_tables` never
-    draw), binned like the other capillary closures."""
+                                progress: bool = False,
+                                rng_two: np.random.Generator | None = None
+                                ) -> list[dict[str, Any]]:
+    """``calibrated-capillary`` against ``meniscus`` on its own domain, binned like the
+    other capillary closures: ``n_scenes`` per geometry with one contact angle on both
+    solids (which the independent-angle scenes of :func:`capillary_tables` never draw)
+    and, from ``rng_two`` (its own stream, so that adding them left the one-angle points
+    unchanged), as many on a wall with two independent angles, measured into the wall's
+    table (its angle coordinate is the larger angle, as for every closure)."""
     men = get_model("meniscus")
     model = get_model("calibrated-capillary")
     se = np.asarray(S_OVER_SC_EDGES)
     out = []
-    for kind in ("sphere-wall", "sphere-sphere"):
-        errs, coords = [], []
+    draws = [("sphere-wall", rng, False), ("sphere-sphere", rng, False)]
+    if rng_two is not None:
+        draws.insert(1, ("sphere-wall", rng_two, True))
+    found: dict[str, tuple[list, list]] = {}
+    for kind, stream, two in draws:
+        errs, coords = found.setdefault(kind, ([], []))
         t0 = time.perf_counter()
         for i in range(n_scenes):
-            ratio = 1.0 if kind == "sphere-wall" else float(np.exp(rng.uniform(0, np.log(10))))
+            ratio = (1.0 if kind == "sphere-wall"
+                     else float(np.exp(stream.uniform(0, np.log(10)))))
             r2 = None if kind == "sphere-wall" else R * ratio
-            vstar = float(np.exp(rng.uniform(np.log(1e-4), np.log(0.1))))
-            th = float(rng.uniform(0, 70))
-            base = make_scene(kind, {"bridge_volume": vstar * R**3}, [1e-6], r2, (th, th))
+            vstar = float(np.exp(stream.uniform(np.log(1e-4), np.log(0.1))))
+            th = float(stream.uniform(0, 70))
+            th_w = float(stream.uniform(0, 70)) if two else th
+            base = make_scene(kind, {"bridge_volume": vstar * R**3}, [1e-6], r2, (th, th_w))
             if model.applicable(base) is not None:
                 continue
             sc = model.rupture_distance(base)
-            x = np.maximum(np.concatenate([rng.uniform(lo, hi, 1) for lo, hi in
+            x = np.maximum(np.concatenate([stream.uniform(lo, hi, 1) for lo, hi in
                                            zip(se[:-1], se[1:], strict=True)]), 1e-3)
             gaps = x * sc
             ref = men.force(base, gaps=gaps).force_capillary
             f = model.force(base, gaps=gaps).force_capillary
             errs.append(rel_error(f, ref))
-            coords.append(np.column_stack([np.full(x.size, th), x, np.full(x.size, vstar),
-                                           np.full(x.size, ratio)]))
+            coords.append(np.column_stack([np.full(x.size, max(th, th_w)), x,
+                                           np.full(x.size, vstar), np.full(x.size, ratio)]))
             if progress:
-                print(f"  calibrated-capillary {kind}: {i + 1}/{n_scenes} scenes, "
-                      f"{time.perf_counter() - t0:.0f} s", flush=True)
+                print(f"  calibrated-capillary {kind}{' (two angles)' if two else ''}: "
+                      f"{i + 1}/{n_scenes} scenes, {time.perf_counter() - t0:.0f} s",
+                      flush=True)
+    for kind, (errs, coords) in found.items():
         if not errs:
             continue
         c = np.concatenate(coords)
@@ -366,7 +380,8 @@ def measure_bounds(seed: int = 20261123, out: Path = DATA_PATH, quick: bool = Fa
     tabs += capillary_tables(rng, n_scenes=8 if quick else 90, progress=progress)
     # its own stream, so that adding it left the other tables' points unchanged
     tabs += calibrated_capillary_tables(np.random.default_rng([seed, 11]),
-                                        n_scenes=8 if quick else 40, progress=progress)
+                                        n_scenes=8 if quick else 40, progress=progress,
+                                        rng_two=np.random.default_rng([seed, 12]))
     data = {"generated_by": "python -m wetcontact.calibrate bounds", "seed": seed,
             "margin": MARGIN, "spurious": SPURIOUS, "quick": quick,
             "wall_time_s": round(time.perf_counter() - t0, 1), "tables": tabs}

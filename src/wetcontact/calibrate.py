@@ -1038,14 +1038,17 @@ def main(argv: list[str] | None = None) -> int:
     f.add_argument("--reuse", action="store_true", help="refit from the saved points")
     sub.add_parser("viscous", help="regenerate the calibrated-viscous closure")
     c = sub.add_parser("capillary", help="regenerate the calibrated-capillary closure")
-    c.add_argument("--kind", choices=["sphere-wall", "sphere-sphere", "all"], default="all")
+    c.add_argument("--kind", choices=["sphere-wall", "sphere-sphere", "sphere-wall-two-angles",
+                                      "all"], default="all",
+                   help="one table (a sphere and a wall with two contact angles: "
+                        "sphere-wall-two-angles); the others are kept as they are")
     c.add_argument("--workers", type=int, default=2)
     c.add_argument("--held-out", type=int, default=120, help="held-out bridges per kind")
     args = p.parse_args(argv)
     if args.command == "capillary":
-        from wetcontact.calibrate_capillary import generate_calibrated_capillary
+        from wetcontact.calibrate_capillary import KINDS, generate_calibrated_capillary
 
-        kinds = ("sphere-wall", "sphere-sphere") if args.kind == "all" else (args.kind,)
+        kinds = KINDS if args.kind == "all" else (args.kind,)
         data = generate_calibrated_capillary(kinds=kinds, workers=args.workers,
                                              n_held_out=args.held_out)
         for kind in kinds:

@@ -36,9 +36,12 @@ PIECES: dict[str, list[dict[str, Any]]] = {
     "sphere-wall": [{"theta_deg": [0.0, 70.0], "nodes": [10, 15, 19]}],
     "sphere-sphere": [{"theta_deg": [0.0, None], "nodes": [9, 9, 11, 19]},
                       {"theta_deg": [None, 70.0], "nodes": [9, 9, 13, 19]}],
+    cc.WALL_TWO_ANGLES: [{"theta_deg": [0.0, None], "nodes": [10, 13, 15, 19]},
+                         {"theta_deg": [None, cc.RIDGE_TOP_DEG], "nodes": [10, 13, 11, 19]}],
 }
-"""Theta pieces per kind (``None``: the split angle) and their Lobatto nodes per axis
-((w,) a = ln v, b = theta within the piece, c = gap)."""
+"""Theta pieces per kind (``None``: the split angle, or the ridge on a wall with two angles)
+and their Lobatto nodes per axis ((w,) a = ln v, b = theta within the piece, c = gap; two
+angles on a wall: a, b1 = the sphere's angle, b2 = the wall's angle within the piece, c)."""
 SPLIT_NODES = 7
 """Lobatto nodes in ln v of the split angle (equal spheres: fold below, bifurcation above)."""
 SPLIT_BRACKET_DEG = (24.0, 36.0)
@@ -112,6 +115,74 @@ def fit_split(workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]
             "v_nodes": vs.tolist(), "tolerance_deg": SPLIT_TOL_DEG}
 
 
+RIDGE_NODES = (10, 13)
+"""Lobatto nodes in (a, b1) of the ridge angle of a wall with two angles."""
+RIDGE_BRACKET_DEG = (-2.0, 45.0)
+"""Where the ridge is sought: the sphere's angle plus these (the wall's angle clipped to
+[0, :data:`~wetcontact.reduced_models.calibrated_capillary.RIDGE_TOP_DEG`])."""
+RIDGE_TOL_DEG = 2e-3
+
+
+def wall_rupture(v: float, theta_sphere_deg: float, theta_wall_deg: float) -> float:
+    """``meniscus`` rupture distance S_c/R of a bridge of volume v R^3 between a sphere
+    and a wall."""
+    from wetcontact.solver.meniscus import Bridge, force_separation_curve
+
+    br = Bridge(radius=1.0, radius2=None, contact_angle1=math.radians(theta_sphere_deg),
+                contact_angle2=math.radians(theta_wall_deg), surface_tension=1.0)
+    return force_separation_curve(br, v, fractions=np.array([0.0, 1.0])).rupture_distance
+
+
+def _ridge_job(args: tuple[float, float]) -> float:
+    """The wall angle (deg) of the rupture distance's ridge at (v, theta_sphere): golden-
+    section search for the maximum of S_c over the wall angle (to :data:`RIDGE_TOL_DEG`).
+
+    S_c is the smaller of two fold families' separations, so it rises to a kink and falls
+    beyond it; the search needs no derivative and converges on the kink."""
+    v, ts = args
+    lo = max(0.0, ts + RIDGE_BRACKET_DEG[0])
+    hi = min(cc.RIDGE_TOP_DEG, ts + RIDGE_BRACKET_DEG[1])
+    g = 0.5 * (math.sqrt(5.0) - 1.0)
+    x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
+    f1, f2 = wall_rupture(v, ts, x1), wall_rupture(v, ts, x2)
+    a, b = lo, hi
+    while b - a > RIDGE_TOL_DEG:
+        if f1 >= f2:
+            b, x2, f2 = x2, x1, f1
+            x1 = b - g * (b - a)
+            f1 = wall_rupture(v, ts, x1)
+        else:
+            a, x1, f1 = x1, x2, f2
+            x2 = a + g * (b - a)
+            f2 = wall_rupture(v, ts, x2)
+    top = 0.5 * (a + b)
+    if min(top - lo, hi - top) < 10 * RIDGE_TOL_DEG:
+        raise RuntimeError(f"calibrated-capillary: the rupture distance's ridge at V* = "
+                           f"{v:.4g}, sphere angle {ts:.4g} deg is not inside the bracket "
+                           f"[{lo:.4g}, {hi:.4g}] deg of the wall angle")
+    return top
+
+
+def fit_ridge(workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
+    """Chebyshev coefficients in (a, b1) of the ridge's wall angle (deg), at Lobatto nodes
+    (:data:`RIDGE_NODES`)."""
+    vs = _volume_nodes(RIDGE_NODES[0])
+    ts = _sphere_angle_nodes(RIDGE_NODES[1])
+    jobs = [(float(v), float(t)) for v in vs for t in ts]
+    th = _cached_map(_ridge_job, jobs, lambda j: f"ridge|{j[0]!r}|{j[1]!r}|{RIDGE_TOL_DEG}",
+                     lambda j, t: (t, []), lambda j, got: got[0], workers, "ridge angle",
+                     cache_dir)
+    th = np.reshape(th, RIDGE_NODES)
+    return {"chebyshev": lobatto_coefficients(th).tolist(), "at_nodes_deg": th.tolist(),
+            "v_nodes": vs.tolist(), "theta_sphere_nodes_deg": ts.tolist(),
+            "tolerance_deg": RIDGE_TOL_DEG}
+
+
+def _sphere_angle_nodes(n: int) -> np.ndarray:
+    lo, hi = cc.THETA_RANGE_DEG
+    return 0.5 * (lobatto(n) * (hi - lo) + lo + hi)
+
+
 BRANCHES = {"solved": 0, "reused": 0}
 """Branch jobs of this process: solved, and reused from the :class:`NodeCache` (the
 generator records both, so that its wall time is read with them)."""
@@ -133,12 +204,14 @@ def _cached_map(fn, jobs: list, key, pack, unpack, workers: int, label: str,
 
 
 def solve_branch(kind: str, ratio: float | None, v: float, theta: float,
-                 c_nodes: np.ndarray) -> tuple[float, np.ndarray]:
+                 c_nodes: np.ndarray, theta2: float | None = None) -> tuple[float, np.ndarray]:
     """``meniscus`` at one bridge (R_s = 1, sigma = 1): S_c and the reduced force
-    ``F/(2 pi sigma R* 2 cos theta)`` at the gap coordinates ``c_nodes``."""
+    ``F/(2 pi sigma R* (cos theta + cos theta2))`` at the gap coordinates ``c_nodes``
+    (``theta2``: the other solid's angle, default ``theta``)."""
     from wetcontact.solver.meniscus import DEFAULT_ELEMENTS, Bridge, force_separation_curve
 
-    br = Bridge(radius=1.0, radius2=ratio, contact_angle1=theta, contact_angle2=theta,
+    theta2 = theta if theta2 is None else theta2
+    br = Bridge(radius=1.0, radius2=ratio, contact_angle1=theta, contact_angle2=theta2,
                 surface_tension=1.0)
     rho = cc.reduced_star(kind, ratio)
     eps = math.sqrt(v / (math.pi * rho))
@@ -155,13 +228,13 @@ def solve_branch(kind: str, ratio: float | None, v: float, theta: float,
         cur = force_separation_curve(br, v, fractions=fractions,
                                      n_elements=2 * DEFAULT_ELEMENTS)
     q = np.empty(len(c_nodes))
-    q[order] = -cur.force / (2.0 * math.pi * rho * 2.0 * math.cos(theta))
+    q[order] = -cur.force / (2.0 * math.pi * rho * (math.cos(theta) + math.cos(theta2)))
     return cur.rupture_distance, q
 
 
 def _node_job(args: tuple) -> tuple[tuple[int, ...], float, np.ndarray]:
-    idx, kind, ratio, v, theta, c_nodes = args
-    s_c, q = solve_branch(kind, ratio, v, theta, c_nodes)
+    idx, kind, ratio, v, theta, c_nodes, theta2 = args
+    s_c, q = solve_branch(kind, ratio, v, theta, c_nodes, theta2)
     return idx, s_c, q
 
 
@@ -211,8 +284,9 @@ class NodeCache:
 
     @staticmethod
     def key(job: tuple) -> str:
-        _idx, kind, ratio, v, theta, c_nodes = job
-        return f"{kind}|{ratio!r}|{v!r}|{theta!r}|{len(c_nodes)}"
+        _idx, kind, ratio, v, theta, c_nodes, theta2 = job
+        other = "" if theta2 is None else f"|{theta2!r}"
+        return f"{kind}|{ratio!r}|{v!r}|{theta!r}|{len(c_nodes)}{other}"
 
     def get(self, key: str) -> tuple[float, np.ndarray] | None:
         got = self.rows.get(key)
@@ -275,32 +349,55 @@ def factor_table(coef: np.ndarray, n_left: int = FACTOR_LEFT_AXES, tol: float = 
 
 def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
               workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
-    """Coefficients of one theta piece from ``meniscus`` at its tensor nodes."""
+    """Coefficients of one theta piece from ``meniscus`` at its tensor nodes.
+
+    The lead axes are (a,) on a wall, (w, a) for sphere pairs and (a, b1) on a wall with
+    two angles; the piece's own angle (the one angle, or the wall's) follows them, mapped
+    from its range at that lead node (an end may be the split angle or the ridge)."""
     nodes = tuple(piece["nodes"])
     c_nodes = lobatto(nodes[-1])
-    vs = _volume_nodes(nodes[-3])
+    two = kind == cc.WALL_TWO_ANGLES
+    i_a = 1 if kind == "sphere-sphere" else 0
+    vs = _volume_nodes(nodes[i_a])
     a = cc.volume_coordinate(vs)
-    sp = None if split is None else cc.chebyshev_tensor(np.asarray(split["chebyshev"]), [a])
-    lo, hi = (np.full(vs.size, e) if e is not None else sp for e in piece["theta_deg"])
-    # theta at Gauss points where a piece ends at the split angle: there, between equal
-    # spheres, fold and bifurcation coincide and the branch's end is degenerate
+    t_s = _sphere_angle_nodes(nodes[1]) if two else None
+    lead_shape = nodes[:2] if two else (nodes[i_a],)
+
+    def lead(idx: tuple[int, ...]) -> tuple[int, ...]:
+        return idx[:2] if two else (idx[i_a],)
+
+    if split is None:
+        sp = None
+    elif two:
+        sp = cc.chebyshev_tensor(np.asarray(split["chebyshev"]),
+                                 list(np.meshgrid(a, lobatto(nodes[1]), indexing="ij")))
+    else:
+        sp = cc.chebyshev_tensor(np.asarray(split["chebyshev"]), [a])
+    lo, hi = (np.full(lead_shape, e) if e is not None else sp for e in piece["theta_deg"])
+    # the piece's angle at Gauss points where a piece ends at the split angle: there,
+    # between equal spheres, fold and bifurcation coincide and the branch's end is
+    # degenerate (on a wall, the two fold families at the ridge)
     gauss_b = None in piece["theta_deg"]
     b = gauss(nodes[-2]) if gauss_b else lobatto(nodes[-2])
-    ratios = ([None] if kind == "sphere-wall" else
+    ratios = ([None] if kind != "sphere-sphere" else
               list(np.exp((0.5 * (lobatto(nodes[0]) + 1.0) * cc.W_MAX) ** 3)))
     jobs = []
     for idx in np.ndindex(*nodes[:-1]):
-        i_v, i_b = idx[-2], idx[-1]
-        theta = math.radians(0.5 * (b[i_b] * (hi[i_v] - lo[i_v]) + lo[i_v] + hi[i_v]))
-        ratio = None if kind == "sphere-wall" else float(ratios[idx[0]])
-        jobs.append((idx, kind, ratio, float(vs[i_v]), theta, c_nodes))
+        li, i_b = lead(idx), idx[-1]
+        theta = math.radians(0.5 * (b[i_b] * (hi[li] - lo[li]) + lo[li] + hi[li]))
+        ratio = None if kind != "sphere-sphere" else float(ratios[idx[0]])
+        if two:  # the sphere's angle on axis b1, the wall's in the piece
+            jobs.append((idx, kind, ratio, float(vs[idx[0]]), math.radians(t_s[idx[1]]),
+                         c_nodes, theta))
+        else:
+            jobs.append((idx, kind, ratio, float(vs[idx[i_a]]), theta, c_nodes, None))
     rup = np.empty(nodes[:-1])
     q = np.empty(nodes)
     results = _cached_map(_node_job, jobs, NodeCache.key, lambda j, r: (r[1], r[2]),
                           lambda j, got: (j[0], *got), workers,
                           f"calibrated-capillary {kind} theta {piece['theta_deg']}", cache_dir)
     for idx, s_c, qq in results:
-        rup[idx] = math.log(s_c / vs[idx[-2]] ** (1.0 / 3.0))
+        rup[idx] = math.log(s_c / vs[idx[i_a]] ** (1.0 / 3.0))
         q[idx] = np.log(qq)
     left, right, err = factor_table(lobatto_coefficients(q, (q.ndim - 2,) if gauss_b else ()))
     return {"theta_deg": piece["theta_deg"], "nodes": list(nodes),
@@ -311,9 +408,12 @@ def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
 
 
 def fit_kind(kind: str, workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
-    """Every theta piece of one kind (and the split angle for sphere pairs)."""
-    split = (fit_split(workers, cache_dir) if any(None in p["theta_deg"] for p in PIECES[kind])
-             else None)
+    """Every theta piece of one kind (and the split angle for sphere pairs, the ridge for
+    a wall with two angles)."""
+    split = None
+    if any(None in p["theta_deg"] for p in PIECES[kind]):
+        split = (fit_ridge(workers, cache_dir) if kind == cc.WALL_TWO_ANGLES
+                 else fit_split(workers, cache_dir))
     out: dict[str, Any] = {"theta_split": split}
     out["pieces"] = [fit_piece(kind, p, split, workers, cache_dir) for p in PIECES[kind]]
     return out
@@ -324,21 +424,40 @@ NEAR_EQUAL = {"radius_ratio": (1.0, 1.1), "theta_deg": (20.0, 45.0)}
 the fold of unequal spheres unfolds the equal spheres' bifurcation."""
 
 
+NEAR_RIDGE_DEG = 3.0
+"""The stress stratum of a wall with two angles: the wall angle within this of the rupture
+distance's ridge (where the pieces meet)."""
+
+
 def held_out_design(kind: str, n: int, gaps_per: int, seed: int,
-                    near_equal: bool = False) -> list[dict[str, Any]]:
+                    near_equal: bool = False, near_ridge: dict[str, Any] | None = None
+                    ) -> list[dict[str, Any]]:
     """Seeded bridges (v log-uniform, theta uniform, ratio log-uniform; in the
     :data:`NEAR_EQUAL` ranges if ``near_equal``) with ``gaps_per`` uniform fractions of the
-    rupture distance in [0, 0.999] each."""
+    rupture distance in [0, 0.999] each. On a wall with two angles the wall's angle is
+    uniform too, or, given a table ``near_ridge``, within :data:`NEAR_RIDGE_DEG` of its
+    ridge (redrawn until inside the domain)."""
     rng = np.random.default_rng(seed)
     r_hi = NEAR_EQUAL["radius_ratio"][1] if near_equal else cc.RATIO_RANGE[1]
     th = NEAR_EQUAL["theta_deg"] if near_equal else cc.THETA_RANGE_DEG
     out = []
-    for _ in range(n):
+    while len(out) < n:
         row = {"v": float(np.exp(rng.uniform(*np.log(cc.V_RANGE)))),
                "theta_deg": float(rng.uniform(*th)),
                "ratio": (float(np.exp(rng.uniform(0.0, math.log(r_hi))))
                          if kind == "sphere-sphere" else None),
+               "theta_wall_deg": None,
                "fractions": np.sort(rng.uniform(0.0, 0.999, gaps_per)).tolist()}
+        if kind == cc.WALL_TWO_ANGLES:
+            tw = rng.uniform(*cc.THETA_RANGE_DEG)
+            if near_ridge is not None:
+                ridge = cc.theta_split_deg(near_ridge, cc.volume_coordinate(
+                    np.array([row["v"]])), cc._map(np.array([row["theta_deg"]]),
+                                                   *cc.THETA_RANGE_DEG))
+                tw = float(ridge[0]) + rng.uniform(-NEAR_RIDGE_DEG, NEAR_RIDGE_DEG)
+                if not cc.THETA_RANGE_DEG[0] <= tw <= cc.THETA_RANGE_DEG[1]:
+                    continue
+            row["theta_wall_deg"] = float(tw)
         out.append(row)
     return out
 
@@ -346,35 +465,45 @@ def held_out_design(kind: str, n: int, gaps_per: int, seed: int,
 def _held_job(args: tuple) -> tuple[float, np.ndarray, np.ndarray]:
     from wetcontact.solver.meniscus import Bridge, force_separation_curve
 
-    ratio, v, theta, fr = args
-    br = Bridge(radius=1.0, radius2=ratio, contact_angle1=theta, contact_angle2=theta,
-                surface_tension=1.0)
+    ratio, v, theta, fr, theta2 = args
+    br = Bridge(radius=1.0, radius2=ratio, contact_angle1=theta,
+                contact_angle2=theta if theta2 is None else theta2, surface_tension=1.0)
     cur = force_separation_curve(br, v, fractions=np.append(fr, 1.0))
     return cur.rupture_distance, cur.gap[:-1], -cur.force[:-1] / (2.0 * math.pi)
 
 
 def held_out(kind: str, n: int = 120, gaps_per: int = 8, seed: int = 2611,
              workers: int = 2, near_equal: bool = False, entry: dict[str, Any] | None = None,
-             cache_dir: Path | None = None) -> dict[str, Any]:
+             cache_dir: Path | None = None, near_ridge: bool = False) -> dict[str, Any]:
     """Held-out error table of a table (``entry``: one kind's, default the shipped one)
     against ``meniscus`` (relative errors of the rupture distance and of the force, max /
-    mean / 95th percentile, where the maximum sits)."""
-    design = held_out_design(kind, n, gaps_per, seed, near_equal)
-    jobs = [(d["ratio"], d["v"], math.radians(d["theta_deg"]), np.array(d["fractions"]))
-            for d in design]
+    mean / 95th percentile, where the maximum sits). ``near_ridge``: a wall with two
+    angles, the wall angle near the table's ridge."""
+    e = cc._entry(kind) if entry is None else entry
+    design = held_out_design(kind, n, gaps_per, seed, near_equal,
+                             e if near_ridge else None)
+
+    def rad(x: float | None) -> float | None:
+        return None if x is None else math.radians(x)
+
+    jobs = [(d["ratio"], d["v"], math.radians(d["theta_deg"]), np.array(d["fractions"]),
+             rad(d["theta_wall_deg"])) for d in design]
+
     def key(job: tuple) -> str:
-        ratio, v, theta, fr = job
-        return f"held|{kind}|{ratio!r}|{v!r}|{theta!r}|{np.asarray(fr).tolist()!r}"
+        ratio, v, theta, fr, theta2 = job
+        other = "" if theta2 is None else f"|{theta2!r}"
+        return f"held|{kind}|{ratio!r}|{v!r}|{theta!r}|{np.asarray(fr).tolist()!r}{other}"
 
     res = _cached_map(_held_job, jobs, key, lambda j, r: (r[0], np.append(r[1], r[2])),
                       lambda j, got: (got[0], got[1][:gaps_per], got[1][gaps_per:]), workers,
                       f"held-out {kind}", cache_dir)
     e_rup, e_f, where_r, where_f = [], [], [], []
-    for d, (s_c, gaps, f) in zip(design, res, strict=True):
-        th = math.radians(d["theta_deg"])
-        f_hat, sc_hat = cc.force_star(kind, d["v"], th, gaps, d["ratio"], entry=entry)
+    for d, job, (s_c, gaps, f) in zip(design, jobs, res, strict=True):
+        f_hat, sc_hat = cc.force_star(kind, d["v"], job[2], gaps, d["ratio"], entry=e,
+                                      theta_wall=job[4])
         e_rup.append(abs(float(sc_hat[0]) / s_c - 1.0))
-        where_r.append({k: d[k] for k in ("v", "theta_deg", "ratio") if d[k] is not None})
+        where_r.append({k: d[k] for k in ("v", "theta_deg", "theta_wall_deg", "ratio")
+                        if d[k] is not None})
         e_f.extend(np.abs(f_hat / f - 1.0))
         where_f += [{**where_r[-1], "s_over_sc": float(x)} for x in d["fractions"]]
 
@@ -393,8 +522,12 @@ def _write(out: Path, data: dict[str, Any]) -> None:
     cc.capillary_table.cache_clear()
 
 
-def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = (
-        "sphere-wall", "sphere-sphere"), workers: int = 2, n_held_out: int = 120,
+KINDS = ("sphere-wall", "sphere-sphere", cc.WALL_TWO_ANGLES)
+"""The tables the generator writes."""
+
+
+def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = KINDS,
+        workers: int = 2, n_held_out: int = 120,
         cache_dir: Path | None = None) -> dict[str, Any]:
     """Write ``data/calibrated_capillary.json``: per kind the tensor coefficients, their
     nodes and the held-out error table, and the wall time. Solved nodes are kept in a
@@ -409,7 +542,7 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = (
         "domain": {"v": list(cc.V_RANGE), "theta_deg": list(cc.THETA_RANGE_DEG),
                    "radius_ratio": list(cc.RATIO_RANGE)},
         "goals": {"force": 1e-3, "rupture_distance": 5e-4}}
-    for kind in ("sphere-wall", "sphere-sphere"):
+    for kind in KINDS:
         if kind not in kinds:
             if kind in old:
                 data[kind] = old[kind]
@@ -426,6 +559,11 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = (
                 **held_out(kind, n=max(n_held_out // 3, 8), seed=2612, workers=workers,
                            near_equal=True, entry=entry, cache_dir=cache_dir),
                 "stratum": NEAR_EQUAL}
+        if kind == cc.WALL_TWO_ANGLES:
+            data[kind]["held_out_near_ridge"] = {
+                **held_out(kind, n=max(n_held_out // 3, 8), seed=2613, workers=workers,
+                           entry=entry, cache_dir=cache_dir, near_ridge=True),
+                "stratum": {"theta_wall_deg_from_ridge": [-NEAR_RIDGE_DEG, NEAR_RIDGE_DEG]}}
         _write(out, data)
     data["wall_time_s"] = round(time.perf_counter() - t0, 1)
     data["branches"] = {k: BRANCHES[k] - start[k] for k in BRANCHES}

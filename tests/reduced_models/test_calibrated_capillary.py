@@ -96,6 +96,72 @@ def test_against_meniscus_at_seeded_bridges(kind: str, r_max: float,
     assert max(e_f) < GOAL_FORCE, e_f
 
 
+def _two_angle_points(n: int, seed: int, near_ridge: float | None = None
+                      ) -> list[tuple[float, float, float, float]]:
+    """Seeded (v, sphere angle, wall angle, S/S_c) on a wall; ``near_ridge``: the wall
+    angle within that many degrees of the table's ridge."""
+    rng = np.random.default_rng(seed)
+    entry = cc.capillary_table()[cc.WALL_TWO_ANGLES]
+    out = []
+    while len(out) < n:
+        v = float(np.exp(rng.uniform(math.log(1e-4), math.log(0.1))))
+        ts, tw = float(rng.uniform(0, 70)), float(rng.uniform(0, 70))
+        if near_ridge is not None:
+            ridge = cc.theta_split_deg(entry, cc.volume_coordinate(np.array([v])),
+                                       cc._map(np.array([ts]), 0.0, 70.0))
+            tw = float(ridge[0]) + float(rng.uniform(-near_ridge, near_ridge))
+            if not 0.0 <= tw <= 70.0:
+                continue
+        out.append((v, ts, tw, float(rng.uniform(0.0, 0.99))))
+    return out
+
+
+def test_two_angles_on_a_wall_against_meniscus() -> None:
+    """A sphere and a wall with their own contact angles, uniformly and within 2 deg of
+    the rupture distance's ridge (where the table's two pieces meet): rupture distance
+    from the volume-controlled branch, force from ``solve_volume`` at the gap."""
+    model = get_model("calibrated-capillary")
+    e_f, e_r = [], []
+    for v, ts, tw, x in _two_angle_points(5, 77) + _two_angle_points(4, 78, near_ridge=2.0):
+        scene = make_scene("sphere-wall", {"bridge_volume": v * R**3}, [R * 1e-3], None,
+                           (ts, tw))
+        br = Bridge.from_scene(scene)
+        sc_ref = force_separation_curve(br, v * R**3, fractions=np.array([0.0, 1.0])
+                                        ).rupture_distance
+        gap = x * sc_ref
+        ref = solve_volume(br, gap, v * R**3)
+        got = model.force(scene, gaps=[gap])
+        e_r.append(abs(float(got.extras["rupture_distance"][0]) / sc_ref - 1))
+        e_f.append(abs(float(got.force_capillary[0]) / ref.force - 1))
+    assert max(e_r) < GOAL_RUPTURE, e_r
+    assert max(e_f) < GOAL_FORCE, e_f
+
+
+def test_ridge_is_where_the_rupture_distance_peaks() -> None:
+    """Between the table's ridge nodes, the ridge series agrees with a fresh search for
+    the maximum of S_c over the wall angle, and S_c falls on both sides of it."""
+    from wetcontact.calibrate_capillary import _ridge_job, wall_rupture
+
+    entry = cc.capillary_table()[cc.WALL_TWO_ANGLES]
+    for v, ts in ((4.2e-4, 23.3), (0.031, 51.7)):
+        ridge = float(cc.theta_split_deg(entry, cc.volume_coordinate(np.array([v])),
+                                         cc._map(np.array([ts]), 0.0, 70.0))[0])
+        assert ridge == pytest.approx(_ridge_job((v, ts)), abs=0.02)
+        top = wall_rupture(v, ts, ridge)
+        assert wall_rupture(v, ts, ridge - 0.3) < top > wall_rupture(v, ts, ridge + 0.3)
+
+
+def test_two_angle_table_joins_the_one_angle_table() -> None:
+    """Two angles that approach each other: the two-angle table tends to the one-angle
+    table (both interpolate meniscus to about 1e-5)."""
+    v, th = np.full(3, 2e-3), np.radians(np.full(3, 33.0))
+    s = np.array([0.0, 0.02, 0.08])
+    one = cc.force_star("sphere-wall", v, th, s)
+    two = cc.force_star("sphere-wall", v, th, s, theta_wall=th + 1e-8)
+    np.testing.assert_allclose(two[1], one[1], rtol=5e-5)
+    np.testing.assert_allclose(two[0], one[0], rtol=1e-4)
+
+
 def test_split_angle_separates_fold_from_bifurcation() -> None:
     """Between equal spheres the branch ends at a fold below the table's split angle and
     at a symmetry-breaking bifurcation above it, at volumes between its nodes."""
@@ -118,8 +184,9 @@ def test_zero_beyond_rupture_and_attractive_inside() -> None:
 
 
 @pytest.mark.parametrize(("changes", "why", "instead"), [
-    ({"theta": (20, 30)}, "differ", "meniscus"),
+    ({"theta": (20, 30), "ratio": 2.0}, "differ", "meniscus"),  # two angles: a wall only
     ({"theta": (75, 75)}, "contact angle", "meniscus"),
+    ({"theta": (20, 75)}, "contact angle 75 deg \\(wall\\)", "meniscus"),
     ({"volume": 5e-5}, "V/R_small", "meniscus"),
     ({"volume": 0.2}, "V/R_small", "meniscus"),
     ({"ratio": 12.0}, "radius ratio", None),  # meniscus refuses it too: a closure is named
@@ -168,8 +235,9 @@ def test_node_cache_keeps_solved_nodes_across_runs(tmp_path) -> None:
     read back by the next run (a line cut by the kill is skipped)."""
     from wetcontact.calibrate_capillary import NodeCache
 
-    job = ((0, 1, 2), "sphere-sphere", 2.5, 1e-3, 0.3, np.zeros(19))
-    other = ((0, 1, 3), "sphere-sphere", 2.5, 1e-3, 0.31, np.zeros(19))
+    job = ((0, 1, 2), "sphere-sphere", 2.5, 1e-3, 0.3, np.zeros(19), None)
+    other = ((0, 1, 3), "sphere-sphere", 2.5, 1e-3, 0.31, np.zeros(19), None)
+    wall_angle = ((0, 1, 2), cc.WALL_TWO_ANGLES, None, 1e-3, 0.3, np.zeros(19), 0.31)
     cache = NodeCache(tmp_path)
     assert cache.get(NodeCache.key(job)) is None
     cache.put(NodeCache.key(job), 0.123, np.arange(3.0))
@@ -179,6 +247,7 @@ def test_node_cache_keeps_solved_nodes_across_runs(tmp_path) -> None:
     s_c, q = again.get(NodeCache.key(job))
     assert s_c == 0.123 and q.tolist() == [0.0, 1.0, 2.0]
     assert again.get(NodeCache.key(other)) is None
+    assert again.get(NodeCache.key(wall_angle)) is None  # the wall's own angle is in the key
 
 
 def test_factor_table_is_the_smallest_rank_within_its_tolerance() -> None:
@@ -217,7 +286,7 @@ def test_shipped_factors_are_the_declared_rank_and_change() -> None:
     latter within its tolerance."""
     from wetcontact.calibrate_capillary import FACTOR_TOL
 
-    for kind in ("sphere-wall", "sphere-sphere"):
+    for kind in ("sphere-wall", "sphere-sphere", cc.WALL_TWO_ANGLES):
         for piece in cc.capillary_table()[kind]["pieces"]:
             left, right = piece["force_left"], piece["force_right"]
             assert left.shape[-1] == right.shape[0] == piece["force_rank"]

@@ -1,13 +1,15 @@
 r"""Calibrated capillary closure (level 0, ``calibrated-capillary``): tensor Chebyshev
-interpolants of the ``meniscus`` force and rupture distance, one contact angle per pair.
+interpolants of the ``meniscus`` force and rupture distance, one contact angle per pair, or
+two on a wall.
 
 Scope
 -----
 A pendular bridge of volume V between a sphere and a wall, or two spheres of radii
 ``R_s <= R_l`` (radius ratio ``r = R_l/R_s`` in [1, 10]), with ``v = V/R_s^3`` in
 [1e-4, 0.1] and **the same** contact angle theta in [0, 70 deg] on both solids (what Yade's
-capillary law and Willett's fit assume), no gravity, any gap up to rupture. Outside, the
-model refuses and names ``meniscus``.
+capillary law and Willett's fit assume), or, on a wall, the sphere's angle theta_s and the
+wall's theta_w each in [0, 70 deg]; no gravity, any gap up to rupture. Outside (two angles
+between spheres among it), the model refuses and names ``meniscus``.
 
 Form
 ----
@@ -43,6 +45,16 @@ kink there; sphere pairs therefore carry two tables, theta in [0, theta_s(V)] an
 tensor Chebyshev-Lobatto points (:mod:`wetcontact.calibrate_capillary`); the package data
 ``data/calibrated_capillary.json`` holds them with their held-out error tables.
 
+Two angles on a wall (table ``sphere-wall-two-angles``): the coordinates are a, b1 from
+theta_s over [0, 70 deg], b2 from theta_w within its piece, and c; the prefactor is
+``2 pi sigma R (cos theta_s + cos theta_w)``. S_c is the smaller separation of two fold
+families, so as theta_w grows it rises to a ridge and falls beyond it (a kink), at
+``theta_w*(V, theta_s)``, 2-34 deg above theta_s (rising with V). The wall angle's pieces
+are [0, theta_w*] and [theta_w*, 90 deg] (the second reaches past 70 deg so that it is
+never empty: theta_w* is up to about 85 deg), with theta_w* a tensor Chebyshev series in
+(a, b1) located by a golden-section search for the maximum of S_c
+(:func:`wetcontact.calibrate_capillary.fit_ridge`).
+
 The force table is stored in low-rank form: its unfolding over the first two axes
 ((a, b) on a wall, (w, a) for sphere pairs) against the rest is a truncated SVD,
 ``C^F_{IJ} = sum_{k<r} L_{Ik} R_{kJ}``, with the smallest rank r whose change of the
@@ -71,10 +83,15 @@ CAPILLARY_FILE = "calibrated_capillary.json"
 V_RANGE = (1e-4, 0.1)
 """V/R_small^3."""
 THETA_RANGE_DEG = (0.0, 70.0)
-"""The one contact angle of the pair (deg)."""
+"""The one contact angle of the pair, or each of the two on a wall (deg)."""
 RATIO_RANGE = (1.0, 10.0)
 """R_large/R_small of a sphere pair."""
 W_MAX = math.log(RATIO_RANGE[1]) ** (1.0 / 3.0)
+WALL_TWO_ANGLES = "sphere-wall-two-angles"
+"""Table key of a sphere and a wall with two different contact angles."""
+RIDGE_TOP_DEG = 90.0
+"""Upper end of the wall angle's second piece (two angles on a wall): beyond the ridge,
+which reaches about 85 deg at the sphere angle 70 deg and v = 0.1."""
 ANGLE_TOL = 1e-9
 """Two contact angles closer than this (rad) count as one."""
 
@@ -116,11 +133,17 @@ def ratio_coordinate(ratio: np.ndarray) -> np.ndarray:
     return _map(np.cbrt(np.log(ratio)), 0.0, W_MAX)
 
 
-def theta_split_deg(entry: dict[str, Any], a: np.ndarray) -> np.ndarray | None:
-    """The angle (deg) where the equal-sphere branch's end changes from fold to bifurcation,
-    as a function of the volume coordinate ``a``; ``None`` when the table has no split."""
+def theta_split_deg(entry: dict[str, Any], a: np.ndarray,
+                    b1: np.ndarray | None = None) -> np.ndarray | None:
+    """Where a table's pieces meet (deg), or ``None`` when it has one piece: between equal
+    spheres the angle where the branch's end changes from fold to bifurcation, a series in
+    the volume coordinate ``a``; on a wall with two angles the wall angle of the rupture
+    distance's ridge, a series in ``a`` and the sphere angle's coordinate ``b1``."""
     ts = entry.get("theta_split")
-    return None if ts is None else chebyshev_tensor(np.asarray(ts["chebyshev"]), [a])
+    if ts is None:
+        return None
+    coef = np.asarray(ts["chebyshev"])
+    return chebyshev_tensor(coef, [a] if coef.ndim == 1 else [a, b1])
 
 
 def piece_range(piece: dict[str, Any], split: np.ndarray | None, n: int
@@ -227,20 +250,23 @@ def _entry(kind: str) -> dict[str, Any]:
 
 
 def rupture_star(kind: str, v: np.ndarray, theta: np.ndarray,
-                 ratio: np.ndarray | None = None) -> np.ndarray:
-    """Rupture distance S_c/R_s."""
+                 ratio: np.ndarray | None = None, theta_wall: np.ndarray | None = None
+                 ) -> np.ndarray:
+    """Rupture distance S_c/R_s (``theta_wall``: the wall's own angle, see
+    :func:`force_star`)."""
     v = np.asarray(v, dtype=float)
-    return force_star(kind, v, theta, np.zeros(v.shape), ratio)[1]
+    return force_star(kind, v, theta, np.zeros(v.shape), ratio, theta_wall=theta_wall)[1]
 
 
 def reduced_star(kind: str, ratio: np.ndarray | None) -> np.ndarray | float:
     """R*/R_s: 1 on a wall, r/(1 + r) for a sphere pair."""
-    return 1.0 if kind == "sphere-wall" else ratio / (1.0 + ratio)
+    return 1.0 if kind in ("sphere-wall", WALL_TWO_ANGLES) else ratio / (1.0 + ratio)
 
 
 def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
                ratio: np.ndarray | None = None, chunk: int = 2048,
-               entry: dict[str, Any] | None = None) -> tuple[np.ndarray, np.ndarray]:
+               entry: dict[str, Any] | None = None, theta_wall: np.ndarray | None = None
+               ) -> tuple[np.ndarray, np.ndarray]:
     """Attractive force ``F/(2 pi sigma R_s)`` at gap ``s = S/R_s`` (0 at and beyond
     rupture) and the rupture distance ``S_c/R_s``, in one pass (the Chebyshev rows of
     (w,) a, b serve both tables).
@@ -250,27 +276,61 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
     symmetry-breaking bifurcation (theta about 30-31 deg, moving with V), so sphere pairs
     carry two tables, below and above that angle (``theta_split``). The force exponent is
     the rank-r sum :func:`low_rank_rows` (cost ``r (P_left + P_right)`` multiply-adds a
-    point). ``entry``: one kind's table (default: the shipped one)."""
-    e = _entry(kind) if entry is None else entry
+    point). ``entry``: one kind's table (default: the shipped one).
+
+    On a wall, ``theta_wall`` (rad) gives the wall its own angle (``theta`` is then the
+    sphere's): points whose two angles differ by more than :data:`ANGLE_TOL` are evaluated
+    in the two-angle table :data:`WALL_TWO_ANGLES` (sphere angle ``b1``, and the wall angle
+    within the pieces that meet at the rupture distance's ridge), the others in the
+    one-angle table (``entry``, if given, is the one-angle table), and the Derjaguin
+    prefactor is ``cos theta_s + cos theta_w``."""
     v, theta, s = np.broadcast_arrays(np.asarray(v, float), np.asarray(theta, float),
                                       np.asarray(s, float))
     shape = v.shape
     v, theta, s = v.ravel(), theta.ravel(), s.ravel()
-    n = v.size
     if ratio is not None:
         ratio = np.broadcast_to(np.asarray(ratio, float), shape).ravel()
+    if kind == "sphere-wall" and theta_wall is not None:
+        tw = np.broadcast_to(np.asarray(theta_wall, float), shape).ravel()
+        two = np.abs(tw - theta) > ANGLE_TOL
+        f, s_c = np.empty(v.size), np.empty(v.size)
+        for mask, k in ((~two, "sphere-wall"), (two, WALL_TWO_ANGLES)):
+            if mask.any():
+                f[mask], s_c[mask] = force_star(
+                    k, v[mask], theta[mask], s[mask], chunk=chunk,
+                    entry=entry if k == "sphere-wall" else None,
+                    theta_wall=None if k == "sphere-wall" else tw[mask])
+        return f.reshape(shape), s_c.reshape(shape)
+    e = _entry(kind) if entry is None else entry
     a = volume_coordinate(v)
-    lead = [a] if kind == "sphere-wall" else [ratio_coordinate(ratio), a]
-    deg = np.degrees(theta)
-    split = theta_split_deg(e, a)
-    rho = reduced_star(kind, ratio)
-    rho = np.broadcast_to(np.asarray(rho, dtype=float), (n,))
+    if kind == WALL_TWO_ANGLES:
+        if theta_wall is None:
+            raise ValueError("calibrated-capillary: the two-angle wall table needs theta_wall")
+        tw = np.broadcast_to(np.asarray(theta_wall, float), shape).ravel()
+        b1 = _map(np.degrees(theta), *THETA_RANGE_DEG)
+        lead, piece_deg, split = [a, b1], np.degrees(tw), theta_split_deg(e, a, b1)
+        cos_sum = np.cos(theta) + np.cos(tw)
+    else:
+        lead = [a] if kind == "sphere-wall" else [ratio_coordinate(ratio), a]
+        piece_deg, split = np.degrees(theta), theta_split_deg(e, a)
+        cos_sum = 2.0 * np.cos(theta)
+    rho = np.broadcast_to(np.asarray(reduced_star(kind, ratio), dtype=float), (v.size,))
+    f, s_c = _pieces(e, lead, piece_deg, split, v, s, rho, chunk)
+    return (f * cos_sum).reshape(shape), s_c.reshape(shape)
+
+
+def _pieces(e: dict[str, Any], lead: list[np.ndarray], piece_deg: np.ndarray,
+            split: np.ndarray | None, v: np.ndarray, s: np.ndarray, rho: np.ndarray,
+            chunk: int) -> tuple[np.ndarray, np.ndarray]:
+    """``rho q`` and ``S_c/R_s`` from a table's pieces: the lead coordinates, the angle that
+    the pieces divide (deg) mapped within its piece, and the gap coordinate."""
+    n = v.size
     eps = np.sqrt(v / (np.pi * rho))
     f, s_c = np.full(n, np.nan), np.full(n, np.nan)
     todo = np.ones(n, dtype=bool)
     for piece in e["pieces"]:
         lo, hi = piece_range(piece, split, n)
-        idx = np.flatnonzero(todo & (deg <= hi))
+        idx = np.flatnonzero(todo & (piece_deg <= hi))
         todo[idx] = False
         rup = np.asarray(piece["rupture"])
         left, right = np.asarray(piece["force_left"]), np.asarray(piece["force_right"])
@@ -280,7 +340,7 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
         for j in range(0, idx.size, chunk):
             sl = idx[j:j + chunk]
             rows = [_cheb_rows(x[sl], m) for x, m in zip(lead, dims, strict=False)]
-            rows.append(_cheb_rows(_map(deg[sl], lo[sl], hi[sl]), dims[len(lead)]))
+            rows.append(_cheb_rows(_map(piece_deg[sl], lo[sl], hi[sl]), dims[len(lead)]))
             r_lead = _outer(rows[:len(lead)])
             sc = np.cbrt(v[sl]) * np.exp(np.einsum("ij,ij->j", rup2 @ r_lead, rows[-1]))
             inside = s[sl] < sc
@@ -288,22 +348,23 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
             rows.append(_cheb_rows(c, dims[-1]))
             r_left = r_lead if k == len(lead) else _outer(rows[:k])
             q = np.exp(low_rank_rows(left, right, r_left, _outer(rows[k:])))
-            f[sl] = np.where(inside, rho[sl] * 2.0 * np.cos(theta[sl]) * q, 0.0)
+            f[sl] = np.where(inside, rho[sl] * q, 0.0)
             s_c[sl] = sc
-    return f.reshape(shape), s_c.reshape(shape)
+    return f, s_c
 
 
 @register
 class CalibratedCapillary(Model):
     """Calibrated capillary closure: ``meniscus`` interpolated to about 1e-4 (held-out
-    tables in the package data), one contact angle per pair."""
+    tables in the package data), one contact angle per pair or two on a wall."""
 
     name = "calibrated-capillary"
     component = "capillary"
     level = 0
     validity = ("pendular bridge on a wall or between spheres of radius ratio 1-10, "
                 "V/R_small^3 in [1e-4, 0.1], one contact angle in [0, 70] deg on both "
-                "solids, no gravity; any gap (0 beyond its rupture distance)")
+                "solids (on a wall also two, each in [0, 70] deg), no gravity; any gap (0 "
+                "beyond its rupture distance)")
     reference = "calibrated here: tensor Chebyshev interpolation of meniscus"
     cost = 1e-6
 
@@ -314,15 +375,20 @@ class CalibratedCapillary(Model):
                                 "brenner" if scene.amount == "immersed" else "thinfilm")
         _entry(scene.kind)
         th1, th2 = scene.contact_angle_sphere, scene.contact_angle_wall
-        other = "wall" if scene.kind == "sphere-wall" else "sphere 2"
         if abs(th1 - th2) > ANGLE_TOL:
-            raise ValidityError(self.name, f"contact angles {math.degrees(th1):.4g} deg "
-                                f"(sphere) and {math.degrees(th2):.4g} deg ({other}) differ; "
-                                "calibrated for one angle on both solids", "meniscus")
-        deg = math.degrees(th1)
-        if not THETA_RANGE_DEG[0] <= deg <= THETA_RANGE_DEG[1] * (1 + 1e-12):
-            raise ValidityError(self.name, f"contact angle {deg:.4g} deg outside the "
-                                f"calibrated [0, {THETA_RANGE_DEG[1]:g}] deg", "meniscus")
+            if scene.kind != "sphere-wall":
+                raise ValidityError(self.name, f"contact angles {math.degrees(th1):.4g} deg "
+                                    f"(sphere) and {math.degrees(th2):.4g} deg (sphere 2) "
+                                    "differ; calibrated for one angle on both spheres (two "
+                                    "angles only on a wall)", "meniscus")
+            _entry(WALL_TWO_ANGLES)
+        for th, what in ((th1, "sphere"), (th2, "wall" if scene.kind == "sphere-wall"
+                                           else "sphere 2")):
+            deg = math.degrees(th)
+            if not THETA_RANGE_DEG[0] <= deg <= THETA_RANGE_DEG[1] * (1 + 1e-12):
+                raise ValidityError(self.name, f"contact angle {deg:.4g} deg ({what}) outside "
+                                    f"the calibrated [0, {THETA_RANGE_DEG[1]:g}] deg",
+                                    "meniscus")
         if scene.gravity > 0 and scene.density > 0:
             raise ValidityError(self.name, "calibrated without gravity", "meniscus")
         v, ratio = self._v_ratio(scene)
@@ -350,16 +416,22 @@ class CalibratedCapillary(Model):
     def rupture_distance(self, scene: Scene) -> float:
         """S_c (m)."""
         v, ratio = self._v_ratio(scene)
-        th = np.array(scene.contact_angle_sphere)
-        return float(rupture_star(scene.kind, np.array(v), th,
-                                  None if ratio is None else np.array(ratio))
+        return float(rupture_star(scene.kind, np.array(v), np.array(scene.contact_angle_sphere),
+                                  None if ratio is None else np.array(ratio),
+                                  theta_wall=self._theta_wall(scene))
                      * self.small_radius(scene))
+
+    @staticmethod
+    def _theta_wall(scene: Scene) -> float | None:
+        """The wall's own angle (rad) on a wall, ``None`` for a sphere pair."""
+        return scene.contact_angle_wall if scene.kind == "sphere-wall" else None
 
     def _force(self, scene: Scene, preset: str, **opts: Any) -> ForceCurve:
         rs = self.small_radius(scene)
         v, ratio = self._v_ratio(scene)
         gap = scene.gap_array
-        f, s_c = force_star(scene.kind, v, scene.contact_angle_sphere, gap / rs, ratio)
+        f, s_c = force_star(scene.kind, v, scene.contact_angle_sphere, gap / rs, ratio,
+                            theta_wall=self._theta_wall(scene))
         sc = float(s_c.flat[0]) * rs
         force = 2.0 * np.pi * scene.surface_tension * rs * f
         est = estimate_or_none(self.name, "capillary", scene, sc)

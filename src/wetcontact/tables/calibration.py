@@ -122,21 +122,30 @@ def viscous_rows(path: str, data: dict[str, Any]) -> list[dict[str, Any]]:
     return rows
 
 
+TWO_ANGLES = "sphere-wall-two-angles"
+"""The wall table with two contact angles (``calibrated_capillary.WALL_TWO_ANGLES``; the
+report reads data, not the model)."""
+CAPILLARY_KINDS = ("sphere-wall", TWO_ANGLES, "sphere-sphere")
+
+
 def capillary_rows(path: str, data: dict[str, Any]) -> list[dict[str, Any]]:
     """CSV rows of the shipped ``calibrated-capillary`` closure's held-out tables (rupture
     distance and force, per kind)."""
     goals = data.get("goals", {"force": 1e-3, "rupture_distance": 5e-4})
     dom = dict(data.get("domain", {}))
     rows = []
-    for kind in ("sphere-wall", "sphere-sphere"):
+    for kind in CAPILLARY_KINDS:
         if "held_out" not in data.get(kind, {}):
             continue
-        for key, label in (("held_out", ""), ("held_out_near_equal", " (nearly equal)")):
+        for key, label in (("held_out", ""), ("held_out_near_equal", " (nearly equal)"),
+                           ("held_out_near_ridge", " (near the ridge)")):
             if key not in data[kind]:
                 continue
             ho = data[kind][key]
             d = {k: v for k, v in {**dom, **ho.get("stratum", {})}.items()
                  if kind == "sphere-sphere" or k != "radius_ratio"}
+            angles = (", the sphere's and the wall's angle each in the theta range"
+                      if kind == TWO_ANGLES else ", one contact angle on both solids")
             for part in ("rupture_distance", "force"):
                 e = ho[part]
                 rows.append({"closure": "calibrated-capillary",
@@ -145,8 +154,7 @@ def capillary_rows(path: str, data: dict[str, Any]) -> list[dict[str, Any]]:
                              "seed": ho.get("seed"), "max": e["max"], "mean": e["mean"],
                              "p95": e["p95"], "max_at": _where(e["max_at"]),
                              "goal": goals[part], "goal_met": e["max"] <= goals[part],
-                             "domain": _domain(d) + ", one contact angle on both solids",
-                             "source": path})
+                             "domain": _domain(d) + angles, "source": path})
     return rows
 
 
@@ -198,9 +206,11 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
     if ccap is not None:
         cr = capillary_rows(ctx.calibrated_capillary_path, ccap)
         rows += cr
-        md += ["Tensor Chebyshev interpolation of `meniscus` (force and rupture distance), one "
-               "contact angle on both solids; held-out bridges are seeded and off the nodes, "
-               "gaps uniform in [0, 0.999] S_c.", "",
+        md += ["Tensor Chebyshev interpolation of `meniscus` (force and rupture distance): "
+               "one contact angle on both solids, and on a wall also two independent angles "
+               f"(`{TWO_ANGLES}`: the sphere's angle, and the wall's in two pieces that meet "
+               "at the ridge where the rupture distance peaks); held-out bridges are seeded "
+               "and off the nodes, gaps uniform in [0, 0.999] S_c.", "",
                "| part | reference | held-out points | max / mean / p95 | goal (max) | max at "
                "| domain |", "|---|---|---|---|---|---|---|"]
         md += [f"| {r['part']} | {r['reference']} | {r['points']} | {_mmp(r)} | "
@@ -209,15 +219,18 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
         br = ccap.get("branches") or {}
         reused = (f", {br['reused']} of {br['reused'] + br['solved']} meniscus branches "
                   "reused from its cache" if br.get("reused") else "")
-        pieces = {k: ccap[k]["pieces"] for k in ("sphere-wall", "sphere-sphere")
+        pieces = {k: ccap[k]["pieces"] for k in CAPILLARY_KINDS
                   if ccap.get(k, {}).get("pieces")
                   and all("force_rank" in p for p in ccap[k]["pieces"])}
         ranks = ", ".join(f"{k} {'/'.join(str(p['force_rank']) for p in ps)}"
                           for k, ps in pieces.items())
         change = max((p["force_factor_change"] for ps in pieces.values() for p in ps),
                      default=0.0)
+        fits = ", ".join(f"{k} {ccap[k]['fit_time_s']:g} s" for k in CAPILLARY_KINDS
+                         if "fit_time_s" in ccap.get(k, {}))
         md += ["", f"Source: `{ctx.calibrated_capillary_path}` (`{ccap.get('generated_by')}`, "
-               f"{ccap.get('wall_time_s', '?')} s{reused})."
+               f"last run {ccap.get('wall_time_s', '?')} s{reused}"
+               + (f"; fit times: {fits}" if fits else "") + ")."
                + (f" Force tables in low-rank form, rank {ranks} (largest change of the "
                   f"force on the factorisation's probe {change:.1e})." if ranks else "")]
     else:
