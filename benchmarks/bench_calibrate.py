@@ -82,10 +82,20 @@ def costs() -> dict[str, float]:
             t, _ = median_time(lambda kind=kind, rr=rr, gap=gap: ccap.force_star(
                 kind, v, th, gap, rr), repeats=7, warmup=1)
             per_point[f"calibrated-capillary {kind} (force and S_c)"] = t / N
+        if ccap.WALL_TWO_ANGLES in cap:  # a wall with its own angle
+            th_w = np.radians(rng.uniform(0, 70, N))
+            _, sc = ccap.force_star("sphere-wall", v, th, np.zeros(N), theta_wall=th_w)
+            gap = rng.uniform(0, 1.0, N) * sc
+            t, _ = median_time(lambda gap=gap: ccap.force_star(
+                "sphere-wall", v, th, gap, theta_wall=th_w), repeats=7, warmup=1)
+            per_point["calibrated-capillary sphere-wall, two angles (force and S_c)"] = t / N
     s_small = s[:1000]
     t, _ = median_time(lambda: brenner_lambda(s_small), repeats=3, warmup=1)
     per_point["brenner (exact series, 1e3 points)"] = t / s_small.size
     return per_point
+
+
+CAP_KINDS = ("sphere-wall", "sphere-sphere", ccap.WALL_TWO_ANGLES)
 
 
 def one_thread_costs() -> dict[str, float]:
@@ -120,8 +130,7 @@ def main() -> None:
         held[f"bridge {k} (vs lubrication)"] = v["held_out"]["after"]["max"]
     cap_regen = {"recorded_wall_time_s": cap.get("wall_time_s"),
                  "recorded_branches": cap.get("branches"),
-                 "fit_time_s": {k: cap[k].get("fit_time_s") for k in ("sphere-wall",
-                                                                       "sphere-sphere")
+                 "fit_time_s": {k: cap[k].get("fit_time_s") for k in CAP_KINDS
                                 if k in cap}} if cap else None
     previous = RESULTS / "calibrate.json"
     if cap_regen is not None and previous.is_file():
@@ -147,8 +156,7 @@ def main() -> None:
            "calibrated_viscous_held_out_max": held,
            "regenerate_calibrated_capillary": cap_regen,
            "calibrated_capillary_held_out_max": {
-               f"{k} {p}": cap[k]["held_out"][p]["max"] for k in ("sphere-wall",
-                                                                  "sphere-sphere")
+               f"{k} {p}": cap[k]["held_out"][p]["max"] for k in CAP_KINDS
                if k in cap for p in ("rupture_distance", "force")} if cap else None}
     write_json("calibrate", out)
     chart(per_point, regen)
