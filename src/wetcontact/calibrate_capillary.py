@@ -121,6 +121,11 @@ RIDGE_BRACKET_DEG = (-2.0, 45.0)
 """Where the ridge is sought: the sphere's angle plus these (the wall's angle clipped to
 [0, :data:`~wetcontact.reduced_models.calibrated_capillary.RIDGE_TOP_DEG`])."""
 RIDGE_TOL_DEG = 2e-3
+RIDGE_MARGIN_DEG = 0.3
+"""Points this close to the ridge series are evaluated in both pieces, the smaller S_c
+wins: the series interpolates its nodes (to :data:`RIDGE_TOL_DEG`) but is about 1e-2 deg
+off between them, where the wrong piece's S_c would be off by its slope difference (about
+8 %/deg) times that."""
 
 
 def wall_rupture(v: float, theta_sphere_deg: float, theta_wall_deg: float) -> float:
@@ -415,6 +420,8 @@ def fit_kind(kind: str, workers: int = 2, cache_dir: Path | None = None) -> dict
         split = (fit_ridge(workers, cache_dir) if kind == cc.WALL_TWO_ANGLES
                  else fit_split(workers, cache_dir))
     out: dict[str, Any] = {"theta_split": split}
+    if kind == cc.WALL_TWO_ANGLES:
+        out["ridge_margin_deg"] = RIDGE_MARGIN_DEG
     out["pieces"] = [fit_piece(kind, p, split, workers, cache_dir) for p in PIECES[kind]]
     return out
 

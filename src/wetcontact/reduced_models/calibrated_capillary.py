@@ -53,7 +53,8 @@ families, so as theta_w grows it rises to a ridge and falls beyond it (a kink), 
 are [0, theta_w*] and [theta_w*, 90 deg] (the second reaches past 70 deg so that it is
 never empty: theta_w* is up to about 85 deg), with theta_w* a tensor Chebyshev series in
 (a, b1) located by a golden-section search for the maximum of S_c
-(:func:`wetcontact.calibrate_capillary.fit_ridge`).
+(:func:`wetcontact.calibrate_capillary.fit_ridge`). Within ``ridge_margin_deg`` of the
+series a point is evaluated in both pieces and the smaller S_c wins (:func:`_pieces`).
 
 The force table is stored in low-rank form: its unfolding over the first two axes
 ((a, b) on a wall, (w, a) for sphere pairs) against the rest is a truncated SVD,
@@ -323,33 +324,65 @@ def _pieces(e: dict[str, Any], lead: list[np.ndarray], piece_deg: np.ndarray,
             split: np.ndarray | None, v: np.ndarray, s: np.ndarray, rho: np.ndarray,
             chunk: int) -> tuple[np.ndarray, np.ndarray]:
     """``rho q`` and ``S_c/R_s`` from a table's pieces: the lead coordinates, the angle that
-    the pieces divide (deg) mapped within its piece, and the gap coordinate."""
+    the pieces divide (deg) mapped within its piece, and the gap coordinate.
+
+    A table with ``ridge_margin_deg`` (two angles on a wall) evaluates a point within that
+    margin of the ridge in both pieces and keeps the one with the smaller rupture
+    distance: S_c is the smaller of the two fold families' separations, each piece the
+    smooth continuation of one family, so the choice does not depend on the ridge series'
+    own error (about 1e-2 deg)."""
     n = v.size
     eps = np.sqrt(v / (np.pi * rho))
     f, s_c = np.full(n, np.nan), np.full(n, np.nan)
     todo = np.ones(n, dtype=bool)
-    for piece in e["pieces"]:
-        lo, hi = piece_range(piece, split, n)
+    pieces = e["pieces"]
+    ranges = [piece_range(p, split, n) for p in pieces]
+    for piece, (lo, hi) in zip(pieces, ranges, strict=True):
         idx = np.flatnonzero(todo & (piece_deg <= hi))
         todo[idx] = False
-        rup = np.asarray(piece["rupture"])
-        left, right = np.asarray(piece["force_left"]), np.asarray(piece["force_right"])
-        dims = (*left.shape[:-1], *right.shape[1:])  # the force table's axes
-        k = left.ndim - 1
-        rup2 = rup.reshape(-1, rup.shape[-1]).T
-        for j in range(0, idx.size, chunk):
-            sl = idx[j:j + chunk]
-            rows = [_cheb_rows(x[sl], m) for x, m in zip(lead, dims, strict=False)]
-            rows.append(_cheb_rows(_map(piece_deg[sl], lo[sl], hi[sl]), dims[len(lead)]))
-            r_lead = _outer(rows[:len(lead)])
-            sc = np.cbrt(v[sl]) * np.exp(np.einsum("ij,ij->j", rup2 @ r_lead, rows[-1]))
-            inside = s[sl] < sc
-            c = gap_coordinate(np.where(inside, s[sl], 0.0), sc, eps[sl])
-            rows.append(_cheb_rows(c, dims[-1]))
-            r_left = r_lead if k == len(lead) else _outer(rows[:k])
-            q = np.exp(low_rank_rows(left, right, r_left, _outer(rows[k:])))
-            f[sl] = np.where(inside, rho[sl] * q, 0.0)
-            s_c[sl] = sc
+        f[idx], s_c[idx] = _piece(piece, lo, hi, idx, lead, piece_deg, v, s, rho, eps, chunk)
+    margin = float(e.get("ridge_margin_deg", 0.0))
+    if margin > 0.0 and split is not None:
+        for i in range(len(pieces) - 1):
+            if pieces[i]["theta_deg"][1] is not None:
+                continue  # these two pieces do not meet at the ridge
+            below = piece_deg <= split
+            for side, other in ((below, i + 1), (~below, i)):
+                idx = np.flatnonzero(side & (np.abs(piece_deg - split) <= margin))
+                if idx.size == 0:
+                    continue
+                lo, hi = ranges[other]
+                fo, so = _piece(pieces[other], lo, hi, idx, lead, piece_deg, v, s, rho, eps,
+                                chunk)
+                take = so < s_c[idx]
+                f[idx[take]], s_c[idx[take]] = fo[take], so[take]
+    return f, s_c
+
+
+def _piece(piece: dict[str, Any], lo: np.ndarray, hi: np.ndarray, idx: np.ndarray,
+           lead: list[np.ndarray], piece_deg: np.ndarray, v: np.ndarray, s: np.ndarray,
+           rho: np.ndarray, eps: np.ndarray, chunk: int) -> tuple[np.ndarray, np.ndarray]:
+    """``rho q`` and ``S_c/R_s`` of the points ``idx`` from one piece's tables."""
+    f, s_c = np.empty(idx.size), np.empty(idx.size)
+    rup = np.asarray(piece["rupture"])
+    left, right = np.asarray(piece["force_left"]), np.asarray(piece["force_right"])
+    dims = (*left.shape[:-1], *right.shape[1:])  # the force table's axes
+    k = left.ndim - 1
+    rup2 = rup.reshape(-1, rup.shape[-1]).T
+    for j in range(0, idx.size, chunk):
+        sl = idx[j:j + chunk]
+        out = slice(j, j + sl.size)
+        rows = [_cheb_rows(x[sl], m) for x, m in zip(lead, dims, strict=False)]
+        rows.append(_cheb_rows(_map(piece_deg[sl], lo[sl], hi[sl]), dims[len(lead)]))
+        r_lead = _outer(rows[:len(lead)])
+        sc = np.cbrt(v[sl]) * np.exp(np.einsum("ij,ij->j", rup2 @ r_lead, rows[-1]))
+        inside = s[sl] < sc
+        c = gap_coordinate(np.where(inside, s[sl], 0.0), sc, eps[sl])
+        rows.append(_cheb_rows(c, dims[-1]))
+        r_left = r_lead if k == len(lead) else _outer(rows[:k])
+        q = np.exp(low_rank_rows(left, right, r_left, _outer(rows[k:])))
+        f[out] = np.where(inside, rho[sl] * q, 0.0)
+        s_c[out] = sc
     return f, s_c
 
 
