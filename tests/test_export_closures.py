@@ -607,6 +607,34 @@ def test_comparison_sees_a_perturbed_coefficient(points, source, tmp_path, langu
             _compare(name, got[name][other], ref[name][other], tol[name][other])
 
 
+@pytest.mark.parametrize("language", ["python", "c"])
+def test_comparison_sees_the_ridge_margin(points, source, tmp_path, language, tol):
+    """Without the two-angle table's margin (each point in the piece the ridge series
+    assigns, none evaluated in both) the exports disagree with the package near the ridge,
+    and only there: the design has points within 0.3 deg of it where the other piece's
+    rupture distance is the smaller."""
+    part = source.table.parts.get(cc.WALL_TWO_ANGLES)
+    if part is None or part.ridge_margin_deg == 0.0:
+        pytest.skip("the package data has no two-angle table with a ridge margin")
+    pts, ref = points
+    parts = {**source.table.parts, cc.WALL_TWO_ANGLES: replace(part, ridge_margin_deg=0.0)}
+    bad = replace(source, table=replace(source.table, parts=parts))
+    if language == "python":
+        got = _run_python_module(bad, pts, tmp_path, SHIPPED_CAPILLARY)
+    else:
+        exe = _compile(bad, tmp_path)
+        got = {name: _run_c(exe, pts, name, tmp_path) for name in SHIPPED_CAPILLARY}
+    for name in SHIPPED_CAPILLARY:
+        a = pts[name]
+        with np.errstate(invalid="ignore"):
+            off = np.abs(a["theta2_deg"] - ridge_deg(a["volume"] / a["r1"]**3,
+                                                     a["theta1_deg"]))
+        near = geometries(a)[cc.WALL_TWO_ANGLES] & (off <= part.ridge_margin_deg)
+        with pytest.raises(AssertionError, match="relative difference|zeros differ"):
+            _compare(name, got[name][near], ref[name][near], tol[name][near])
+        _compare(name, got[name][~near], ref[name][~near], tol[name][~near])
+
+
 def test_c_header_names_shipped_and_refit(source, tmp_path):
     text = Path(write_header(tmp_path, source)["out"]).read_text()
     assert "wc_capillary_force, wc_rupture_distance: the shipped `calibrated-capillary`" in text
@@ -662,7 +690,7 @@ def _entry_json(source, kind: str) -> dict:
             "pieces": [{"theta_deg": [p.theta_lo, p.theta_hi], "rupture": p.rupture.tolist(),
                         "force_left": p.force_left.tolist(),
                         "force_right": p.force_right.tolist()} for p in part.pieces],
-            "held_out": part.held_out}
+            "held_out": part.held_out, "ridge_margin_deg": part.ridge_margin_deg}
 
 
 def test_two_angle_layout_is_validated(source):
@@ -678,6 +706,8 @@ def test_two_angle_layout_is_validated(source):
     good = _entry_json(source, cc.WALL_TWO_ANGLES)
     part = _capillary_part(Path("t.json"), cc.WALL_TWO_ANGLES, good)
     assert part.two_angles and part.split.ndim == 2 and part.pieces[-1].theta_hi >= 70.0
+    assert part.ridge_margin_deg == cc.capillary_table()[cc.WALL_TWO_ANGLES].get(
+        "ridge_margin_deg", 0.0)
     one = _entry_json(source, "sphere-sphere")
 
     def broken(entry, change):
@@ -696,6 +726,10 @@ def test_two_angle_layout_is_validated(source):
             rupture=e["pieces"][0]["rupture"][0])), "rupture 3-D"),
         (cc.WALL_TWO_ANGLES, broken(good, lambda e: e.update(theta_split=None)),
          "only with a theta_split"),
+        (cc.WALL_TWO_ANGLES, broken(good, lambda e: e.update(ridge_margin_deg=-0.3)),
+         "ridge_margin_deg"),
+        ("sphere-wall", broken(_entry_json(source, "sphere-wall"), lambda e: e.update(
+            ridge_margin_deg=0.3)), "only with a theta_split series"),
         ("sphere-sphere", broken(one, lambda e: e["pieces"][-1].update(
             theta_deg=[None, 90.0])), "contiguous from 0 to 70 deg"),
         ("sphere-sphere", broken(one, lambda e: e["theta_split"].update(
@@ -771,6 +805,7 @@ def test_json_calibrated_capillary_matches_table_and_schema(tmp_path, source):
                     assert lo == (piece.theta_lo or 0.0) and hi <= 70.0
                     assert "cos theta_s + cos theta_w" in p["form"] or name != "force"
                     assert "T_j(b1) T_k(b2)" in p["form"]
+                    assert f"<= {part.ridge_margin_deg!r} deg is evaluated in both" in p["form"]
                     strata = p["held_out"]["strata"]["near_ridge"]
                     assert strata["relative_error"]["max"] == \
                         part.held_out_strata["near_ridge"][held]["max"]

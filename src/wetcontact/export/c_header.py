@@ -94,7 +94,9 @@ CAP_COMMENT = """\
  *   has its own table, axes (a, b1, b2[, c]): S_c = R v^(1/3) exp(sum C_rup T(a) T(b1)
  *   T(b2)), F = -2 pi sigma R (cos theta1 + cos theta2) exp(sum C_F T(a) T(b1) T(b2) T(c)),
  *   b1 from theta1 over [{ct_lo:.6g}, {ct_hi:.6g}] deg, b2 from theta2 within its piece; the
- *   pieces meet at the ridge of S_c, a plane angle theta2* = sum s_ij T_i(a) T_j(b1) (deg).
+ *   pieces meet at the ridge of S_c, a plane angle theta2* = sum s_ij T_i(a) T_j(b1) (deg);
+ *   within the table's margin of it (wc__cap_table: margin) a point is evaluated in both
+ *   pieces and the one with the smaller S_c gives S_c and F.
  *   C_F is stored in its low-rank form (the package's own layout),
  *   C_F = sum_q L[..][q] R[q][..] with L over the leading axes and R over the others, and
  *   evaluated as such: the left rows contracted with L (rank numbers), the right rows with
@@ -260,9 +262,11 @@ struct wc__cap_piece {{
  * the angle they divide: the one angle, or the plane's of two) and the split angle (deg)
  * as sum_k split[k] T_k(a) (nsplit_b = 0), or, for a plane with two angles, the plane
  * angle of the rupture distance's ridge as sum_ij split[i][j] T_i(a) T_j(b1)
- * (nsplit x nsplit_b, row-major). */
+ * (nsplit x nsplit_b, row-major). Within `margin` deg of the split angle (0: never) a point
+ * is evaluated in both pieces that meet there and the smaller S_c wins. */
 struct wc__cap_table {{
     int npieces, nsplit, nsplit_b;
+    double margin;
     const double *split;
     struct wc__cap_piece piece[WC__CAP_PIECES];
 }};
@@ -310,6 +314,24 @@ static inline double wc__map(double x, double lo, double hi)
     return (2.0 * x - lo - hi) / (hi - lo);
 }}
 
+/* One piece at a point: the Chebyshev rows of its three leading axes (at x0, x1 and the
+ * angle theta mapped from [lo, hi]) and s_c = S_c / R_s = v^(1/3) exp(sum). */
+static inline double wc__cap_rupture(const struct wc__cap_piece *pc, double x0, double x1,
+                                     double theta, double lo, double hi, double v,
+                                     double *tw, double *ta, double *tb)
+{{
+    int i, j, k;
+    double sum = 0.0;
+    wc__cheb_rows(x0, tw, pc->nw);
+    wc__cheb_rows(x1, ta, pc->na);
+    wc__cheb_rows(wc__map(theta, lo, hi), tb, pc->nb);
+    for (i = 0; i < pc->nw; ++i)
+        for (j = 0; j < pc->na; ++j)
+            for (k = 0; k < pc->nb; ++k)
+                sum += pc->rupture[(i * pc->na + j) * pc->nb + k] * (tw[i] * ta[j] * tb[k]);
+    return cbrt(v) * exp(sum);
+}}
+
 /* Shared by the two capillary functions: the domain test (0 outside), the piece, whether
  * the two angles differ (*two: a plane with the sphere's angle theta1 and its own theta2),
  * R_s, v = V / R_s^3, rho = R* / R_s, the Chebyshev rows of the three leading axes (w, a,
@@ -320,9 +342,10 @@ static inline int wc__cap_bridge(double r1, double r2, double volume, double the
                                  double *v, double *rho, double *tw, double *ta, double *tb,
                                  double *sc)
 {{
-    int plane = isinf(r2) && r2 > 0, i, j, k, p;
-    double ratio, a, b1 = 0.0, theta, split = 0.0, row, lo, hi = 0.0, sum = 0.0;
-    const struct wc__cap_piece *pc;
+    int plane = isinf(r2) && r2 > 0, i, j, k, p, other;
+    double ratio, a, x0, x1, theta, split = 0.0, row, lo, hi = 0.0, so;
+    double tw2[WC__CAP_NMAX], ta2[WC__CAP_NMAX], tb2[WC__CAP_NMAX];
+    const struct wc__cap_piece *pc, *po;
     if (!(r1 > 0) || !isfinite(r1) || !(r2 > 0) || !(volume > 0) || !isfinite(volume))
         return 0;
     if (!(theta1_deg >= 0 && theta1_deg < 180 && theta2_deg >= 0 && theta2_deg < 180))
@@ -345,16 +368,22 @@ static inline int wc__cap_bridge(double r1, double r2, double volume, double the
         return 0;
     *rho = plane ? 1.0 : ratio / (1.0 + ratio);
     a = wc__map(log(*v), {lnv_lo_r}, {lnv_hi_r});
-    theta = *two ? theta2_deg : theta1_deg;  /* the angle the pieces divide */
-    if (*two)
-        b1 = wc__map(theta1_deg, {ct_lo_r}, {ct_hi_r});
+    if (*two) {{  /* axes (a, b1, b2): the pieces divide the plane's angle */
+        x0 = a;
+        x1 = wc__map(theta1_deg, {ct_lo_r}, {ct_hi_r});
+        theta = theta2_deg;
+    }} else {{  /* axes (w, a, b) */
+        x0 = plane ? 0.0 : wc__map(cbrt(log(ratio)), 0.0, {w_max_r});
+        x1 = a;
+        theta = theta1_deg;
+    }}
     if (tab->nsplit > 0 && tab->nsplit_b == 0) {{
         wc__cheb_rows(a, tb, tab->nsplit);
         for (k = 0; k < tab->nsplit; ++k)
             split += tab->split[k] * tb[k];
     }} else if (tab->nsplit > 0) {{  /* the ridge: a series in (a, b1) */
         wc__cheb_rows(a, ta, tab->nsplit);
-        wc__cheb_rows(b1, tb, tab->nsplit_b);
+        wc__cheb_rows(x1, tb, tab->nsplit_b);
         for (i = 0; i < tab->nsplit; ++i) {{
             row = 0.0;
             for (j = 0; j < tab->nsplit_b; ++j)
@@ -371,19 +400,27 @@ static inline int wc__cap_bridge(double r1, double r2, double volume, double the
         return 0;
     pc = &tab->piece[p];
     lo = pc->lo_split ? split : pc->lo;
-    if (*two) {{
-        wc__cheb_rows(a, tw, pc->nw);
-        wc__cheb_rows(b1, ta, pc->na);
-    }} else {{
-        wc__cheb_rows(plane ? 0.0 : wc__map(cbrt(log(ratio)), 0.0, {w_max_r}), tw, pc->nw);
-        wc__cheb_rows(a, ta, pc->na);
-    }}
-    wc__cheb_rows(wc__map(theta, lo, hi), tb, pc->nb);
-    for (i = 0; i < pc->nw; ++i)
-        for (j = 0; j < pc->na; ++j)
+    *sc = wc__cap_rupture(pc, x0, x1, theta, lo, hi, *v, tw, ta, tb);
+    /* within the margin of the split angle: the piece across it too (extrapolated a little
+     * past its end), and the smaller rupture distance wins */
+    for (p = 0; tab->margin > 0 && tab->nsplit > 0 && p + 1 < tab->npieces; ++p) {{
+        if (!tab->piece[p].hi_split || !(fabs(theta - split) <= tab->margin))
+            continue;
+        other = theta <= split ? p + 1 : p;
+        po = &tab->piece[other];
+        so = wc__cap_rupture(po, x0, x1, theta, po->lo_split ? split : po->lo,
+                             po->hi_split ? split : po->hi, *v, tw2, ta2, tb2);
+        if (so < *sc) {{
+            *sc = so;
+            pc = po;
+            for (k = 0; k < pc->nw; ++k)
+                tw[k] = tw2[k];
+            for (k = 0; k < pc->na; ++k)
+                ta[k] = ta2[k];
             for (k = 0; k < pc->nb; ++k)
-                sum += pc->rupture[(i * pc->na + j) * pc->nb + k] * (tw[i] * ta[j] * tb[k]);
-    *sc = cbrt(*v) * exp(sum);
+                tb[k] = tb2[k];
+        }}
+    }}
     *piece = pc;
     return 1;
 }}
@@ -723,6 +760,7 @@ def _cap_tables(source: CapillarySource) -> str:
         nsplit = (0, 0) if part.split is None else (
             (part.split.shape[0], 0) if part.split.ndim == 1 else part.split.shape)
         lines.append(f"        t->npieces = {len(part.pieces)};")
+        lines.append(f"        t->margin = {part.ridge_margin_deg!r};")
         lines.append(f"        t->nsplit = {nsplit[0]};")
         lines.append(f"        t->nsplit_b = {nsplit[1]};")
         lines.append(f"        t->split = {split};")

@@ -90,7 +90,10 @@ FORMS = {
         "to the first part whose upper end is at or above theta_w; the domain stops at the "
         "domain's theta_wall_deg) and b2 = m(theta_w_deg; lo, hi) within it, where 'ridge' is "
         "the wall angle of the rupture distance's ridge theta_w* = sum_ij s_ij T_i(a) "
-        "T_j(b1) (deg), where S_c peaks and the parts meet"),
+        "T_j(b1) (deg), where S_c peaks and the parts meet; a point with |theta_w - "
+        "theta_w*| <= {margin!r} deg is evaluated in both parts that meet there (the other "
+        "with b2 a little outside [-1, 1]) and the part with the smaller S_c gives S_c and "
+        "F"),
 }
 LAYOUT = {"willett": "k[i, j, m] flattened in C order, shape (4, 4, 3)",
           "finite-liquid": "(p, c0, ..., c8)", "lian-rupture": "(a, b, c)"}
@@ -225,7 +228,7 @@ def capillary_document() -> dict[str, Any]:
                 text = FORMS[form + ("-two-angles" if two else "")]
                 if len(part.pieces) > 1:
                     text += FORMS["capillary-piece" + ("-two-angles" if two else "")].format(
-                        lo=ends[0], hi=ends[1])
+                        lo=ends[0], hi=ends[1], margin=part.ridge_margin_deg)
                 if split_name in ends:  # the split (ridge) series first, then the tensor
                     what = (f"first the ridge angle's Chebyshev coefficients s_ij flattened "
                             f"in C order, shape ({', '.join(map(str, part.split.shape))}), "

@@ -71,7 +71,9 @@ A plane with TWO contact angles, theta1 the sphere's and theta2 the plane's, has
 table: S_c = R v^(1/3) exp(sum C_rup T(a) T(b1) T(b2)) and
 F = -2 pi sigma R (cos theta1 + cos theta2) exp(sum C_F T(a) T(b1) T(b2) T(c)), b1 from
 theta1 over [{ct_lo:.6g}, {ct_hi:.6g}] deg, b2 from theta2 within its piece: the pieces
-meet at the ridge of S_c, a plane angle theta2*(a, b1) = sum s_ij T_i(a) T_j(b1) (deg).
+meet at the ridge of S_c, a plane angle theta2*(a, b1) = sum s_ij T_i(a) T_j(b1) (deg);
+within the table's margin of it ("margin" in _CAP) a point is evaluated in both pieces and
+the one with the smaller S_c gives S_c and F (S_c is the smaller of two fold families').
 C_F is carried in its low-rank form C_F = sum_k L[..., k] R[k, ...] (rank r, the package's
 own layout) and evaluated as such: the Chebyshev rows of the left axes ((w, a) for sphere
 pairs, (a, b) on a plane, (a, b1) on a plane with two angles in the shipped data) times L,
@@ -199,11 +201,12 @@ _CAP_Q_HI, _CAP_W_MAX = {q_hi_r}, {w_max_r}
 _CAP_ANGLE_TOL = {angle_tol_r}  # rad: two angles closer than this count as one
 # per geometry: the theta pieces (lo, hi, rupture table, force_left, force_right), lo/hi in
 # deg or None for the split angle ("split": a Chebyshev series in a; for a plane with two
-# angles, "wall2", the ridge's plane angle, a tensor series in (a, b1)); None where no
-# table was generated. Axes: sphere pair (w, a, b[, c]), plane (a, b[, c]), plane with two
-# angles (a, b1, b2[, c]), b1 from theta1 over [{ct_lo:g}, {ct_hi:g}] deg, b2 from theta2
-# within its piece; the force table is C_F = tensordot(force_left, force_right, 1) (rank r:
-# left (..., r), right (r, ...)).
+# angles, "wall2", the ridge's plane angle, a tensor series in (a, b1)); within "margin"
+# deg of it a point is evaluated in both pieces that meet there and the smaller S_c wins
+# (its S_c and force); None where no table was generated. Axes: sphere pair (w, a, b[, c]),
+# plane (a, b[, c]), plane with two angles (a, b1, b2[, c]), b1 from theta1 over
+# [{ct_lo:g}, {ct_hi:g}] deg, b2 from theta2 within its piece; the force table is
+# C_F = tensordot(force_left, force_right, 1) (rank r: left (..., r), right (r, ...)).
 _CAP = {{"wall": {cap_wall}, "spheres": {cap_ss},
         "wall2": {cap_wall2}}}
 _CHUNK = 4096
@@ -316,19 +319,36 @@ def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
             cos_t = 2.0 * np.cos(np.radians(ti))
             sp = None if split is None else _cap_rows(a, split.size) @ split
         si = None if s_over_rs is None else s_over_rs[idx]
+        pieces = table["pieces"]
+        ranges = [tuple(sp if e is None else np.full(idx.size, e) for e in p[:2])
+                  for p in pieces]
+
+        def piece(n, j):
+            lo, hi = ranges[n]
+            coords = [x[j] for x in lead] + [_cap_map(ti[j], lo[j], hi[j])]
+            return _cap_star(pieces[n][2:], coords, vi[j], rho[j], cos_t[j],
+                             None if si is None else si[j])
+
         todo = np.ones(idx.size, dtype=bool)
-        for lo, hi, rup, left, right in table["pieces"]:
-            lo = sp if lo is None else np.full(idx.size, lo)
-            hi = sp if hi is None else np.full(idx.size, hi)
+        for n, (lo, hi) in enumerate(ranges):
             j = np.flatnonzero(todo & (ti <= hi))
             todo[j] = False
-            if j.size == 0:
-                continue
-            coords = [x[j] for x in lead] + [_cap_map(ti[j], lo[j], hi[j])]
-            fj, scj = _cap_star((rup, left, right), coords, vi[j], rho[j], cos_t[j],
-                                None if si is None else si[j])
-            f[idx[j]], s_c[idx[j]] = fj, scj
+            if j.size:
+                f[idx[j]], s_c[idx[j]] = piece(n, j)
         ok[idx[todo]] = False
+        # within the margin of the ridge (the pieces' shared end): the other piece too, and
+        # the smaller rupture distance wins
+        for n in range(len(pieces) - 1) if table["margin"] > 0 and sp is not None else ():
+            if pieces[n][1] is not None:
+                continue
+            below = ti <= sp
+            for side, other in ((below, n + 1), (~below, n)):
+                j = np.flatnonzero(side & (np.abs(ti - sp) <= table["margin"]))
+                if j.size == 0:
+                    continue
+                fo, so = piece(other, j)
+                take = so < s_c[idx[j]]
+                f[idx[j[take]]], s_c[idx[j[take]]] = fo[take], so[take]
     return f, s_c, rs, ok
 
 
@@ -466,7 +486,8 @@ def _tables(part: CapillaryPart | None) -> str:
             f"{p.force_right.shape}))")
     split = "None" if part.split is None else (
         f"np.array({_list(part.split.ravel(), 4)}).reshape({part.split.shape})")
-    return f'{{"split": {split},\n    "pieces": [' + ",\n    ".join(pieces) + "]}"
+    return (f'{{"split": {split}, "margin": {part.ridge_margin_deg!r},\n    "pieces": ['
+            + ",\n    ".join(pieces) + "]}")
 
 
 def _list(values: Any, per_line: int = 3) -> str:
