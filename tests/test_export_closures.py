@@ -33,6 +33,7 @@ from wetcontact.export.closures import (
     package_evaluation_many,
 )
 from wetcontact.export.python_module import write_module
+from wetcontact.reduced_models import calibrated_capillary as cc
 
 jsonschema = pytest.importorskip("jsonschema")
 
@@ -49,7 +50,8 @@ REL = 1e-12  # a few ulps of libm through exp(f1 - f2 exp(...)); not loosened
 #: S_c; 3.1e-13 at most where 1 - S/S_c > 1e-6)
 FOLD = 1e-15
 N = 1500  # points per function (9000 in all)
-N_RUPTURE = 300  # of the capillary_force points, moved to within 1e-3 of the rupture distance
+N_TWO = 600  # added to calibrated-capillary's: planes with two angles, half near the ridge
+N_RUPTURE = 400  # of the capillary_force points, moved to within 1e-3 of the rupture distance
 
 ARGS = {
     "viscous_force_immersed": ("r1", "r2", "viscosity", "approach_speed", "gap"),
@@ -107,9 +109,11 @@ def design(seed: int = 20261123) -> dict[str, dict[str, np.ndarray]]:
 def shipped_design(rng: np.random.Generator) -> tuple[dict[str, np.ndarray], ...]:
     """``calibrated-capillary`` points: planes and sphere pairs (ratio up to 12, beyond the
     domain's 10), v from 5e-5 to 0.15 (beyond [1e-4, 0.1]), theta up to 80 deg (beyond 70),
-    mostly one angle, some two (NaN) or two within the model's tolerance (one angle); gaps
-    from 1e-12 R_s (near contact), exactly 0 and negative to past rupture; a few
-    non-finite arguments. The points near rupture are added by :func:`near_rupture`."""
+    mostly one angle, some two (NaN between spheres, the two-angle table on a plane) or two
+    within the model's tolerance (one angle); gaps from 1e-12 R_s (near contact), exactly 0
+    and negative to past rupture; a few non-finite arguments; then ``N_TWO`` planes with
+    two angles (:func:`two_angle_design`). The points near rupture are added by
+    :func:`near_rupture`."""
     r1 = np.exp(rng.uniform(np.log(1e-5), np.log(1e-2), N))
     r2 = np.where(rng.uniform(size=N) < 0.4, np.inf,
                   r1 * np.exp(rng.uniform(np.log(1 / 12.0), np.log(12.0), N)))
@@ -121,18 +125,57 @@ def shipped_design(rng: np.random.Generator) -> tuple[dict[str, np.ndarray], ...
     th2 = np.where(u < 0.1, rng.uniform(0.0, 80.0, N), th1)
     th2 = np.where((u >= 0.1) & (u < 0.15), th1 + 1e-8, th2)  # 1.7e-10 rad apart: one angle
     rup = {"r1": r1, "r2": r2, "volume": v * rs**3, "theta1_deg": th1, "theta2_deg": th2}
-    sc = rs * (1.0 + 0.5 * np.radians(th1)) * np.cbrt(v)  # about the rupture distance
-    gap = sc * rng.uniform(0.0, 1.3, N)
-    u = rng.uniform(size=N)
-    gap = np.where(u < 0.2, rs * 10.0 ** rng.uniform(-12, -3, N), gap)
-    gap[u > 0.98] = 0.0
-    gap[(u > 0.97) & (u <= 0.98)] *= -1.0  # overlap: NaN
-    cap = {**rup, "gap": gap, "surface_tension": rng.uniform(0.02, 0.08, N)}
+    cap = {**rup, "gap": _gaps(rng, rs, th1, v), "surface_tension": rng.uniform(0.02, 0.08, N)}
     for args in (rup, cap):  # non-finite arguments: NaN
         for k, name in enumerate(args):
             args[name] = args[name].copy()
             args[name][N - 1 - 2 * k] = np.nan
             args[name][N - 2 - 2 * k] = np.inf if name != "r2" else -np.inf
+    rup2, cap2 = two_angle_design(rng, N_TWO)
+    return ({k: np.concatenate([rup[k], rup2[k]]) for k in rup},
+            {k: np.concatenate([cap[k], cap2[k]]) for k in cap})
+
+
+def _gaps(rng: np.random.Generator, rs: np.ndarray, theta_deg: np.ndarray,
+          v: np.ndarray) -> np.ndarray:
+    """Gaps up to 1.3 times about the rupture distance, a fifth from 1e-12 to 1e-3 R_s (near
+    contact), 2 % exactly 0, 1 % negative (an overlap: NaN)."""
+    n = rs.size
+    sc = rs * (1.0 + 0.5 * np.radians(theta_deg)) * np.cbrt(v)  # about the rupture distance
+    gap = sc * rng.uniform(0.0, 1.3, n)
+    u = rng.uniform(size=n)
+    gap = np.where(u < 0.2, rs * 10.0 ** rng.uniform(-12, -3, n), gap)
+    gap[u > 0.98] = 0.0
+    gap[(u > 0.97) & (u <= 0.98)] *= -1.0  # overlap: NaN
+    return gap
+
+
+def ridge_deg(v: np.ndarray, theta_sphere_deg: np.ndarray) -> np.ndarray:
+    """The plane angle (deg) of the two-angle table's ridge, where its pieces meet (NaN
+    without that table), from the package's own series."""
+    table = cc.capillary_table()
+    if table is None or cc.WALL_TWO_ANGLES not in table:
+        return np.full(np.shape(v), np.nan)
+    with np.errstate(all="ignore"):  # the design's non-finite arguments
+        return cc.theta_split_deg(table[cc.WALL_TWO_ANGLES], cc.volume_coordinate(v),
+                                  cc._map(theta_sphere_deg, *cc.THETA_RANGE_DEG))
+
+
+def two_angle_design(rng: np.random.Generator, n: int) -> tuple[dict[str, np.ndarray], ...]:
+    """Planes with two contact angles: v from 5e-5 to 0.15, the sphere's angle theta1 up
+    to 75 deg, the plane's theta2 up to 75 deg (beyond 70: NaN), uniform at even indices
+    and at odd ones within 1e-7 ... 3 deg of the table's ridge (log-uniform, both sides;
+    uniform when the table is not generated); gaps as :func:`_gaps`."""
+    r1 = np.exp(rng.uniform(np.log(1e-5), np.log(1e-2), n))
+    v = np.exp(rng.uniform(np.log(5e-5), np.log(0.15), n))
+    th1, th2 = rng.uniform(0.0, 75.0, n), rng.uniform(0.0, 75.0, n)
+    dist = 10.0 ** rng.uniform(-7.0, np.log10(3.0), n) * rng.choice([-1.0, 1.0], n)
+    ridge = ridge_deg(v, th1)
+    near = (np.arange(n) % 2 == 1) & np.isfinite(ridge)
+    th2 = np.where(near, np.abs(ridge + dist), th2)
+    rup = {"r1": r1, "r2": np.full(n, np.inf), "volume": v * r1**3, "theta1_deg": th1,
+           "theta2_deg": th2}
+    cap = {**rup, "gap": _gaps(rng, r1, th1, v), "surface_tension": rng.uniform(0.02, 0.08, n)}
     return rup, cap
 
 
@@ -180,7 +223,7 @@ def tol(points, source):
     """Per-point relative tolerance: REL, plus FOLD/sqrt(1 - S/S_c) for the force of
     calibrated-capillary (S_c the package's rupture distance)."""
     pts, _ = points
-    out = {name: np.full(N, REL) for name in ARGS}
+    out = {name: np.full(len(pts[name]["r1"]), REL) for name in ARGS}
     cap = pts["capillary_force"]
     sc = package_evaluation_many("rupture_distance", source, **{
         k: cap[k] for k in ARGS["rupture_distance"]})
@@ -222,20 +265,31 @@ def test_design_covers_domain_refusals_and_rupture(points, source):
         vis = ref[name]
         speed = points[0][name]["approach_speed"]
         assert np.all(np.sign(vis[np.isfinite(vis)]) == np.sign(speed[np.isfinite(vis)]))
-    # calibrated-capillary: each generated geometry computed often, every refusal occurs
+    # calibrated-capillary: each generated geometry computed often (planes with two angles
+    # also near the ridge), every refusal occurs
     for name in SHIPPED_CAPILLARY:
         a, y = pts[name], ref[name]
         plane = np.isposinf(a["r2"])
-        for kind, sel in (("sphere-wall", plane), ("sphere-sphere", ~plane)):
-            computed = np.sum(sel & np.isfinite(y) & (y != 0))
+        computed = np.isfinite(y) & (y != 0)
+        for kind, sel in geometries(a).items():
             if kind in source.table.parts:
-                assert computed > 200, (name, kind, computed)
+                assert np.sum(sel & computed) > 200, (name, kind, np.sum(sel & computed))
             else:  # no table: the package refuses every such point, so must the exports
-                assert computed == 0, (name, kind)
+                assert np.sum(sel & computed) == 0, (name, kind)
+        if cc.WALL_TWO_ANGLES in source.table.parts:  # both pieces, also near the ridge
+            with np.errstate(invalid="ignore"):
+                off = a["theta2_deg"] - ridge_deg(a["volume"] / a["r1"]**3, a["theta1_deg"])
+            two = geometries(a)[cc.WALL_TWO_ANGLES] & computed
+            for within, least in ((np.inf, 50), (3.0, 40), (1e-2, 15), (1e-5, 5)):
+                near = two & (np.abs(off) < within)
+                assert np.sum(near & (off <= 0)) > least, (name, within, "below")
+                assert np.sum(near & (off > 0)) > least, (name, within, "above")
         rs = np.minimum(a["r1"], a["r2"])
         with np.errstate(invalid="ignore"):
-            refusals = {"two angles": np.abs(a["theta1_deg"] - a["theta2_deg"]) > 1e-6,
-                        "theta > 70": a["theta1_deg"] > 70.0,
+            two_angles = np.abs(np.radians(a["theta1_deg"] - a["theta2_deg"])) > 1e-9
+            refusals = {"two angles, spheres": ~plane & two_angles,
+                        "theta1 > 70": a["theta1_deg"] > 70.0,
+                        "theta2 > 70, plane": plane & two_angles & (a["theta2_deg"] > 70.0),
                         "v outside": (a["volume"] / rs**3 < 1e-4) | (a["volume"] / rs**3 > 0.1),
                         "ratio > 10": ~plane & (np.maximum(a["r1"], a["r2"]) / rs > 10.0)}
         for why, sel in refusals.items():
@@ -252,6 +306,17 @@ def test_design_covers_domain_refusals_and_rupture(points, source):
     with np.errstate(invalid="ignore"):
         near = np.abs(gap / sc - 1.0) < 1e-3
     assert np.sum(near & finite) > 50 and np.sum(near & (y == 0.0)) > 50
+
+
+def geometries(a: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """Which table each point's geometry calls for: a plane with one angle (within the
+    model's tolerance), sphere pairs, a plane with two angles."""
+    plane = np.isposinf(a["r2"])
+    with np.errstate(invalid="ignore"):
+        two = ~(np.abs(np.radians(a["theta1_deg"]) - np.radians(a["theta2_deg"]))
+                <= cc.ANGLE_TOL)
+    return {"sphere-wall": plane & ~two, "sphere-sphere": ~plane,
+            cc.WALL_TWO_ANGLES: plane & two}
 
 
 def _run_python_module(source, pts, d: Path, names=tuple(ARGS)) -> dict[str, np.ndarray]:
@@ -459,11 +524,12 @@ int main(int argc, char **argv)
 """
 
 
-def test_c_contact_api_is_the_force(points, c_program, tmp_path, tol):
+def test_c_contact_api_is_the_force(points, c_program, tmp_path, tol, source):
     """``wc_capillary_contact_init`` once per bridge, then ``wc_capillary_force_at`` at
     gaps that move inside, to contact, past rupture and back (and to an overlap): bit for
     bit ``wc_capillary_force`` at the same arguments (NaN and 0 at the same points), and at
-    the point's own gap within the comparison's tolerance of the package."""
+    the point's own gap within the comparison's tolerance of the package; for every
+    geometry, planes with two angles among them."""
     pts, ref = points
     d = c_program.parent
     (d / "contact.c").write_text(C_CONTACT_DRIVER)
@@ -473,15 +539,19 @@ def test_c_contact_api_is_the_force(points, c_program, tmp_path, tol):
                          capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr
     cap = pts["capillary_force"]
+    n = cap["r1"].size
     x = np.ascontiguousarray(np.stack([cap[k] for k in ARGS["capillary_force"]]), dtype="<f8")
     x.tofile(tmp_path / "in.bin")
-    run = subprocess.run([str(exe), str(N), str(tmp_path / "in.bin"),
+    run = subprocess.run([str(exe), str(n), str(tmp_path / "in.bin"),
                           str(tmp_path / "out.bin")], capture_output=True, timeout=60)
     assert run.returncode == 0, run.stderr
-    at, direct = np.fromfile(tmp_path / "out.bin", dtype="<f8").reshape(2, 6, N)
+    at, direct = np.fromfile(tmp_path / "out.bin", dtype="<f8").reshape(2, 6, n)
     assert np.array_equal(at, direct, equal_nan=True)
     inside = np.isfinite(at[0]) & (at[0] != 0)
-    assert np.sum(inside) > N // 3
+    assert np.sum(inside) > n // 3
+    for kind, sel in geometries(cap).items():
+        if kind in source.table.parts:
+            assert np.sum(inside & sel) > 150, kind
     broke = inside & (at[3] == 0.0)  # inside, then past rupture, then back inside
     assert np.sum(broke) > 200 and np.all(at[4][broke] == at[0][broke])
     assert np.all(at[1][inside] < 0.0)  # at contact: finite, attractive
@@ -514,8 +584,9 @@ def _perturbed(source, kind: str, table: str):
 @pytest.mark.parametrize("table", ["force", "rupture"])
 def test_comparison_sees_a_perturbed_coefficient(points, source, tmp_path, language, table,
                                                  tol):
-    """The checker above is sharp: one coefficient of one geometry's table moved by 1e-9
-    fails it, and only for the function and the geometry that table serves."""
+    """The checker above is sharp: one coefficient of one geometry's table (a plane with
+    one angle, sphere pairs, a plane with two) moved by 1e-9 fails it, and only for the
+    function and the geometry that table serves."""
     pts, ref = points
     for kind in source.table.parts:
         bad = _perturbed(source, kind, table)
@@ -532,10 +603,36 @@ def test_comparison_sees_a_perturbed_coefficient(points, source, tmp_path, langu
                 continue
             with pytest.raises(AssertionError, match="relative difference|zeros differ"):
                 _compare(name, got[name], ref[name], tol[name])
-            plane = np.isposinf(pts[name]["r2"])
-            other = ~plane if kind == "sphere-wall" else plane
-            _compare(name, got[name][other], ref[name][other],  # the other geometry: intact
-                     tol[name][other])
+            other = ~geometries(pts[name])[kind]  # the other geometries: intact
+            _compare(name, got[name][other], ref[name][other], tol[name][other])
+
+
+@pytest.mark.parametrize("language", ["python", "c"])
+def test_comparison_sees_the_ridge_margin(points, source, tmp_path, language, tol):
+    """Without the two-angle table's margin (each point in the piece the ridge series
+    assigns, none evaluated in both) the exports disagree with the package near the ridge,
+    and only there: the design has points within 0.3 deg of it where the other piece's
+    rupture distance is the smaller."""
+    part = source.table.parts.get(cc.WALL_TWO_ANGLES)
+    if part is None or part.ridge_margin_deg == 0.0:
+        pytest.skip("the package data has no two-angle table with a ridge margin")
+    pts, ref = points
+    parts = {**source.table.parts, cc.WALL_TWO_ANGLES: replace(part, ridge_margin_deg=0.0)}
+    bad = replace(source, table=replace(source.table, parts=parts))
+    if language == "python":
+        got = _run_python_module(bad, pts, tmp_path, SHIPPED_CAPILLARY)
+    else:
+        exe = _compile(bad, tmp_path)
+        got = {name: _run_c(exe, pts, name, tmp_path) for name in SHIPPED_CAPILLARY}
+    for name in SHIPPED_CAPILLARY:
+        a = pts[name]
+        with np.errstate(invalid="ignore"):
+            off = np.abs(a["theta2_deg"] - ridge_deg(a["volume"] / a["r1"]**3,
+                                                     a["theta1_deg"]))
+        near = geometries(a)[cc.WALL_TWO_ANGLES] & (off <= part.ridge_margin_deg)
+        with pytest.raises(AssertionError, match="relative difference|zeros differ"):
+            _compare(name, got[name][near], ref[name][near], tol[name][near])
+        _compare(name, got[name][~near], ref[name][~near], tol[name][~near])
 
 
 def test_c_header_names_shipped_and_refit(source, tmp_path):
@@ -553,6 +650,94 @@ def test_c_header_names_shipped_and_refit(source, tmp_path):
             assert f"static const double force{n}[" not in text  # the dense table: not carried
     assert "#include <math.h>" in text and text.count("#include") == 1
     assert "malloc" not in text and "calloc" not in text
+
+
+def _without_two_angles(source):
+    """``source`` as read from a package data file written before the two-angle table."""
+    parts = {k: v for k, v in source.table.parts.items() if k != cc.WALL_TWO_ANGLES}
+    return replace(source, table=replace(source.table, parts=parts))
+
+
+@pytest.mark.parametrize("language", ["python", "c"])
+def test_a_table_without_two_angles_still_exports(points, source, tmp_path, language):
+    """A package data file without ``sphere-wall-two-angles`` (written before it): both
+    exports return NaN on planes with two angles (as the package refuses them) and the
+    values of the full table, bit for bit, everywhere else."""
+    if cc.WALL_TWO_ANGLES not in source.table.parts:
+        pytest.skip("the package data has no two-angle table")
+    pts, _ = points
+    got = {}
+    for label, src in (("full", source), ("old", _without_two_angles(source))):
+        d = tmp_path / label
+        d.mkdir()
+        if language == "python":
+            got[label] = _run_python_module(src, pts, d, SHIPPED_CAPILLARY)
+        else:
+            exe = _compile(src, d)
+            got[label] = {name: _run_c(exe, pts, name, d) for name in SHIPPED_CAPILLARY}
+    for name in SHIPPED_CAPILLARY:
+        two = geometries(pts[name])[cc.WALL_TWO_ANGLES]
+        full, old = got["full"][name], got["old"][name]
+        assert np.sum(np.isfinite(full[two])) > 200
+        assert np.all(np.isnan(old[two]))
+        assert np.array_equal(old[~two], full[~two], equal_nan=True)
+
+
+def _entry_json(source, kind: str) -> dict:
+    """One geometry of ``source`` as the package data lays it out (lists, None ends)."""
+    part = source.table.parts[kind]
+    return {"theta_split": None if part.split is None else {"chebyshev": part.split.tolist()},
+            "pieces": [{"theta_deg": [p.theta_lo, p.theta_hi], "rupture": p.rupture.tolist(),
+                        "force_left": p.force_left.tolist(),
+                        "force_right": p.force_right.tolist()} for p in part.pieces],
+            "held_out": part.held_out, "ridge_margin_deg": part.ridge_margin_deg}
+
+
+def test_two_angle_layout_is_validated(source):
+    """The reader accepts the two-angle entry's layout (a 2-D ridge series, pieces from 0
+    to an end at or above 70 deg) and refuses it broken, naming the file and the field;
+    the one-angle layout still needs pieces ending exactly at 70 deg and a 1-D series."""
+    from wetcontact.errors import InputError
+    from wetcontact.export.closures import TWO_ANGLES, _capillary_part
+
+    assert TWO_ANGLES == cc.WALL_TWO_ANGLES
+    if cc.WALL_TWO_ANGLES not in source.table.parts:
+        pytest.skip("the package data has no two-angle table")
+    good = _entry_json(source, cc.WALL_TWO_ANGLES)
+    part = _capillary_part(Path("t.json"), cc.WALL_TWO_ANGLES, good)
+    assert part.two_angles and part.split.ndim == 2 and part.pieces[-1].theta_hi >= 70.0
+    assert part.ridge_margin_deg == cc.capillary_table()[cc.WALL_TWO_ANGLES].get(
+        "ridge_margin_deg", 0.0)
+    one = _entry_json(source, "sphere-sphere")
+
+    def broken(entry, change):
+        e = json.loads(json.dumps(entry))
+        change(e)
+        return e
+
+    cases = [
+        (cc.WALL_TWO_ANGLES, broken(good, lambda e: e["theta_split"].update(
+            chebyshev=e["theta_split"]["chebyshev"][0])), "theta_split of shape"),
+        (cc.WALL_TWO_ANGLES, broken(good, lambda e: e["pieces"][-1].update(
+            theta_deg=[None, 60.0])), "an end at or above 70"),
+        (cc.WALL_TWO_ANGLES, broken(good, lambda e: e["pieces"][0].update(
+            theta_deg=[5.0, None])), "contiguous from 0"),
+        (cc.WALL_TWO_ANGLES, broken(good, lambda e: e["pieces"][0].update(
+            rupture=e["pieces"][0]["rupture"][0])), "rupture 3-D"),
+        (cc.WALL_TWO_ANGLES, broken(good, lambda e: e.update(theta_split=None)),
+         "only with a theta_split"),
+        (cc.WALL_TWO_ANGLES, broken(good, lambda e: e.update(ridge_margin_deg=-0.3)),
+         "ridge_margin_deg"),
+        ("sphere-wall", broken(_entry_json(source, "sphere-wall"), lambda e: e.update(
+            ridge_margin_deg=0.3)), "only with a theta_split series"),
+        ("sphere-sphere", broken(one, lambda e: e["pieces"][-1].update(
+            theta_deg=[None, 90.0])), "contiguous from 0 to 70 deg"),
+        ("sphere-sphere", broken(one, lambda e: e["theta_split"].update(
+            chebyshev=[e["theta_split"]["chebyshev"]] * 2)), "1-D Chebyshev series in a"),
+    ]
+    for kind, entry, says in cases:
+        with pytest.raises(InputError, match=says):
+            _capillary_part(Path("t.json"), kind, entry)
 
 
 # ---- json ---------------------------------------------------------------------------------
@@ -584,8 +769,9 @@ def test_json_shipped_matches_table_and_schema(tmp_path):
 
 
 def test_json_calibrated_capillary_matches_table_and_schema(tmp_path, source):
-    """``--closure calibrated-capillary``: every generated geometry's two tensors, their
-    shapes (in the layout), domain and held-out errors, exactly as the package data."""
+    """``--closure calibrated-capillary``: every generated geometry's two tensors (a plane
+    with two angles among them, with its 2-D ridge series), their shapes (in the layout),
+    domain and held-out errors, exactly as the package data."""
     out = tmp_path / "capillary.json"
     assert main(["export", "json", "--closure", "calibrated-capillary", "--out", str(out)]) == 0
     doc = json.loads(out.read_text())
@@ -600,17 +786,48 @@ def test_json_calibrated_capillary_matches_table_and_schema(tmp_path, source):
                                     ("force", piece.force, "force")):
                 p = next(parts)
                 assert p["name"].startswith(f"{name} {kind}") and p["geometry"] == kind
-                shape = tuple(int(n) for n in p["coefficient_layout"].split("shape (")[1]
+                shape = tuple(int(n) for n in p["coefficient_layout"].split("shape (")[-1]
                               .split(")")[0].split(", "))
                 assert shape == arr.shape
                 coef = np.asarray(p["coefficients"])
                 if None in (piece.theta_lo, piece.theta_hi):  # the split series first
-                    assert np.array_equal(coef[:part.split.size], part.split)
+                    assert np.array_equal(coef[:part.split.size].reshape(part.split.shape),
+                                          part.split)
                     coef = coef[part.split.size:]
                 assert np.array_equal(coef.reshape(shape), arr)
                 assert p["held_out"]["relative_error"]["max"] == part.held_out[held]["max"]
                 assert p["domain"]["v"] == [1e-4, 0.1]
                 assert ("radius_ratio" in p["domain"]) == (kind == "sphere-sphere")
+                two = kind == cc.WALL_TWO_ANGLES
+                if two:  # the sphere's angle over the range, the wall's within the piece
+                    assert p["domain"]["theta_sphere_deg"] == [0.0, 70.0]
+                    lo, hi = p["domain"]["theta_wall_deg"]
+                    assert lo == (piece.theta_lo or 0.0) and hi <= 70.0
+                    assert "cos theta_s + cos theta_w" in p["form"] or name != "force"
+                    assert "T_j(b1) T_k(b2)" in p["form"]
+                    assert f"<= {part.ridge_margin_deg!r} deg is evaluated in both" in p["form"]
+                    strata = p["held_out"]["strata"]["near_ridge"]
+                    assert strata["relative_error"]["max"] == \
+                        part.held_out_strata["near_ridge"][held]["max"]
+                assert ("theta_deg" in p["domain"]) == (not two)
+
+
+def test_schema_rejects_a_two_angle_part_without_its_angles(source):
+    """A part of a wall with two contact angles must name both angles' ranges."""
+    if cc.WALL_TWO_ANGLES not in source.table.parts:
+        pytest.skip("the package data has no two-angle table")
+    doc = json.loads(json.dumps(shipped_document("calibrated-capillary")))
+    _validator().validate(doc)
+    i = next(i for i, p in enumerate(doc["parts"]) if p["geometry"] == cc.WALL_TWO_ANGLES)
+    for key in ("theta_wall_deg", "theta_sphere_deg"):
+        bad = json.loads(json.dumps(doc))
+        bad["parts"][i]["domain"].pop(key)
+        with pytest.raises(jsonschema.ValidationError):
+            _validator().validate(bad)
+    bad = json.loads(json.dumps(doc))
+    bad["parts"][i]["held_out"]["strata"]["near_ridge"].pop("relative_error")
+    with pytest.raises(jsonschema.ValidationError):
+        _validator().validate(bad)
 
 
 @pytest.mark.parametrize("family", ["willett", "lian-rupture", "finite-liquid-bridge-ss",

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from wetcontact import __version__
-from wetcontact.export.closures import CapillarySource, immersed_tables
+from wetcontact.export.closures import TWO_ANGLES, CapillarySource, immersed_tables
 from wetcontact.fileio import atomic_write_text
 from wetcontact.reduced_models.calibrated import viscous_table
 
@@ -90,26 +90,37 @@ CAP_COMMENT = """\
  *   split angle theta_s(V) = sum s_k T_k(a), where the branch's end changes from a fold to
  *   a bifurcation), w from (ln r)^(1/3) (for a plane the w axis has one entry, T_0 = 1),
  *   c = 2 z - 1, z = sqrt(1 - ln(1 + s/eps)/ln(1 + s_c/eps)), eps = sqrt(v/(pi rho)),
- *   s = S/R_s. C_F is stored in its low-rank form (the package's own layout),
+ *   s = S/R_s. A plane with TWO contact angles (theta1 the sphere's, theta2 the plane's)
+ *   has its own table, axes (a, b1, b2[, c]): S_c = R v^(1/3) exp(sum C_rup T(a) T(b1)
+ *   T(b2)), F = -2 pi sigma R (cos theta1 + cos theta2) exp(sum C_F T(a) T(b1) T(b2) T(c)),
+ *   b1 from theta1 over [{ct_lo:.6g}, {ct_hi:.6g}] deg, b2 from theta2 within its piece; the
+ *   pieces meet at the ridge of S_c, a plane angle theta2* = sum s_ij T_i(a) T_j(b1) (deg);
+ *   within the table's margin of it (wc__cap_table: margin) a point is evaluated in both
+ *   pieces and the one with the smaller S_c gives S_c and F.
+ *   C_F is stored in its low-rank form (the package's own layout),
  *   C_F = sum_q L[..][q] R[q][..] with L over the leading axes and R over the others, and
  *   evaluated as such: the left rows contracted with L (rank numbers), the right rows with
  *   R, their dot product (rank (size of L + size of R) multiply-adds, not the table's size).
  *   For a DEM contact whose volume, radii, surface tension and angle stay fixed while the
  *   gap changes: wc_capillary_contact_init(&c, r1, r2, volume, surface_tension, theta1_deg,
- *   theta2_deg) contracts all but the gap axis once (0 outside the domain), and
+ *   theta2_deg) contracts all but the gap axis once (0 outside the domain; one angle or
+ *   two on a plane), and
  *   wc_capillary_force_at(&c, gap) is then wc_capillary_force at that gap, bit for bit,
  *   for a few multiply-adds, log1p, sqrt and exp.
  *   Held-out max relative error against `meniscus`:
  *     {cap_held_out}
  *   Domain: a plane or two spheres with r in [{q_lo:.6g}, {q_hi:.6g}], v in
  *   [{cv_lo:.6g}, {cv_hi:.6g}], ONE contact angle: theta1 = theta2 (within {angle_tol:.0e} rad) in
- *   [{ct_lo:.6g}, {ct_hi:.6g}] deg (two different angles return NAN: use the *_refit pair);
+ *   [{ct_lo:.6g}, {ct_hi:.6g}] deg, or, on a plane only, two angles theta1, theta2 each in
+ *   [{ct_lo:.6g}, {ct_hi:.6g}] deg (two different angles between two spheres return NAN: use
+ *   the *_refit pair);
  *   the force also gap >= 0 (gap = 0 is the value at contact; an overlap returns NAN) and
  *   surface_tension > 0. The force is exactly 0 at and past the rupture distance.
  *   Tables: {cap_src}, sha256 {cap_sha}.
  *
  * !!! wc_capillary_force_refit, wc_rupture_distance_refit: REFITTED families, NOT A
- * !!! SHIPPED CALIBRATED CLOSURE, kept for two different contact angles:
+ * !!! SHIPPED CALIBRATED CLOSURE, kept for two different contact angles between two
+ * !!! spheres:
  * !!!   {label}.
  *   wc_rupture_distance_refit: S_c = R ((a + b theta) V*^(1/3) + c V*^(2/3)), V* = V/R^3
  *     (Lian et al. 1993 form, refitted against the meniscus solver;
@@ -229,12 +240,17 @@ static inline double wc_viscous_force_bridge(double r1, double r2, double viscos
 #define WC__CAP_NMAX {cap_nmax}
 #define WC__CAP_RMAX {cap_rmax}
 #define WC__CAP_PIECES {cap_pieces}
+#define WC__CAP_PLANE 0   /* one contact angle on a plane: axes (1, a, b, c) */
+#define WC__CAP_SPHERES 1 /* one contact angle between two spheres: (w, a, b, c) */
+#define WC__CAP_PLANE2 2  /* two contact angles on a plane: (a, b1, b2, c) */
 
 /* One theta piece of one geometry: its ends (deg, or the split angle), the sizes of its
- * axes (w, a, b) for the rupture distance and (w, a, b, c) for the force, row-major; a
- * plane has nw = 1. The force table is stored in low-rank form,
- * C_F[w][a][b][c] = sum_q left[..][q] right[q][..]: `left` carries the first nleft of the
- * axes (w, a, b) and the rank q < rank, `right` the rank and the other axes (c last). */
+ * three leading axes (nw, na, nb: (w, a, b), or (a, b1, b2) for a plane with two angles)
+ * for the rupture distance and of those and the gap axis c for the force, row-major; a
+ * plane with one angle has nw = 1. The force table is stored in low-rank form,
+ * C_F[..][..][..][c] = sum_q left[..][q] right[q][..]: `left` carries the first nleft of
+ * the three leading axes and the rank q < rank, `right` the rank and the other axes (c
+ * last). */
 struct wc__cap_piece {{
     int lo_split, hi_split;
     double lo, hi;
@@ -243,9 +259,14 @@ struct wc__cap_piece {{
 }};
 
 /* One geometry: its pieces (a point belongs to the first whose upper end is at or above
- * its angle) and the split angle (deg) as sum_k split[k] T_k(a). */
+ * the angle they divide: the one angle, or the plane's of two) and the split angle (deg)
+ * as sum_k split[k] T_k(a) (nsplit_b = 0), or, for a plane with two angles, the plane
+ * angle of the rupture distance's ridge as sum_ij split[i][j] T_i(a) T_j(b1)
+ * (nsplit x nsplit_b, row-major). Within `margin` deg of the split angle (0: never) a point
+ * is evaluated in both pieces that meet there and the smaller S_c wins. */
 struct wc__cap_table {{
-    int npieces, nsplit;
+    int npieces, nsplit, nsplit_b;
+    double margin;
     const double *split;
     struct wc__cap_piece piece[WC__CAP_PIECES];
 }};
@@ -269,8 +290,9 @@ static inline void wc__cap_set(struct wc__cap_piece *p, int lo_split, double lo,
     p->right = right;
 }}
 
-/* The tables of the plane (plane = 1) or of sphere pairs; 0 when not generated. */
-static inline int wc__cap_table(int plane, struct wc__cap_table *t)
+/* The tables of one geometry (WC__CAP_PLANE, WC__CAP_SPHERES, WC__CAP_PLANE2); 0 when
+ * not generated. */
+static inline int wc__cap_table(int geometry, struct wc__cap_table *t)
 {{
 {cap_tables}
 }}
@@ -292,25 +314,68 @@ static inline double wc__map(double x, double lo, double hi)
     return (2.0 * x - lo - hi) / (hi - lo);
 }}
 
-/* Shared by the two capillary functions: the domain test (0 outside), the piece, R_s,
- * v = V / R_s^3, rho = R* / R_s, the Chebyshev rows of w, a, b and s_c = S_c / R_s. */
+/* One piece at a point: the Chebyshev rows of its three leading axes (at x0, x1 and the
+ * angle theta mapped from [lo, hi]) and s_c = S_c / R_s = v^(1/3) exp(sum). With two angles
+ * (axpy) the table is contracted over its first two axes into a row over the third, an
+ * axpy per (i, j) that the compiler vectorises (a sum in another order than the one-angle
+ * tables', which keep theirs). */
+static inline double wc__cap_rupture(const struct wc__cap_piece *pc, int axpy, double x0,
+                                     double x1, double theta, double lo, double hi, double v,
+                                     double *tw, double *ta, double *tb)
+{{
+    int i, j, k;
+    double sum = 0.0, weight, acc[WC__CAP_NMAX];
+    const double *coef = pc->rupture;
+    wc__cheb_rows(x0, tw, pc->nw);
+    wc__cheb_rows(x1, ta, pc->na);
+    wc__cheb_rows(wc__map(theta, lo, hi), tb, pc->nb);
+    if (axpy) {{
+        for (k = 0; k < pc->nb; ++k)
+            acc[k] = 0.0;
+        for (i = 0; i < pc->nw; ++i)
+            for (j = 0; j < pc->na; ++j) {{
+                weight = tw[i] * ta[j];
+                for (k = 0; k < pc->nb; ++k)
+                    acc[k] += coef[k] * weight;
+                coef += pc->nb;
+            }}
+        for (k = 0; k < pc->nb; ++k)
+            sum += acc[k] * tb[k];
+        return cbrt(v) * exp(sum);
+    }}
+    for (i = 0; i < pc->nw; ++i)
+        for (j = 0; j < pc->na; ++j)
+            for (k = 0; k < pc->nb; ++k)
+                sum += pc->rupture[(i * pc->na + j) * pc->nb + k] * (tw[i] * ta[j] * tb[k]);
+    return cbrt(v) * exp(sum);
+}}
+
+/* Shared by the two capillary functions: the domain test (0 outside), the piece, whether
+ * the two angles differ (*two: a plane with the sphere's angle theta1 and its own theta2),
+ * R_s, v = V / R_s^3, rho = R* / R_s, the Chebyshev rows of the three leading axes (w, a,
+ * b; or a, b1, b2 with two angles) and s_c = S_c / R_s. */
 static inline int wc__cap_bridge(double r1, double r2, double volume, double theta1_deg,
                                  double theta2_deg, struct wc__cap_table *tab,
-                                 const struct wc__cap_piece **piece, double *rs, double *v,
-                                 double *rho, double *tw, double *ta, double *tb, double *sc)
+                                 const struct wc__cap_piece **piece, int *two, double *rs,
+                                 double *v, double *rho, double *tw, double *ta, double *tb,
+                                 double *sc)
 {{
-    int plane = isinf(r2) && r2 > 0, i, j, k, p;
-    double ratio, a, split = 0.0, lo, hi = 0.0, sum = 0.0;
-    const struct wc__cap_piece *pc;
+    int plane = isinf(r2) && r2 > 0, i, j, k, p, other;
+    double ratio, a, x0, x1, theta, split = 0.0, row, lo, hi = 0.0, so;
+    double tw2[WC__CAP_NMAX], ta2[WC__CAP_NMAX], tb2[WC__CAP_NMAX];
+    const struct wc__cap_piece *pc, *po;
     if (!(r1 > 0) || !isfinite(r1) || !(r2 > 0) || !(volume > 0) || !isfinite(volume))
         return 0;
     if (!(theta1_deg >= 0 && theta1_deg < 180 && theta2_deg >= 0 && theta2_deg < 180))
         return 0;
-    if (!(fabs(theta1_deg * (WC_PI / 180.0) - theta2_deg * (WC_PI / 180.0)) <= {angle_tol_r}))
+    *two = !(fabs(theta1_deg * (WC_PI / 180.0) - theta2_deg * (WC_PI / 180.0)) <= {angle_tol_r});
+    if (*two && !plane)  /* two angles: calibrated on a plane only */
         return 0;
     if (!(theta1_deg >= {ct_lo_r} && theta1_deg <= {ct_hi_r} * (1 + 1e-12)))
         return 0;
-    if (!wc__cap_table(plane, tab))
+    if (!(theta2_deg >= {ct_lo_r} && theta2_deg <= {ct_hi_r} * (1 + 1e-12)))
+        return 0;
+    if (!wc__cap_table(plane ? (*two ? WC__CAP_PLANE2 : WC__CAP_PLANE) : WC__CAP_SPHERES, tab))
         return 0;
     *rs = plane ? r1 : (r1 < r2 ? r1 : r2);
     ratio = plane ? 1.0 : (r1 < r2 ? r2 : r1) / *rs;
@@ -321,28 +386,59 @@ static inline int wc__cap_bridge(double r1, double r2, double volume, double the
         return 0;
     *rho = plane ? 1.0 : ratio / (1.0 + ratio);
     a = wc__map(log(*v), {lnv_lo_r}, {lnv_hi_r});
-    if (tab->nsplit > 0) {{
+    if (*two) {{  /* axes (a, b1, b2): the pieces divide the plane's angle */
+        x0 = a;
+        x1 = wc__map(theta1_deg, {ct_lo_r}, {ct_hi_r});
+        theta = theta2_deg;
+    }} else {{  /* axes (w, a, b) */
+        x0 = plane ? 0.0 : wc__map(cbrt(log(ratio)), 0.0, {w_max_r});
+        x1 = a;
+        theta = theta1_deg;
+    }}
+    if (tab->nsplit > 0 && tab->nsplit_b == 0) {{
         wc__cheb_rows(a, tb, tab->nsplit);
         for (k = 0; k < tab->nsplit; ++k)
             split += tab->split[k] * tb[k];
+    }} else if (tab->nsplit > 0) {{  /* the ridge: a series in (a, b1) */
+        wc__cheb_rows(a, ta, tab->nsplit);
+        wc__cheb_rows(x1, tb, tab->nsplit_b);
+        for (i = 0; i < tab->nsplit; ++i) {{
+            row = 0.0;
+            for (j = 0; j < tab->nsplit_b; ++j)
+                row += tab->split[i * tab->nsplit_b + j] * tb[j];
+            split += row * ta[i];
+        }}
     }}
     for (p = 0; p < tab->npieces; ++p) {{
         hi = tab->piece[p].hi_split ? split : tab->piece[p].hi;
-        if (theta1_deg <= hi)
+        if (theta <= hi)
             break;
     }}
     if (p == tab->npieces)
         return 0;
     pc = &tab->piece[p];
     lo = pc->lo_split ? split : pc->lo;
-    wc__cheb_rows(plane ? 0.0 : wc__map(cbrt(log(ratio)), 0.0, {w_max_r}), tw, pc->nw);
-    wc__cheb_rows(a, ta, pc->na);
-    wc__cheb_rows(wc__map(theta1_deg, lo, hi), tb, pc->nb);
-    for (i = 0; i < pc->nw; ++i)
-        for (j = 0; j < pc->na; ++j)
+    *sc = wc__cap_rupture(pc, *two, x0, x1, theta, lo, hi, *v, tw, ta, tb);
+    /* within the margin of the split angle: the piece across it too (extrapolated a little
+     * past its end), and the smaller rupture distance wins */
+    for (p = 0; tab->margin > 0 && tab->nsplit > 0 && p + 1 < tab->npieces; ++p) {{
+        if (!tab->piece[p].hi_split || !(fabs(theta - split) <= tab->margin))
+            continue;
+        other = theta <= split ? p + 1 : p;
+        po = &tab->piece[other];
+        so = wc__cap_rupture(po, *two, x0, x1, theta, po->lo_split ? split : po->lo,
+                             po->hi_split ? split : po->hi, *v, tw2, ta2, tb2);
+        if (so < *sc) {{
+            *sc = so;
+            pc = po;
+            for (k = 0; k < pc->nw; ++k)
+                tw[k] = tw2[k];
+            for (k = 0; k < pc->na; ++k)
+                ta[k] = ta2[k];
             for (k = 0; k < pc->nb; ++k)
-                sum += pc->rupture[(i * pc->na + j) * pc->nb + k] * (tw[i] * ta[j] * tb[k]);
-    *sc = cbrt(*v) * exp(sum);
+                tb[k] = tb2[k];
+        }}
+    }}
     *piece = pc;
     return 1;
 }}
@@ -354,8 +450,9 @@ static inline double wc_rupture_distance(double r1, double r2, double volume,
     const struct wc__cap_piece *pc;
     double tw[WC__CAP_NMAX], ta[WC__CAP_NMAX], tb[WC__CAP_NMAX];
     double rs = 0.0, v = 0.0, rho = 0.0, sc = 0.0;
-    if (!wc__cap_bridge(r1, r2, volume, theta1_deg, theta2_deg, &tab, &pc, &rs, &v, &rho, tw,
-                        ta, tb, &sc))
+    int two = 0;
+    if (!wc__cap_bridge(r1, r2, volume, theta1_deg, theta2_deg, &tab, &pc, &two, &rs, &v,
+                        &rho, tw, ta, tb, &sc))
         return NAN;
     return sc * rs;
 }}
@@ -409,7 +506,7 @@ static inline void wc__cap_gap_series(const struct wc__cap_piece *pc, const doub
                 }}
 }}
 
-/* One liquid bridge whose volume, radii, surface tension and contact angle are fixed and
+/* One liquid bridge whose volume, radii, surface tension and contact angles are fixed and
  * whose gap changes (a DEM contact): wc_capillary_contact_init contracts the force table
  * over every axis but the gap's once, wc_capillary_force_at then costs nc multiply-adds,
  * two log1p, a sqrt and an exp per gap. */
@@ -419,7 +516,7 @@ struct wc_capillary_contact {{
     double rs;      /* R_s (m), the smaller radius (r1 for a plane) */
     double sc;      /* S_c / R_s, the rupture distance over R_s */
     double eps;     /* sqrt(v / (pi rho)) */
-    double factor;  /* rho 2 cos(theta) */
+    double factor;  /* rho 2 cos(theta), or cos(theta1) + cos(theta2) (plane, two angles) */
     double scale;   /* 2 pi sigma R_s (N) */
     double g[WC__CAP_NMAX];  /* the gap series */
 }};
@@ -434,17 +531,21 @@ static inline int wc__cap_contact(struct wc_capillary_contact *c, double r1, dou
     const struct wc__cap_piece *pc;
     double tw[WC__CAP_NMAX], ta[WC__CAP_NMAX], tb[WC__CAP_NMAX];
     double rs = 0.0, v = 0.0, rho = 0.0, sc = 0.0;
+    int two = 0;
     c->ok = 0;
     c->nc = 0;
     if (!(surface_tension > 0) || !isfinite(surface_tension))
         return 0;
-    if (!wc__cap_bridge(r1, r2, volume, theta1_deg, theta2_deg, &tab, &pc, &rs, &v, &rho, tw,
-                        ta, tb, &sc))
+    if (!wc__cap_bridge(r1, r2, volume, theta1_deg, theta2_deg, &tab, &pc, &two, &rs, &v,
+                        &rho, tw, ta, tb, &sc))
         return 0;
     c->rs = rs;
     c->sc = sc;
     c->eps = sqrt(v / (WC_PI * rho));
-    c->factor = rho * 2.0 * cos(theta1_deg * (WC_PI / 180.0));
+    if (two)  /* a plane with two angles: rho = 1, cos theta1 + cos theta2 */
+        c->factor = rho * (cos(theta1_deg * (WC_PI / 180.0)) + cos(theta2_deg * (WC_PI / 180.0)));
+    else
+        c->factor = rho * 2.0 * cos(theta1_deg * (WC_PI / 180.0));
     c->scale = 2.0 * WC_PI * surface_tension * rs;
     if (gap / rs < sc) {{
         wc__cap_gap_series(pc, tw, ta, tb, c->g);
@@ -607,7 +708,7 @@ def header_text(source: CapillarySource) -> str:
         **br, **capillary_fields(source),
         cap_nmax=max([max(pc.force_shape) for p in source.table.parts.values()
                       for pc in p.pieces]
-                     + [p.split.size for p in source.table.parts.values()
+                     + [max(p.split.shape) for p in source.table.parts.values()
                         if p.split is not None]),
         cap_pieces=max(len(p.pieces) for p in source.table.parts.values()),
         cap_rmax=max(pc.rank for p in source.table.parts.values() for pc in p.pieces),
@@ -635,20 +736,28 @@ def capillary_fields(source: CapillarySource) -> dict[str, Any]:
     return fields
 
 
+GEOMETRY_NAMES = {"sphere-wall": "plane", "sphere-sphere": "sphere pairs",
+                  TWO_ANGLES: "plane, two angles"}
+"""How the exports' comments name each ``calibrated-capillary`` geometry."""
+GEOMETRY_CODES = {"sphere-wall": "WC__CAP_PLANE", "sphere-sphere": "WC__CAP_SPHERES",
+                  TWO_ANGLES: "WC__CAP_PLANE2"}
+"""The header's code of each geometry (``wc__cap_table``)."""
+
+
 def held_out_lines(source: CapillarySource) -> list[str]:
     """One line per geometry: the shipped table's held-out errors, or that it is missing."""
     t = source.table
-    names = {"sphere-wall": "plane", "sphere-sphere": "sphere pairs"}
-    return [f"{names[k]}: {t.held_out_text(k)}" if k in t.parts else
-            f"{names[k]}: table not generated (NaN)" for k in names]
+    return [f"{name}: {t.held_out_text(k)}" if k in t.parts else
+            f"{name}: table not generated (NaN)" for k, name in GEOMETRY_NAMES.items()]
 
 
 def _cap_tables(source: CapillarySource) -> str:
     """The body of ``wc__cap_table``: each generated geometry's pieces as static arrays (a
-    plane's with a leading axis of one entry) and its split series, ``return 0`` for a
-    missing one."""
+    plane's with a leading axis of one entry) and its split series (flattened row-major: a
+    plane with two angles has a 2-D ridge series), ``return 0`` for a missing one."""
     out = []
-    for kind, cond in (("sphere-wall", "plane"), ("sphere-sphere", "!plane")):
+    for kind, code in GEOMETRY_CODES.items():
+        cond = f"geometry == {code}"
         part = source.table.parts.get(kind)
         if part is None:
             out.append(f"    if ({cond})\n        return 0;  /* {kind}: not generated */")
@@ -657,7 +766,7 @@ def _cap_tables(source: CapillarySource) -> str:
         split = "(const double *)0"
         if part.split is not None:
             lines.append(f"        static const double split[{part.split.size}] = "
-                         f"{c_array(part.split, indent=12)};")
+                         f"{c_array(part.split.ravel(), indent=12)};")
             split = "split"
         for n, p in enumerate(part.pieces):
             lines.append(f"        static const double rupture{n}[{p.rupture.size}] = "
@@ -666,8 +775,12 @@ def _cap_tables(source: CapillarySource) -> str:
                          f"{c_array(p.force_left.ravel(), indent=12)};")
             lines.append(f"        static const double right{n}[{p.force_right.size}] = "
                          f"{c_array(p.force_right.ravel(), indent=12)};")
+        nsplit = (0, 0) if part.split is None else (
+            (part.split.shape[0], 0) if part.split.ndim == 1 else part.split.shape)
         lines.append(f"        t->npieces = {len(part.pieces)};")
-        lines.append(f"        t->nsplit = {0 if part.split is None else part.split.size};")
+        lines.append(f"        t->margin = {part.ridge_margin_deg!r};")
+        lines.append(f"        t->nsplit = {nsplit[0]};")
+        lines.append(f"        t->nsplit_b = {nsplit[1]};")
         lines.append(f"        t->split = {split};")
         for n, p in enumerate(part.pieces):
             plane = kind == "sphere-wall"  # no w axis: one entry in the header's layout

@@ -72,6 +72,28 @@ FORMS = {
         "; this part covers theta from {lo} to {hi} deg (a point belongs to the first part "
         "of its geometry whose upper end is at or above its angle) and b = m(theta_deg; lo, "
         "hi) within it, where 'split' is the split angle theta_s = sum_k s_k T_k(a) (deg)"),
+    "capillary-rupture-two-angles": (
+        "S_c = R v^(1/3) exp(sum C[i, j, k] T_i(a) T_j(b1) T_k(b2)), a sphere of radius R "
+        "and a wall with their own contact angles theta_s (the sphere's) and theta_w (the "
+        "wall's), v = V/R^3; T_n Chebyshev polynomials of the first kind; each coordinate "
+        "mapped to [-1, 1] as m(x; lo, hi) = (2 x - lo - hi)/(hi - lo): a = m(ln v; ln v0, "
+        "ln v1), b1 = m(theta_s_deg; t0, t1), b2 = m(theta_w_deg; lo, hi) within the part's "
+        "range of theta_w, [v0, v1] the domain's v, [t0, t1] its theta_sphere_deg"),
+    "capillary-force-two-angles": (
+        "F = -2 pi sigma R (cos theta_s + cos theta_w) exp(sum C[i, j, k, l] T_i(a) T_j(b1) "
+        "T_k(b2) T_l(c)) for S < S_c, exactly 0 at and past S_c; c = 2 z - 1, z = sqrt(1 - "
+        "ln(1 + s/eps)/ln(1 + s_c/eps)), s = S/R, s_c = S_c/R from the rupture part, eps = "
+        "sqrt(v/pi); a, b1, b2 as in the rupture part (Derjaguin's force at contact times a "
+        "smooth correction)"),
+    "capillary-piece-two-angles": (
+        "; this part covers the wall's angle theta_w from {lo} to {hi} deg (a point belongs "
+        "to the first part whose upper end is at or above theta_w; the domain stops at the "
+        "domain's theta_wall_deg) and b2 = m(theta_w_deg; lo, hi) within it, where 'ridge' is "
+        "the wall angle of the rupture distance's ridge theta_w* = sum_ij s_ij T_i(a) "
+        "T_j(b1) (deg), where S_c peaks and the parts meet; a point with |theta_w - "
+        "theta_w*| <= {margin!r} deg is evaluated in both parts that meet there (the other "
+        "with b2 a little outside [-1, 1]) and the part with the smaller S_c gives S_c and "
+        "F"),
 }
 LAYOUT = {"willett": "k[i, j, m] flattened in C order, shape (4, 4, 3)",
           "finite-liquid": "(p, c0, ..., c8)", "lian-rupture": "(a, b, c)"}
@@ -166,8 +188,10 @@ def shipped_document(closure: str) -> dict[str, Any]:
 
 def capillary_document() -> dict[str, Any]:
     """The shipped ``calibrated-capillary`` closure: per generated geometry a rupture part
-    and a force part, each tensor flattened in C order (its shape in the layout)."""
-    from wetcontact.export.closures import shipped_capillary
+    and a force part, each tensor flattened in C order (its shape in the layout); a wall
+    with two contact angles (geometry ``sphere-wall-two-angles``) has axes (a, b1, b2) and
+    a 2-D ridge series."""
+    from wetcontact.export.closures import KINDS, shipped_capillary
 
     t = shipped_capillary()
     parts = []
@@ -176,15 +200,23 @@ def capillary_document() -> dict[str, Any]:
         if not all(isinstance(ho.get(k), dict) for k in ("force", "rupture_distance")):
             raise InputError(f"{t.source}: {kind} has no held-out table; allowed: a table "
                              "written by `python -m wetcontact.calibrate capillary`")
-        axes = "(w, a, b)" if kind == "sphere-sphere" else "(a, b)"
+        two = part.two_angles
+        axes = "(a, b1, b2)" if two else "(w, a, b)" if kind == "sphere-sphere" else "(a, b)"
         domain = {"v": list(t.v_range)}
         if kind == "sphere-sphere":
             domain["radius_ratio"] = list(t.ratio_range)
+        if two:
+            domain["theta_sphere_deg"] = list(t.theta_range_deg)
+        angle = "theta_wall_deg" if two else "theta_deg"
         for piece in part.pieces:
-            ends = ["split" if e is None else f"{e:g}" for e in (piece.theta_lo, piece.theta_hi)]
-            where = "" if len(part.pieces) == 1 else f" (theta {ends[0]} to {ends[1]} deg)"
+            split_name = "ridge" if two else "split"
+            ends = [split_name if e is None else f"{e:g}"
+                    for e in (piece.theta_lo, piece.theta_hi)]
+            where = "" if len(part.pieces) == 1 else (
+                f" ({'wall angle' if two else 'theta'} {ends[0]} to {ends[1]} deg)")
             lo = t.theta_range_deg[0] if piece.theta_lo is None else piece.theta_lo
-            hi = t.theta_range_deg[1] if piece.theta_hi is None else piece.theta_hi
+            hi = t.theta_range_deg[1] if piece.theta_hi is None else min(
+                piece.theta_hi, t.theta_range_deg[1])  # a piece may reach past the domain
             for name, form, arr, held, extra in (
                     ("rupture distance", "capillary-rupture", piece.rupture, "rupture_distance",
                      {}),
@@ -193,31 +225,44 @@ def capillary_document() -> dict[str, Any]:
                 layout = (f"C flattened in C order, shape ({shape}), axes "
                           + (axes if held != "force" else axes[:-1] + ", c)"))
                 coef = [float(c) for c in arr.ravel()]
-                text = FORMS[form]
+                text = FORMS[form + ("-two-angles" if two else "")]
                 if len(part.pieces) > 1:
-                    text += FORMS["capillary-piece"].format(lo=ends[0], hi=ends[1])
-                if "split" in ends:  # the split series first, then the tensor
-                    layout = (f"first the split angle's {part.split.size} Chebyshev "
-                              f"coefficients s_k, then {layout}")
-                    coef = [float(c) for c in part.split] + coef
+                    text += FORMS["capillary-piece" + ("-two-angles" if two else "")].format(
+                        lo=ends[0], hi=ends[1], margin=part.ridge_margin_deg)
+                if split_name in ends:  # the split (ridge) series first, then the tensor
+                    what = (f"first the ridge angle's Chebyshev coefficients s_ij flattened "
+                            f"in C order, shape ({', '.join(map(str, part.split.shape))}), "
+                            "axes (a, b1)" if two else
+                            f"first the split angle's {part.split.size} Chebyshev "
+                            "coefficients s_k")
+                    layout = f"{what}, then {layout}"
+                    coef = [float(c) for c in part.split.ravel()] + coef
+                held_out = {"points": int(ho[held]["points"]), "seed": int(ho["seed"]),
+                            "reference": str(ho["reference"]) + " (geometry as a whole)",
+                            "relative_error": _errors(ho[held])}
+                strata = {k: {"points": int(s[held]["points"]),
+                              "relative_error": _errors(s[held])}
+                          for k, s in part.held_out_strata.items()
+                          if isinstance(s.get(held), dict)}
+                if strata:
+                    held_out["strata"] = strata
                 parts.append({"name": f"{name} {kind}{where}", "geometry": kind,
                               "amount": "bridge", "form": text, "coefficient_layout": layout,
                               "coefficients": coef,
-                              "domain": {**domain, "theta_deg": [lo, hi], **extra},
-                              "held_out": {"points": int(ho[held]["points"]),
-                                           "seed": int(ho["seed"]),
-                                           "reference": str(ho["reference"]) + " (geometry "
-                                           "as a whole)", "relative_error": _errors(ho[held])}})
+                              "domain": {**domain, angle: [lo, hi], **extra},
+                              "held_out": held_out})
     from wetcontact.reduced_models.calibrated_capillary import capillary_table
 
     return {"format": "wetcontact-calibration", "format_version": 1,
             "closure": "calibrated-capillary", "origin": "shipped", "target": "capillary",
             "description": "calibrated capillary closure: tensor Chebyshev interpolants of the "
                            "meniscus solver's rupture distance and force of a pendular "
-                           "bridge, sphere-wall and two spheres (radius ratio 1-10), one "
-                           "contact angle on both solids, any gap (0 at and past rupture)"
-                           + "".join(f"; {k}: not generated" for k in
-                                     ("sphere-wall", "sphere-sphere") if k not in t.parts),
+                           "bridge, sphere-wall and two spheres (radius ratio 1-10) with one "
+                           "contact angle on both solids, and sphere-wall-two-angles (a "
+                           "sphere and a wall with their own contact angles), any gap (0 at "
+                           "and past rupture)"
+                           + "".join(f"; {k}: not generated" for k in KINDS
+                                     if k not in t.parts),
             "units": UNITS, "sign_convention": SIGN, "outside_domain": OUTSIDE,
             "parts": parts, "provenance": _provenance(
                 Path(t.source), str((capillary_table() or {}).get("generated_by", "")),

@@ -19,29 +19,36 @@ for a plane:
     calibrated_capillary`): ``S_c = R_s v^(1/3) exp(sum C T_i(w) T_j(a) T_k(b))``, a tensor
     Chebyshev interpolant of ``meniscus``. Domain: a plane or a sphere pair with
     ``r = R_l/R_s`` in [1, 10], ``v = V/R_s^3`` in [1e-4, 0.1], ONE contact angle
-    (theta1 = theta2) in [0, 70] deg.
+    (theta1 = theta2) in [0, 70] deg; or a plane with TWO angles, the sphere's theta1 and
+    the plane's theta2, each in [0, 70] deg (the table ``sphere-wall-two-angles``:
+    ``S_c = R v^(1/3) exp(sum C T_i(a) T_j(b1) T_k(b2))``, b1 from theta1 over [0, 70] deg,
+    b2 from theta2 within its piece, the pieces meeting at the ridge theta2*(a, b1)).
 ``capillary_force(r1, r2, volume, gap, surface_tension, theta1_deg, theta2_deg)``
     The shipped ``calibrated-capillary`` closure: ``F = -2 pi sigma R* (2 cos theta)
-    exp(sum C T_i(w) T_j(a) T_k(b) T_l(c))``, c the gap coordinate
-    (:func:`~wetcontact.reduced_models.calibrated_capillary.gap_coordinate`); same domain,
-    any gap ``S >= 0`` (``S = 0`` is the limit at contact), exactly 0 at and past ``S_c``.
+    exp(sum C T_i(w) T_j(a) T_k(b) T_l(c))`` (two angles on a plane: ``-2 pi sigma R
+    (cos theta1 + cos theta2) exp(sum C T_i(a) T_j(b1) T_k(b2) T_l(c))``), c the gap
+    coordinate (:func:`~wetcontact.reduced_models.calibrated_capillary.gap_coordinate`);
+    same domain, any gap ``S >= 0`` (``S = 0`` is the limit at contact), exactly 0 at and
+    past ``S_c``.
 ``rupture_distance_refit``, ``capillary_force_refit`` (same arguments)
     The REFITTED ``lian-rupture`` (``S_c = R ((a + b theta) V*^(1/3) + c V*^(2/3))``, Lian
     et al. 1993) and ``willett`` (Willett et al. 2000, eq. A1, 48 coefficients) families:
     equal spheres only, V* = V/R^3 in [1e-4, 0.1], the cosine mean of two contact angles in
     [0, 50] deg, the force also S/S_c(Willett) in the fitted range; 0 at and past the
-    refitted Lian rupture distance. Kept for contacts with two different contact angles,
-    which ``calibrated-capillary`` does not cover (it refuses and names ``meniscus``).
+    refitted Lian rupture distance. Kept for contacts with two different contact angles
+    between two spheres, which ``calibrated-capillary`` does not cover (it refuses and
+    names ``meniscus``).
 
 :class:`CapillarySource` is the one place that names the capillary tables the exports
 carry: the shipped ``calibrated-capillary`` table (whatever geometries, theta pieces, split
 angle and node counts its package data holds: ``pieces`` in theta, with a ``theta_split``
-series where a piece ends at the split angle) and the two refits.
+series where a piece ends at the split angle, or at the ridge of a plane with two angles)
+and the two refits.
 
 Outside the calibrated domain (or for inputs no closure covers: unequal spheres for the
-immersed part, two contact angles for ``calibrated-capillary``, a geometry whose table is
-not generated, a non-finite number) every function returns NaN: this is the documented
-contract of the exported C and Python code, where an exception is not available; the
+immersed part, two contact angles between spheres for ``calibrated-capillary``, a geometry
+whose table is not generated, a non-finite number) every function returns NaN: this is the
+documented contract of the exported C and Python code, where an exception is not available; the
 package itself (:func:`package_evaluation`) reports the same points as refusals
 (:class:`~wetcontact.errors.ValidityError`) and maps them to NaN only here, for comparison.
 """
@@ -51,7 +58,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
 from typing import Any
@@ -66,6 +73,12 @@ from wetcontact.errors import InputError, ValidityError
 #: ``export python`` and ``export c`` work from an installed package, not only a checkout
 REFIT_DIR = Path(__file__).resolve().parents[1] / "reduced_models" / "data"
 REFIT_FILES = {"willett": "refit_willett.json", "lian-rupture": "refit_lian-rupture.json"}
+
+
+TWO_ANGLES = "sphere-wall-two-angles"
+"""The table key of a wall with two contact angles (the model's ``WALL_TWO_ANGLES``)."""
+KINDS = ("sphere-wall", "sphere-sphere", TWO_ANGLES)
+"""The ``calibrated-capillary`` geometries the exports carry, in their order."""
 
 
 @dataclass(frozen=True)
@@ -87,8 +100,10 @@ class CapillaryPiece:
     package's low-rank form, ``C^F = tensordot(force_left, force_right, 1)`` (the force
     table has the axes of ``rupture`` plus the gap axis c; ``force_left`` carries its first
     axes and the rank, ``force_right`` the rank and the others). A sphere pair's axes are
-    (w, a, b[, c]), a wall's (a, b[, c]). ``theta_lo``/``theta_hi`` (deg) bound the piece;
-    ``None`` is the geometry's split angle (b is mapped from theta within the piece)."""
+    (w, a, b[, c]), a wall's (a, b[, c]), a wall's with two angles (a, b1, b2[, c]).
+    ``theta_lo``/``theta_hi`` (deg) bound the piece in the angle that the pieces divide
+    (the one angle, or the wall's); ``None`` is the geometry's split angle (b, or b2, is
+    mapped from that angle within the piece)."""
 
     theta_lo: float | None
     theta_hi: float | None
@@ -122,13 +137,27 @@ class CapillaryPiece:
 class CapillaryPart:
     """One geometry of the shipped ``calibrated-capillary`` table: its theta pieces (a point
     belongs to the first whose upper end is at or above its angle) and, where a piece ends
-    at the split angle, that angle (deg) as a Chebyshev series in the volume coordinate
-    ``a`` (``split``)."""
+    at the split angle, that angle (deg) as a Chebyshev series (``split``) in the volume
+    coordinate ``a``, or, for a wall with two angles (``two_angles``), the wall angle of
+    the rupture distance's ridge as a tensor series in ``a`` and the sphere angle's
+    coordinate ``b1`` (shape (n_a, n_b1)). ``ridge_margin_deg`` (0: none; the two-angle
+    table has one): a point whose angle is within this of the split angle is evaluated in
+    both pieces that meet there and the smaller rupture distance wins (its S_c and force;
+    the other piece extrapolates a little past its end), as the model's ``_pieces`` does.
+    ``held_out``: the error table of the geometry; ``held_out_strata``: those of its stress
+    strata (e.g. ``near_ridge``), by name."""
 
     kind: str
     pieces: tuple[CapillaryPiece, ...]
     split: np.ndarray | None
     held_out: dict[str, Any]
+    held_out_strata: dict[str, dict[str, Any]] = field(default_factory=dict)
+    ridge_margin_deg: float = 0.0
+
+    @property
+    def two_angles(self) -> bool:
+        """A wall with the sphere's and the wall's own contact angles."""
+        return self.kind == TWO_ANGLES
 
 
 @dataclass(frozen=True, eq=False)
@@ -145,24 +174,36 @@ class CapillaryTable:
     sha256: str
 
     def held_out_text(self, kind: str) -> str:
-        """``force max X (n points), rupture distance max Y (m)`` of one geometry."""
-        ho = self.parts[kind].held_out
-        if "force" not in ho or "rupture_distance" not in ho:
-            return "held-out errors not in the package data"
-        f, r = ho["force"], ho["rupture_distance"]
-        return (f"force max {f['max']:.2g} ({f['points']} points), rupture distance max "
-                f"{r['max']:.2g} ({r['points']} bridges)")
+        """``force max X (n points), rupture distance max Y (m)`` of one geometry, and of
+        each of its stress strata (``; near_ridge: force max ...``)."""
+        part = self.parts[kind]
+
+        def text(ho: dict[str, Any]) -> str:
+            if "force" not in ho or "rupture_distance" not in ho:
+                return "held-out errors not in the package data"
+            f, r = ho["force"], ho["rupture_distance"]
+            return (f"force max {f['max']:.2g} ({f['points']} points), rupture distance max "
+                    f"{r['max']:.2g} ({r['points']} bridges)")
+
+        return "; ".join([text(part.held_out)] + [
+            f"{name.replace('_', ' ')}: {text(ho)}" for name, ho in part.held_out_strata.items()])
 
 
 def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
     """One geometry's entry: its ``pieces`` (and ``theta_split``), the layout the model
-    (:func:`~wetcontact.reduced_models.calibrated_capillary.force_star`) reads."""
+    (:func:`~wetcontact.reduced_models.calibrated_capillary.force_star`) reads.
+
+    One angle: rupture tables 2-D (a wall) or 3-D (sphere pairs), a 1-D split series, the
+    pieces contiguous from 0 to 70 deg. Two angles on a wall: rupture tables 3-D
+    (a, b1, b2), a 2-D ridge series over (a, b1), the pieces contiguous from 0 deg to an
+    end at or above 70 deg (past the domain: the ridge may lie above 70 deg)."""
     from wetcontact.reduced_models.calibrated_capillary import THETA_RANGE_DEG
 
     raw = e.get("pieces")
     if not raw:
         raise InputError(f"{path}: {kind}: field 'pieces' missing or empty; allowed: the "
                          "layout written by python -m wetcontact.calibrate capillary")
+    two = kind == TWO_ANGLES
     ndim = 2 if kind == "sphere-wall" else 3
     pieces = []
     for i, p in enumerate(raw):
@@ -194,12 +235,30 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
     bounds = [x for p in pieces for x in (p.theta_lo, p.theta_hi)]
     ends = [(p.theta_lo, p.theta_hi) for p in pieces]
     contiguous = all(p.theta_hi == q.theta_lo for p, q in zip(pieces, pieces[1:], strict=False))
-    if (None in bounds and (split is None or split.ndim != 1)) or not contiguous or (
-            pieces[0].theta_lo, pieces[-1].theta_hi) != tuple(THETA_RANGE_DEG):
+    lo, hi = pieces[0].theta_lo, pieces[-1].theta_hi
+    if two:  # the last piece may reach past the domain (the ridge may be above it)
+        spans = lo == THETA_RANGE_DEG[0] and hi is not None and hi >= THETA_RANGE_DEG[1]
+        top = f"an end at or above {THETA_RANGE_DEG[1]:g}"
+    else:
+        spans, top = (lo, hi) == tuple(THETA_RANGE_DEG), f"{THETA_RANGE_DEG[1]:g}"
+    split_ndim = 2 if two else 1
+    if split is not None and (split.ndim != split_ndim or not np.all(np.isfinite(split))):
+        raise InputError(f"{path}: {kind} theta_split of shape {split.shape}; allowed: a "
+                         f"finite {split_ndim}-D Chebyshev series in "
+                         + ("(a, b1)" if two else "a"))
+    if (None in bounds and split is None) or not contiguous or not spans:
         raise InputError(f"{path}: {kind} theta pieces {ends}; allowed: contiguous from "
-                         f"{THETA_RANGE_DEG[0]:g} to {THETA_RANGE_DEG[1]:g} deg, None (the "
-                         "split angle) only with a theta_split series")
-    return CapillaryPart(kind, tuple(pieces), split, e.get("held_out", {}))
+                         f"{THETA_RANGE_DEG[0]:g} to {top} deg, None (the split angle) only "
+                         "with a theta_split series")
+    margin = e.get("ridge_margin_deg", 0.0)
+    if not isinstance(margin, int | float) or not 0.0 <= margin < math.inf or (
+            margin > 0.0 and split is None):
+        raise InputError(f"{path}: {kind} ridge_margin_deg = {margin!r}; allowed: a finite "
+                         "number >= 0 (deg), above 0 only with a theta_split series")
+    strata = {k.removeprefix("held_out_"): v for k, v in e.items()
+              if k.startswith("held_out_") and isinstance(v, dict)}
+    return CapillaryPart(kind, tuple(pieces), split, e.get("held_out", {}), strata,
+                         float(margin))
 
 
 def shipped_capillary() -> CapillaryTable:
@@ -212,8 +271,7 @@ def shipped_capillary() -> CapillaryTable:
     if table is None or not path.is_file():
         raise InputError("calibrated-capillary: coefficient table not generated; run "
                          "`python -m wetcontact.calibrate capillary`")
-    parts = {kind: _capillary_part(path, kind, table[kind])
-             for kind in ("sphere-wall", "sphere-sphere") if kind in table}
+    parts = {kind: _capillary_part(path, kind, table[kind]) for kind in KINDS if kind in table}
     for key, want in (("v", cc.V_RANGE), ("theta_deg", cc.THETA_RANGE_DEG),
                       ("radius_ratio", cc.RATIO_RANGE)):
         if tuple(table["domain"][key]) != tuple(want):
@@ -240,7 +298,7 @@ class CapillarySource:
     @property
     def shipped_label(self) -> str:
         shipped = "; ".join(f"{k}: {self.table.held_out_text(k)}" for k in self.table.parts)
-        missing = [k for k in ("sphere-wall", "sphere-sphere") if k not in self.table.parts]
+        missing = [k for k in KINDS if k not in self.table.parts]
         return ("the shipped 'calibrated-capillary' closure (held-out relative error "
                 f"against meniscus, {shipped}"
                 + (f"; {', '.join(missing)}: not generated, NaN" if missing else "") + ")")
@@ -383,7 +441,8 @@ def _calibrated_capillary(function: str, liquid: dict[str, Any], **args: float) 
     if gap == 0.0:
         v, ratio = model._v_ratio(nominal)
         rs = model.small_radius(nominal)
-        f, _ = force_star(nominal.kind, v, nominal.contact_angle_sphere, 0.0, ratio)
+        f, _ = force_star(nominal.kind, v, nominal.contact_angle_sphere, 0.0, ratio,
+                          theta_wall=model._theta_wall(nominal))
         return -float(2.0 * math.pi * nominal.surface_tension * rs * f)
     if gap > 100.0 * r1 and math.isfinite(gap):
         assert gap > sc

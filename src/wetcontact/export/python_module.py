@@ -21,7 +21,12 @@ from wetcontact.export.c_header import (
     capillary_fields,
     held_out_lines,
 )
-from wetcontact.export.closures import CapillaryPart, CapillarySource, immersed_tables
+from wetcontact.export.closures import (
+    TWO_ANGLES,
+    CapillaryPart,
+    CapillarySource,
+    immersed_tables,
+)
 from wetcontact.fileio import atomic_write_text
 from wetcontact.reduced_models.calibrated import viscous_table
 
@@ -62,16 +67,25 @@ plane), coordinates in [-1, 1]: a from ln v, b from theta within its theta piece
 geometry may carry several tables, e.g. below and above a split angle theta_s(V), a
 Chebyshev series in a), w from (ln r)^(1/3) (sphere pairs only), c = 2 z - 1 with
 z = sqrt(1 - ln(1 + S/eps)/ln(1 + S_c/eps)), eps = sqrt(v/(pi rho)) (all lengths over R_s).
+A plane with TWO contact angles, theta1 the sphere's and theta2 the plane's, has its own
+table: S_c = R v^(1/3) exp(sum C_rup T(a) T(b1) T(b2)) and
+F = -2 pi sigma R (cos theta1 + cos theta2) exp(sum C_F T(a) T(b1) T(b2) T(c)), b1 from
+theta1 over [{ct_lo:.6g}, {ct_hi:.6g}] deg, b2 from theta2 within its piece: the pieces
+meet at the ridge of S_c, a plane angle theta2*(a, b1) = sum s_ij T_i(a) T_j(b1) (deg);
+within the table's margin of it ("margin" in _CAP) a point is evaluated in both pieces and
+the one with the smaller S_c gives S_c and F (S_c is the smaller of two fold families').
 C_F is carried in its low-rank form C_F = sum_k L[..., k] R[k, ...] (rank r, the package's
 own layout) and evaluated as such: the Chebyshev rows of the left axes ((w, a) for sphere
-pairs, (a, b) on a plane in the shipped data) times L, of the other axes times R, the dot
-product of the two.
+pairs, (a, b) on a plane, (a, b1) on a plane with two angles in the shipped data) times L,
+of the other axes times R, the dot product of the two.
 Held-out max relative error against `meniscus`:
 {cap_held_out}
 Domain: a plane or two spheres with r in [{q_lo:.6g}, {q_hi:.6g}], v in [{cv_lo:.6g}, {cv_hi:.6g}],
-ONE contact angle: theta1 = theta2 in [{ct_lo:.6g}, {ct_hi:.6g}] deg (two different angles
-return NaN: use the *_refit pair below); the force also gap >= 0 (gap = 0 is the contact
-value) and surface_tension > 0; the force is exactly 0 at and past S_c.
+ONE contact angle, theta1 = theta2 (within {angle_tol:.0e} rad), in [{ct_lo:.6g}, {ct_hi:.6g}] deg,
+or, on a plane only, two angles theta1, theta2 each in [{ct_lo:.6g}, {ct_hi:.6g}] deg (two
+different angles between two spheres return NaN: use the *_refit pair below); the force
+also gap >= 0 (gap = 0 is the contact value) and surface_tension > 0; the force is exactly
+0 at and past S_c.
 
 capillary_force_refit, rupture_distance_refit: REFITTED families, not a shipped closure:
 {refit_label}
@@ -186,10 +200,15 @@ _CAP_T_LO, _CAP_T_HI = {ct_lo_r}, {ct_hi_r}
 _CAP_Q_HI, _CAP_W_MAX = {q_hi_r}, {w_max_r}
 _CAP_ANGLE_TOL = {angle_tol_r}  # rad: two angles closer than this count as one
 # per geometry: the theta pieces (lo, hi, rupture table, force_left, force_right), lo/hi in
-# deg or None for the split angle, a Chebyshev series in a ("split"); None where no table was
-# generated. Axes: sphere pair (w, a, b[, c]), plane (a, b[, c]); the force table is
+# deg or None for the split angle ("split": a Chebyshev series in a; for a plane with two
+# angles, "wall2", the ridge's plane angle, a tensor series in (a, b1)); within "margin"
+# deg of it a point is evaluated in both pieces that meet there and the smaller S_c wins
+# (its S_c and force); None where no table was generated. Axes: sphere pair (w, a, b[, c]),
+# plane (a, b[, c]), plane with two angles (a, b1, b2[, c]), b1 from theta1 over
+# [{ct_lo:g}, {ct_hi:g}] deg, b2 from theta2 within its piece; the force table is
 # C_F = tensordot(force_left, force_right, 1) (rank r: left (..., r), right (r, ...)).
-_CAP = {{"wall": {cap_wall}, "spheres": {cap_ss}}}
+_CAP = {{"wall": {cap_wall}, "spheres": {cap_ss},
+        "wall2": {cap_wall2}}}
 _CHUNK = 4096
 
 
@@ -218,7 +237,8 @@ def _cap_outer(pts, shape):
 
 
 def _cap_star(tables, coords, v, rho, cos_t, s):
-    """(F/(2 pi sigma R_s), S_c/R_s) at s = S/R_s (F 0 at and past S_c; s None: S_c only).
+    """(F/(2 pi sigma R_s), S_c/R_s) at s = S/R_s (F 0 at and past S_c; s None: S_c only);
+    cos_t: the Derjaguin factor, 2 cos theta (one angle) or cos theta1 + cos theta2.
     The rupture exponent: the Chebyshev rows of the axes before b times the table, dotted
     with the rows of b. The force exponent in the table's low-rank form: the Chebyshev rows
     of the left axes times force_left (r numbers), of the right axes times force_right (r
@@ -249,25 +269,31 @@ def _cap_star(tables, coords, v, rho, cos_t, s):
             u = (lead if k == rup.ndim - 1 else _cap_outer(pts[:k], left.shape[:-1])) @ lf
         w = _cap_outer(pts[k:], right.shape[1:]) @ rf
         q = np.exp(np.einsum("ij,ij->i", u, w))
-        f[sl] = np.where(inside, rho[sl] * 2.0 * cos_t[sl] * q, 0.0)
+        f[sl] = np.where(inside, rho[sl] * cos_t[sl] * q, 0.0)
     return f, s_c
 
 
 def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
-    """Shared by the two capillary functions: (F*, S_c*, R_s, ok) on flat arrays."""
+    """Shared by the two capillary functions: (F*, S_c*, R_s, ok) on flat arrays. One
+    angle (theta1 = theta2 within the tolerance): a plane's or the sphere pairs' table, b
+    from theta. Two angles on a plane: its own table, b1 from theta1 (the sphere's) over
+    the angle range, b2 from theta2 (the plane's) within its piece, the pieces meeting at
+    the ridge, a series in (a, b1)."""
     plane = np.isinf(r2) & (r2 > 0)
     ok = ((r1 > 0) & np.isfinite(r1) & (r2 > 0) & (vol > 0) & np.isfinite(vol)
           & (t1 >= 0) & (t1 < 180) & (t2 >= 0) & (t2 < 180))
     with np.errstate(all="ignore"):
-        ok &= np.abs(np.radians(t1) - np.radians(t2)) <= _CAP_ANGLE_TOL
+        two = ~(np.abs(np.radians(t1) - np.radians(t2)) <= _CAP_ANGLE_TOL)
+        ok &= plane | ~two
         ok &= (t1 >= _CAP_T_LO) & (t1 <= _CAP_T_HI * (1 + 1e-12))
+        ok &= (t2 >= _CAP_T_LO) & (t2 <= _CAP_T_HI * (1 + 1e-12))
         rs = np.where(plane, r1, np.minimum(r1, r2))
         ratio = np.where(plane, 1.0, np.maximum(r1, r2) / rs)
         v = vol / rs**3
         ok &= (v >= _CAP_V_LO * (1 - 1e-9)) & (v <= _CAP_V_HI * (1 + 1e-9))
         ok &= plane | (ratio <= _CAP_Q_HI * (1 + 1e-9))
     f, s_c = np.full(r1.size, np.nan), np.full(r1.size, np.nan)
-    for name, sel in (("wall", plane), ("spheres", ~plane)):
+    for name, sel in (("wall", plane & ~two), ("spheres", ~plane), ("wall2", plane & two)):
         idx = np.flatnonzero(ok & sel)
         table = _CAP[name]
         if table is None:
@@ -282,28 +308,54 @@ def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
             q = ratio[idx]
             lead, rho = [_cap_map(np.cbrt(np.log(q)), 0.0, _CAP_W_MAX), a], q / (1.0 + q)
         split = table["split"]
-        sp = None if split is None else _cap_rows(a, split.size) @ split
-        cos_t = np.cos(np.radians(ti))
+        if name == "wall2":  # the pieces divide the plane's angle; the ridge in (a, b1)
+            lead = [a, _cap_map(ti, _CAP_T_LO, _CAP_T_HI)]
+            cos_t = np.cos(np.radians(ti)) + np.cos(np.radians(t2[idx]))
+            ti = t2[idx]
+            sp = None if split is None else np.einsum(
+                "ij,ij->i", _cap_rows(a, split.shape[0]) @ split,
+                _cap_rows(lead[1], split.shape[1]))
+        else:
+            cos_t = 2.0 * np.cos(np.radians(ti))
+            sp = None if split is None else _cap_rows(a, split.size) @ split
         si = None if s_over_rs is None else s_over_rs[idx]
+        pieces = table["pieces"]
+        ranges = [tuple(sp if e is None else np.full(idx.size, e) for e in p[:2])
+                  for p in pieces]
+
+        def piece(n, j):
+            lo, hi = ranges[n]
+            coords = [x[j] for x in lead] + [_cap_map(ti[j], lo[j], hi[j])]
+            return _cap_star(pieces[n][2:], coords, vi[j], rho[j], cos_t[j],
+                             None if si is None else si[j])
+
         todo = np.ones(idx.size, dtype=bool)
-        for lo, hi, rup, left, right in table["pieces"]:
-            lo = sp if lo is None else np.full(idx.size, lo)
-            hi = sp if hi is None else np.full(idx.size, hi)
+        for n, (lo, hi) in enumerate(ranges):
             j = np.flatnonzero(todo & (ti <= hi))
             todo[j] = False
-            if j.size == 0:
-                continue
-            coords = [x[j] for x in lead] + [_cap_map(ti[j], lo[j], hi[j])]
-            fj, scj = _cap_star((rup, left, right), coords, vi[j], rho[j], cos_t[j],
-                                None if si is None else si[j])
-            f[idx[j]], s_c[idx[j]] = fj, scj
+            if j.size:
+                f[idx[j]], s_c[idx[j]] = piece(n, j)
         ok[idx[todo]] = False
+        # within the margin of the ridge (the pieces' shared end): the other piece too, and
+        # the smaller rupture distance wins
+        for n in range(len(pieces) - 1) if table["margin"] > 0 and sp is not None else ():
+            if pieces[n][1] is not None:
+                continue
+            below = ti <= sp
+            for side, other in ((below, n + 1), (~below, n)):
+                j = np.flatnonzero(side & (np.abs(ti - sp) <= table["margin"]))
+                if j.size == 0:
+                    continue
+                fo, so = piece(other, j)
+                take = so < s_c[idx[j]]
+                f[idx[j[take]]], s_c[idx[j[take]]] = fo[take], so[take]
     return f, s_c, rs, ok
 
 
 def rupture_distance(r1, r2, volume, theta1_deg, theta2_deg):
     """Rupture distance (m), the surface gap at which the bridge breaks
-    (`calibrated-capillary`; one contact angle, theta1 = theta2)."""
+    (`calibrated-capillary`; one contact angle, theta1 = theta2, or two on a plane: theta1
+    the sphere's, theta2 the plane's)."""
     args = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in
                                  (r1, r2, volume, theta1_deg, theta2_deg)))
     shape = args[0].shape
@@ -313,7 +365,8 @@ def rupture_distance(r1, r2, volume, theta1_deg, theta2_deg):
 
 def capillary_force(r1, r2, volume, gap, surface_tension, theta1_deg, theta2_deg):
     """Capillary force (N) of a pendular bridge (`calibrated-capillary`; one contact angle,
-    theta1 = theta2): negative (attraction), exactly 0 at and past the rupture distance."""
+    theta1 = theta2, or two on a plane: theta1 the sphere's, theta2 the plane's): negative
+    (attraction), exactly 0 at and past the rupture distance."""
     args = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in
                                  (r1, r2, volume, gap, surface_tension, theta1_deg,
                                   theta2_deg)))
@@ -400,6 +453,7 @@ def module_text(source: CapillarySource) -> str:
         **br, **capillary_fields(source),
         cap_held_out=_fill("; ".join(held_out_lines(source)) + "."),
         cap_wall=_tables(parts.get("sphere-wall")), cap_ss=_tables(parts.get("sphere-sphere")),
+        cap_wall2=_tables(parts.get(TWO_ANGLES)),
         br_err_wall=bw["held_out"]["after"]["max"], br_err_ss=bs["held_out"]["after"]["max"],
         version=__version__, imm_err_wall=w["held_out"]["max"],
         imm_err_ss=ss["held_out"]["max"], s_lo=math.exp(lo), s_hi=math.exp(hi),
@@ -430,8 +484,10 @@ def _tables(part: CapillaryPart | None) -> str:
             f"{p.force_left.shape}),"
             f"\n        np.array({_list(p.force_right.ravel(), 4)}).reshape("
             f"{p.force_right.shape}))")
-    split = "None" if part.split is None else f"np.array({_list(part.split, 4)})"
-    return f'{{"split": {split},\n    "pieces": [' + ",\n    ".join(pieces) + "]}"
+    split = "None" if part.split is None else (
+        f"np.array({_list(part.split.ravel(), 4)}).reshape({part.split.shape})")
+    return (f'{{"split": {split}, "margin": {part.ridge_margin_deg!r},\n    "pieces": ['
+            + ",\n    ".join(pieces) + "]}")
 
 
 def _list(values: Any, per_line: int = 3) -> str:
