@@ -73,7 +73,8 @@ F = -2 pi sigma R (cos theta1 + cos theta2) exp(sum C_F T(a) T(b1) T(b2) T(c)), 
 theta1 over [{ct_lo:.6g}, {ct_hi:.6g}] deg, b2 from theta2 within its piece: the pieces
 meet at the ridge of S_c, a plane angle theta2*(a, b1) = sum s_ij T_i(a) T_j(b1) (deg);
 within the table's margin of it ("margin" in _CAP) a point is evaluated in both pieces and
-the one with the smaller S_c gives S_c and F (S_c is the smaller of two fold families').
+the one with the smaller S_c gives S_c and F (S_c peaks at the ridge, so a piece continued
+past it overestimates S_c).
 C_F is carried in its low-rank form C_F = sum_k L[..., k] R[k, ...] (rank r, the package's
 own layout) and evaluated as such: the Chebyshev rows of the left axes ((w, a) for sphere
 pairs, (a, b) on a plane, (a, b1) on a plane with two angles in the shipped data) times L,
