@@ -141,6 +141,9 @@ def component_bound(model: Model, preset: str, component: str,
             return "no measured error table for this kind of scene"
         if not np.all(np.isfinite(got[0])):
             return "some gaps lie outside the measured domain"
+        floor = getattr(model, "bound_floor", None)  # a closure's known-coarse region
+        if floor is not None and (f := floor(scene)) > 0:
+            return np.maximum(got[0], f), f"{got[1]}; at least {f:.2g} (closure's own floor)"
         return got
     if model.name == "lubrication":
         got = bounds.measured_bound(f"lubrication:{preset}", component, scene)

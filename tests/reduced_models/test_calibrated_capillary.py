@@ -339,3 +339,28 @@ def test_cached_map_reruns_only_what_is_missing(tmp_path) -> None:
     assert ran == [1.0, 2.0, 3.0]
     for a, b in zip(first + [second[-1]], second, strict=True):
         assert a[0] == b[0] and np.array_equal(a[1], b[1])
+
+
+def test_near_ridge_scenes_claim_no_less_than_the_near_ridge_errors() -> None:
+    """On a wall with two angles within RIDGE_ZONE_DEG of the ridge the closure's bound
+    (the selection's and the curve's error estimate) is at least its near-ridge held-out
+    maximum; elsewhere the sampled bound tables apply unchanged."""
+    from wetcontact import select
+
+    model = get_model("calibrated-capillary")
+    entry = cc.capillary_table()[cc.WALL_TWO_ANGLES]
+    ho = entry["held_out_near_ridge"]
+    worst = max(ho["force"]["max"], ho["rupture_distance"]["max"])
+    v, ts = 3e-3, 40.0
+    ridge = float(cc.theta_split_deg(entry, cc.volume_coordinate(np.array([v])),
+                                     cc._map(np.array([ts]), 0.0, 70.0))[0])
+    for tw, near in ((ridge - 1.0, True), (ridge + 2.5, True), (ridge - 8.0, False),
+                     (ts, False)):
+        scene = make_scene("sphere-wall", {"bridge_volume": v * R**3}, [1e-6, 2e-5], None,
+                           (ts, tw))
+        floor = model.bound_floor(scene)
+        assert (floor >= worst) if near else floor == 0.0
+        est = model.force(scene).error_estimate
+        assert np.all(est >= floor)
+        got = select.component_bound(model, "default", "capillary", scene)
+        assert np.all(got[0] >= floor)

@@ -467,6 +467,24 @@ class CalibratedCapillary(Model):
                                   theta_wall=self._theta_wall(scene))
                      * self.small_radius(scene))
 
+    def bound_floor(self, scene: Scene) -> float:
+        """Smallest error bound this closure may claim on ``scene``: 0, except on a wall
+        with two angles within :data:`RIDGE_ZONE_DEG` of the ridge, where the table is
+        known to be coarser than its sampled bound tables may show: the larger held-out
+        maximum (force or rupture distance) of the package data's near-ridge stratum,
+        times 1.25 (the bound tables' margin)."""
+        th_s, th_w = scene.contact_angle_sphere, scene.contact_angle_wall
+        if scene.kind != "sphere-wall" or abs(th_s - th_w) <= ANGLE_TOL:
+            return 0.0
+        e = _entry(WALL_TWO_ANGLES)
+        v, _ = self._v_ratio(scene)
+        ridge = theta_split_deg(e, volume_coordinate(np.array([v])),
+                                _map(np.array([math.degrees(th_s)]), *THETA_RANGE_DEG))
+        if abs(math.degrees(th_w) - float(ridge[0])) > RIDGE_ZONE_DEG:
+            return 0.0
+        ho = e.get("held_out_near_ridge") or e["held_out"]
+        return 1.25 * max(ho["force"]["max"], ho["rupture_distance"]["max"])
+
     @staticmethod
     def _theta_wall(scene: Scene) -> float | None:
         """The wall's own angle (rad) on a wall, ``None`` for a sphere pair."""
@@ -481,6 +499,8 @@ class CalibratedCapillary(Model):
         sc = float(s_c.flat[0]) * rs
         force = 2.0 * np.pi * scene.surface_tension * rs * f
         est = estimate_or_none(self.name, "capillary", scene, sc)
+        if est is not None:
+            est = np.maximum(est, self.bound_floor(scene))
         return ForceCurve(case=scene.name, model=self.name, gap=gap, force_viscous=None,
                           force_capillary=-force,
                           extras={"rupture_distance": np.full(gap.shape, sc)},
