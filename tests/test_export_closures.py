@@ -580,6 +580,14 @@ def _perturbed(source, kind: str, table: str):
     return replace(source, table=replace(source.table, parts=parts))
 
 
+def _run_capillary(src, pts, d, language: str) -> dict:
+    """The shipped capillary functions of export ``src`` at ``pts``, in ``language``."""
+    if language == "python":
+        return _run_python_module(src, pts, d, SHIPPED_CAPILLARY)
+    exe = _compile(src, d)
+    return {name: _run_c(exe, pts, name, d) for name in SHIPPED_CAPILLARY}
+
+
 @pytest.mark.parametrize("language", ["python", "c"])
 @pytest.mark.parametrize("table", ["force", "rupture"])
 def test_comparison_sees_a_perturbed_coefficient(points, source, tmp_path, language, table,
@@ -592,11 +600,7 @@ def test_comparison_sees_a_perturbed_coefficient(points, source, tmp_path, langu
         bad = _perturbed(source, kind, table)
         d = tmp_path / f"{kind}-{table}"
         d.mkdir()
-        if language == "python":
-            got = _run_python_module(bad, pts, d, SHIPPED_CAPILLARY)
-        else:
-            exe = _compile(bad, d)
-            got = {name: _run_c(exe, pts, name, d) for name in SHIPPED_CAPILLARY}
+        got = _run_capillary(bad, pts, d, language)
         for name in SHIPPED_CAPILLARY:
             if name == "rupture_distance" and table == "force":
                 _compare(name, got[name], ref[name], tol[name])  # force table not used there
@@ -619,11 +623,7 @@ def test_comparison_sees_the_ridge_margin(points, source, tmp_path, language, to
     pts, ref = points
     parts = {**source.table.parts, cc.WALL_TWO_ANGLES: replace(part, ridge_margin_deg=0.0)}
     bad = replace(source, table=replace(source.table, parts=parts))
-    if language == "python":
-        got = _run_python_module(bad, pts, tmp_path, SHIPPED_CAPILLARY)
-    else:
-        exe = _compile(bad, tmp_path)
-        got = {name: _run_c(exe, pts, name, tmp_path) for name in SHIPPED_CAPILLARY}
+    got = _run_capillary(bad, pts, tmp_path, language)
     for name in SHIPPED_CAPILLARY:
         a = pts[name]
         with np.errstate(invalid="ignore"):

@@ -69,6 +69,20 @@ def _seeded(kind: str, n: int, seed: int, r_max: float = 10.0,
     return out
 
 
+def _errors_against_meniscus(model, scene, v: float, x: float) -> tuple[float, float]:
+    """Relative errors of the closure's rupture distance (against the volume-controlled
+    branch's) and of its force at ``x S_c`` (against ``solve_volume`` at that gap, a
+    toroidal start and Newton: not the sampler's branch walk); ``v = V/R^3``."""
+    br = Bridge.from_scene(scene)
+    sc_ref = force_separation_curve(br, v * R**3, fractions=np.array([0.0, 1.0])
+                                    ).rupture_distance
+    gap = x * sc_ref
+    ref = solve_volume(br, gap, v * R**3)
+    got = model.force(scene, gaps=[gap])
+    return (abs(float(got.extras["rupture_distance"][0]) / sc_ref - 1),
+            abs(float(got.force_capillary[0]) / ref.force - 1))
+
+
 @pytest.mark.parametrize(("kind", "r_max", "theta"), [
     ("sphere-wall", 10.0, (0.0, 70.0)), ("sphere-sphere", 10.0, (0.0, 70.0)),
     ("sphere-sphere", 1.1, (20.0, 45.0)),  # nearly equal spheres around the split angle
@@ -84,14 +98,9 @@ def test_against_meniscus_at_seeded_bridges(kind: str, r_max: float,
     for v, th, ratio, x in _seeded(kind, 6, 4242, r_max, theta):
         r2 = None if ratio is None else R * ratio
         scene = make_scene(kind, {"bridge_volume": v * R**3}, [R * 1e-3], r2, (th, th))
-        br = Bridge.from_scene(scene)
-        sc_ref = force_separation_curve(br, v * R**3, fractions=np.array([0.0, 1.0])
-                                        ).rupture_distance
-        gap = x * sc_ref
-        ref = solve_volume(br, gap, v * R**3)
-        got = model.force(scene, gaps=[gap])
-        e_r.append(abs(float(got.extras["rupture_distance"][0]) / sc_ref - 1))
-        e_f.append(abs(float(got.force_capillary[0]) / ref.force - 1))
+        er, ef = _errors_against_meniscus(model, scene, v, x)
+        e_r.append(er)
+        e_f.append(ef)
     assert max(e_r) < GOAL_RUPTURE, e_r
     assert max(e_f) < GOAL_FORCE, e_f
 
@@ -133,17 +142,12 @@ def test_two_angles_on_a_wall_against_meniscus() -> None:
     for v, ts, tw, x in _two_angle_points(5, 77) + _two_angle_points(4, 78, near_ridge=2.0):
         scene = make_scene("sphere-wall", {"bridge_volume": v * R**3}, [R * 1e-3], None,
                            (ts, tw))
-        br = Bridge.from_scene(scene)
-        sc_ref = force_separation_curve(br, v * R**3, fractions=np.array([0.0, 1.0])
-                                        ).rupture_distance
-        gap = x * sc_ref
-        ref = solve_volume(br, gap, v * R**3)
-        got = model.force(scene, gaps=[gap])
         ridge = float(cc.theta_split_deg(entry, cc.volume_coordinate(np.array([v])),
                                          cc._map(np.array([ts]), 0.0, 70.0))[0])
         e_r, e_f = far if abs(tw - ridge) > cc.RIDGE_ZONE_DEG else near
-        e_r.append(abs(float(got.extras["rupture_distance"][0]) / sc_ref - 1))
-        e_f.append(abs(float(got.force_capillary[0]) / ref.force - 1))
+        er, ef = _errors_against_meniscus(model, scene, v, x)
+        e_r.append(er)
+        e_f.append(ef)
     assert len(far[0]) >= 4 and len(near[0]) >= 4
     assert max(far[0]) < GOAL_RUPTURE and max(far[1]) < GOAL_FORCE, far
     assert max(near[0]) < NEAR_RIDGE and max(near[1]) < NEAR_RIDGE, near
