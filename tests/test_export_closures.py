@@ -157,8 +157,7 @@ def ridge_deg(v: np.ndarray, theta_sphere_deg: np.ndarray) -> np.ndarray:
     if table is None or cc.WALL_TWO_ANGLES not in table:
         return np.full(np.shape(v), np.nan)
     with np.errstate(all="ignore"):  # the design's non-finite arguments
-        return cc.theta_split_deg(table[cc.WALL_TWO_ANGLES], cc.volume_coordinate(v),
-                                  cc._map(theta_sphere_deg, *cc.THETA_RANGE_DEG))
+        return cc.ridge_deg(v, theta_sphere_deg)
 
 
 def two_angle_design(rng: np.random.Generator, n: int) -> tuple[dict[str, np.ndarray], ...]:

@@ -459,10 +459,8 @@ def held_out_design(kind: str, n: int, gaps_per: int, seed: int,
         if kind == cc.WALL_TWO_ANGLES:
             tw = rng.uniform(*cc.THETA_RANGE_DEG)
             if near_ridge is not None:
-                ridge = cc.theta_split_deg(near_ridge, cc.volume_coordinate(
-                    np.array([row["v"]])), cc._map(np.array([row["theta_deg"]]),
-                                                   *cc.THETA_RANGE_DEG))
-                tw = float(ridge[0]) + rng.uniform(-NEAR_RIDGE_DEG, NEAR_RIDGE_DEG)
+                tw = float(cc.ridge_deg(row["v"], row["theta_deg"], near_ridge)) + rng.uniform(
+                    -NEAR_RIDGE_DEG, NEAR_RIDGE_DEG)
                 if not cc.THETA_RANGE_DEG[0] <= tw <= cc.THETA_RANGE_DEG[1]:
                     continue
             row["theta_wall_deg"] = float(tw)

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from wetcontact.bounds_gen import make_scene
+from wetcontact.bounds_gen import MARGIN, make_scene
 from wetcontact.calibrate_capillary import lobatto, lobatto_coefficients
 from wetcontact.errors import InputError, ValidityError
 from wetcontact.models import get_model
@@ -110,15 +110,12 @@ def _two_angle_points(n: int, seed: int, near_ridge: float | None = None
     """Seeded (v, sphere angle, wall angle, S/S_c) on a wall; ``near_ridge``: the wall
     angle within that many degrees of the table's ridge."""
     rng = np.random.default_rng(seed)
-    entry = cc.capillary_table()[cc.WALL_TWO_ANGLES]
     out = []
     while len(out) < n:
         v = float(np.exp(rng.uniform(math.log(1e-4), math.log(0.1))))
         ts, tw = float(rng.uniform(0, 70)), float(rng.uniform(0, 70))
         if near_ridge is not None:
-            ridge = cc.theta_split_deg(entry, cc.volume_coordinate(np.array([v])),
-                                       cc._map(np.array([ts]), 0.0, 70.0))
-            tw = float(ridge[0]) + float(rng.uniform(-near_ridge, near_ridge))
+            tw = float(cc.ridge_deg(v, ts)) + float(rng.uniform(-near_ridge, near_ridge))
             if not 0.0 <= tw <= 70.0:
                 continue
         out.append((v, ts, tw, float(rng.uniform(0.0, 0.99))))
@@ -137,13 +134,11 @@ def test_two_angles_on_a_wall_against_meniscus() -> None:
     from the volume-controlled branch, force from ``solve_volume`` at the gap. The goals
     hold away from the ridge; near it, the declared :data:`NEAR_RIDGE`."""
     model = get_model("calibrated-capillary")
-    entry = cc.capillary_table()[cc.WALL_TWO_ANGLES]
     far, near = ([], []), ([], [])
     for v, ts, tw, x in _two_angle_points(5, 77) + _two_angle_points(4, 78, near_ridge=2.0):
         scene = make_scene("sphere-wall", {"bridge_volume": v * R**3}, [R * 1e-3], None,
                            (ts, tw))
-        ridge = float(cc.theta_split_deg(entry, cc.volume_coordinate(np.array([v])),
-                                         cc._map(np.array([ts]), 0.0, 70.0))[0])
+        ridge = float(cc.ridge_deg(v, ts))
         e_r, e_f = far if abs(tw - ridge) > cc.RIDGE_ZONE_DEG else near
         er, ef = _errors_against_meniscus(model, scene, v, x)
         e_r.append(er)
@@ -158,10 +153,8 @@ def test_ridge_is_where_the_rupture_distance_peaks() -> None:
     the maximum of S_c over the wall angle, and S_c falls on both sides of it."""
     from wetcontact.calibrate_capillary import _ridge_job, wall_rupture
 
-    entry = cc.capillary_table()[cc.WALL_TWO_ANGLES]
     for v, ts in ((4.2e-4, 23.3), (0.031, 51.7)):
-        ridge = float(cc.theta_split_deg(entry, cc.volume_coordinate(np.array([v])),
-                                         cc._map(np.array([ts]), 0.0, 70.0))[0])
+        ridge = float(cc.ridge_deg(v, ts))
         assert ridge == pytest.approx(_ridge_job((v, ts)), abs=0.02)
         top = wall_rupture(v, ts, ridge)
         assert wall_rupture(v, ts, ridge - 0.3) < top > wall_rupture(v, ts, ridge + 0.3)
@@ -356,14 +349,14 @@ def test_near_ridge_scenes_claim_no_less_than_the_near_ridge_errors() -> None:
     ho = entry["held_out_near_ridge"]
     worst = max(ho["force"]["max"], ho["rupture_distance"]["max"])
     v, ts = 3e-3, 40.0
-    ridge = float(cc.theta_split_deg(entry, cc.volume_coordinate(np.array([v])),
-                                     cc._map(np.array([ts]), 0.0, 70.0))[0])
+    ridge = float(cc.ridge_deg(v, ts))
     for tw, near in ((ridge - 1.0, True), (ridge + 2.5, True), (ridge - 8.0, False),
                      (ts, False)):
         scene = make_scene("sphere-wall", {"bridge_volume": v * R**3}, [1e-6, 2e-5], None,
                            (ts, tw))
         floor = model.bound_floor(scene)
         assert (floor >= worst) if near else floor == 0.0
+        assert cc.NEAR_RIDGE_MARGIN == MARGIN  # the bound tables' own margin
         est = model.force(scene).error_estimate
         assert np.all(est >= floor)
         got = select.component_bound(model, "default", "capillary", scene)

@@ -106,6 +106,9 @@ which reaches about 85 deg at the sphere angle 70 deg and v = 0.1."""
 RIDGE_ZONE_DEG = 3.0
 """Two angles on a wall: farther than this from the ridge the table meets the issue's goals
 on its held-out bridges; within it, it does not (see the module's notes)."""
+NEAR_RIDGE_MARGIN = 1.25
+"""Factor on the near-ridge held-out maximum in :meth:`CalibratedCapillary.bound_floor`:
+the bound tables' own margin (``wetcontact.bounds_gen.MARGIN``)."""
 ANGLE_TOL = 1e-9
 """Two contact angles closer than this (rad) count as one."""
 
@@ -158,6 +161,16 @@ def theta_split_deg(entry: dict[str, Any], a: np.ndarray,
         return None
     coef = np.asarray(ts["chebyshev"])
     return chebyshev_tensor(coef, [a] if coef.ndim == 1 else [a, b1])
+
+
+def ridge_deg(v: Any, theta_sphere_deg: Any, entry: dict[str, Any] | None = None
+              ) -> np.ndarray:
+    """The wall angle (deg) of the ridge of S_c on a wall with two angles, at ``v`` and the
+    sphere's angle (deg): the two-angle table's split series (``entry``: that table,
+    default the shipped one)."""
+    e = _entry(WALL_TWO_ANGLES) if entry is None else entry
+    return theta_split_deg(e, volume_coordinate(np.asarray(v, dtype=float)),
+                           _map(np.asarray(theta_sphere_deg, dtype=float), *THETA_RANGE_DEG))
 
 
 def piece_range(piece: dict[str, Any], split: np.ndarray | None, n: int
@@ -472,18 +485,16 @@ class CalibratedCapillary(Model):
         with two angles within :data:`RIDGE_ZONE_DEG` of the ridge, where the table is
         known to be coarser than its sampled bound tables may show: the larger held-out
         maximum (force or rupture distance) of the package data's near-ridge stratum,
-        times 1.25 (the bound tables' margin)."""
+        times :data:`NEAR_RIDGE_MARGIN`."""
         th_s, th_w = scene.contact_angle_sphere, scene.contact_angle_wall
         if scene.kind != "sphere-wall" or abs(th_s - th_w) <= ANGLE_TOL:
             return 0.0
-        e = _entry(WALL_TWO_ANGLES)
         v, _ = self._v_ratio(scene)
-        ridge = theta_split_deg(e, volume_coordinate(np.array([v])),
-                                _map(np.array([math.degrees(th_s)]), *THETA_RANGE_DEG))
-        if abs(math.degrees(th_w) - float(ridge[0])) > RIDGE_ZONE_DEG:
+        if abs(math.degrees(th_w) - float(ridge_deg(v, math.degrees(th_s)))) > RIDGE_ZONE_DEG:
             return 0.0
+        e = _entry(WALL_TWO_ANGLES)
         ho = e.get("held_out_near_ridge") or e["held_out"]
-        return 1.25 * max(ho["force"]["max"], ho["rupture_distance"]["max"])
+        return NEAR_RIDGE_MARGIN * max(ho["force"]["max"], ho["rupture_distance"]["max"])
 
     @staticmethod
     def _theta_wall(scene: Scene) -> float | None:
