@@ -83,14 +83,20 @@ def _volume_nodes(n: int) -> np.ndarray:
     return np.exp(0.5 * (lobatto(n) * (hi - lo) + lo + hi))
 
 
-def branch_end(theta_deg: float, v: float) -> str:
-    """How the equal-sphere bridge's stable branch ends: ``fold`` or ``bifurcation``."""
+def _branch_ends(radius2: float | None, v: float, theta1_deg: float,
+                 theta2_deg: float) -> Any:
+    """The volume-controlled ``meniscus`` branch of a bridge (R = 1, sigma = 1), solved only
+    at contact and at its end (its ``end`` and ``rupture_distance``)."""
     from wetcontact.solver.meniscus import Bridge, force_separation_curve
 
-    th = math.radians(theta_deg)
-    br = Bridge(radius=1.0, radius2=1.0, contact_angle1=th, contact_angle2=th,
-                surface_tension=1.0)
-    return force_separation_curve(br, v, fractions=np.array([0.0, 1.0])).end
+    br = Bridge(radius=1.0, radius2=radius2, contact_angle1=math.radians(theta1_deg),
+                contact_angle2=math.radians(theta2_deg), surface_tension=1.0)
+    return force_separation_curve(br, v, fractions=np.array([0.0, 1.0]))
+
+
+def branch_end(theta_deg: float, v: float) -> str:
+    """How the equal-sphere bridge's stable branch ends: ``fold`` or ``bifurcation``."""
+    return _branch_ends(1.0, v, theta_deg, theta_deg).end
 
 
 def _split_job(v: float) -> float:
@@ -132,11 +138,7 @@ to 0.6 % in S_c and 1.5 % in the force)."""
 def wall_rupture(v: float, theta_sphere_deg: float, theta_wall_deg: float) -> float:
     """``meniscus`` rupture distance S_c/R of a bridge of volume v R^3 between a sphere
     and a wall."""
-    from wetcontact.solver.meniscus import Bridge, force_separation_curve
-
-    br = Bridge(radius=1.0, radius2=None, contact_angle1=math.radians(theta_sphere_deg),
-                contact_angle2=math.radians(theta_wall_deg), surface_tension=1.0)
-    return force_separation_curve(br, v, fractions=np.array([0.0, 1.0])).rupture_distance
+    return _branch_ends(None, v, theta_sphere_deg, theta_wall_deg).rupture_distance
 
 
 def _ridge_job(args: tuple[float, float]) -> float:
