@@ -437,16 +437,21 @@ the fold of unequal spheres unfolds the equal spheres' bifurcation."""
 NEAR_RIDGE_DEG = 3.0
 """The stress stratum of a wall with two angles: the wall angle within this of the rupture
 distance's ridge (where the pieces meet)."""
+RIDGE_TOP_BAND_DEG = (1e-4, cc.RIDGE_TOP_ZONE_DEG)
+"""The ridge-top stratum of a wall with two angles: the wall angle's distance from the
+ridge log-uniform in this range (deg), on either side: the sharp top of S_c, which a
+uniform draw over :data:`NEAR_RIDGE_DEG` rarely comes close to."""
 
 
 def held_out_design(kind: str, n: int, gaps_per: int, seed: int,
-                    near_equal: bool = False, near_ridge: dict[str, Any] | None = None
-                    ) -> list[dict[str, Any]]:
+                    near_equal: bool = False, near_ridge: dict[str, Any] | None = None,
+                    ridge_top: bool = False) -> list[dict[str, Any]]:
     """Seeded bridges (v log-uniform, theta uniform, ratio log-uniform; in the
     :data:`NEAR_EQUAL` ranges if ``near_equal``) with ``gaps_per`` uniform fractions of the
     rupture distance in [0, 0.999] each. On a wall with two angles the wall's angle is
     uniform too, or, given a table ``near_ridge``, within :data:`NEAR_RIDGE_DEG` of its
-    ridge (redrawn until inside the domain)."""
+    ridge, uniformly, or (``ridge_top``) at a distance log-uniform in :data:`RIDGE_TOP_BAND_DEG`
+    on either side (redrawn until inside the domain)."""
     rng = np.random.default_rng(seed)
     r_hi = NEAR_EQUAL["radius_ratio"][1] if near_equal else cc.RATIO_RANGE[1]
     th = NEAR_EQUAL["theta_deg"] if near_equal else cc.THETA_RANGE_DEG
@@ -461,8 +466,9 @@ def held_out_design(kind: str, n: int, gaps_per: int, seed: int,
         if kind == cc.WALL_TWO_ANGLES:
             tw = rng.uniform(*cc.THETA_RANGE_DEG)
             if near_ridge is not None:
-                tw = float(cc.ridge_deg(row["v"], row["theta_deg"], near_ridge)) + rng.uniform(
-                    -NEAR_RIDGE_DEG, NEAR_RIDGE_DEG)
+                d = (rng.choice([-1.0, 1.0]) * math.exp(rng.uniform(*np.log(RIDGE_TOP_BAND_DEG)))
+                     if ridge_top else rng.uniform(-NEAR_RIDGE_DEG, NEAR_RIDGE_DEG))
+                tw = float(cc.ridge_deg(row["v"], row["theta_deg"], near_ridge)) + d
                 if not cc.THETA_RANGE_DEG[0] <= tw <= cc.THETA_RANGE_DEG[1]:
                     continue
             row["theta_wall_deg"] = float(tw)
@@ -482,14 +488,16 @@ def _held_job(args: tuple) -> tuple[float, np.ndarray, np.ndarray]:
 
 def held_out(kind: str, n: int = 120, gaps_per: int = 8, seed: int = 2611,
              workers: int = 2, near_equal: bool = False, entry: dict[str, Any] | None = None,
-             cache_dir: Path | None = None, near_ridge: bool = False) -> dict[str, Any]:
+             cache_dir: Path | None = None, near_ridge: bool = False,
+             ridge_top: bool = False) -> dict[str, Any]:
     """Held-out error table of a table (``entry``: one kind's, default the shipped one)
     against ``meniscus`` (relative errors of the rupture distance and of the force, max /
     mean / 95th percentile, where the maximum sits). ``near_ridge``: a wall with two
-    angles, the wall angle near the table's ridge."""
+    angles, the wall angle near the table's ridge (``ridge_top``: at its top, see
+    :func:`held_out_design`)."""
     e = cc._entry(kind) if entry is None else entry
     design = held_out_design(kind, n, gaps_per, seed, near_equal,
-                             e if near_ridge else None)
+                             e if near_ridge or ridge_top else None, ridge_top)
 
     def rad(x: float | None) -> float | None:
         return None if x is None else math.radians(x)
@@ -572,6 +580,10 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = KIND
                 **held_out(kind, n=max(n_held_out // 3, 8), seed=2613, workers=workers,
                            entry=entry, cache_dir=cache_dir, near_ridge=True),
                 "stratum": {"theta_wall_deg_from_ridge": [-NEAR_RIDGE_DEG, NEAR_RIDGE_DEG]}}
+            data[kind]["held_out_ridge_top"] = {
+                **held_out(kind, n=max(n_held_out // 2, 8), seed=2614, workers=workers,
+                           entry=entry, cache_dir=cache_dir, ridge_top=True),
+                "stratum": {"theta_wall_deg_from_ridge_abs_log_uniform": list(RIDGE_TOP_BAND_DEG)}}
         _write(out, data)
     data["wall_time_s"] = round(time.perf_counter() - t0, 1)
     data["branches"] = {k: BRANCHES[k] - start[k] for k in BRANCHES}

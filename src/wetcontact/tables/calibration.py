@@ -138,7 +138,8 @@ def capillary_rows(path: str, data: dict[str, Any]) -> list[dict[str, Any]]:
         if "held_out" not in data.get(kind, {}):
             continue
         for key, label in (("held_out", ""), ("held_out_near_equal", " (nearly equal)"),
-                           ("held_out_near_ridge", " (near the ridge)")):
+                           ("held_out_near_ridge", " (near the ridge)"),
+                           ("held_out_ridge_top", " (at the ridge top)")):
             if key not in data[kind]:
                 continue
             ho = data[kind][key]
