@@ -492,7 +492,9 @@ def held_out(kind: str, n: int = 120, gaps_per: int = 8, seed: int = 2611,
              ridge_top: bool = False) -> dict[str, Any]:
     """Held-out error table of a table (``entry``: one kind's, default the shipped one)
     against ``meniscus`` (relative errors of the rupture distance and of the force, max /
-    mean / 95th percentile, where the maximum sits). ``near_ridge``: a wall with two
+    mean / 95th percentile, where the maximum sits; ``force_attached``: the force at the
+    points where the closure's own bridge exists, short of its rupture distance).
+    ``near_ridge``: a wall with two
     angles, the wall angle near the table's ridge (``ridge_top``: at its top, see
     :func:`held_out_design`)."""
     e = cc._entry(kind) if entry is None else entry
@@ -513,7 +515,7 @@ def held_out(kind: str, n: int = 120, gaps_per: int = 8, seed: int = 2611,
     res = _cached_map(_held_job, jobs, key, lambda j, r: (r[0], np.append(r[1], r[2])),
                       lambda j, got: (got[0], got[1][:gaps_per], got[1][gaps_per:]), workers,
                       f"held-out {kind}", cache_dir)
-    e_rup, e_f, where_r, where_f = [], [], [], []
+    e_rup, e_f, where_r, where_f, attached = [], [], [], [], []
     for d, job, (s_c, gaps, f) in zip(design, jobs, res, strict=True):
         f_hat, sc_hat = cc.force_star(kind, d["v"], job[2], gaps, d["ratio"], entry=e,
                                       theta_wall=job[4])
@@ -521,6 +523,7 @@ def held_out(kind: str, n: int = 120, gaps_per: int = 8, seed: int = 2611,
         where_r.append({k: d[k] for k in ("v", "theta_deg", "theta_wall_deg", "ratio")
                         if d[k] is not None})
         e_f.extend(np.abs(f_hat / f - 1.0))
+        attached.extend(np.ravel(f_hat) > 0.0)
         where_f += [{**where_r[-1], "s_over_sc": float(x)} for x in d["fractions"]]
 
     def table(err: list[float], where: list[dict]) -> dict[str, Any]:
@@ -528,9 +531,11 @@ def held_out(kind: str, n: int = 120, gaps_per: int = 8, seed: int = 2611,
         return {"points": int(e.size), "max": float(e.max()), "mean": float(e.mean()),
                 "p95": float(np.percentile(e, 95)), "max_at": where[int(np.argmax(e))]}
 
+    att = np.flatnonzero(attached)
     return {"seed": seed, "reference": "meniscus (default elements)",
             "bridges": n, "rupture_distance": table(e_rup, where_r),
-            "force": table(e_f, where_f)}
+            "force": table(e_f, where_f),
+            "force_attached": table([e_f[i] for i in att], [where_f[i] for i in att])}
 
 
 def _write(out: Path, data: dict[str, Any]) -> None:

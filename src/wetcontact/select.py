@@ -142,8 +142,10 @@ def component_bound(model: Model, preset: str, component: str,
         if not np.all(np.isfinite(got[0])):
             return "some gaps lie outside the measured domain"
         floor = getattr(model, "bound_floor", None)  # a closure's known-coarse region
-        if floor is not None and (f := floor(scene)) > 0:
-            return np.maximum(got[0], f), f"{got[1]}; at least {f:.2g} (closure's own floor)"
+        if floor is not None and np.any((f := floor(scene, sc)) > got[0]):
+            return np.maximum(got[0], f), (f"{got[1]}; raised to the closure's own floor at "
+                                           f"{int(np.sum(f > got[0]))} of {f.size} gaps (up "
+                                           f"to {float(f.max()):.2g})")
         return got
     if model.name == "lubrication":
         got = bounds.measured_bound(f"lubrication:{preset}", component, scene)

@@ -146,8 +146,11 @@ def test_two_angles_on_a_wall_against_meniscus() -> None:
         dist = abs(tw - float(cc.ridge_deg(v, ts)))
         zone = ("far" if dist > cc.RIDGE_ZONE_DEG else
                 "near" if dist > cc.RIDGE_TOP_ZONE_DEG else "top")
-        zones[zone].append((*_errors_against_meniscus(model, scene, v, x),
-                            model.bound_floor(scene)))
+        window = cc.NEAR_RIDGE_MARGIN * max(ho["rupture_distance"]["max"]
+                                            for ho in model.held_out_strata(scene))
+        e_r, e_f = _errors_against_meniscus(model, scene, v, x)
+        assert e_r < window  # the true S_c lies in the closure's rupture window
+        zones[zone].append((e_r, e_f, float(model.bound_floor(scene)[0])))  # S << S_c
     assert {k: len(z) for k, z in zones.items()} == {"far": 5, "near": 3, "top": 5}, zones
     for e_r, e_f, _ in zones["far"]:
         assert e_r < GOAL_RUPTURE and e_f < GOAL_FORCE, zones["far"]
@@ -348,17 +351,17 @@ def test_cached_map_reruns_only_what_is_missing(tmp_path) -> None:
 
 def test_near_ridge_scenes_claim_no_less_than_the_near_ridge_errors() -> None:
     """On a wall with two angles within RIDGE_ZONE_DEG of the ridge the closure's bound
-    (the selection's and the curve's error estimate) is at least its near-ridge held-out
-    maximum, and within RIDGE_TOP_ZONE_DEG also its ridge-top maximum (where the force's
-    jump to zero past an underestimated S_c makes it about 1); elsewhere the sampled bound
-    tables apply unchanged."""
+    (the selection's and the curve's error estimate) at gaps short of its rupture window
+    is at least its near-ridge held-out maximum (rupture distance, or force where the
+    closure's bridge exists), and within RIDGE_TOP_ZONE_DEG also its ridge-top maximum;
+    elsewhere the sampled bound tables apply unchanged."""
     from wetcontact import select
 
     model = get_model("calibrated-capillary")
     entry = cc.capillary_table()[cc.WALL_TWO_ANGLES]
 
     def worst(*keys: str) -> float:
-        return max(max(entry[k]["force"]["max"], entry[k]["rupture_distance"]["max"])
+        return max(max(entry[k]["force_attached"]["max"], entry[k]["rupture_distance"]["max"])
                    for k in keys)
 
     near, top = worst("held_out_near_ridge"), worst("held_out_near_ridge", "held_out_ridge_top")
@@ -369,11 +372,47 @@ def test_near_ridge_scenes_claim_no_less_than_the_near_ridge_errors() -> None:
                       (ridge - 0.2, top), (ridge - 8.0, 0.0), (ts, 0.0)):
         scene = make_scene("sphere-wall", {"bridge_volume": v * R**3}, [1e-6, 2e-5], None,
                            (ts, tw))
-        floor = model.bound_floor(scene)
-        assert floor == pytest.approx(MARGIN * least, rel=1e-12)
+        floor = model.bound_floor(scene)  # both gaps far short of S_c
+        assert floor == pytest.approx(np.full(2, MARGIN * least), rel=1e-12)
         assert cc.NEAR_RIDGE_MARGIN == MARGIN  # the bound tables' own margin
         est = model.force(scene).error_estimate
         assert est is None or np.all(est >= floor)
         got = select.component_bound(model, "default", "capillary", scene)
-        if floor > 0:
-            assert np.all(got[0] >= floor)
+        assert np.all(got[0] >= floor)
+
+
+@pytest.mark.parametrize(("kind", "angles"), [("sphere-wall", (30.0, 30.0)),
+                                              ("sphere-sphere", (30.0, 30.0)),
+                                              ("sphere-wall", (20.0, 50.0))])
+def test_rupture_window_claims_what_the_rupture_distance_cannot_decide(
+        kind: str, angles: tuple[float, float]) -> None:
+    """Within ``w S_c`` of the closure's own rupture distance (w: 1.25x the held-out
+    maximum of its error) the bridge may or may not exist: below S_c the closure claims
+    the bound tables' SPURIOUS (its force may be where the reference has none), above it
+    1.25 (its 0 may miss a force); outside the window its floor is that of its zone. The
+    window holds the reference's S_c (``meniscus``, independent of the table)."""
+    from wetcontact import select
+    from wetcontact.bounds_gen import SPURIOUS
+
+    model = get_model("calibrated-capillary")
+    v = 2e-3
+    r2 = 1.7 * R if kind == "sphere-sphere" else None
+    base = make_scene(kind, {"bridge_volume": v * R**3}, [R * 1e-3], r2, angles)
+    sc = model.rupture_distance(base)
+    w = MARGIN * max(ho["rupture_distance"]["max"] for ho in model.held_out_strata(base))
+    assert 0 < w < 2e-3
+    ref = force_separation_curve(Bridge.from_scene(base), v * R**3,
+                                 fractions=np.array([0.0, 1.0])).rupture_distance
+    assert abs(ref / sc - 1.0) < w
+    fractions = np.array([0.5, 1.0 - 0.5 * w, 1.0 + 0.5 * w, 1.0 + 2.0 * w, 2.0])
+    scene = make_scene(kind, {"bridge_volume": v * R**3}, list(fractions * sc), r2, angles)
+    floor = model.bound_floor(scene)
+    zone = floor[0]
+    assert zone == 0.0  # away from a two-angle ridge the bound tables alone apply
+    assert list(floor[1:]) == [SPURIOUS, MARGIN, 0.0, 0.0]
+    assert cc.SPURIOUS == SPURIOUS
+    est = model.force(scene).error_estimate
+    assert est is not None and np.all(est >= floor)
+    got = select.component_bound(model, "default", "capillary", scene)
+    assert np.all(got[0] >= floor) and "floor" in got[1]
+    assert select.choose(scene, 0.1).choices["capillary"].model.name != model.name

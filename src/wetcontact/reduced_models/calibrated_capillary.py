@@ -118,6 +118,10 @@ it contains the true top, from which the series is at most about 2e-2 deg off.""
 NEAR_RIDGE_MARGIN = 1.25
 """Factor on the near-ridge held-out maxima in :meth:`CalibratedCapillary.bound_floor`:
 the bound tables' own margin (``wetcontact.bounds_gen.MARGIN``)."""
+SPURIOUS = 1.0e3
+"""The relative error claimed where the closure's force may exist while the reference's
+does not (its rupture window, below its S_c): the bound tables' own
+(``wetcontact.bounds_gen.SPURIOUS``)."""
 RIDGE_STRATA = {RIDGE_ZONE_DEG: ("held_out_near_ridge",),
                 RIDGE_TOP_ZONE_DEG: ("held_out_near_ridge", "held_out_ridge_top")}
 """Per zone around the ridge (its half-width, deg), the held-out strata whose maxima floor
@@ -493,26 +497,50 @@ class CalibratedCapillary(Model):
                                   theta_wall=self._theta_wall(scene))
                      * self.small_radius(scene))
 
-    def bound_floor(self, scene: Scene) -> float:
-        """Smallest error bound this closure may claim on ``scene``: 0, except on a wall
-        with two angles within :data:`RIDGE_ZONE_DEG` of the ridge, where the table is
-        known to be coarser than its sampled bound tables may show: the largest held-out
-        maximum (force or rupture distance) of the package data's strata for the
-        narrowest zone of :data:`RIDGE_STRATA` that contains the scene (within
-        :data:`RIDGE_TOP_ZONE_DEG`, the ridge's top: several 1e-3), times
-        :data:`NEAR_RIDGE_MARGIN`."""
+    def held_out_strata(self, scene: Scene) -> list[dict[str, Any]]:
+        """The package data's held-out tables that describe ``scene``: the geometry's
+        uniform one first; with one angle, also its stress strata (sphere pairs: nearly
+        equal spheres); on a wall with two angles within :data:`RIDGE_ZONE_DEG` of the
+        ridge, the strata of the narrowest zone of :data:`RIDGE_STRATA` that contains it
+        (within :data:`RIDGE_TOP_ZONE_DEG`: the ridge's top)."""
         th_s, th_w = scene.contact_angle_sphere, scene.contact_angle_wall
         if scene.kind != "sphere-wall" or abs(th_s - th_w) <= ANGLE_TOL:
-            return 0.0
+            e = _entry(scene.kind)
+            return [e["held_out"], *(e[k] for k in sorted(e) if k.startswith("held_out_"))]
+        e = _entry(WALL_TWO_ANGLES)
         v, _ = self._v_ratio(scene)
         dist = abs(math.degrees(th_w) - float(ridge_deg(v, math.degrees(th_s))))
         zones = [z for z in RIDGE_STRATA if dist <= z]
-        if not zones:
-            return 0.0
-        e = _entry(WALL_TWO_ANGLES)
-        strata = [e[k] for k in RIDGE_STRATA[min(zones)] if k in e] or [e["held_out"]]
-        return NEAR_RIDGE_MARGIN * max(max(ho["force"]["max"], ho["rupture_distance"]["max"])
-                                       for ho in strata)
+        near = [e[k] for k in RIDGE_STRATA[min(zones)] if k in e] if zones else []
+        return [e["held_out"], *near]
+
+    def bound_floor(self, scene: Scene, rupture_distance: float | None = None
+                    ) -> np.ndarray:
+        """Smallest error bound this closure may claim at each of the scene's gaps, where
+        its sampled bound tables cannot be trusted to have found its worst (0 elsewhere).
+
+        - Its **rupture window**: within ``w S_c`` of its own rupture distance, ``w`` the
+          held-out maximum of the rupture distance's error (:meth:`held_out_strata`) times
+          :data:`NEAR_RIDGE_MARGIN`, the bridge may or may not exist: below S_c the
+          closure's force may be spurious (:data:`SPURIOUS`), above it the closure's 0 may
+          miss a force (relative error 1, times the margin).
+        - On a wall with two angles within :data:`RIDGE_ZONE_DEG` of the ridge, where the
+          table is coarser: at the gaps below the window, the largest held-out force error
+          of the zone's strata among points where the closure's bridge exists
+          (``force_attached``), and its rupture distance's maximum, times the margin.
+        """
+        gap = scene.gap_array
+        sc = self.rupture_distance(scene) if rupture_distance is None else rupture_distance
+        strata = self.held_out_strata(scene)
+        w = NEAR_RIDGE_MARGIN * max(ho["rupture_distance"]["max"] for ho in strata)
+        out = np.zeros(gap.shape)
+        if scene.kind == "sphere-wall" and len(strata) > 1:  # near the two-angle ridge
+            out[:] = NEAR_RIDGE_MARGIN * max(
+                max(ho.get("force_attached", ho["force"])["max"], ho["rupture_distance"]["max"])
+                for ho in strata[1:])
+        out[(gap >= sc * (1.0 - w)) & (gap < sc)] = SPURIOUS
+        out[(gap >= sc) & (gap <= sc * (1.0 + w))] = NEAR_RIDGE_MARGIN
+        return out
 
     @staticmethod
     def _theta_wall(scene: Scene) -> float | None:
@@ -529,7 +557,7 @@ class CalibratedCapillary(Model):
         force = 2.0 * np.pi * scene.surface_tension * rs * f
         est = estimate_or_none(self.name, "capillary", scene, sc)
         if est is not None:
-            est = np.maximum(est, self.bound_floor(scene))
+            est = np.maximum(est, self.bound_floor(scene, sc))
         return ForceCurve(case=scene.name, model=self.name, gap=gap, force_viscous=None,
                           force_capillary=-force,
                           extras={"rupture_distance": np.full(gap.shape, sc)},
