@@ -494,9 +494,8 @@ def held_out(kind: str, n: int = 120, gaps_per: int = 8, seed: int = 2611,
     against ``meniscus`` (relative errors of the rupture distance and of the force, max /
     mean / 95th percentile, where the maximum sits; ``force_attached``: the force at the
     points where the closure's own bridge exists, short of its rupture distance).
-    ``near_ridge``: a wall with two
-    angles, the wall angle near the table's ridge (``ridge_top``: at its top, see
-    :func:`held_out_design`)."""
+    ``near_ridge``: a wall with two angles, the wall angle near the table's ridge
+    (``ridge_top``: at its top, see :func:`held_out_design`)."""
     e = cc._entry(kind) if entry is None else entry
     design = held_out_design(kind, n, gaps_per, seed, near_equal,
                              e if near_ridge or ridge_top else None, ridge_top)

@@ -497,7 +497,7 @@ class CalibratedCapillary(Model):
                                   theta_wall=self._theta_wall(scene))
                      * self.small_radius(scene))
 
-    def held_out_strata(self, scene: Scene) -> list[dict[str, Any]]:
+    def held_out_tables(self, scene: Scene) -> list[dict[str, Any]]:
         """The package data's held-out tables that describe ``scene``: the geometry's
         uniform one first; with one angle, also its stress strata (sphere pairs: nearly
         equal spheres); on a wall with two angles within :data:`RIDGE_ZONE_DEG` of the
@@ -520,7 +520,7 @@ class CalibratedCapillary(Model):
         its sampled bound tables cannot be trusted to have found its worst (0 elsewhere).
 
         - Its **rupture window**: within ``w S_c`` of its own rupture distance, ``w`` the
-          held-out maximum of the rupture distance's error (:meth:`held_out_strata`) times
+          held-out maximum of the rupture distance's error (:meth:`held_out_tables`) times
           :data:`NEAR_RIDGE_MARGIN`, the bridge may or may not exist: below S_c the
           closure's force may be spurious (:data:`SPURIOUS`), above it the closure's 0 may
           miss a force (relative error 1, times the margin).
@@ -531,7 +531,7 @@ class CalibratedCapillary(Model):
         """
         gap = scene.gap_array
         sc = self.rupture_distance(scene) if rupture_distance is None else rupture_distance
-        strata = self.held_out_strata(scene)
+        strata = self.held_out_tables(scene)
         w = NEAR_RIDGE_MARGIN * max(ho["rupture_distance"]["max"] for ho in strata)
         out = np.zeros(gap.shape)
         if scene.kind == "sphere-wall" and len(strata) > 1:  # near the two-angle ridge
