@@ -36,8 +36,10 @@ PIECES: dict[str, list[dict[str, Any]]] = {
     "sphere-wall": [{"theta_deg": [0.0, 70.0], "nodes": [10, 15, 19]}],
     "sphere-sphere": [{"theta_deg": [0.0, None], "nodes": [9, 9, 11, 19]},
                       {"theta_deg": [None, 70.0], "nodes": [9, 9, 13, 19]}],
-    cc.WALL_TWO_ANGLES: [{"theta_deg": [0.0, None], "nodes": [10, 13, 15, 19]},
-                         {"theta_deg": [None, cc.RIDGE_TOP_DEG], "nodes": [10, 13, 11, 19]}],
+    cc.WALL_TWO_ANGLES: [{"theta_deg": [0.0, None], "nodes": [10, 13, 15, 19],
+                          "theta_map": cc.RIDGE_QUADRATIC},
+                         {"theta_deg": [None, cc.RIDGE_TOP_DEG], "nodes": [10, 13, 11, 19],
+                          "theta_map": cc.RIDGE_QUADRATIC}],
 }
 """Theta pieces per kind (``None``: the split angle, or the ridge on a wall with two angles)
 and their Lobatto nodes per axis ((w,) a = ln v, b = theta within the piece, c = gap; two
@@ -127,12 +129,12 @@ RIDGE_BRACKET_DEG = (-2.0, 45.0)
 """Where the ridge is sought: the sphere's angle plus these (the wall's angle clipped to
 [0, :data:`~wetcontact.reduced_models.calibrated_capillary.RIDGE_TOP_DEG`])."""
 RIDGE_TOL_DEG = 2e-3
-RIDGE_MARGIN_DEG = 0.3
-"""Points this close to the ridge series are evaluated in both pieces, the smaller S_c
-wins: the series interpolates its nodes (to :data:`RIDGE_TOL_DEG`) but is up to about
-1e-2 deg off between them, and a piece continued past the ridge overestimates S_c by
-several 1e-3 within 0.3 deg (measured: dropping the margin moves near-ridge values by up
-to 0.6 % in S_c and 1.5 % in the force)."""
+RIDGE_MARGIN_DEG = 0.0
+"""Points this close to the ridge series would be evaluated in both pieces, the smaller
+S_c winning. With the angle linear in its piece (the previous table) 0.3 deg: a piece
+continued past the ridge overestimated S_c by several 1e-3. With the quadratic map
+(``theta_map``) none: a piece is not continued past its end (its coordinate is clipped
+there), and the sharp top is resolved where the series puts it."""
 
 
 def wall_rupture(v: float, theta_sphere_deg: float, theta_wall_deg: float) -> float:
@@ -240,9 +242,23 @@ def solve_branch(kind: str, ratio: float | None, v: float, theta: float,
     return cur.rupture_distance, q
 
 
+NODE_NUDGE_RAD = 1e-6
+"""A two-angle node whose branch end is too degenerate to bracket (the wall angle within
+about 1e-6 deg of the ridge's top) is solved this far to either side and averaged."""
+
+
 def _node_job(args: tuple) -> tuple[tuple[int, ...], float, np.ndarray]:
     idx, kind, ratio, v, theta, c_nodes, theta2 = args
-    s_c, q = solve_branch(kind, ratio, v, theta, c_nodes, theta2)
+    try:
+        s_c, q = solve_branch(kind, ratio, v, theta, c_nodes, theta2)
+    except SolverError:
+        if theta2 is None:
+            raise
+        sides = [solve_branch(kind, ratio, v, theta, c_nodes, theta2 + d)
+                 for d in (-NODE_NUDGE_RAD, NODE_NUDGE_RAD)]
+        sys.stderr.write(f"calibrated-capillary: node {idx} solved {NODE_NUDGE_RAD:g} rad to "
+                         "either side of its wall angle (degenerate end)\n")
+        s_c, q = 0.5 * (sides[0][0] + sides[1][0]), 0.5 * (sides[0][1] + sides[1][1])
     return idx, s_c, q
 
 
@@ -392,7 +408,7 @@ def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
     jobs = []
     for idx in np.ndindex(*nodes[:-1]):
         li, i_b = lead(idx), idx[-1]
-        theta = math.radians(0.5 * (b[i_b] * (hi[li] - lo[li]) + lo[li] + hi[li]))
+        theta = math.radians(float(cc.piece_angle(piece, b[i_b], lo[li], hi[li])))
         ratio = None if kind != "sphere-sphere" else float(ratios[idx[0]])
         if two:  # the sphere's angle on axis b1, the wall's in the piece
             jobs.append((idx, kind, ratio, float(vs[idx[0]]), math.radians(t_s[idx[1]]),
@@ -409,6 +425,7 @@ def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
         q[idx] = np.log(qq)
     left, right, err = factor_table(lobatto_coefficients(q, (q.ndim - 2,) if gauss_b else ()))
     return {"theta_deg": piece["theta_deg"], "nodes": list(nodes),
+            **({"theta_map": piece["theta_map"]} if "theta_map" in piece else {}),
             "theta_points": "gauss" if gauss_b else "lobatto",
             "rupture": lobatto_coefficients(rup, (rup.ndim - 1,) if gauss_b else ()).tolist(),
             "force_left": left.tolist(), "force_right": right.tolist(),

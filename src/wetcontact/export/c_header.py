@@ -252,7 +252,7 @@ static inline double wc_viscous_force_bridge(double r1, double r2, double viscos
  * the three leading axes and the rank q < rank, `right` the rank and the other axes (c
  * last). */
 struct wc__cap_piece {{
-    int lo_split, hi_split;
+    int lo_split, hi_split, quadratic;
     double lo, hi;
     int nw, na, nb, nc, nleft, rank;
     const double *rupture, *left, *right;
@@ -272,9 +272,11 @@ struct wc__cap_table {{
 }};
 
 static inline void wc__cap_set(struct wc__cap_piece *p, int lo_split, double lo, int hi_split,
-                               double hi, int nw, int na, int nb, int nc, int nleft, int rank,
-                               const double *rupture, const double *left, const double *right)
+                               double hi, int quadratic, int nw, int na, int nb, int nc,
+                               int nleft, int rank, const double *rupture, const double *left,
+                               const double *right)
 {{
+    p->quadratic = quadratic;
     p->lo_split = lo_split;
     p->lo = lo;
     p->hi_split = hi_split;
@@ -314,6 +316,20 @@ static inline double wc__map(double x, double lo, double hi)
     return (2.0 * x - lo - hi) / (hi - lo);
 }}
 
+/* The angle's coordinate b within a piece [lo, hi]: linear, or (quadratic) quadratic
+ * toward its end at the ridge, b = 1 - 2 sqrt((hi - theta)/(hi - lo)) when the ridge is its
+ * upper end, b = 2 sqrt((theta - lo)/(hi - lo)) - 1 when it is its lower end (clipped). */
+static inline double wc__cap_b(const struct wc__cap_piece *pc, double theta, double lo,
+                               double hi)
+{{
+    double u;
+    if (!pc->quadratic)
+        return wc__map(theta, lo, hi);
+    u = pc->hi_split ? (hi - theta) / (hi - lo) : (theta - lo) / (hi - lo);
+    u = 2.0 * sqrt(u > 0.0 ? u : 0.0);
+    return pc->hi_split ? 1.0 - u : u - 1.0;
+}}
+
 /* One piece at a point: the Chebyshev rows of its three leading axes (at x0, x1 and the
  * angle theta mapped from [lo, hi]) and s_c = S_c / R_s = v^(1/3) exp(sum). With two angles
  * (axpy) the table is contracted over its first two axes into a row over the third, an
@@ -328,7 +344,7 @@ static inline double wc__cap_rupture(const struct wc__cap_piece *pc, int axpy, d
     const double *coef = pc->rupture;
     wc__cheb_rows(x0, tw, pc->nw);
     wc__cheb_rows(x1, ta, pc->na);
-    wc__cheb_rows(wc__map(theta, lo, hi), tb, pc->nb);
+    wc__cheb_rows(wc__cap_b(pc, theta, lo, hi), tb, pc->nb);
     if (axpy) {{
         for (k = 0; k < pc->nb; ++k)
             acc[k] = 0.0;
@@ -787,6 +803,7 @@ def _cap_tables(source: CapillarySource) -> str:
             shape = (1, *p.force_shape) if plane else p.force_shape
             ends = ["1, 0.0" if e is None else f"0, {e!r}" for e in (p.theta_lo, p.theta_hi)]
             lines.append(f"        wc__cap_set(&t->piece[{n}], {ends[0]}, {ends[1]}, "
+                         f"{int(p.quadratic)}, "
                          f"{', '.join(str(x) for x in shape)}, {p.n_left + plane}, "
                          f"{p.rank},\n"
                          f"                    rupture{n}, left{n}, right{n});")

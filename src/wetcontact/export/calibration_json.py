@@ -77,8 +77,9 @@ FORMS = {
         "and a wall with their own contact angles theta_s (the sphere's) and theta_w (the "
         "wall's), v = V/R^3; T_n Chebyshev polynomials of the first kind; each coordinate "
         "mapped to [-1, 1] as m(x; lo, hi) = (2 x - lo - hi)/(hi - lo): a = m(ln v; ln v0, "
-        "ln v1), b1 = m(theta_s_deg; t0, t1), b2 = m(theta_w_deg; lo, hi) within the part's "
-        "range of theta_w, [v0, v1] the domain's v, [t0, t1] its theta_sphere_deg"),
+        "ln v1), b1 = m(theta_s_deg; t0, t1), b2 from theta_w_deg within the part's range "
+        "[lo, hi] of theta_w (below), [v0, v1] the domain's v, [t0, t1] its "
+        "theta_sphere_deg"),
     "capillary-force-two-angles": (
         "F = -2 pi sigma R (cos theta_s + cos theta_w) exp(sum C[i, j, k, l] T_i(a) T_j(b1) "
         "T_k(b2) T_l(c)) for S < S_c, exactly 0 at and past S_c; c = 2 z - 1, z = sqrt(1 - "
@@ -88,12 +89,18 @@ FORMS = {
     "capillary-piece-two-angles": (
         "; this part covers the wall's angle theta_w from {lo} to {hi} deg (a point belongs "
         "to the first part whose upper end is at or above theta_w; the domain stops at the "
-        "domain's theta_wall_deg) and b2 = m(theta_w_deg; lo, hi) within it, where 'ridge' is "
+        "domain's theta_wall_deg) and {b2} within it, where 'ridge' is "
         "the wall angle of the rupture distance's ridge theta_w* = sum_ij s_ij T_i(a) "
-        "T_j(b1) (deg), where S_c peaks and the parts meet; a point with |theta_w - "
-        "theta_w*| <= {margin!r} deg is evaluated in both parts that meet there (the other "
-        "with b2 a little outside [-1, 1]) and the part with the smaller S_c gives S_c and "
-        "F"),
+        "T_j(b1) (deg), where S_c peaks and the parts meet{margin_text}"),
+    "capillary-b2-linear": "b2 = m(theta_w_deg; lo, hi)",
+    "capillary-b2-quadratic": (
+        "b2 quadratic toward the ridge: b2 = 1 - 2 sqrt((hi - theta_w_deg)/(hi - lo)) when "
+        "the ridge is the part's upper end (hi), b2 = 2 sqrt((theta_w_deg - lo)/(hi - lo)) - "
+        "1 when it is its lower end (lo), the square roots' arguments clipped at 0"),
+    "capillary-margin": (
+        "; a point with |theta_w - theta_w*| <= {margin!r} deg is evaluated in both parts "
+        "that meet there (the other with b2 a little outside [-1, 1]) and the part with the "
+        "smaller S_c gives S_c and F"),
 }
 LAYOUT = {"willett": "k[i, j, m] flattened in C order, shape (4, 4, 3)",
           "finite-liquid": "(p, c0, ..., c8)", "lian-rupture": "(a, b, c)"}
@@ -228,7 +235,11 @@ def capillary_document() -> dict[str, Any]:
                 text = FORMS[form + ("-two-angles" if two else "")]
                 if len(part.pieces) > 1:
                     text += FORMS["capillary-piece" + ("-two-angles" if two else "")].format(
-                        lo=ends[0], hi=ends[1], margin=part.ridge_margin_deg)
+                        lo=ends[0], hi=ends[1],
+                        b2=FORMS["capillary-b2-" + ("quadratic" if piece.quadratic
+                                                    else "linear")],
+                        margin_text=(FORMS["capillary-margin"].format(
+                            margin=part.ridge_margin_deg) if part.ridge_margin_deg > 0 else ""))
                 if split_name in ends:  # the split (ridge) series first, then the tensor
                     what = (f"first the ridge angle's Chebyshev coefficients s_ij flattened "
                             f"in C order, shape ({', '.join(map(str, part.split.shape))}), "

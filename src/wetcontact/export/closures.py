@@ -103,13 +103,18 @@ class CapillaryPiece:
     (w, a, b[, c]), a wall's (a, b[, c]), a wall's with two angles (a, b1, b2[, c]).
     ``theta_lo``/``theta_hi`` (deg) bound the piece in the angle that the pieces divide
     (the one angle, or the wall's); ``None`` is the geometry's split angle (b, or b2, is
-    mapped from that angle within the piece)."""
+    mapped from that angle within the piece: linearly, or, if ``quadratic``, quadratically
+    toward its end at the ridge, ``b = 1 - 2 sqrt((hi - theta)/(hi - lo))`` when the ridge
+    is its upper end and ``b = 2 sqrt((theta - lo)/(hi - lo)) - 1`` when it is its lower
+    end, the square roots' arguments clipped at 0; the package's ``theta_map`` =
+    ``ridge-quadratic``)."""
 
     theta_lo: float | None
     theta_hi: float | None
     rupture: np.ndarray
     force_left: np.ndarray
     force_right: np.ndarray
+    quadratic: bool = False
 
     @property
     def rank(self) -> int:
@@ -228,8 +233,15 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
                              f"allowed: finite, rupture {ndim}-D, the force (the factors' "
                              "product) the same plus a gap axis")
         lo, hi = p["theta_deg"]
+        tmap = p.get("theta_map", "linear")
+        if tmap not in ("linear", "ridge-quadratic") or (
+                tmap == "ridge-quadratic" and None not in (lo, hi)):
+            raise InputError(f"{path}: {kind} piece {i}: theta_map = {tmap!r}; allowed: "
+                             "'linear', or 'ridge-quadratic' for a piece that ends at the "
+                             "split angle")
         pieces.append(CapillaryPiece(None if lo is None else float(lo),
-                                     None if hi is None else float(hi), rup, left, right))
+                                     None if hi is None else float(hi), rup, left, right,
+                                     tmap == "ridge-quadratic"))
     ts = e.get("theta_split")
     split = None if ts is None else np.asarray(ts["chebyshev"], dtype=float)
     bounds = [x for p in pieces for x in (p.theta_lo, p.theta_hi)]

@@ -217,6 +217,16 @@ def _cap_map(x, lo, hi):
     return (2.0 * x - lo - hi) / (hi - lo)
 
 
+def _cap_b(x, lo, hi, piece):
+    """The angle's coordinate within a piece: linear, or quadratic toward its end at the
+    ridge (the piece's last entry; the ridge is its upper end when lo is numeric there)."""
+    if not piece[5]:
+        return _cap_map(x, lo, hi)
+    if piece[1] is None:
+        return 1.0 - 2.0 * np.sqrt(np.clip((hi - x) / (hi - lo), 0.0, None))
+    return 2.0 * np.sqrt(np.clip((x - lo) / (hi - lo), 0.0, None)) - 1.0
+
+
 def _cap_rows(t, n):
     """T_k(t) for k < n, shape (len(t), n), by the three-term recurrence."""
     out = np.empty((t.size, n))
@@ -326,8 +336,8 @@ def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
 
         def piece(n, j):
             lo, hi = ranges[n]
-            coords = [x[j] for x in lead] + [_cap_map(ti[j], lo[j], hi[j])]
-            return _cap_star(pieces[n][2:], coords, vi[j], rho[j], cos_t[j],
+            coords = [x[j] for x in lead] + [_cap_b(ti[j], lo[j], hi[j], pieces[n])]
+            return _cap_star(pieces[n][2:5], coords, vi[j], rho[j], cos_t[j],
                              None if si is None else si[j])
 
         todo = np.ones(idx.size, dtype=bool)
@@ -484,7 +494,7 @@ def _tables(part: CapillaryPart | None) -> str:
             f"\n        np.array({_list(p.force_left.ravel(), 4)}).reshape("
             f"{p.force_left.shape}),"
             f"\n        np.array({_list(p.force_right.ravel(), 4)}).reshape("
-            f"{p.force_right.shape}))")
+            f"{p.force_right.shape}), {p.quadratic!r})")
     split = "None" if part.split is None else (
         f"np.array({_list(part.split.ravel(), 4)}).reshape({part.split.shape})")
     return (f'{{"split": {split}, "margin": {part.ridge_margin_deg!r},\n    "pieces": ['

@@ -205,6 +205,44 @@ def piece_range(piece: dict[str, Any], split: np.ndarray | None, n: int
     return ends[0], ends[1]
 
 
+RIDGE_QUADRATIC = "ridge-quadratic"
+"""A piece's ``theta_map`` whose angle coordinate is quadratic toward its end at the ridge
+(:func:`piece_coordinate`)."""
+
+
+def piece_coordinate(piece: dict[str, Any], theta_deg: np.ndarray, lo: np.ndarray,
+                     hi: np.ndarray) -> np.ndarray:
+    r"""``b`` in [-1, 1] of the angle (deg) within its piece [lo, hi]: linear, or, for a
+    piece with ``theta_map`` :data:`RIDGE_QUADRATIC` (two angles on a wall), quadratic
+    toward its end at the ridge,
+
+    .. math::
+        \theta = \theta^* - (\theta^* - lo) \big(\tfrac{1 - b}{2}\big)^2 \ \text{(below)},
+        \qquad \theta = \theta^* + (hi - \theta^*) \big(\tfrac{1 + b}{2}\big)^2
+        \ \text{(above)},
+
+    so that a top of S_c like ``S* - k sqrt|theta - theta*|`` is linear in b and a smooth
+    maximum stays smooth; the nodes cluster at the ridge. Beyond the ridge end (only
+    within a margin) b is clipped to it."""
+    ends = piece["theta_deg"]
+    if piece.get("theta_map") != RIDGE_QUADRATIC or None not in ends:
+        return _map(theta_deg, lo, hi)
+    if ends[1] is None:  # the ridge is the upper end
+        return 1.0 - 2.0 * np.sqrt(np.clip((hi - theta_deg) / (hi - lo), 0.0, None))
+    return 2.0 * np.sqrt(np.clip((theta_deg - lo) / (hi - lo), 0.0, None)) - 1.0
+
+
+def piece_angle(piece: dict[str, Any], b: np.ndarray, lo: Any, hi: Any) -> np.ndarray:
+    """The angle (deg) at coordinate ``b`` of a piece: the inverse of
+    :func:`piece_coordinate`."""
+    ends = piece["theta_deg"]
+    if piece.get("theta_map") != RIDGE_QUADRATIC or None not in ends:
+        return 0.5 * (b * (hi - lo) + lo + hi)
+    if ends[1] is None:
+        return hi - (hi - lo) * (0.5 * (1.0 - b)) ** 2
+    return lo + (hi - lo) * (0.5 * (1.0 + b)) ** 2
+
+
 def gap_coordinate(s: np.ndarray, s_c: np.ndarray, eps: np.ndarray) -> np.ndarray:
     """``c = 2 z - 1`` with ``z = sqrt(1 - ln(1 + S/eps)/ln(1 + S_c/eps))`` (S, S_c, eps in
     one unit); S = 0 maps to 1, the rupture distance to -1."""
@@ -416,7 +454,8 @@ def _piece(piece: dict[str, Any], lo: np.ndarray, hi: np.ndarray, idx: np.ndarra
         sl = idx[j:j + chunk]
         out = slice(j, j + sl.size)
         rows = [_cheb_rows(x[sl], m) for x, m in zip(lead, dims, strict=False)]
-        rows.append(_cheb_rows(_map(piece_deg[sl], lo[sl], hi[sl]), dims[len(lead)]))
+        rows.append(_cheb_rows(piece_coordinate(piece, piece_deg[sl], lo[sl], hi[sl]),
+                               dims[len(lead)]))
         r_lead = _outer(rows[:len(lead)])
         sc = np.cbrt(v[sl]) * np.exp(np.einsum("ij,ij->j", rup2 @ r_lead, rows[-1]))
         inside = s[sl] < sc
