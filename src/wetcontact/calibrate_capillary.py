@@ -377,7 +377,9 @@ def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
 
     The lead axes are (a,) on a wall, (w, a) for sphere pairs and (a, b1) on a wall with
     two angles; the piece's own angle (the one angle, or the wall's) follows them, mapped
-    from its range at that lead node (an end may be the split angle or the ridge)."""
+    from its range at that lead node (an end may be the split angle or the ridge), linearly
+    or, with ``theta_map``, quadratically toward the ridge
+    (:func:`~wetcontact.reduced_models.calibrated_capillary.piece_angle`)."""
     nodes = tuple(piece["nodes"])
     c_nodes = lobatto(nodes[-1])
     two = kind == cc.WALL_TWO_ANGLES

@@ -93,9 +93,10 @@ CAP_COMMENT = """\
  *   s = S/R_s. A plane with TWO contact angles (theta1 the sphere's, theta2 the plane's)
  *   has its own table, axes (a, b1, b2[, c]): S_c = R v^(1/3) exp(sum C_rup T(a) T(b1)
  *   T(b2)), F = -2 pi sigma R (cos theta1 + cos theta2) exp(sum C_F T(a) T(b1) T(b2) T(c)),
- *   b1 from theta1 over [{ct_lo:.6g}, {ct_hi:.6g}] deg, b2 from theta2 within its piece; the
- *   pieces meet at the ridge of S_c, a plane angle theta2* = sum s_ij T_i(a) T_j(b1) (deg);
- *   within the table's margin of it (wc__cap_table: margin) a point is evaluated in both
+ *   b1 from theta1 over [{ct_lo:.6g}, {ct_hi:.6g}] deg, b2 from theta2 within its piece
+ *   (quadratic toward the ridge where the piece says so: wc__cap_b); the pieces meet at
+ *   the ridge of S_c, a plane angle theta2* = sum s_ij T_i(a) T_j(b1) (deg); within the
+ *   table's margin of it (wc__cap_table: margin; 0: none) a point is evaluated in both
  *   pieces and the one with the smaller S_c gives S_c and F.
  *   C_F is stored in its low-rank form (the package's own layout),
  *   C_F = sum_q L[..][q] R[q][..] with L over the leading axes and R over the others, and

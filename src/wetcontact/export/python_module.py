@@ -200,7 +200,8 @@ _CAP_LNV_LO, _CAP_LNV_HI = {lnv_lo_r}, {lnv_hi_r}
 _CAP_T_LO, _CAP_T_HI = {ct_lo_r}, {ct_hi_r}
 _CAP_Q_HI, _CAP_W_MAX = {q_hi_r}, {w_max_r}
 _CAP_ANGLE_TOL = {angle_tol_r}  # rad: two angles closer than this count as one
-# per geometry: the theta pieces (lo, hi, rupture table, force_left, force_right), lo/hi in
+# per geometry: the theta pieces (lo, hi, rupture table, force_left, force_right,
+# quadratic: the angle's coordinate quadratic toward the split end, _cap_b), lo/hi in
 # deg or None for the split angle ("split": a Chebyshev series in a; for a plane with two
 # angles, "wall2", the ridge's plane angle, a tensor series in (a, b1)); within "margin"
 # deg of it a point is evaluated in both pieces that meet there and the smaller S_c wins

@@ -53,10 +53,11 @@ falling with theta_s). The wall angle's pieces
 are [0, theta_w*] and [theta_w*, 90 deg] (the second reaches past 70 deg so that it is
 never empty: theta_w* is up to about 85 deg), with theta_w* a tensor Chebyshev series in
 (a, b1) located by a golden-section search for the maximum of S_c
-(:func:`wetcontact.calibrate_capillary.fit_ridge`). Within ``ridge_margin_deg`` of the
-series a point is evaluated in both pieces and the smaller S_c wins (:func:`_pieces`): the
-ridge is the maximum of S_c over theta_w, so each piece, continued a little past it,
-overestimates S_c there.
+(:func:`wetcontact.calibrate_capillary.fit_ridge`). Within each piece b2 is quadratic
+toward the ridge (:func:`piece_coordinate`), so that the nodes cluster there and a top of
+S_c like a square root of the distance is linear in b2. (A table may also carry a
+``ridge_margin_deg``: points that close to the series evaluated in both pieces, the smaller
+S_c winning; the previous, linear table needed 0.3 deg, this one none.)
 
 The ridge is not the crossing of two smooth curves, and its shape changes over the domain.
 At some (V, theta_s) it is a smooth maximum (v = 1e-3, theta_s = 20 deg: S_c drops by
@@ -64,12 +65,12 @@ At some (V, theta_s) it is a smooth maximum (v = 1e-3, theta_s = 20 deg: S_c dro
 like a square root on both sides with different slopes (v = 0.082, theta_s = 50 deg: a
 drop of 3e-3 at 0.01 deg, 1.1e-2 at 0.1 deg), and the ridge bends sharply near
 theta_s = 28-30 deg at small V, which a 13-node series in theta_s follows to about 1e-2
-deg. Linear in theta_w within the pieces, the table meets the goals (5e-4 rupture
-distance, 1e-3 force) more than :data:`RIDGE_ZONE_DEG` from the ridge; within it the
-held-out maxima are 1.2e-3 / 1.0e-3, and within :data:`RIDGE_TOP_ZONE_DEG` (the top) the
-rupture distance is up to 7e-3 off, so that the force is 0 at gaps just short of the true
-S_c (its relative error 1; below 0.9 S_c it is within 3e-4). The closure's
-:meth:`CalibratedCapillary.bound_floor` claims no less than these there.
+deg. Where the series misses a sharp top by delta, the table's S_c is off by about
+``k sqrt(delta)``. So the table meets the goals (5e-4 rupture distance, 1e-3 force) on
+its held-out bridges farther than :data:`RIDGE_TOP_ZONE_DEG` from the ridge (within
+:data:`RIDGE_ZONE_DEG`: 2.6e-4 / 9.5e-4) but not within it, at the ridge's top (2.0e-3 /
+2.8e-3); the closure's :meth:`CalibratedCapillary.bound_floor` claims no less than its
+held-out maxima near the ridge.
 
 The force table is stored in low-rank form: its unfolding over the first two axes
 ((a, b) on a wall, (w, a) for sphere pairs) against the rest is a truncated SVD,
@@ -109,12 +110,14 @@ RIDGE_TOP_DEG = 90.0
 """Upper end of the wall angle's second piece (two angles on a wall): beyond the ridge,
 which reaches about 85 deg at the sphere angle 70 deg and v = 0.1."""
 RIDGE_ZONE_DEG = 3.0
-"""Two angles on a wall: farther than this from the ridge the table meets the issue's goals
-on its held-out bridges; within it, it does not (see the module's notes)."""
+"""Two angles on a wall: within this of the ridge the closure's bound is at least its
+near-ridge held-out maximum (its stratum ``held_out_near_ridge``), whatever its sampled
+bound table says (see the module's notes)."""
 RIDGE_TOP_ZONE_DEG = 0.3
 """Two angles on a wall: within this of the ridge series lies the ridge's sharp top, where
-the table's errors are several 1e-3 (its own held-out stratum, ``held_out_ridge_top``);
-it contains the true top, from which the series is at most about 2e-2 deg off."""
+the table's errors are up to a few 1e-3 (its own held-out stratum,
+``held_out_ridge_top``); it contains the true top, from which the series is at most about
+2e-2 deg off."""
 NEAR_RIDGE_MARGIN = 1.25
 """Factor on the near-ridge held-out maxima in :meth:`CalibratedCapillary.bound_floor`:
 the bound tables' own margin (``wetcontact.bounds_gen.MARGIN``)."""
