@@ -219,8 +219,8 @@ def _cap_map(x, lo, hi):
 
 
 def _cap_b(x, lo, hi, piece):
-    """The angle's coordinate within a piece: linear, or quadratic toward its end at the
-    ridge (the piece's last entry; the ridge is its upper end when lo is numeric there)."""
+    """The angle's coordinate within a piece: linear, or, if the piece's last entry says
+    so, quadratic toward its end at the split angle (its upper end when its hi is None)."""
     if not piece[5]:
         return _cap_map(x, lo, hi)
     if piece[1] is None:
