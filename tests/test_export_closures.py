@@ -630,12 +630,11 @@ def test_comparison_sees_a_perturbed_coefficient(points, source, tmp_path, langu
 def test_comparison_sees_the_quadratic_ridge_map(points, source, tmp_path, language, tol):
     """With the two-angle pieces' wall angle mapped linearly instead of quadratically
     toward the ridge (``CapillaryPiece.quadratic``) the exports disagree with the package
-    on the two-angle points, and only there. (The shipped table has no ridge margin: with
-    the quadratic map no piece is continued past its end.)"""
+    on the two-angle points, and only there."""
     part = source.table.parts.get(cc.WALL_TWO_ANGLES)
     if part is None:
         pytest.skip("the package data has no two-angle table")
-    assert part.ridge_margin_deg == 0.0 and all(p.quadratic for p in part.pieces)
+    assert all(p.quadratic for p in part.pieces)
     pts, ref = points
     linear = tuple(replace(p, quadratic=False) for p in part.pieces)
     parts = {**source.table.parts, cc.WALL_TWO_ANGLES: replace(part, pieces=linear)}
@@ -705,7 +704,7 @@ def _entry_json(source, kind: str) -> dict:
                         "force_right": p.force_right.tolist(),
                         **({"theta_map": "ridge-quadratic"} if p.quadratic else {})}
                        for p in part.pieces],
-            "held_out": part.held_out, "ridge_margin_deg": part.ridge_margin_deg}
+            "held_out": part.held_out}
 
 
 def test_two_angle_layout_is_validated(source):
@@ -722,8 +721,6 @@ def test_two_angle_layout_is_validated(source):
     part = _capillary_part(Path("t.json"), cc.WALL_TWO_ANGLES, good)
     assert part.two_angles and part.split.ndim == 2 and part.pieces[-1].theta_hi >= 70.0
     assert all(p.quadratic for p in part.pieces)  # the wall angle quadratic toward the ridge
-    assert part.ridge_margin_deg == cc.capillary_table()[cc.WALL_TWO_ANGLES].get(
-        "ridge_margin_deg", 0.0)
     one = _entry_json(source, "sphere-sphere")
 
     def broken(entry, change):
@@ -749,7 +746,7 @@ def test_two_angle_layout_is_validated(source):
         ("sphere-wall", broken(_entry_json(source, "sphere-wall"), lambda e: e["pieces"][0]
                                .update(theta_map="ridge-quadratic")), "ends at the split"),
         ("sphere-wall", broken(_entry_json(source, "sphere-wall"), lambda e: e.update(
-            ridge_margin_deg=0.3)), "only with a theta_split series"),
+            ridge_margin_deg=0.3)), "ridge_margin_deg = 0.3; allowed: 0 or absent"),
         ("sphere-sphere", broken(one, lambda e: e["pieces"][-1].update(
             theta_deg=[None, 90.0])), "contiguous from 0 to 70 deg"),
         ("sphere-sphere", broken(one, lambda e: e["theta_split"].update(
@@ -825,8 +822,7 @@ def test_json_calibrated_capillary_matches_table_and_schema(tmp_path, source):
                     assert lo == (piece.theta_lo or 0.0) and hi <= 70.0
                     assert "cos theta_s + cos theta_w" in p["form"] or name != "force"
                     assert "T_j(b1) T_k(b2)" in p["form"]
-                    assert ("deg is evaluated in both" in p["form"]) == (
-                        part.ridge_margin_deg > 0)
+                    assert "deg is evaluated in both" not in p["form"]  # no ridge margin
                     assert ("b2 quadratic toward the ridge" in p["form"]) == piece.quadratic
                     for stratum in ("near_ridge", "ridge_top"):
                         got = p["held_out"]["strata"][stratum]

@@ -129,12 +129,6 @@ RIDGE_BRACKET_DEG = (-2.0, 45.0)
 """Where the ridge is sought: the sphere's angle plus these (the wall's angle clipped to
 [0, :data:`~wetcontact.reduced_models.calibrated_capillary.RIDGE_TOP_DEG`])."""
 RIDGE_TOL_DEG = 2e-3
-RIDGE_MARGIN_DEG = 0.0
-"""Points this close to the ridge series would be evaluated in both pieces, the smaller
-S_c winning. With the angle linear in its piece (the previous table) 0.3 deg: a piece
-continued past the ridge overestimated S_c by several 1e-3. With the quadratic map
-(``theta_map``) none: a piece is not continued past its end (its coordinate is clipped
-there), and the sharp top is resolved where the series puts it."""
 
 
 def wall_rupture(v: float, theta_sphere_deg: float, theta_wall_deg: float) -> float:
@@ -441,11 +435,8 @@ def fit_kind(kind: str, workers: int = 2, cache_dir: Path | None = None) -> dict
     if any(None in p["theta_deg"] for p in PIECES[kind]):
         split = (fit_ridge(workers, cache_dir) if kind == cc.WALL_TWO_ANGLES
                  else fit_split(workers, cache_dir))
-    out: dict[str, Any] = {"theta_split": split}
-    if kind == cc.WALL_TWO_ANGLES:
-        out["ridge_margin_deg"] = RIDGE_MARGIN_DEG
-    out["pieces"] = [fit_piece(kind, p, split, workers, cache_dir) for p in PIECES[kind]]
-    return out
+    return {"theta_split": split,
+            "pieces": [fit_piece(kind, p, split, workers, cache_dir) for p in PIECES[kind]]}
 
 
 NEAR_EQUAL = {"radius_ratio": (1.0, 1.1), "theta_deg": (20.0, 45.0)}

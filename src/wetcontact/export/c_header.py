@@ -95,9 +95,7 @@ CAP_COMMENT = """\
  *   T(b2)), F = -2 pi sigma R (cos theta1 + cos theta2) exp(sum C_F T(a) T(b1) T(b2) T(c)),
  *   b1 from theta1 over [{ct_lo:.6g}, {ct_hi:.6g}] deg, b2 from theta2 within its piece
  *   (quadratic toward the ridge where the piece says so: wc__cap_b); the pieces meet at
- *   the ridge of S_c, a plane angle theta2* = sum s_ij T_i(a) T_j(b1) (deg); within the
- *   table's margin of it (wc__cap_table: margin; 0: none) a point is evaluated in both
- *   pieces and the one with the smaller S_c gives S_c and F.
+ *   the ridge of S_c, a plane angle theta2* = sum s_ij T_i(a) T_j(b1) (deg).
  *   C_F is stored in its low-rank form (the package's own layout),
  *   C_F = sum_q L[..][q] R[q][..] with L over the leading axes and R over the others, and
  *   evaluated as such: the left rows contracted with L (rank numbers), the right rows with
@@ -263,11 +261,9 @@ struct wc__cap_piece {{
  * the angle they divide: the one angle, or the plane's of two) and the split angle (deg)
  * as sum_k split[k] T_k(a) (nsplit_b = 0), or, for a plane with two angles, the plane
  * angle of the rupture distance's ridge as sum_ij split[i][j] T_i(a) T_j(b1)
- * (nsplit x nsplit_b, row-major). Within `margin` deg of the split angle (0: never) a point
- * is evaluated in both pieces that meet there and the smaller S_c wins. */
+ * (nsplit x nsplit_b, row-major). */
 struct wc__cap_table {{
     int npieces, nsplit, nsplit_b;
-    double margin;
     const double *split;
     struct wc__cap_piece piece[WC__CAP_PIECES];
 }};
@@ -377,10 +373,9 @@ static inline int wc__cap_bridge(double r1, double r2, double volume, double the
                                  double *v, double *rho, double *tw, double *ta, double *tb,
                                  double *sc)
 {{
-    int plane = isinf(r2) && r2 > 0, i, j, k, p, other;
-    double ratio, a, x0, x1, theta, split = 0.0, row, lo, hi = 0.0, so;
-    double tw2[WC__CAP_NMAX], ta2[WC__CAP_NMAX], tb2[WC__CAP_NMAX];
-    const struct wc__cap_piece *pc, *po;
+    int plane = isinf(r2) && r2 > 0, i, j, k, p;
+    double ratio, a, x0, x1, theta, split = 0.0, row, lo, hi = 0.0;
+    const struct wc__cap_piece *pc;
     if (!(r1 > 0) || !isfinite(r1) || !(r2 > 0) || !(volume > 0) || !isfinite(volume))
         return 0;
     if (!(theta1_deg >= 0 && theta1_deg < 180 && theta2_deg >= 0 && theta2_deg < 180))
@@ -436,26 +431,6 @@ static inline int wc__cap_bridge(double r1, double r2, double volume, double the
     pc = &tab->piece[p];
     lo = pc->lo_split ? split : pc->lo;
     *sc = wc__cap_rupture(pc, *two, x0, x1, theta, lo, hi, *v, tw, ta, tb);
-    /* within the margin of the split angle: the piece across it too (extrapolated a little
-     * past its end), and the smaller rupture distance wins */
-    for (p = 0; tab->margin > 0 && tab->nsplit > 0 && p + 1 < tab->npieces; ++p) {{
-        if (!tab->piece[p].hi_split || !(fabs(theta - split) <= tab->margin))
-            continue;
-        other = theta <= split ? p + 1 : p;
-        po = &tab->piece[other];
-        so = wc__cap_rupture(po, *two, x0, x1, theta, po->lo_split ? split : po->lo,
-                             po->hi_split ? split : po->hi, *v, tw2, ta2, tb2);
-        if (so < *sc) {{
-            *sc = so;
-            pc = po;
-            for (k = 0; k < pc->nw; ++k)
-                tw[k] = tw2[k];
-            for (k = 0; k < pc->na; ++k)
-                ta[k] = ta2[k];
-            for (k = 0; k < pc->nb; ++k)
-                tb[k] = tb2[k];
-        }}
-    }}
     *piece = pc;
     return 1;
 }}
@@ -795,7 +770,6 @@ def _cap_tables(source: CapillarySource) -> str:
         nsplit = (0, 0) if part.split is None else (
             (part.split.shape[0], 0) if part.split.ndim == 1 else part.split.shape)
         lines.append(f"        t->npieces = {len(part.pieces)};")
-        lines.append(f"        t->margin = {part.ridge_margin_deg!r};")
         lines.append(f"        t->nsplit = {nsplit[0]};")
         lines.append(f"        t->nsplit_b = {nsplit[1]};")
         lines.append(f"        t->split = {split};")

@@ -91,16 +91,12 @@ FORMS = {
         "to the first part whose upper end is at or above theta_w; the domain stops at the "
         "domain's theta_wall_deg) and {b2} within it, where 'ridge' is "
         "the wall angle of the rupture distance's ridge theta_w* = sum_ij s_ij T_i(a) "
-        "T_j(b1) (deg), where S_c peaks and the parts meet{margin_text}"),
+        "T_j(b1) (deg), where S_c peaks and the parts meet"),
     "capillary-b2-linear": "b2 = m(theta_w_deg; lo, hi)",
     "capillary-b2-quadratic": (
         "b2 quadratic toward the ridge: b2 = 1 - 2 sqrt((hi - theta_w_deg)/(hi - lo)) when "
         "the ridge is the part's upper end (hi), b2 = 2 sqrt((theta_w_deg - lo)/(hi - lo)) - "
         "1 when it is its lower end (lo), the square roots' arguments clipped at 0"),
-    "capillary-margin": (
-        "; a point with |theta_w - theta_w*| <= {margin!r} deg is evaluated in both parts "
-        "that meet there (the other with b2 a little outside [-1, 1]) and the part with the "
-        "smaller S_c gives S_c and F"),
 }
 LAYOUT = {"willett": "k[i, j, m] flattened in C order, shape (4, 4, 3)",
           "finite-liquid": "(p, c0, ..., c8)", "lian-rupture": "(a, b, c)"}
@@ -237,9 +233,7 @@ def capillary_document() -> dict[str, Any]:
                     text += FORMS["capillary-piece" + ("-two-angles" if two else "")].format(
                         lo=ends[0], hi=ends[1],
                         b2=FORMS["capillary-b2-" + ("quadratic" if piece.quadratic
-                                                    else "linear")],
-                        margin_text=(FORMS["capillary-margin"].format(
-                            margin=part.ridge_margin_deg) if part.ridge_margin_deg > 0 else ""))
+                                                    else "linear")])
                 if split_name in ends:  # the split (ridge) series first, then the tensor
                     what = (f"first the ridge angle's Chebyshev coefficients s_ij flattened "
                             f"in C order, shape ({', '.join(map(str, part.split.shape))}), "

@@ -145,19 +145,14 @@ class CapillaryPart:
     at the split angle, that angle (deg) as a Chebyshev series (``split``) in the volume
     coordinate ``a``, or, for a wall with two angles (``two_angles``), the wall angle of
     the rupture distance's ridge as a tensor series in ``a`` and the sphere angle's
-    coordinate ``b1`` (shape (n_a, n_b1)). ``ridge_margin_deg`` (0: none; the two-angle
-    table has one): a point whose angle is within this of the split angle is evaluated in
-    both pieces that meet there and the smaller rupture distance wins (its S_c and force;
-    the other piece extrapolates a little past its end), as the model's ``_pieces`` does.
-    ``held_out``: the error table of the geometry; ``held_out_strata``: those of its stress
-    strata (e.g. ``near_ridge``), by name."""
+    coordinate ``b1`` (shape (n_a, n_b1)). ``held_out``: the error table of the geometry;
+    ``held_out_strata``: those of its stress strata (e.g. ``near_ridge``), by name."""
 
     kind: str
     pieces: tuple[CapillaryPiece, ...]
     split: np.ndarray | None
     held_out: dict[str, Any]
     held_out_strata: dict[str, dict[str, Any]] = field(default_factory=dict)
-    ridge_margin_deg: float = 0.0
 
     @property
     def two_angles(self) -> bool:
@@ -262,15 +257,13 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
         raise InputError(f"{path}: {kind} theta pieces {ends}; allowed: contiguous from "
                          f"{THETA_RANGE_DEG[0]:g} to {top} deg, None (the split angle) only "
                          "with a theta_split series")
-    margin = e.get("ridge_margin_deg", 0.0)
-    if not isinstance(margin, int | float) or not 0.0 <= margin < math.inf or (
-            margin > 0.0 and split is None):
-        raise InputError(f"{path}: {kind} ridge_margin_deg = {margin!r}; allowed: a finite "
-                         "number >= 0 (deg), above 0 only with a theta_split series")
+    if e.get("ridge_margin_deg", 0.0) != 0.0:  # a layout before the quadratic ridge map
+        raise InputError(f"{path}: {kind} ridge_margin_deg = {e['ridge_margin_deg']!r}; "
+                         "allowed: 0 or absent (each point is evaluated in its own piece, "
+                         "as the model does)")
     strata = {k.removeprefix("held_out_"): v for k, v in e.items()
               if k.startswith("held_out_") and isinstance(v, dict)}
-    return CapillaryPart(kind, tuple(pieces), split, e.get("held_out", {}), strata,
-                         float(margin))
+    return CapillaryPart(kind, tuple(pieces), split, e.get("held_out", {}), strata)
 
 
 def shipped_capillary() -> CapillaryTable:

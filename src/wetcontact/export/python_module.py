@@ -203,9 +203,9 @@ _CAP_ANGLE_TOL = {angle_tol_r}  # rad: two angles closer than this count as one
 # per geometry: the theta pieces (lo, hi, rupture table, force_left, force_right,
 # quadratic: the angle's coordinate quadratic toward the split end, _cap_b), lo/hi in
 # deg or None for the split angle ("split": a Chebyshev series in a; for a plane with two
-# angles, "wall2", the ridge's plane angle, a tensor series in (a, b1)); within "margin"
-# deg of it a point is evaluated in both pieces that meet there and the smaller S_c wins
-# (its S_c and force); None where no table was generated. Axes: sphere pair (w, a, b[, c]),
+# angles, "wall2", the ridge's plane angle, a tensor series in (a, b1)); a point belongs
+# to the first piece whose upper end is at or above its angle; None where no table was
+# generated. Axes: sphere pair (w, a, b[, c]),
 # plane (a, b[, c]), plane with two angles (a, b1, b2[, c]), b1 from theta1 over
 # [{ct_lo:g}, {ct_hi:g}] deg, b2 from theta2 within its piece; the force table is
 # C_F = tensordot(force_left, force_right, 1) (rank r: left (..., r), right (r, ...)).
@@ -331,36 +331,18 @@ def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
             cos_t = 2.0 * np.cos(np.radians(ti))
             sp = None if split is None else _cap_rows(a, split.size) @ split
         si = None if s_over_rs is None else s_over_rs[idx]
-        pieces = table["pieces"]
-        ranges = [tuple(sp if e is None else np.full(idx.size, e) for e in p[:2])
-                  for p in pieces]
-
-        def piece(n, j):
-            lo, hi = ranges[n]
-            coords = [x[j] for x in lead] + [_cap_b(ti[j], lo[j], hi[j], pieces[n])]
-            return _cap_star(pieces[n][2:5], coords, vi[j], rho[j], cos_t[j],
-                             None if si is None else si[j])
-
         todo = np.ones(idx.size, dtype=bool)
-        for n, (lo, hi) in enumerate(ranges):
+        for pc in table["pieces"]:
+            lo = sp if pc[0] is None else np.full(idx.size, pc[0])
+            hi = sp if pc[1] is None else np.full(idx.size, pc[1])
             j = np.flatnonzero(todo & (ti <= hi))
             todo[j] = False
-            if j.size:
-                f[idx[j]], s_c[idx[j]] = piece(n, j)
-        ok[idx[todo]] = False
-        # within the margin of the ridge (the pieces' shared end): the other piece too, and
-        # the smaller rupture distance wins
-        for n in range(len(pieces) - 1) if table["margin"] > 0 and sp is not None else ():
-            if pieces[n][1] is not None:
+            if j.size == 0:
                 continue
-            below = ti <= sp
-            for side, other in ((below, n + 1), (~below, n)):
-                j = np.flatnonzero(side & (np.abs(ti - sp) <= table["margin"]))
-                if j.size == 0:
-                    continue
-                fo, so = piece(other, j)
-                take = so < s_c[idx[j]]
-                f[idx[j[take]]], s_c[idx[j[take]]] = fo[take], so[take]
+            coords = [x[j] for x in lead] + [_cap_b(ti[j], lo[j], hi[j], pc)]
+            f[idx[j]], s_c[idx[j]] = _cap_star(pc[2:5], coords, vi[j], rho[j], cos_t[j],
+                                               None if si is None else si[j])
+        ok[idx[todo]] = False
     return f, s_c, rs, ok
 
 
@@ -498,7 +480,7 @@ def _tables(part: CapillaryPart | None) -> str:
             f"{p.force_right.shape}), {p.quadratic!r})")
     split = "None" if part.split is None else (
         f"np.array({_list(part.split.ravel(), 4)}).reshape({part.split.shape})")
-    return (f'{{"split": {split}, "margin": {part.ridge_margin_deg!r},\n    "pieces": ['
+    return (f'{{"split": {split},\n    "pieces": ['
             + ",\n    ".join(pieces) + "]}")
 
 

@@ -55,9 +55,9 @@ never empty: theta_w* is up to about 85 deg), with theta_w* a tensor Chebyshev s
 (a, b1) located by a golden-section search for the maximum of S_c
 (:func:`wetcontact.calibrate_capillary.fit_ridge`). Within each piece b2 is quadratic
 toward the ridge (:func:`piece_coordinate`), so that the nodes cluster there and a top of
-S_c like a square root of the distance is linear in b2. (A table may also carry a
-``ridge_margin_deg``: points that close to the series evaluated in both pieces, the smaller
-S_c winning; the previous, linear table needed 0.3 deg, this one none.)
+S_c like a square root of the distance is linear in b2. (The previous table, linear in
+theta_w, also evaluated points within 0.3 deg of the series in both pieces, the smaller S_c
+winning; with the quadratic map no piece is continued past its end.)
 
 The ridge is not the crossing of two smooth curves, and its shape changes over the domain.
 At some (V, theta_s) it is a smooth maximum (v = 1e-3, theta_s = 20 deg: S_c drops by
@@ -225,8 +225,8 @@ def piece_coordinate(piece: dict[str, Any], theta_deg: np.ndarray, lo: np.ndarra
         \ \text{(above)},
 
     so that a top of S_c like ``S* - k sqrt|theta - theta*|`` is linear in b and a smooth
-    maximum stays smooth; the nodes cluster at the ridge. Beyond the ridge end (only
-    within a margin) b is clipped to it."""
+    maximum stays smooth; the nodes cluster at the ridge. An angle past the ridge end (by
+    rounding only: points are assigned to pieces by the same series) gets the end's b."""
     ends = piece["theta_deg"]
     if piece.get("theta_map") != RIDGE_QUADRATIC or None not in ends:
         return _map(theta_deg, lo, hi)
@@ -408,38 +408,17 @@ def _pieces(e: dict[str, Any], lead: list[np.ndarray], piece_deg: np.ndarray,
             split: np.ndarray | None, v: np.ndarray, s: np.ndarray, rho: np.ndarray,
             chunk: int) -> tuple[np.ndarray, np.ndarray]:
     """``rho q`` and ``S_c/R_s`` from a table's pieces: the lead coordinates, the angle that
-    the pieces divide (deg) mapped within its piece, and the gap coordinate.
-
-    A table with ``ridge_margin_deg`` (two angles on a wall) evaluates a point within that
-    margin of the ridge in both pieces and keeps the one with the smaller rupture
-    distance: the ridge is the maximum of S_c over the wall angle, so a piece continued
-    past it overestimates S_c, and the choice does not hinge on the ridge series' own
-    error (up to about 1e-2 deg)."""
+    the pieces divide (deg) mapped within its piece, and the gap coordinate; a point
+    belongs to the first piece whose upper end is at or above its angle."""
     n = v.size
     eps = np.sqrt(v / (np.pi * rho))
     f, s_c = np.full(n, np.nan), np.full(n, np.nan)
     todo = np.ones(n, dtype=bool)
-    pieces = e["pieces"]
-    ranges = [piece_range(p, split, n) for p in pieces]
-    for piece, (lo, hi) in zip(pieces, ranges, strict=True):
+    for piece in e["pieces"]:
+        lo, hi = piece_range(piece, split, n)
         idx = np.flatnonzero(todo & (piece_deg <= hi))
         todo[idx] = False
         f[idx], s_c[idx] = _piece(piece, lo, hi, idx, lead, piece_deg, v, s, rho, eps, chunk)
-    margin = float(e.get("ridge_margin_deg", 0.0))
-    if margin > 0.0 and split is not None:
-        for i in range(len(pieces) - 1):
-            if pieces[i]["theta_deg"][1] is not None:
-                continue  # these two pieces do not meet at the ridge
-            below = piece_deg <= split
-            for side, other in ((below, i + 1), (~below, i)):
-                idx = np.flatnonzero(side & (np.abs(piece_deg - split) <= margin))
-                if idx.size == 0:
-                    continue
-                lo, hi = ranges[other]
-                fo, so = _piece(pieces[other], lo, hi, idx, lead, piece_deg, v, s, rho, eps,
-                                chunk)
-                take = so < s_c[idx]
-                f[idx[take]], s_c[idx[take]] = fo[take], so[take]
     return f, s_c
 
 
