@@ -518,22 +518,23 @@ class CalibratedCapillary(Model):
                                   theta_wall=self._theta_wall(scene))
                      * self.small_radius(scene))
 
-    def held_out_tables(self, scene: Scene) -> list[dict[str, Any]]:
-        """The package data's held-out tables that describe ``scene``: the geometry's
-        uniform one first; with one angle, also its stress strata (sphere pairs: nearly
-        equal spheres); on a wall with two angles within :data:`RIDGE_ZONE_DEG` of the
-        ridge, the strata of the narrowest zone of :data:`RIDGE_STRATA` that contains it
-        (within :data:`RIDGE_TOP_ZONE_DEG`: the ridge's top)."""
+    def held_out_tables(self, scene: Scene
+                        ) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
+        """The package data's held-out tables that describe ``scene``: the geometry's (its
+        uniform one; with one angle also its stress strata, e.g. nearly equal spheres),
+        and the ridge zone's: on a wall with two angles within :data:`RIDGE_ZONE_DEG` of
+        the ridge, the strata of the narrowest zone of :data:`RIDGE_STRATA` that contains
+        it (within :data:`RIDGE_TOP_ZONE_DEG`: the ridge's top); empty elsewhere."""
         th_s, th_w = scene.contact_angle_sphere, scene.contact_angle_wall
         if scene.kind != "sphere-wall" or abs(th_s - th_w) <= ANGLE_TOL:
             e = _entry(scene.kind)
-            return [e["held_out"], *(e[k] for k in sorted(e) if k.startswith("held_out_"))]
+            return [e["held_out"], *(e[k] for k in sorted(e) if k.startswith("held_out_"))], []
         e = _entry(WALL_TWO_ANGLES)
         v, _ = self._v_ratio(scene)
         dist = abs(math.degrees(th_w) - float(ridge_deg(v, math.degrees(th_s))))
         zones = [z for z in RIDGE_STRATA if dist <= z]
-        near = [e[k] for k in RIDGE_STRATA[min(zones)] if k in e] if zones else []
-        return [e["held_out"], *near]
+        ridge = [e[k] for k in RIDGE_STRATA[min(zones)] if k in e] if zones else []
+        return [e["held_out"]], ridge
 
     def bound_floor(self, scene: Scene, rupture_distance: float | None = None
                     ) -> np.ndarray:
@@ -552,13 +553,13 @@ class CalibratedCapillary(Model):
         """
         gap = scene.gap_array
         sc = self.rupture_distance(scene) if rupture_distance is None else rupture_distance
-        strata = self.held_out_tables(scene)
-        w = NEAR_RIDGE_MARGIN * max(ho["rupture_distance"]["max"] for ho in strata)
+        geometry, ridge = self.held_out_tables(scene)
+        w = NEAR_RIDGE_MARGIN * max(ho["rupture_distance"]["max"] for ho in geometry + ridge)
         out = np.zeros(gap.shape)
-        if scene.kind == "sphere-wall" and len(strata) > 1:  # near the two-angle ridge
+        if ridge:
             out[:] = NEAR_RIDGE_MARGIN * max(
                 max(ho.get("force_attached", ho["force"])["max"], ho["rupture_distance"]["max"])
-                for ho in strata[1:])
+                for ho in ridge)
         out[(gap >= sc * (1.0 - w)) & (gap < sc)] = SPURIOUS
         out[(gap >= sc) & (gap <= sc * (1.0 + w))] = NEAR_RIDGE_MARGIN
         return out
