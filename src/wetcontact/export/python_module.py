@@ -71,10 +71,8 @@ A plane with TWO contact angles, theta1 the sphere's and theta2 the plane's, has
 table: S_c = R v^(1/3) exp(sum C_rup T(a) T(b1) T(b2)) and
 F = -2 pi sigma R (cos theta1 + cos theta2) exp(sum C_F T(a) T(b1) T(b2) T(c)), b1 from
 theta1 over [{ct_lo:.6g}, {ct_hi:.6g}] deg, b2 from theta2 within its piece: the pieces
-meet at the ridge of S_c, a plane angle theta2*(a, b1) = sum s_ij T_i(a) T_j(b1) (deg);
-within the table's margin of it ("margin" in _CAP) a point is evaluated in both pieces and
-the one with the smaller S_c gives S_c and F (S_c peaks at the ridge, so a piece continued
-past it overestimates S_c).
+meet at the ridge of S_c, a plane angle theta2*(a, b1) = sum s_ij T_i(a) T_j(b1) (deg),
+and b2 is quadratic toward it (_cap_b), so that the nodes cluster where S_c peaks.
 C_F is carried in its low-rank form C_F = sum_k L[..., k] R[k, ...] (rank r, the package's
 own layout) and evaluated as such: the Chebyshev rows of the left axes ((w, a) for sphere
 pairs, (a, b) on a plane, (a, b1) on a plane with two angles in the shipped data) times L,
