@@ -417,3 +417,30 @@ def test_rupture_window_claims_what_the_rupture_distance_cannot_decide(
     got = select.component_bound(model, "default", "capillary", scene)
     assert np.all(got[0] >= floor) and "floor" in got[1]
     assert select.choose(scene, 0.1).choices["capillary"].model.name != model.name
+
+
+def test_degenerate_two_angle_node_is_solved_to_either_side(monkeypatch) -> None:
+    """A two-angle node whose branch end ``meniscus`` cannot bracket is solved
+    NODE_NUDGE_RAD to either side of its wall angle and the two averaged; a one-angle node
+    that fails still fails."""
+    from wetcontact import calibrate_capillary as gen
+    from wetcontact.errors import SolverError
+
+    bad = 0.6
+    seen = []
+
+    def fake(kind, ratio, v, theta, c_nodes, theta2=None):
+        seen.append(theta2)
+        if theta2 is None or theta2 == bad:
+            raise SolverError("fold not bracketed")
+        return 1.0 + theta2, np.full(len(c_nodes), 2.0 * theta2)
+
+    monkeypatch.setattr(gen, "solve_branch", fake)
+    c = lobatto(5)
+    idx, s_c, q = gen._node_job(((1, 2), cc.WALL_TWO_ANGLES, None, 1e-3, 0.3, c, bad))
+    d = gen.NODE_NUDGE_RAD
+    assert seen == [bad, bad - d, bad + d] and idx == (1, 2)
+    assert s_c == pytest.approx(1.0 + bad, abs=1e-15)
+    assert np.allclose(q, 2.0 * bad, atol=1e-15)
+    with pytest.raises(SolverError):
+        gen._node_job(((0,), "sphere-wall", None, 1e-3, 0.3, c, None))
