@@ -128,7 +128,7 @@ RIDGE_NODES = (10, 13)
 RIDGE_BRACKET_DEG = (-2.0, 45.0)
 """Where the ridge is sought: the sphere's angle plus these (the wall's angle clipped to
 [0, :data:`~wetcontact.reduced_models.calibrated_capillary.RIDGE_TOP_DEG`])."""
-RIDGE_TOL_DEG = 2e-3
+RIDGE_TOL_DEG = 1e-6
 
 
 def wall_rupture(v: float, theta_sphere_deg: float, theta_wall_deg: float) -> float:
@@ -137,34 +137,55 @@ def wall_rupture(v: float, theta_sphere_deg: float, theta_wall_deg: float) -> fl
     return _branch_ends(None, v, theta_sphere_deg, theta_wall_deg).rupture_distance
 
 
-def _ridge_job(args: tuple[float, float]) -> float:
-    """The wall angle (deg) of the rupture distance's ridge at (v, theta_sphere): golden-
-    section search for the maximum of S_c over the wall angle (to :data:`RIDGE_TOL_DEG`).
+def _ridge_job(args: tuple[float, float]) -> tuple[float, float]:
+    """The wall angle (deg) of the rupture distance's ridge at (v, theta_sphere), and the
+    width of the bracket it was found in: golden-section search for the maximum of S_c
+    over the wall angle (to :data:`RIDGE_TOL_DEG`).
 
-    S_c rises to the ridge and falls beyond it (steeply on both sides); the search needs
-    no derivative and converges on the peak."""
+    S_c rises to the ridge and falls beyond it; the search needs no derivative and
+    converges on the peak, also where the top is a jump (at a sharp top S_c jumps down by
+    up to about 1e-3 where the branch from contact turns onto another arm of the bridge's
+    solutions: the left limit is the maximum). Within about 1e-6 deg of such a jump the
+    fold refinement may fail; the point is then moved by 1 % of the bracket, and if that
+    fails too the search stops with the bracket it has (its width is returned)."""
     v, ts = args
     lo = max(0.0, ts + RIDGE_BRACKET_DEG[0])
     hi = min(cc.RIDGE_TOP_DEG, ts + RIDGE_BRACKET_DEG[1])
     g = 0.5 * (math.sqrt(5.0) - 1.0)
-    x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
-    f1, f2 = wall_rupture(v, ts, x1), wall_rupture(v, ts, x2)
+
+    def at(x: float, width: float) -> tuple[float, float] | None:
+        for dx in (0.0, 0.01 * width, -0.01 * width):
+            try:
+                return x + dx, wall_rupture(v, ts, x + dx)
+            except SolverError:
+                continue
+        return None
+
+    first = at(hi - g * (hi - lo), hi - lo), at(lo + g * (hi - lo), hi - lo)
+    if None in first:
+        raise SolverError(f"calibrated-capillary: no rupture distance at V* = {v:.4g}, "
+                          f"sphere angle {ts:.4g} deg inside the wall angle's bracket")
+    (x1, f1), (x2, f2) = first
     a, b = lo, hi
     while b - a > RIDGE_TOL_DEG:
         if f1 >= f2:
             b, x2, f2 = x2, x1, f1
-            x1 = b - g * (b - a)
-            f1 = wall_rupture(v, ts, x1)
+            got = at(b - g * (b - a), b - a)
+            if got is None or not a < got[0] < x2:
+                break
+            x1, f1 = got
         else:
             a, x1, f1 = x1, x2, f2
-            x2 = a + g * (b - a)
-            f2 = wall_rupture(v, ts, x2)
+            got = at(a + g * (b - a), b - a)
+            if got is None or not x1 < got[0] < b:
+                break
+            x2, f2 = got
     top = 0.5 * (a + b)
-    if min(top - lo, hi - top) < 10 * RIDGE_TOL_DEG:
+    if min(top - lo, hi - top) < 10 * max(RIDGE_TOL_DEG, b - a):
         raise RuntimeError(f"calibrated-capillary: the rupture distance's ridge at V* = "
                            f"{v:.4g}, sphere angle {ts:.4g} deg is not inside the bracket "
                            f"[{lo:.4g}, {hi:.4g}] deg of the wall angle")
-    return top
+    return top, b - a
 
 
 def fit_ridge(workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
@@ -173,13 +194,17 @@ def fit_ridge(workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]
     vs = _volume_nodes(RIDGE_NODES[0])
     ts = _sphere_angle_nodes(RIDGE_NODES[1])
     jobs = [(float(v), float(t)) for v in vs for t in ts]
-    th = _cached_map(_ridge_job, jobs, lambda j: f"ridge|{j[0]!r}|{j[1]!r}|{RIDGE_TOL_DEG}",
-                     lambda j, t: (t, []), lambda j, got: got[0], workers, "ridge angle",
-                     cache_dir)
-    th = np.reshape(th, RIDGE_NODES)
+    # a cached line holds the bracket's width (a search that ran to the tolerance before
+    # widths were kept holds none: its width was within the tolerance)
+    got = _cached_map(_ridge_job, jobs, lambda j: f"ridge|{j[0]!r}|{j[1]!r}|{RIDGE_TOL_DEG}",
+                      lambda j, r: (r[0], [r[1]]),
+                      lambda j, got: (got[0], float(got[1][0]) if len(got[1]) else RIDGE_TOL_DEG),
+                      workers, "ridge angle", cache_dir)
+    th = np.reshape([t for t, _ in got], RIDGE_NODES)
     return {"chebyshev": lobatto_coefficients(th).tolist(), "at_nodes_deg": th.tolist(),
             "v_nodes": vs.tolist(), "theta_sphere_nodes_deg": ts.tolist(),
-            "tolerance_deg": RIDGE_TOL_DEG}
+            "tolerance_deg": RIDGE_TOL_DEG,
+            "bracket_max_deg": max(w for _, w in got)}
 
 
 def _sphere_angle_nodes(n: int) -> np.ndarray:
