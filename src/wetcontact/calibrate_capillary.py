@@ -143,9 +143,9 @@ def _ridge_job(args: tuple[float, float]) -> tuple[float, float]:
     over the wall angle (to :data:`RIDGE_TOL_DEG`).
 
     S_c rises to the ridge and falls beyond it; the search needs no derivative and
-    converges on the peak, also where the top is a jump (at a sharp top S_c jumps down by
-    up to about 1e-3 where the branch from contact turns onto another arm of the bridge's
-    solutions: the left limit is the maximum). Within about 1e-6 deg of such a jump the
+    converges on the peak, also where the top is a jump (at larger sphere angles S_c jumps
+    down by up to about 1e-3 where the branch from contact comes to end at the other of two
+    nearby folds: the left limit is the maximum). Within about 1e-6 deg of such a jump the
     fold refinement may fail; the point is then moved by 1 % of the bracket, and if that
     fails too the search stops with the bracket it has (its width is returned)."""
     v, ts = args
@@ -194,8 +194,8 @@ def fit_ridge(workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]
     vs = _volume_nodes(RIDGE_NODES[0])
     ts = _sphere_angle_nodes(RIDGE_NODES[1])
     jobs = [(float(v), float(t)) for v in vs for t in ts]
-    # a cached line holds the bracket's width (a search that ran to the tolerance before
-    # widths were kept holds none: its width was within the tolerance)
+    # a cached line holds the bracket's width (a line written before the width was kept
+    # holds none: that search could only end at the tolerance)
     got = _cached_map(_ridge_job, jobs, lambda j: f"ridge|{j[0]!r}|{j[1]!r}|{RIDGE_TOL_DEG}",
                       lambda j, r: (r[0], [r[1]]),
                       lambda j, got: (got[0], float(got[1][0]) if len(got[1]) else RIDGE_TOL_DEG),
