@@ -36,14 +36,21 @@ PIECES: dict[str, list[dict[str, Any]]] = {
     "sphere-wall": [{"theta_deg": [0.0, 70.0], "nodes": [10, 15, 19]}],
     "sphere-sphere": [{"theta_deg": [0.0, None], "nodes": [9, 9, 11, 19]},
                       {"theta_deg": [None, 70.0], "nodes": [9, 9, 13, 19]}],
-    cc.WALL_TWO_ANGLES: [{"theta_deg": [0.0, None], "nodes": [10, 13, 15, 19],
+    cc.WALL_TWO_ANGLES: [{"theta_deg": [0.0, None], "nodes": [10, 9, 15, 19],
                           "theta_map": cc.RIDGE_QUADRATIC},
-                         {"theta_deg": [None, cc.RIDGE_TOP_DEG], "nodes": [10, 13, 11, 19],
+                         {"theta_deg": [None, cc.RIDGE_TOP_DEG], "nodes": [10, 9, 11, 19],
                           "theta_map": cc.RIDGE_QUADRATIC}],
 }
 """Theta pieces per kind (``None``: the split angle, or the ridge on a wall with two angles)
 and their Lobatto nodes per axis ((w,) a = ln v, b = theta within the piece, c = gap; two
-angles on a wall: a, b1 = the sphere's angle, b2 = the wall's angle within the piece, c)."""
+angles on a wall: a, b1 = the sphere's angle within its half, b2 = the wall's angle within
+the piece, c)."""
+TWO_ANGLE_HALVES_DEG = ((0.0, 35.0), (35.0, 70.0))
+"""The sphere angle's halves of the two-angle wall table, each a table of its own (ridge
+series and pieces). The ridge's locus bends where S_c's jump at the top appears (theta_s
+between 17.5 and 35 deg, with V); above 35 deg the jump is present at every volume and the
+locus is smooth. One range over [0, 70] deg stalled the b1 coefficients near 6e-5 and put
+the ridge series up to 1.6e-2 deg off."""
 SPLIT_NODES = 7
 """Lobatto nodes in ln v of the split angle (equal spheres: fold below, bifurcation above)."""
 SPLIT_BRACKET_DEG = (24.0, 36.0)
@@ -123,8 +130,8 @@ def fit_split(workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]
             "v_nodes": vs.tolist(), "tolerance_deg": SPLIT_TOL_DEG}
 
 
-RIDGE_NODES = (10, 13)
-"""Lobatto nodes in (a, b1) of the ridge angle of a wall with two angles."""
+RIDGE_NODES = (10, 9)
+"""Lobatto nodes in (a, b1) of the ridge angle of a wall with two angles (per half)."""
 RIDGE_BRACKET_DEG = (-2.0, 45.0)
 """Where the ridge is sought: the sphere's angle plus these (the wall's angle clipped to
 [0, :data:`~wetcontact.reduced_models.calibrated_capillary.RIDGE_TOP_DEG`])."""
@@ -188,11 +195,12 @@ def _ridge_job(args: tuple[float, float]) -> tuple[float, float]:
     return top, b - a
 
 
-def fit_ridge(workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
+def fit_ridge(workers: int = 2, cache_dir: Path | None = None,
+              theta_range: tuple[float, float] = cc.THETA_RANGE_DEG) -> dict[str, Any]:
     """Chebyshev coefficients in (a, b1) of the ridge's wall angle (deg), at Lobatto nodes
-    (:data:`RIDGE_NODES`)."""
+    (:data:`RIDGE_NODES`), b1 the sphere's angle over ``theta_range`` (deg)."""
     vs = _volume_nodes(RIDGE_NODES[0])
-    ts = _sphere_angle_nodes(RIDGE_NODES[1])
+    ts = _sphere_angle_nodes(RIDGE_NODES[1], theta_range)
     jobs = [(float(v), float(t)) for v in vs for t in ts]
     # a cached line holds the bracket's width (a line written before the width was kept
     # holds none: that search could only end at the tolerance)
@@ -207,8 +215,9 @@ def fit_ridge(workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]
             "bracket_max_deg": max(w for _, w in got)}
 
 
-def _sphere_angle_nodes(n: int) -> np.ndarray:
-    lo, hi = cc.THETA_RANGE_DEG
+def _sphere_angle_nodes(n: int, theta_range: tuple[float, float] = cc.THETA_RANGE_DEG
+                        ) -> np.ndarray:
+    lo, hi = theta_range
     return 0.5 * (lobatto(n) * (hi - lo) + lo + hi)
 
 
@@ -391,7 +400,8 @@ def factor_table(coef: np.ndarray, n_left: int = FACTOR_LEFT_AXES, tol: float = 
 
 
 def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
-              workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
+              workers: int = 2, cache_dir: Path | None = None,
+              theta_range: tuple[float, float] = cc.THETA_RANGE_DEG) -> dict[str, Any]:
     """Coefficients of one theta piece from ``meniscus`` at its tensor nodes.
 
     The lead axes are (a,) on a wall, (w, a) for sphere pairs and (a, b1) on a wall with
@@ -405,7 +415,7 @@ def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
     i_a = 1 if kind == "sphere-sphere" else 0
     vs = _volume_nodes(nodes[i_a])
     a = cc.volume_coordinate(vs)
-    t_s = _sphere_angle_nodes(nodes[1]) if two else None
+    t_s = _sphere_angle_nodes(nodes[1], theta_range) if two else None
     lead_shape = nodes[:2] if two else (nodes[i_a],)
 
     def lead(idx: tuple[int, ...]) -> tuple[int, ...]:
@@ -454,12 +464,20 @@ def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
 
 
 def fit_kind(kind: str, workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
-    """Every theta piece of one kind (and the split angle for sphere pairs, the ridge for
-    a wall with two angles)."""
+    """Every theta piece of one kind (and the split angle for sphere pairs); a wall with two
+    angles: per half of the sphere's angle (:data:`TWO_ANGLE_HALVES_DEG`) its ridge and
+    pieces, b1 over the half."""
+    if kind == cc.WALL_TWO_ANGLES:
+        halves = []
+        for rng in TWO_ANGLE_HALVES_DEG:
+            ridge = fit_ridge(workers, cache_dir, rng)
+            halves.append({"theta_sphere_deg": list(rng), "theta_split": ridge,
+                           "pieces": [fit_piece(kind, p, ridge, workers, cache_dir, rng)
+                                      for p in PIECES[kind]]})
+        return {"halves": halves}
     split = None
     if any(None in p["theta_deg"] for p in PIECES[kind]):
-        split = (fit_ridge(workers, cache_dir) if kind == cc.WALL_TWO_ANGLES
-                 else fit_split(workers, cache_dir))
+        split = fit_split(workers, cache_dir)
     return {"theta_split": split,
             "pieces": [fit_piece(kind, p, split, workers, cache_dir) for p in PIECES[kind]]}
 

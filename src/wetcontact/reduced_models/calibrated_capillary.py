@@ -159,6 +159,8 @@ def as_arrays(table: dict[str, Any]) -> dict[str, Any]:
     """A copy of the table with each piece's coefficient lists as float arrays (the
     argument is left as it was)."""
     def entry(e: Any) -> Any:
+        if isinstance(e, dict) and "halves" in e:  # a wall with two angles
+            return {**e, "halves": [entry(h) for h in e["halves"]]}
         if not isinstance(e, dict) or "pieces" not in e:
             return e
         return {**e, "pieces": [{**p, **{n: np.asarray(p[n], dtype=float)
@@ -194,14 +196,43 @@ def theta_split_deg(entry: dict[str, Any], a: np.ndarray,
     return chebyshev_tensor(coef, [a] if coef.ndim == 1 else [a, b1])
 
 
+def table_pieces(entry: dict[str, Any]) -> list[dict[str, Any]]:
+    """A table's pieces in evaluation order (a wall with two angles: its halves' in turn)."""
+    if "halves" in entry:
+        return [p for half in entry["halves"] for p in half["pieces"]]
+    return list(entry["pieces"])
+
+
+def half_index(entry: dict[str, Any], theta_sphere_deg: np.ndarray) -> np.ndarray:
+    """Which half of a two-angle table (``entry["halves"]``) each sphere angle (deg) falls
+    in: the first whose upper end is at or above it (-1 past the last)."""
+    t = np.asarray(theta_sphere_deg, dtype=float)
+    out = np.full(t.shape, -1)
+    for k, half in reversed(list(enumerate(entry["halves"]))):
+        out[t <= half["theta_sphere_deg"][1]] = k
+    return out
+
+
+def sphere_coordinate(half: dict[str, Any], theta_sphere_deg: np.ndarray) -> np.ndarray:
+    """b1: the sphere's angle (deg) mapped linearly from its half's range to [-1, 1]."""
+    return _map(np.asarray(theta_sphere_deg, dtype=float), *half["theta_sphere_deg"])
+
+
 def ridge_deg(v: Any, theta_sphere_deg: Any, entry: dict[str, Any] | None = None
               ) -> np.ndarray:
     """The wall angle (deg) of the ridge of S_c on a wall with two angles, at ``v`` and the
-    sphere's angle (deg): the two-angle table's split series (``entry``: that table,
-    default the shipped one)."""
+    sphere's angle (deg): the split series of the two-angle table's half that holds the
+    sphere's angle (``entry``: that table, default the shipped one)."""
     e = _entry(WALL_TWO_ANGLES) if entry is None else entry
-    return theta_split_deg(e, volume_coordinate(np.asarray(v, dtype=float)),
-                           _map(np.asarray(theta_sphere_deg, dtype=float), *THETA_RANGE_DEG))
+    v, t = np.broadcast_arrays(np.asarray(v, dtype=float), np.asarray(theta_sphere_deg,
+                                                                      dtype=float))
+    a, out = volume_coordinate(v), np.full(v.shape, np.nan)
+    which = half_index(e, t)
+    for k, half in enumerate(e["halves"]):
+        m = which == k
+        if m.any():
+            out[m] = theta_split_deg(half, a[m], sphere_coordinate(half, t[m]))
+    return out
 
 
 def piece_range(piece: dict[str, Any], split: np.ndarray | None, n: int
@@ -399,19 +430,26 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
         return f.reshape(shape), s_c.reshape(shape)
     e = _entry(kind) if entry is None else entry
     a = volume_coordinate(v)
+    rho = np.broadcast_to(np.asarray(reduced_star(kind, ratio), dtype=float), (v.size,))
     if kind == WALL_TWO_ANGLES:
         if theta_wall is None:
             raise ValueError("calibrated-capillary: the two-angle wall table needs theta_wall")
         tw = np.broadcast_to(np.asarray(theta_wall, float), shape).ravel()
-        b1 = _map(np.degrees(theta), *THETA_RANGE_DEG)
-        lead, piece_deg, split = [a, b1], np.degrees(tw), theta_split_deg(e, a, b1)
+        ts = np.degrees(theta)
+        f, s_c = np.full(v.size, np.nan), np.full(v.size, np.nan)
+        which = half_index(e, ts)
+        for k, half in enumerate(e["halves"]):  # each half: its own b1 range and ridge
+            m = np.flatnonzero(which == k)
+            if m.size:
+                b1 = sphere_coordinate(half, ts[m])
+                f[m], s_c[m] = _pieces(half, [a[m], b1], np.degrees(tw[m]),
+                                       theta_split_deg(half, a[m], b1), v[m], s[m], rho[m],
+                                       chunk)
         cos_sum = np.cos(theta) + np.cos(tw)
     else:
         lead = [a] if kind == "sphere-wall" else [ratio_coordinate(ratio), a]
-        piece_deg, split = np.degrees(theta), theta_split_deg(e, a)
+        f, s_c = _pieces(e, lead, np.degrees(theta), theta_split_deg(e, a), v, s, rho, chunk)
         cos_sum = 2.0 * np.cos(theta)
-    rho = np.broadcast_to(np.asarray(reduced_star(kind, ratio), dtype=float), (v.size,))
-    f, s_c = _pieces(e, lead, piece_deg, split, v, s, rho, chunk)
     return (f * cos_sum).reshape(shape), s_c.reshape(shape)
 
 
@@ -532,20 +570,21 @@ class CalibratedCapillary(Model):
     def held_out_tables(self, scene: Scene
                         ) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
         """The package data's held-out tables that describe ``scene``: the geometry's (its
-        uniform one; with one angle also its stress strata, e.g. nearly equal spheres),
-        and the ridge zone's: on a wall with two angles within :data:`RIDGE_ZONE_DEG` of
-        the ridge, the strata of the narrowest zone of :data:`RIDGE_STRATA` that contains
-        it (within :data:`RIDGE_TOP_ZONE_DEG`: the ridge's top); empty elsewhere."""
+        uniform one and its stress strata, e.g. nearly equal spheres, or near the ridge of
+        a wall with two angles), and the ridge zone's: on a wall with two angles within
+        :data:`RIDGE_ZONE_DEG` of the ridge, the strata of the narrowest zone of
+        :data:`RIDGE_STRATA` that contains it (within :data:`RIDGE_TOP_ZONE_DEG`: the
+        ridge's top); empty elsewhere."""
         th_s, th_w = scene.contact_angle_sphere, scene.contact_angle_wall
-        if scene.kind != "sphere-wall" or abs(th_s - th_w) <= ANGLE_TOL:
-            e = _entry(scene.kind)
-            return [e["held_out"], *(e[k] for k in sorted(e) if k.startswith("held_out_"))], []
-        e = _entry(WALL_TWO_ANGLES)
+        two = scene.kind == "sphere-wall" and abs(th_s - th_w) > ANGLE_TOL
+        e = _entry(WALL_TWO_ANGLES if two else scene.kind)
+        geometry = [e["held_out"], *(e[k] for k in sorted(e) if k.startswith("held_out_"))]
+        if not two:
+            return geometry, []
         v, _ = self._v_ratio(scene)
         dist = abs(math.degrees(th_w) - float(ridge_deg(v, math.degrees(th_s))))
         zones = [z for z in RIDGE_STRATA if dist <= z]
-        ridge = [e[k] for k in RIDGE_STRATA[min(zones)] if k in e] if zones else []
-        return [e["held_out"]], ridge
+        return geometry, [e[k] for k in RIDGE_STRATA[min(zones)] if k in e] if zones else []
 
     def bound_floor(self, scene: Scene, rupture_distance: float | None = None
                     ) -> np.ndarray:

@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from wetcontact.errors import InputError
+from wetcontact.reduced_models.calibrated_capillary import table_pieces
 from wetcontact.sweep import Point, SweepResult
 from wetcontact.tables import StudyContext
 
@@ -225,9 +226,9 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
         br = ccap.get("branches") or {}
         reused = (f", {br['reused']} of {br['reused'] + br['solved']} meniscus branches "
                   "reused from its cache" if br.get("reused") else "")
-        pieces = {k: ccap[k]["pieces"] for k in CAPILLARY_KINDS
-                  if ccap.get(k, {}).get("pieces")
-                  and all("force_rank" in p for p in ccap[k]["pieces"])}
+        pieces = {k: table_pieces(ccap[k]) for k in CAPILLARY_KINDS if k in ccap}
+        pieces = {k: ps for k, ps in pieces.items()
+                  if ps and all("force_rank" in p for p in ps)}
         ranks = ", ".join(f"{k} {'/'.join(str(p['force_rank']) for p in ps)}"
                           for k, ps in pieces.items())
         change = max((p["force_factor_change"] for ps in pieces.values() for p in ps),
