@@ -98,8 +98,8 @@ CAP_COMMENT = """\
  *   s = S/R_s. A plane with TWO contact angles (theta1 the sphere's, theta2 the plane's)
  *   has its own table, axes (a, b1, b2[, c]): S_c = R v^(1/3) exp(sum C_rup T(a) T(b1)
  *   T(b2)), F = -2 pi sigma R (cos theta1 + cos theta2) exp(sum C_F T(a) T(b1) T(b2) T(c)),
- *   in halves of theta1 ({halves}; a point in the first half whose upper end is at or
- *   above theta1), each with its own tables: b1 from theta1 over the half's range, b2
+ *   in halves of theta1 (a point in the first half whose upper end is at or above theta1):
+ *   {halves}, each with its own tables: b1 from theta1 over the half's range, b2
  *   from theta2 within its piece (quadratic toward the ridge where the piece says so:
  *   wc__cap_b); the pieces meet at the ridge of S_c, a plane angle
  *   theta2* = sum s_ij T_i(a) T_j(b1) (deg, the half's own series).
@@ -428,7 +428,7 @@ static inline int wc__cap_bridge(double r1, double r2, double volume, double the
         return 0;
     *rho = plane ? 1.0 : ratio / (1.0 + ratio);
     a = wc__map(log(*v), {lnv_lo_r}, {lnv_hi_r});
-    if (*two) {{  /* axes (a, b1, b2): b1 within the half, the pieces divide the plane's angle */
+    if (*two) {{  /* axes (a, b1, b2): b1 within the half; the pieces divide theta2 */
         x0 = a;
         x1 = wc__map(ts, tab->ts_lo, tab->ts_hi);
         theta = theta2_deg;

@@ -70,8 +70,8 @@ geometry may carry several tables, e.g. below and above a split angle theta_s(V)
 Chebyshev series in a), w from (ln r)^(1/3) (sphere pairs only), c = 2 z - 1 with
 z = sqrt(1 - ln(1 + S/eps)/ln(1 + S_c/eps)), eps = sqrt(v/(pi rho)) (all lengths over R_s).
 A plane with TWO contact angles, theta1 the sphere's and theta2 the plane's, has its own
-table, in halves of theta1 ({halves}; a point in the first half whose upper end is at or
-above theta1), each S_c = R v^(1/3) exp(sum C_rup T(a) T(b1) T(b2)) and
+table in halves of theta1 (a point in the first half whose upper end is at or above theta1):
+{halves}; each S_c = R v^(1/3) exp(sum C_rup T(a) T(b1) T(b2)) and
 F = -2 pi sigma R (cos theta1 + cos theta2) exp(sum C_F T(a) T(b1) T(b2) T(c)), b1 from
 theta1 over its half's range, b2 from theta2 within its piece: the pieces meet at the
 ridge of S_c, a plane angle theta2*(a, b1) = sum s_ij T_i(a) T_j(b1) (deg, the half's own
