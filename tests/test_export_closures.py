@@ -581,18 +581,33 @@ def test_c_contact_api_is_the_force(points, c_program, tmp_path, tol, source):
 PERTURBED_ARRAY = {"force": "force_left", "rupture": "rupture"}
 
 
+def _with_sections(source, kind: str, change):
+    """``source`` with each table of one geometry (the geometry's own, or each half of a
+    plane with two angles) replaced by ``change(index, table)``."""
+    part = source.table.parts[kind]
+    if part.halves:
+        part = replace(part, halves=tuple(change(i, h) for i, h in enumerate(part.halves)))
+    else:
+        part = change(0, part)
+    parts = {**source.table.parts, kind: part}
+    return replace(source, table=replace(source.table, parts=parts))
+
+
 def _perturbed(source, kind: str, table: str):
     """``source`` with the leading coefficient of one shipped table (the first theta piece
-    of one geometry; for the force, the leading entry of its left factor) moved by 1e-9
-    (a relative change of up to 1e-9 in the force or the rupture distance, 1000x the
-    comparison's 1e-12)."""
-    part = source.table.parts[kind]
+    of one geometry, of its first half for a plane with two angles; for the force, the
+    leading entry of its left factor) moved by 1e-9 (a relative change of up to 1e-9 in
+    the force or the rupture distance, 1000x the comparison's 1e-12)."""
     field = PERTURBED_ARRAY[table]
-    arr = getattr(part.pieces[0], field).copy()
-    arr.flat[0] += 1e-9
-    pieces = (replace(part.pieces[0], **{field: arr}), *part.pieces[1:])
-    parts = {**source.table.parts, kind: replace(part, pieces=pieces)}
-    return replace(source, table=replace(source.table, parts=parts))
+
+    def change(i, sec):
+        if i > 0:
+            return sec
+        arr = getattr(sec.pieces[0], field).copy()
+        arr.flat[0] += 1e-9
+        return replace(sec, pieces=(replace(sec.pieces[0], **{field: arr}), *sec.pieces[1:]))
+
+    return _with_sections(source, kind, change)
 
 
 def _run_capillary(src, pts, d, language: str) -> dict:
@@ -634,17 +649,92 @@ def test_comparison_sees_the_quadratic_ridge_map(points, source, tmp_path, langu
     part = source.table.parts.get(cc.WALL_TWO_ANGLES)
     if part is None:
         pytest.skip("the package data has no two-angle table")
-    assert all(p.quadratic for p in part.pieces)
+    assert part.all_pieces and all(p.quadratic for p in part.all_pieces)
     pts, ref = points
-    linear = tuple(replace(p, quadratic=False) for p in part.pieces)
-    parts = {**source.table.parts, cc.WALL_TWO_ANGLES: replace(part, pieces=linear)}
-    bad = replace(source, table=replace(source.table, parts=parts))
+    bad = _with_sections(source, cc.WALL_TWO_ANGLES, lambda i, sec: replace(
+        sec, pieces=tuple(replace(p, quadratic=False) for p in sec.pieces)))
     got = _run_capillary(bad, pts, tmp_path, language)
     for name in SHIPPED_CAPILLARY:
         two = geometries(pts[name])[cc.WALL_TWO_ANGLES]
         with pytest.raises(AssertionError, match="relative difference|zeros differ"):
             _compare(name, got[name][two], ref[name][two], tol[name][two])
         _compare(name, got[name][~two], ref[name][~two], tol[name][~two])
+
+
+def _boundary_design(edge: float, seed: int = 35) -> dict[str, dict[str, np.ndarray]]:
+    """Planes with two angles whose sphere angle is at the halves' boundary ``edge`` (deg)
+    exactly, 1 and 2 ulps either side, and 1e-12 ... 0.1 deg either side; per angle 12
+    bridges (v from 1e-4 to 0.1, the plane's angle 0-70 deg, gaps as :func:`_gaps`)."""
+    up, down = np.nextafter(edge, np.inf), np.nextafter(edge, -np.inf)
+    angles = [edge, up, down, np.nextafter(up, np.inf), np.nextafter(down, -np.inf)]
+    angles += [edge + sign * d for d in (1e-12, 1e-9, 1e-6, 1e-3, 0.1) for sign in (1, -1)]
+    rng = np.random.default_rng(seed)
+    th1 = np.repeat(angles, 12)
+    n = th1.size
+    r1 = np.exp(rng.uniform(np.log(1e-5), np.log(1e-2), n))
+    v = np.exp(rng.uniform(np.log(1e-4), np.log(0.1), n))
+    th2 = rng.uniform(0.0, 70.0, n)
+    rup = {"r1": r1, "r2": np.full(n, np.inf), "volume": v * r1**3, "theta1_deg": th1,
+           "theta2_deg": th2}
+    cap = {**rup, "gap": _gaps(rng, r1, th1, v), "surface_tension": rng.uniform(0.02, 0.08, n)}
+    cap["gap"] = np.abs(cap["gap"])  # no overlaps here: every point computed or 0
+    return {"rupture_distance": rup, "capillary_force": cap}
+
+
+def _half_alone(half_entry, a: dict[str, np.ndarray]) -> np.ndarray:
+    """The package's capillary force (N) at the plane points ``a`` (``capillary_force``'s
+    arguments) from a two-angle table that holds only ``half_entry`` (NaN at the sphere
+    angles above its range; b1 mapped from its own range)."""
+    r1 = a["r1"]
+    f, _ = cc.force_star(cc.WALL_TWO_ANGLES, a["volume"] / r1**3, np.radians(a["theta1_deg"]),
+                         a["gap"] / r1, entry={"halves": [half_entry]},
+                         theta_wall=np.radians(a["theta2_deg"]))
+    return -(2.0 * np.pi * a["surface_tension"] * r1 * f)
+
+
+@pytest.mark.parametrize("language", ["python", "c"])
+def test_two_angle_halves_meet_at_their_boundary(source, tmp_path, language):
+    """A plane with two angles: a sphere angle exactly at the halves' boundary (35 deg)
+    belongs to the first half, one an ulp above it to the second (the package's rule,
+    checked against each half evaluated alone), and the exports agree with the package
+    at and around it (ulps to 0.1 deg either side) to the comparison's tolerance. The check
+    is sharp: at the boundary the two halves' forces differ by far more than the tolerance
+    (their rupture distances meet to round-off, their force tables' low-rank factors do
+    not), so a point put in the wrong half fails it."""
+    part = source.table.parts.get(cc.WALL_TWO_ANGLES)
+    if part is None or len(part.halves) < 2:
+        pytest.skip("the package data has no two-angle table in halves")
+    edge = part.halves[0].theta_sphere_hi
+    assert edge == 35.0 and part.halves[1].theta_sphere_lo == edge
+    pts = _boundary_design(edge)
+    cap = pts["capillary_force"]
+    ref = {name: package_evaluation_many(name, source, **a) for name, a in pts.items()}
+    assert np.all(np.isfinite(ref["rupture_distance"]))
+    # the package's rule, from each half alone
+    halves = cc.capillary_table()[cc.WALL_TWO_ANGLES]["halves"]
+    first, second = (_half_alone(h, cap) for h in halves[:2])
+    ts = cap["theta1_deg"]
+    held = np.degrees(np.radians(ts))  # the sphere's angle as the package holds it
+    assert np.array_equal(held, ts)  # (these angles survive the round trip)
+    want = np.where(held <= edge, first, second)  # vectorised: a few ulps off
+    inside = ref["capillary_force"] != 0.0
+    np.testing.assert_allclose(ref["capillary_force"][inside], want[inside], rtol=REL,
+                               atol=0.0)
+    at = ts == edge
+    assert np.sum(at) == 12 and np.sum(ts == np.nextafter(edge, np.inf)) == 12
+    jump = np.abs(first[at & inside] / second[at & inside] - 1.0)
+    assert jump.size >= 6 and np.median(jump) > 1e-9, jump  # 1000x the tolerance
+    # the exports
+    got = _run_capillary(source, pts, tmp_path, language)
+    for name, a in pts.items():
+        with np.errstate(invalid="ignore", divide="ignore"):
+            d = np.abs(a["theta2_deg"] - ridge_deg(a["volume"] / a["r1"]**3, a["theta1_deg"]))
+            tol = REL + np.where(np.isfinite(RIDGE / np.sqrt(d)), RIDGE / np.sqrt(d), 0.0)
+            if name == "capillary_force":
+                fold = FOLD / np.sqrt(1.0 - a["gap"] / ref["rupture_distance"])
+                tol += np.where(np.isfinite(fold), fold, 0.0)
+        _compare(name, got[name], ref[name], tol)
+        assert np.sum(np.isfinite(ref[name][at]) & (ref[name][at] != 0)) >= 6, name
 
 
 def test_c_header_names_shipped_and_refit(source, tmp_path):
@@ -656,7 +746,7 @@ def test_c_header_names_shipped_and_refit(source, tmp_path):
     for kind, part in source.table.parts.items():
         ho = part.held_out
         assert f"force max {ho['force']['max']:.2g}" in text, kind
-        for n, piece in enumerate(part.pieces):
+        for n, piece in (x for sec in part.sections for x in enumerate(sec.pieces)):
             assert f"static const double left{n}[{piece.force_left.size}]" in text, kind
             assert f"static const double right{n}[{piece.force_right.size}]" in text, kind
             assert f"static const double force{n}[" not in text  # the dense table: not carried
@@ -695,22 +785,33 @@ def test_a_table_without_two_angles_still_exports(points, source, tmp_path, lang
         assert np.array_equal(old[~two], full[~two], equal_nan=True)
 
 
-def _entry_json(source, kind: str) -> dict:
-    """One geometry of ``source`` as the package data lays it out (lists, None ends)."""
-    part = source.table.parts[kind]
-    return {"theta_split": None if part.split is None else {"chebyshev": part.split.tolist()},
+def _table_json(sec) -> dict:
+    """One table (a geometry's, or a half's) as the package data lays it out."""
+    return {"theta_split": None if sec.split is None else {"chebyshev": sec.split.tolist()},
             "pieces": [{"theta_deg": [p.theta_lo, p.theta_hi], "rupture": p.rupture.tolist(),
                         "force_left": p.force_left.tolist(),
                         "force_right": p.force_right.tolist(),
                         **({"theta_map": "ridge-quadratic"} if p.quadratic else {})}
-                       for p in part.pieces],
-            "held_out": part.held_out}
+                       for p in sec.pieces]}
+
+
+def _entry_json(source, kind: str) -> dict:
+    """One geometry of ``source`` as the package data lays it out (lists, None ends; a
+    plane with two angles in ``halves``, each with its ``theta_sphere_deg``)."""
+    part = source.table.parts[kind]
+    if part.halves:
+        return {"halves": [{"theta_sphere_deg": [h.theta_sphere_lo, h.theta_sphere_hi],
+                            **_table_json(h)} for h in part.halves],
+                "held_out": part.held_out}
+    return {**_table_json(part), "held_out": part.held_out}
 
 
 def test_two_angle_layout_is_validated(source):
-    """The reader accepts the two-angle entry's layout (a 2-D ridge series, pieces from 0
-    to an end at or above 70 deg) and refuses it broken, naming the file and the field;
-    the one-angle layout still needs pieces ending exactly at 70 deg and a 1-D series."""
+    """The reader accepts the two-angle entry's layout (halves of the sphere's angle,
+    contiguous from 0 to 70 deg, each a 2-D ridge series and pieces from 0 to an end at or
+    above 70 deg) and refuses it broken (a half's table, the halves' ranges, the former
+    top-level layout), naming the file and the field; the one-angle layout still needs
+    pieces ending exactly at 70 deg and a 1-D series."""
     from wetcontact.errors import InputError
     from wetcontact.export.closures import TWO_ANGLES, _capillary_part
 
@@ -719,8 +820,12 @@ def test_two_angle_layout_is_validated(source):
         pytest.skip("the package data has no two-angle table")
     good = _entry_json(source, cc.WALL_TWO_ANGLES)
     part = _capillary_part(Path("t.json"), cc.WALL_TWO_ANGLES, good)
-    assert part.two_angles and part.split.ndim == 2 and part.pieces[-1].theta_hi >= 70.0
-    assert all(p.quadratic for p in part.pieces)  # the wall angle quadratic toward the ridge
+    assert part.two_angles and not part.pieces and part.split is None
+    assert [(h.theta_sphere_lo, h.theta_sphere_hi) for h in part.halves] == [
+        (0.0, 35.0), (35.0, 70.0)]
+    for h in part.halves:
+        assert h.split.ndim == 2 and h.pieces[-1].theta_hi >= 70.0
+        assert all(p.quadratic for p in h.pieces)  # the wall angle quadratic toward the ridge
     one = _entry_json(source, "sphere-sphere")
 
     def broken(entry, change):
@@ -728,21 +833,46 @@ def test_two_angle_layout_is_validated(source):
         change(e)
         return e
 
+    def half(i, change):  # a broken half of the two-angle entry
+        return broken(good, lambda e: change(e["halves"][i]))
+
+    first = good["halves"][0]
     cases = [
-        (cc.WALL_TWO_ANGLES, broken(good, lambda e: e["theta_split"].update(
-            chebyshev=e["theta_split"]["chebyshev"][0])), "theta_split of shape"),
-        (cc.WALL_TWO_ANGLES, broken(good, lambda e: e["pieces"][-1].update(
-            theta_deg=[None, 60.0])), "an end at or above 70"),
-        (cc.WALL_TWO_ANGLES, broken(good, lambda e: e["pieces"][0].update(
-            theta_deg=[5.0, None])), "contiguous from 0"),
-        (cc.WALL_TWO_ANGLES, broken(good, lambda e: e["pieces"][0].update(
-            rupture=e["pieces"][0]["rupture"][0])), "rupture 3-D"),
-        (cc.WALL_TWO_ANGLES, broken(good, lambda e: e.update(theta_split=None)),
-         "only with a theta_split"),
+        (cc.WALL_TWO_ANGLES, half(1, lambda h: h["theta_split"].update(
+            chebyshev=h["theta_split"]["chebyshev"][0])), "half 1 theta_split of shape"),
+        (cc.WALL_TWO_ANGLES, half(0, lambda h: h["pieces"][-1].update(
+            theta_deg=[None, 60.0])), "half 0 theta pieces .* an end at or above 70"),
+        (cc.WALL_TWO_ANGLES, half(1, lambda h: h["pieces"][0].update(
+            theta_deg=[5.0, None])), "half 1 theta pieces .* contiguous from 0"),
+        (cc.WALL_TWO_ANGLES, half(0, lambda h: h["pieces"][0].update(
+            rupture=h["pieces"][0]["rupture"][0])), "half 0 piece 0: .* rupture 3-D"),
+        (cc.WALL_TWO_ANGLES, half(1, lambda h: h.update(theta_split=None)),
+         "half 1 theta pieces .* only with a theta_split series"),
+        (cc.WALL_TWO_ANGLES, half(0, lambda h: h.update(ridge_margin_deg=-0.3)),
+         "half 0 ridge_margin_deg"),
         (cc.WALL_TWO_ANGLES, broken(good, lambda e: e.update(ridge_margin_deg=-0.3)),
          "ridge_margin_deg"),
-        (cc.WALL_TWO_ANGLES, broken(good, lambda e: e["pieces"][0].update(
-            theta_map="cubic")), "theta_map = 'cubic'"),
+        (cc.WALL_TWO_ANGLES, half(1, lambda h: h["pieces"][0].update(theta_map="cubic")),
+         "half 1 piece 0: theta_map = 'cubic'"),
+        # the halves' sphere-angle ranges: finite, increasing, contiguous over [0, 70]
+        (cc.WALL_TWO_ANGLES, half(0, lambda h: h.update(theta_sphere_deg=[0.0, 30.0])),
+         r"half 1: theta_sphere_deg = \[35.0, 70.0\] \(after 30 deg\)"),
+        (cc.WALL_TWO_ANGLES, half(0, lambda h: h.update(theta_sphere_deg=[1.0, 35.0])),
+         r"half 0: theta_sphere_deg = \[1.0, 35.0\]"),
+        (cc.WALL_TWO_ANGLES, half(1, lambda h: h.update(theta_sphere_deg=[35.0, 60.0])),
+         r"end at 60 deg; allowed: 'halves'"),
+        (cc.WALL_TWO_ANGLES, half(1, lambda h: h.update(theta_sphere_deg=[35.0, 35.0])),
+         r"half 1: theta_sphere_deg = \[35.0, 35.0\]"),
+        (cc.WALL_TWO_ANGLES, half(1, lambda h: h.update(theta_sphere_deg=[35.0, "inf"])),
+         "half 1: theta_sphere_deg"),
+        (cc.WALL_TWO_ANGLES, half(1, lambda h: h.update(theta_sphere_deg=[35.0])),
+         "half 1: theta_sphere_deg = \\[35.0\\]"),
+        (cc.WALL_TWO_ANGLES, broken(good, lambda e: e.update(halves=[])),
+         "field 'halves' = \\[\\]; allowed: 'halves', a list"),
+        # the former layout: one table over the whole sphere range, no longer evaluated
+        (cc.WALL_TWO_ANGLES, {**{k: v for k, v in first.items() if k != "theta_sphere_deg"},
+                              "held_out": good["held_out"]},
+         "top-level fields 'pieces'/'theta_split' .* no longer evaluates"),
         ("sphere-wall", broken(_entry_json(source, "sphere-wall"), lambda e: e["pieces"][0]
                                .update(theta_map="ridge-quadratic")), "ends at the split"),
         ("sphere-wall", broken(_entry_json(source, "sphere-wall"), lambda e: e.update(
@@ -753,7 +883,7 @@ def test_two_angle_layout_is_validated(source):
             chebyshev=[e["theta_split"]["chebyshev"]] * 2)), "1-D Chebyshev series in a"),
     ]
     for kind, entry, says in cases:
-        with pytest.raises(InputError, match=says):
+        with pytest.raises(InputError, match="t.json: .*" + says):
             _capillary_part(Path("t.json"), kind, entry)
 
 
@@ -796,39 +926,43 @@ def test_json_calibrated_capillary_matches_table_and_schema(tmp_path, source):
     assert doc["origin"] == "shipped" and doc["target"] == "capillary"
     assert "attraction < 0" in doc["sign_convention"]
     parts = iter(doc["parts"])
-    assert len(doc["parts"]) == 2 * sum(len(p.pieces) for p in source.table.parts.values())
-    for kind, part in source.table.parts.items():
-        for piece in part.pieces:
-            for name, arr, held in (("rupture distance", piece.rupture, "rupture_distance"),
-                                    ("force", piece.force, "force")):
-                p = next(parts)
-                assert p["name"].startswith(f"{name} {kind}") and p["geometry"] == kind
-                shape = tuple(int(n) for n in p["coefficient_layout"].split("shape (")[-1]
-                              .split(")")[0].split(", "))
-                assert shape == arr.shape
-                coef = np.asarray(p["coefficients"])
-                if None in (piece.theta_lo, piece.theta_hi):  # the split series first
-                    assert np.array_equal(coef[:part.split.size].reshape(part.split.shape),
-                                          part.split)
-                    coef = coef[part.split.size:]
-                assert np.array_equal(coef.reshape(shape), arr)
-                assert p["held_out"]["relative_error"]["max"] == part.held_out[held]["max"]
-                assert p["domain"]["v"] == [1e-4, 0.1]
-                assert ("radius_ratio" in p["domain"]) == (kind == "sphere-sphere")
-                two = kind == cc.WALL_TWO_ANGLES
-                if two:  # the sphere's angle over the range, the wall's within the piece
-                    assert p["domain"]["theta_sphere_deg"] == [0.0, 70.0]
-                    lo, hi = p["domain"]["theta_wall_deg"]
-                    assert lo == (piece.theta_lo or 0.0) and hi <= 70.0
-                    assert "cos theta_s + cos theta_w" in p["form"] or name != "force"
-                    assert "T_j(b1) T_k(b2)" in p["form"]
-                    assert "deg is evaluated in both" not in p["form"]  # no ridge margin
-                    assert ("b2 quadratic toward the ridge" in p["form"]) == piece.quadratic
-                    for stratum in ("near_ridge", "ridge_top"):
-                        got = p["held_out"]["strata"][stratum]
-                        assert got["relative_error"]["max"] == \
-                            part.held_out_strata[stratum][held]["max"]
-                assert ("theta_deg" in p["domain"]) == (not two)
+    assert len(doc["parts"]) == 2 * sum(len(p.all_pieces) for p in source.table.parts.values())
+    tables = [(k, p, t, pc) for k, p in source.table.parts.items() for t in p.sections
+              for pc in t.pieces]
+    for kind, part, sec, piece in tables:
+        for name, arr, held in (("rupture distance", piece.rupture, "rupture_distance"),
+                                ("force", piece.force, "force")):
+            p = next(parts)
+            assert p["name"].startswith(f"{name} {kind}") and p["geometry"] == kind
+            shape = tuple(int(n) for n in p["coefficient_layout"].split("shape (")[-1]
+                          .split(")")[0].split(", "))
+            assert shape == arr.shape
+            coef = np.asarray(p["coefficients"])
+            if None in (piece.theta_lo, piece.theta_hi):  # the split series first
+                assert np.array_equal(coef[:sec.split.size].reshape(sec.split.shape),
+                                      sec.split)
+                coef = coef[sec.split.size:]
+            assert np.array_equal(coef.reshape(shape), arr)
+            assert p["held_out"]["relative_error"]["max"] == part.held_out[held]["max"]
+            assert p["domain"]["v"] == [1e-4, 0.1]
+            assert ("radius_ratio" in p["domain"]) == (kind == "sphere-sphere")
+            two = kind == cc.WALL_TWO_ANGLES
+            if two:  # the sphere's angle over its half, the wall's within the piece
+                assert p["domain"]["theta_sphere_deg"] == [sec.theta_sphere_lo,
+                                                           sec.theta_sphere_hi]
+                assert f"sphere angle {sec.theta_sphere_lo:g} to " in p["name"]
+                assert "first half whose upper" in p["form"] or name == "force"
+                lo, hi = p["domain"]["theta_wall_deg"]
+                assert lo == (piece.theta_lo or 0.0) and hi <= 70.0
+                assert "cos theta_s + cos theta_w" in p["form"] or name != "force"
+                assert "T_j(b1) T_k(b2)" in p["form"]
+                assert "deg is evaluated in both" not in p["form"]  # no ridge margin
+                assert ("b2 quadratic toward the ridge" in p["form"]) == piece.quadratic
+                for stratum in ("near_ridge", "ridge_top"):
+                    got = p["held_out"]["strata"][stratum]
+                    assert got["relative_error"]["max"] == \
+                        part.held_out_strata[stratum][held]["max"]
+            assert ("theta_deg" in p["domain"]) == (not two)
 
 
 def test_schema_rejects_a_two_angle_part_without_its_angles(source):

@@ -14,7 +14,12 @@ from pathlib import Path
 from typing import Any
 
 from wetcontact import __version__
-from wetcontact.export.closures import TWO_ANGLES, CapillarySource, immersed_tables
+from wetcontact.export.closures import (
+    TWO_ANGLES,
+    CapillaryPart,
+    CapillarySource,
+    immersed_tables,
+)
 from wetcontact.fileio import atomic_write_text
 from wetcontact.reduced_models.calibrated import viscous_table
 
@@ -93,9 +98,11 @@ CAP_COMMENT = """\
  *   s = S/R_s. A plane with TWO contact angles (theta1 the sphere's, theta2 the plane's)
  *   has its own table, axes (a, b1, b2[, c]): S_c = R v^(1/3) exp(sum C_rup T(a) T(b1)
  *   T(b2)), F = -2 pi sigma R (cos theta1 + cos theta2) exp(sum C_F T(a) T(b1) T(b2) T(c)),
- *   b1 from theta1 over [{ct_lo:.6g}, {ct_hi:.6g}] deg, b2 from theta2 within its piece
- *   (quadratic toward the ridge where the piece says so: wc__cap_b); the pieces meet at
- *   the ridge of S_c, a plane angle theta2* = sum s_ij T_i(a) T_j(b1) (deg).
+ *   in halves of theta1 (a point in the first half whose upper end is at or above theta1):
+ *   {halves}, each with its own tables: b1 from theta1 over the half's range, b2
+ *   from theta2 within its piece (quadratic toward the ridge where the piece says so:
+ *   wc__cap_b); the pieces meet at the ridge of S_c, a plane angle
+ *   theta2* = sum s_ij T_i(a) T_j(b1) (deg, the half's own series).
  *   C_F is stored in its low-rank form (the package's own layout),
  *   C_F = sum_q L[..][q] R[q][..] with L over the leading axes and R over the others, and
  *   evaluated as such: the left rows contracted with L (rank numbers), the right rows with
@@ -239,6 +246,7 @@ static inline double wc_viscous_force_bridge(double r1, double r2, double viscos
 #define WC__CAP_NMAX {cap_nmax}
 #define WC__CAP_RMAX {cap_rmax}
 #define WC__CAP_PIECES {cap_pieces}
+#define WC__CAP_HALVES {cap_halves}
 #define WC__CAP_PLANE 0   /* one contact angle on a plane: axes (1, a, b, c) */
 #define WC__CAP_SPHERES 1 /* one contact angle between two spheres: (w, a, b, c) */
 #define WC__CAP_PLANE2 2  /* two contact angles on a plane: (a, b1, b2, c) */
@@ -257,13 +265,16 @@ struct wc__cap_piece {{
     const double *rupture, *left, *right;
 }};
 
-/* One geometry: its pieces (a point belongs to the first whose upper end is at or above
- * the angle they divide: the one angle, or the plane's of two) and the split angle (deg)
- * as sum_k split[k] T_k(a) (nsplit_b = 0), or, for a plane with two angles, the plane
- * angle of the rupture distance's ridge as sum_ij split[i][j] T_i(a) T_j(b1)
- * (nsplit x nsplit_b, row-major). */
+/* One table of a geometry: its pieces (a point belongs to the first whose upper end is at
+ * or above the angle they divide: the one angle, or the plane's of two) and the split
+ * angle (deg) as sum_k split[k] T_k(a) (nsplit_b = 0), or, for a plane with two angles,
+ * the plane angle of the rupture distance's ridge as sum_ij split[i][j] T_i(a) T_j(b1)
+ * (nsplit x nsplit_b, row-major). A plane with two angles has one table per half of the
+ * sphere's angle, [ts_lo, ts_hi] (deg; b1 mapped from it; a point belongs to the first
+ * half whose ts_hi is at or above its sphere angle); the one-angle geometries have one. */
 struct wc__cap_table {{
     int npieces, nsplit, nsplit_b;
+    double ts_lo, ts_hi;
     const double *split;
     struct wc__cap_piece piece[WC__CAP_PIECES];
 }};
@@ -289,11 +300,27 @@ static inline void wc__cap_set(struct wc__cap_piece *p, int lo_split, double lo,
     p->right = right;
 }}
 
-/* The tables of one geometry (WC__CAP_PLANE, WC__CAP_SPHERES, WC__CAP_PLANE2); 0 when
- * not generated. */
-static inline int wc__cap_table(int geometry, struct wc__cap_table *t)
+/* Table `half` of one geometry (WC__CAP_PLANE, WC__CAP_SPHERES: half 0 only;
+ * WC__CAP_PLANE2: its halves of the sphere's angle, 0, 1, ...); 0 when there is none (or
+ * the geometry's table was not generated). */
+static inline int wc__cap_table(int geometry, int half, struct wc__cap_table *t)
 {{
 {cap_tables}
+}}
+
+/* The table of a geometry that holds the sphere angle ts (deg): for a plane with two
+ * angles the first half whose upper end is at or above ts, else the geometry's one
+ * table; 0 when none does (or it was not generated). */
+static inline int wc__cap_select(int geometry, double ts, struct wc__cap_table *t)
+{{
+    int h;
+    for (h = 0; h < WC__CAP_HALVES; ++h) {{
+        if (!wc__cap_table(geometry, h, t))
+            return 0;
+        if (geometry != WC__CAP_PLANE2 || ts <= t->ts_hi)
+            return 1;
+    }}
+    return 0;
 }}
 
 /* T_0(t) ... T_{{n-1}}(t) by the three-term recurrence. */
@@ -374,7 +401,7 @@ static inline int wc__cap_bridge(double r1, double r2, double volume, double the
                                  double *sc)
 {{
     int plane = isinf(r2) && r2 > 0, i, j, k, p;
-    double ratio, a, x0, x1, theta, split = 0.0, row, lo, hi = 0.0;
+    double ratio, a, x0, x1, theta, ts, split = 0.0, row, lo, hi = 0.0;
     const struct wc__cap_piece *pc;
     if (!(r1 > 0) || !isfinite(r1) || !(r2 > 0) || !(volume > 0) || !isfinite(volume))
         return 0;
@@ -387,7 +414,10 @@ static inline int wc__cap_bridge(double r1, double r2, double volume, double the
         return 0;
     if (!(theta2_deg >= {ct_lo_r} && theta2_deg <= {ct_hi_r} * (1 + 1e-12)))
         return 0;
-    if (!wc__cap_table(plane ? (*two ? WC__CAP_PLANE2 : WC__CAP_PLANE) : WC__CAP_SPHERES, tab))
+    /* the sphere's angle as the package holds it (radians and back): it picks the half */
+    ts = theta1_deg * (WC_PI / 180.0) * (180.0 / WC_PI);
+    if (!wc__cap_select(plane ? (*two ? WC__CAP_PLANE2 : WC__CAP_PLANE) : WC__CAP_SPHERES, ts,
+                        tab))
         return 0;
     *rs = plane ? r1 : (r1 < r2 ? r1 : r2);
     ratio = plane ? 1.0 : (r1 < r2 ? r2 : r1) / *rs;
@@ -398,9 +428,9 @@ static inline int wc__cap_bridge(double r1, double r2, double volume, double the
         return 0;
     *rho = plane ? 1.0 : ratio / (1.0 + ratio);
     a = wc__map(log(*v), {lnv_lo_r}, {lnv_hi_r});
-    if (*two) {{  /* axes (a, b1, b2): the pieces divide the plane's angle */
+    if (*two) {{  /* axes (a, b1, b2): b1 within the half; the pieces divide theta2 */
         x0 = a;
-        x1 = wc__map(theta1_deg, {ct_lo_r}, {ct_hi_r});
+        x1 = wc__map(ts, tab->ts_lo, tab->ts_hi);
         theta = theta2_deg;
     }} else {{  /* axes (w, a, b) */
         x0 = plane ? 0.0 : wc__map(cbrt(log(ratio)), 0.0, {w_max_r});
@@ -691,6 +721,7 @@ def header_text(source: CapillarySource) -> str:
         cap_comment=CAP_COMMENT.format(
             **capillary_fields(source),
             cap_held_out="\n *     ".join(held_out_lines(source)),
+            halves=halves_text(source.table.parts.get(TWO_ANGLES)),
             cap_src=Path(source.table.source).name, cap_sha=source.table.sha256[:16],
             label=_wrap(source.refit_label), rup_src=Path(rup.source).name,
             rup_sha=rup.sha256[:16], refit_src=Path(cap.source).name,
@@ -699,11 +730,13 @@ def header_text(source: CapillarySource) -> str:
     body = BODY.format(
         **br, **capillary_fields(source),
         cap_nmax=max([max(pc.force_shape) for p in source.table.parts.values()
-                      for pc in p.pieces]
-                     + [max(p.split.shape) for p in source.table.parts.values()
-                        if p.split is not None]),
-        cap_pieces=max(len(p.pieces) for p in source.table.parts.values()),
-        cap_rmax=max(pc.rank for p in source.table.parts.values() for pc in p.pieces),
+                      for pc in p.all_pieces]
+                     + [max(sec.split.shape) for p in source.table.parts.values()
+                        for sec in p.sections if sec.split is not None]),
+        cap_pieces=max(len(sec.pieces) for p in source.table.parts.values()
+                       for sec in p.sections),
+        cap_halves=max(len(p.sections) for p in source.table.parts.values()),
+        cap_rmax=max(pc.rank for p in source.table.parts.values() for pc in p.all_pieces),
         cap_tables=_cap_tables(source),
         n_wall=len(w["chebyshev"]), cheb_wall=c_array(w["chebyshev"]),
         n_ss=len(ss["chebyshev"]), cheb_ss=c_array(ss["chebyshev"]), log_lo=repr(lo),
@@ -712,6 +745,13 @@ def header_text(source: CapillarySource) -> str:
         lian=c_array(rup.coefficients), willett=_nested(cap.coefficients),
         s_lo_cap=repr(s_lo_cap), s_hi_cap=repr(s_hi_cap))
     return head + body
+
+
+def halves_text(part: CapillaryPart | None) -> str:
+    """The halves' sphere-angle ranges of a plane with two angles, for the comments."""
+    if part is None:
+        return "not generated"
+    return ", ".join(f"[{h.theta_sphere_lo:g}, {h.theta_sphere_hi:g}] deg" for h in part.halves)
 
 
 def capillary_fields(source: CapillarySource) -> dict[str, Any]:
@@ -744,46 +784,53 @@ def held_out_lines(source: CapillarySource) -> list[str]:
 
 
 def _cap_tables(source: CapillarySource) -> str:
-    """The body of ``wc__cap_table``: each generated geometry's pieces as static arrays (a
-    plane's with a leading axis of one entry) and its split series (flattened row-major: a
-    plane with two angles has a 2-D ridge series), ``return 0`` for a missing one."""
+    """The body of ``wc__cap_table``: each generated geometry's tables (one, or a plane with
+    two angles' halves, each with its sphere-angle range) as static arrays (a plane's with
+    a leading axis of one entry) and split series (flattened row-major: a plane with two
+    angles has 2-D ridge series), ``return 0`` for a missing one."""
     out = []
     for kind, code in GEOMETRY_CODES.items():
-        cond = f"geometry == {code}"
         part = source.table.parts.get(kind)
         if part is None:
-            out.append(f"    if ({cond})\n        return 0;  /* {kind}: not generated */")
+            out.append(f"    if (geometry == {code})\n        return 0;  /* {kind}: not "
+                       "generated */")
             continue
-        lines = [f"    if ({cond}) {{  /* {kind} */"]
-        split = "(const double *)0"
-        if part.split is not None:
-            lines.append(f"        static const double split[{part.split.size}] = "
-                         f"{c_array(part.split.ravel(), indent=12)};")
-            split = "split"
-        for n, p in enumerate(part.pieces):
-            lines.append(f"        static const double rupture{n}[{p.rupture.size}] = "
-                         f"{c_array(p.rupture.ravel(), indent=12)};")
-            lines.append(f"        static const double left{n}[{p.force_left.size}] = "
-                         f"{c_array(p.force_left.ravel(), indent=12)};")
-            lines.append(f"        static const double right{n}[{p.force_right.size}] = "
-                         f"{c_array(p.force_right.ravel(), indent=12)};")
-        nsplit = (0, 0) if part.split is None else (
-            (part.split.shape[0], 0) if part.split.ndim == 1 else part.split.shape)
-        lines.append(f"        t->npieces = {len(part.pieces)};")
-        lines.append(f"        t->nsplit = {nsplit[0]};")
-        lines.append(f"        t->nsplit_b = {nsplit[1]};")
-        lines.append(f"        t->split = {split};")
-        for n, p in enumerate(part.pieces):
-            plane = kind == "sphere-wall"  # no w axis: one entry in the header's layout
-            shape = (1, *p.force_shape) if plane else p.force_shape
-            ends = ["1, 0.0" if e is None else f"0, {e!r}" for e in (p.theta_lo, p.theta_hi)]
-            lines.append(f"        wc__cap_set(&t->piece[{n}], {ends[0]}, {ends[1]}, "
-                         f"{int(p.quadratic)}, "
-                         f"{', '.join(str(x) for x in shape)}, {p.n_left + plane}, "
-                         f"{p.rank},\n"
-                         f"                    rupture{n}, left{n}, right{n});")
-        lines.append("        return 1;\n    }")
-        out.append("\n".join(lines))
+        for h, sec in enumerate(part.sections):
+            ts = ((sec.theta_sphere_lo, sec.theta_sphere_hi) if part.halves
+                  else source.table.theta_range_deg)
+            what = f"{kind}, sphere angle {ts[0]:g} to {ts[1]:g} deg" if part.halves else kind
+            lines = [f"    if (geometry == {code} && half == {h}) {{  /* {what} */"]
+            split = "(const double *)0"
+            if sec.split is not None:
+                lines.append(f"        static const double split[{sec.split.size}] = "
+                             f"{c_array(sec.split.ravel(), indent=12)};")
+                split = "split"
+            for n, p in enumerate(sec.pieces):
+                lines.append(f"        static const double rupture{n}[{p.rupture.size}] = "
+                             f"{c_array(p.rupture.ravel(), indent=12)};")
+                lines.append(f"        static const double left{n}[{p.force_left.size}] = "
+                             f"{c_array(p.force_left.ravel(), indent=12)};")
+                lines.append(f"        static const double right{n}[{p.force_right.size}] = "
+                             f"{c_array(p.force_right.ravel(), indent=12)};")
+            nsplit = (0, 0) if sec.split is None else (
+                (sec.split.shape[0], 0) if sec.split.ndim == 1 else sec.split.shape)
+            lines.append(f"        t->npieces = {len(sec.pieces)};")
+            lines.append(f"        t->nsplit = {nsplit[0]};")
+            lines.append(f"        t->nsplit_b = {nsplit[1]};")
+            lines.append(f"        t->ts_lo = {float(ts[0])!r};")
+            lines.append(f"        t->ts_hi = {float(ts[1])!r};")
+            lines.append(f"        t->split = {split};")
+            for n, p in enumerate(sec.pieces):
+                plane = kind == "sphere-wall"  # no w axis: one entry in the header's layout
+                shape = (1, *p.force_shape) if plane else p.force_shape
+                ends = ["1, 0.0" if e is None else f"0, {e!r}" for e in (p.theta_lo, p.theta_hi)]
+                lines.append(f"        wc__cap_set(&t->piece[{n}], {ends[0]}, {ends[1]}, "
+                             f"{int(p.quadratic)}, "
+                             f"{', '.join(str(x) for x in shape)}, {p.n_left + plane}, "
+                             f"{p.rank},\n"
+                             f"                    rupture{n}, left{n}, right{n});")
+            lines.append("        return 1;\n    }")
+            out.append("\n".join(lines))
     return "\n".join(out) + "\n    return 0;"
 
 

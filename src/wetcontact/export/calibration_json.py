@@ -17,11 +17,19 @@ import math
 from functools import cache
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from wetcontact import __version__
 from wetcontact.errors import InputError
 from wetcontact.fileio import atomic_write_text
+
+if TYPE_CHECKING:
+    from wetcontact.export.closures import (
+        CapillaryHalf,
+        CapillaryPart,
+        CapillaryPiece,
+        CapillaryTable,
+    )
 
 SCHEMA_FILE = "calibration.schema.json"
 SIGN = ("force on the first particle along the line of centres, positive = pushing the "
@@ -79,7 +87,9 @@ FORMS = {
         "mapped to [-1, 1] as m(x; lo, hi) = (2 x - lo - hi)/(hi - lo): a = m(ln v; ln v0, "
         "ln v1), b1 = m(theta_s_deg; t0, t1), b2 from theta_w_deg within the part's range "
         "[lo, hi] of theta_w (below), [v0, v1] the domain's v, [t0, t1] its "
-        "theta_sphere_deg"),
+        "theta_sphere_deg: the table is split in the sphere's angle into halves, each with "
+        "its own parts and ridge, and a point belongs to the first half whose upper "
+        "theta_sphere_deg end is at or above theta_s"),
     "capillary-force-two-angles": (
         "F = -2 pi sigma R (cos theta_s + cos theta_w) exp(sum C[i, j, k, l] T_i(a) T_j(b1) "
         "T_k(b2) T_l(c)) for S < S_c, exactly 0 at and past S_c; c = 2 z - 1, z = sqrt(1 - "
@@ -88,10 +98,10 @@ FORMS = {
         "smooth correction)"),
     "capillary-piece-two-angles": (
         "; this part covers the wall's angle theta_w from {lo} to {hi} deg (a point belongs "
-        "to the first part whose upper end is at or above theta_w; the domain stops at the "
-        "domain's theta_wall_deg) and {b2} within it, where 'ridge' is "
+        "to the first part of its half whose upper end is at or above theta_w; the domain "
+        "stops at the domain's theta_wall_deg) and {b2} within it, where 'ridge' is "
         "the wall angle of the rupture distance's ridge theta_w* = sum_ij s_ij T_i(a) "
-        "T_j(b1) (deg), where S_c peaks and the parts meet"),
+        "T_j(b1) (deg, the half's own series), where S_c peaks and the parts meet"),
     "capillary-b2-linear": "b2 = m(theta_w_deg; lo, hi)",
     "capillary-b2-quadratic": (
         "b2 quadratic toward the ridge: b2 = 1 - 2 sqrt((hi - theta_w_deg)/(hi - lo)) when "
@@ -193,7 +203,8 @@ def capillary_document() -> dict[str, Any]:
     """The shipped ``calibrated-capillary`` closure: per generated geometry a rupture part
     and a force part, each tensor flattened in C order (its shape in the layout); a wall
     with two contact angles (geometry ``sphere-wall-two-angles``) has axes (a, b1, b2) and
-    a 2-D ridge series."""
+    a 2-D ridge series, per half of the sphere's angle (its parts' ``theta_sphere_deg``:
+    the half's range, over which b1 is mapped)."""
     from wetcontact.export.closures import KINDS, shipped_capillary
 
     t = shipped_capillary()
@@ -205,57 +216,18 @@ def capillary_document() -> dict[str, Any]:
                              "written by `python -m wetcontact.calibrate capillary`")
         two = part.two_angles
         axes = "(a, b1, b2)" if two else "(w, a, b)" if kind == "sphere-sphere" else "(a, b)"
-        domain = {"v": list(t.v_range)}
-        if kind == "sphere-sphere":
-            domain["radius_ratio"] = list(t.ratio_range)
-        if two:
-            domain["theta_sphere_deg"] = list(t.theta_range_deg)
         angle = "theta_wall_deg" if two else "theta_deg"
-        for piece in part.pieces:
-            split_name = "ridge" if two else "split"
-            ends = [split_name if e is None else f"{e:g}"
-                    for e in (piece.theta_lo, piece.theta_hi)]
-            where = "" if len(part.pieces) == 1 else (
-                f" ({'wall angle' if two else 'theta'} {ends[0]} to {ends[1]} deg)")
-            lo = t.theta_range_deg[0] if piece.theta_lo is None else piece.theta_lo
-            hi = t.theta_range_deg[1] if piece.theta_hi is None else min(
-                piece.theta_hi, t.theta_range_deg[1])  # a piece may reach past the domain
-            for name, form, arr, held, extra in (
-                    ("rupture distance", "capillary-rupture", piece.rupture, "rupture_distance",
-                     {}),
-                    ("force", "capillary-force", piece.force, "force", {"s_over_sc": [0.0, 1.0]})):
-                shape = ", ".join(str(n) for n in arr.shape)
-                layout = (f"C flattened in C order, shape ({shape}), axes "
-                          + (axes if held != "force" else axes[:-1] + ", c)"))
-                coef = [float(c) for c in arr.ravel()]
-                text = FORMS[form + ("-two-angles" if two else "")]
-                if len(part.pieces) > 1:
-                    text += FORMS["capillary-piece" + ("-two-angles" if two else "")].format(
-                        lo=ends[0], hi=ends[1],
-                        b2=FORMS["capillary-b2-" + ("quadratic" if piece.quadratic
-                                                    else "linear")])
-                if split_name in ends:  # the split (ridge) series first, then the tensor
-                    what = (f"first the ridge angle's Chebyshev coefficients s_ij flattened "
-                            f"in C order, shape ({', '.join(map(str, part.split.shape))}), "
-                            "axes (a, b1)" if two else
-                            f"first the split angle's {part.split.size} Chebyshev "
-                            "coefficients s_k")
-                    layout = f"{what}, then {layout}"
-                    coef = [float(c) for c in part.split.ravel()] + coef
-                held_out = {"points": int(ho[held]["points"]), "seed": int(ho["seed"]),
-                            "reference": str(ho["reference"]) + " (geometry as a whole)",
-                            "relative_error": _errors(ho[held])}
-                strata = {k: {"points": int(s[held]["points"]),
-                              "relative_error": _errors(s[held])}
-                          for k, s in part.held_out_strata.items()
-                          if isinstance(s.get(held), dict)}
-                if strata:
-                    held_out["strata"] = strata
-                parts.append({"name": f"{name} {kind}{where}", "geometry": kind,
-                              "amount": "bridge", "form": text, "coefficient_layout": layout,
-                              "coefficients": coef,
-                              "domain": {**domain, angle: [lo, hi], **extra},
-                              "held_out": held_out})
+        for sec in part.sections:
+            domain = {"v": list(t.v_range)}
+            if kind == "sphere-sphere":
+                domain["radius_ratio"] = list(t.ratio_range)
+            half = ""
+            if two:
+                domain["theta_sphere_deg"] = [sec.theta_sphere_lo, sec.theta_sphere_hi]
+                half = f"sphere angle {sec.theta_sphere_lo:g} to {sec.theta_sphere_hi:g} deg"
+            for piece in sec.pieces:
+                parts.extend(_capillary_piece_parts(t, kind, part, sec, piece, axes, angle,
+                                                    domain, half))
     from wetcontact.reduced_models.calibrated_capillary import capillary_table
 
     return {"format": "wetcontact-calibration", "format_version": 1,
@@ -272,6 +244,55 @@ def capillary_document() -> dict[str, Any]:
             "parts": parts, "provenance": _provenance(
                 Path(t.source), str((capillary_table() or {}).get("generated_by", "")),
                 "meniscus")}
+
+
+def _capillary_piece_parts(t: CapillaryTable, kind: str, part: CapillaryPart,
+                           sec: CapillaryHalf | CapillaryPart, piece: CapillaryPiece,
+                           axes: str, angle: str, domain: dict[str, Any], half: str
+                           ) -> list[dict[str, Any]]:
+    """The rupture and force parts of one piece of one table (``sec``: the geometry, or a
+    half of a wall with two angles, named by ``half``)."""
+    ho = part.held_out
+    two = part.two_angles
+    out = []
+    split_name = "ridge" if two else "split"
+    ends = [split_name if e is None else f"{e:g}" for e in (piece.theta_lo, piece.theta_hi)]
+    where = [] if len(sec.pieces) == 1 else [
+        f"{'wall angle' if two else 'theta'} {ends[0]} to {ends[1]} deg"]
+    where = f" ({', '.join(([half] if half else []) + where)})" if half or where else ""
+    lo = t.theta_range_deg[0] if piece.theta_lo is None else piece.theta_lo
+    hi = t.theta_range_deg[1] if piece.theta_hi is None else min(
+        piece.theta_hi, t.theta_range_deg[1])  # a piece may reach past the domain
+    for name, form, arr, held, extra in (
+            ("rupture distance", "capillary-rupture", piece.rupture, "rupture_distance", {}),
+            ("force", "capillary-force", piece.force, "force", {"s_over_sc": [0.0, 1.0]})):
+        shape = ", ".join(str(n) for n in arr.shape)
+        layout = (f"C flattened in C order, shape ({shape}), axes "
+                  + (axes if held != "force" else axes[:-1] + ", c)"))
+        coef = [float(c) for c in arr.ravel()]
+        text = FORMS[form + ("-two-angles" if two else "")]
+        if len(sec.pieces) > 1:
+            text += FORMS["capillary-piece" + ("-two-angles" if two else "")].format(
+                lo=ends[0], hi=ends[1],
+                b2=FORMS["capillary-b2-" + ("quadratic" if piece.quadratic else "linear")])
+        if split_name in ends:  # the split (ridge) series first, then the tensor
+            what = (f"first the ridge angle's Chebyshev coefficients s_ij flattened "
+                    f"in C order, shape ({', '.join(map(str, sec.split.shape))}), "
+                    "axes (a, b1)" if two else
+                    f"first the split angle's {sec.split.size} Chebyshev coefficients s_k")
+            layout = f"{what}, then {layout}"
+            coef = [float(c) for c in sec.split.ravel()] + coef
+        held_out = {"points": int(ho[held]["points"]), "seed": int(ho["seed"]),
+                    "reference": str(ho["reference"]) + " (geometry as a whole)",
+                    "relative_error": _errors(ho[held])}
+        strata = {k: {"points": int(s[held]["points"]), "relative_error": _errors(s[held])}
+                  for k, s in part.held_out_strata.items() if isinstance(s.get(held), dict)}
+        if strata:
+            held_out["strata"] = strata
+        out.append({"name": f"{name} {kind}{where}", "geometry": kind, "amount": "bridge",
+                    "form": text, "coefficient_layout": layout, "coefficients": coef,
+                    "domain": {**domain, angle: [lo, hi], **extra}, "held_out": held_out})
+    return out
 
 
 def refit_document(path: Path) -> dict[str, Any]:

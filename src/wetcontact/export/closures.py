@@ -20,9 +20,11 @@ for a plane:
     Chebyshev interpolant of ``meniscus``. Domain: a plane or a sphere pair with
     ``r = R_l/R_s`` in [1, 10], ``v = V/R_s^3`` in [1e-4, 0.1], ONE contact angle
     (theta1 = theta2) in [0, 70] deg; or a plane with TWO angles, the sphere's theta1 and
-    the plane's theta2, each in [0, 70] deg (the table ``sphere-wall-two-angles``:
-    ``S_c = R v^(1/3) exp(sum C T_i(a) T_j(b1) T_k(b2))``, b1 from theta1 over [0, 70] deg,
-    b2 from theta2 within its piece, the pieces meeting at the ridge theta2*(a, b1)).
+    the plane's theta2, each in [0, 70] deg (the table ``sphere-wall-two-angles``, in two
+    halves of the sphere's angle, [0, 35] and [35, 70] deg, theta1 = 35 in the first, each
+    a table ``S_c = R v^(1/3) exp(sum C T_i(a) T_j(b1) T_k(b2))``, b1 from theta1 over its
+    half, b2 from theta2 within its piece, the pieces meeting at the half's ridge
+    theta2*(a, b1)).
 ``capillary_force(r1, r2, volume, gap, surface_tension, theta1_deg, theta2_deg)``
     The shipped ``calibrated-capillary`` closure: ``F = -2 pi sigma R* (2 cos theta)
     exp(sum C T_i(w) T_j(a) T_k(b) T_l(c))`` (two angles on a plane: ``-2 pi sigma R
@@ -42,8 +44,8 @@ for a plane:
 :class:`CapillarySource` is the one place that names the capillary tables the exports
 carry: the shipped ``calibrated-capillary`` table (whatever geometries, theta pieces, split
 angle and node counts its package data holds: ``pieces`` in theta, with a ``theta_split``
-series where a piece ends at the split angle, or at the ridge of a plane with two angles)
-and the two refits.
+series where a piece ends at the split angle; a plane with two angles in ``halves`` of the
+sphere's angle, each with such pieces and its ridge series) and the two refits.
 
 Outside the calibrated domain (or for inputs no closure covers: unequal spheres for the
 immersed part, two contact angles between spheres for ``calibrated-capillary``, a geometry
@@ -139,25 +141,57 @@ class CapillaryPiece:
 
 
 @dataclass(frozen=True, eq=False)
+class CapillaryHalf:
+    """One half of the table of a wall with two contact angles: the sphere angles
+    ``theta_sphere_lo`` ... ``theta_sphere_hi`` (deg) it covers (b1 is the sphere's angle
+    mapped linearly from that range to [-1, 1]), its ridge series ``split`` (the wall angle
+    of the rupture distance's ridge, a tensor Chebyshev series in ``a`` and b1, shape
+    (n_a, n_b1)) and its pieces, which divide the wall's angle at that ridge."""
+
+    theta_sphere_lo: float
+    theta_sphere_hi: float
+    pieces: tuple[CapillaryPiece, ...]
+    split: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
 class CapillaryPart:
-    """One geometry of the shipped ``calibrated-capillary`` table: its theta pieces (a point
-    belongs to the first whose upper end is at or above its angle) and, where a piece ends
-    at the split angle, that angle (deg) as a Chebyshev series (``split``) in the volume
-    coordinate ``a``, or, for a wall with two angles (``two_angles``), the wall angle of
-    the rupture distance's ridge as a tensor series in ``a`` and the sphere angle's
-    coordinate ``b1`` (shape (n_a, n_b1)). ``held_out``: the error table of the geometry;
-    ``held_out_strata``: those of its stress strata (e.g. ``near_ridge``), by name."""
+    """One geometry of the shipped ``calibrated-capillary`` table.
+
+    One angle (``sphere-wall``, ``sphere-sphere``): its theta pieces (a point belongs to
+    the first whose upper end is at or above its angle) and, where a piece ends at the
+    split angle, that angle (deg) as a Chebyshev series (``split``) in the volume
+    coordinate ``a``; ``halves`` is empty.
+
+    A wall with two angles (``two_angles``): ``halves``, the table split in the sphere's
+    angle (a point belongs to the first half whose upper ``theta_sphere_hi`` is at or above
+    its sphere angle), each a complete table with its own b1 range, ridge series and pieces
+    (:class:`CapillaryHalf`); ``pieces`` is empty and ``split`` ``None``.
+
+    ``held_out``: the error table of the geometry; ``held_out_strata``: those of its
+    stress strata (e.g. ``near_ridge``), by name."""
 
     kind: str
     pieces: tuple[CapillaryPiece, ...]
     split: np.ndarray | None
     held_out: dict[str, Any]
     held_out_strata: dict[str, dict[str, Any]] = field(default_factory=dict)
+    halves: tuple[CapillaryHalf, ...] = ()
 
     @property
     def two_angles(self) -> bool:
         """A wall with the sphere's and the wall's own contact angles."""
         return self.kind == TWO_ANGLES
+
+    @property
+    def sections(self) -> tuple[CapillaryHalf | CapillaryPart, ...]:
+        """What holds pieces and a split series: the halves (two angles), or the part."""
+        return self.halves or (self,)
+
+    @property
+    def all_pieces(self) -> tuple[CapillaryPiece, ...]:
+        """Every piece of the geometry, half after half."""
+        return tuple(p for sec in self.sections for p in sec.pieces)
 
 
 @dataclass(frozen=True, eq=False)
@@ -189,20 +223,78 @@ class CapillaryTable:
             f"{name.replace('_', ' ')}: {text(ho)}" for name, ho in part.held_out_strata.items()])
 
 
+LAYOUT_HINT = "the layout written by python -m wetcontact.calibrate capillary"
+
+
 def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
-    """One geometry's entry: its ``pieces`` (and ``theta_split``), the layout the model
+    """One geometry's entry, the layout the model
     (:func:`~wetcontact.reduced_models.calibrated_capillary.force_star`) reads.
 
-    One angle: rupture tables 2-D (a wall) or 3-D (sphere pairs), a 1-D split series, the
-    pieces contiguous from 0 to 70 deg. Two angles on a wall: rupture tables 3-D
-    (a, b1, b2), a 2-D ridge series over (a, b1), the pieces contiguous from 0 deg to an
-    end at or above 70 deg (past the domain: the ridge may lie above 70 deg)."""
+    One angle: ``pieces`` (and ``theta_split``), rupture tables 2-D (a wall) or 3-D (sphere
+    pairs), a 1-D split series, the pieces contiguous from 0 to 70 deg.
+
+    Two angles on a wall: ``halves``, each with its ``theta_sphere_deg`` range (finite,
+    increasing; the halves contiguous from 0 to 70 deg), a 2-D ridge series over (a, b1)
+    and pieces of rupture tables 3-D (a, b1, b2), contiguous from 0 deg to an end at or
+    above 70 deg (past the domain: the ridge may lie above 70 deg). An entry with the
+    former top-level ``pieces``/``theta_split`` (one table over the whole sphere range) is
+    refused: the model no longer evaluates it."""
+    from wetcontact.reduced_models.calibrated_capillary import THETA_RANGE_DEG
+
+    strata = {k.removeprefix("held_out_"): v for k, v in e.items()
+              if k.startswith("held_out_") and isinstance(v, dict)}
+    if kind != TWO_ANGLES:
+        pieces, split = _sections(path, kind, kind, e)
+        return CapillaryPart(kind, pieces, split, e.get("held_out", {}), strata)
+    raw = e.get("halves")
+    allowed = ("allowed: 'halves', a list of tables each with 'theta_sphere_deg' [lo, hi] "
+               f"(finite, increasing, contiguous from {THETA_RANGE_DEG[0]:g} to "
+               f"{THETA_RANGE_DEG[1]:g} deg), 'theta_split' (a 2-D Chebyshev series in (a, "
+               "b1)) and 'pieces' (" + LAYOUT_HINT + ")")
+    if "pieces" in e or "theta_split" in e:
+        raise InputError(f"{path}: {kind}: top-level fields 'pieces'/'theta_split' (one "
+                         "table over the whole sphere angle range, a layout the model no "
+                         f"longer evaluates); {allowed}")
+    if not isinstance(raw, list) or not raw:
+        raise InputError(f"{path}: {kind}: field 'halves' = {raw!r}; {allowed}")
+    if e.get("ridge_margin_deg", 0.0) != 0.0:  # a layout before the quadratic ridge map
+        raise InputError(f"{path}: {kind} ridge_margin_deg = {e['ridge_margin_deg']!r}; "
+                         "allowed: 0 or absent (each point is evaluated in its own piece, "
+                         "as the model does)")
+    halves, top = [], THETA_RANGE_DEG[0]
+    for i, h in enumerate(raw):
+        where = f"{kind} half {i}"
+        rng = h.get("theta_sphere_deg") if isinstance(h, dict) else None
+        try:
+            lo, hi = (float(x) for x in rng)
+        except (TypeError, ValueError):
+            raise InputError(f"{path}: {where}: theta_sphere_deg = {rng!r}; {allowed}"
+                             ) from None
+        if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi) or lo != top:
+            raise InputError(f"{path}: {where}: theta_sphere_deg = {rng!r} (after "
+                             f"{top:g} deg); {allowed}")
+        top = hi
+        pieces, split = _sections(path, kind, where, h)
+        if split is None:
+            raise InputError(f"{path}: {where}: field 'theta_split' missing; {allowed}")
+        halves.append(CapillaryHalf(lo, hi, pieces, split))
+    if top != THETA_RANGE_DEG[1]:
+        ends = [[hv.theta_sphere_lo, hv.theta_sphere_hi] for hv in halves]
+        raise InputError(f"{path}: {kind}: halves' theta_sphere_deg {ends} end at {top:g} "
+                         f"deg; {allowed}")
+    return CapillaryPart(kind, (), None, e.get("held_out", {}), strata, tuple(halves))
+
+
+def _sections(path: Path, kind: str, where: str, e: dict[str, Any]
+              ) -> tuple[tuple[CapillaryPiece, ...], np.ndarray | None]:
+    """The ``pieces`` and ``theta_split`` of one table (a one-angle geometry, or one half
+    of a wall with two angles, named ``where`` in the messages), validated."""
     from wetcontact.reduced_models.calibrated_capillary import THETA_RANGE_DEG
 
     raw = e.get("pieces")
     if not raw:
-        raise InputError(f"{path}: {kind}: field 'pieces' missing or empty; allowed: the "
-                         "layout written by python -m wetcontact.calibrate capillary")
+        raise InputError(f"{path}: {where}: field 'pieces' missing or empty; allowed: "
+                         + LAYOUT_HINT)
     two = kind == TWO_ANGLES
     ndim = 2 if kind == "sphere-wall" else 3
     pieces = []
@@ -212,18 +304,17 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
             left = np.asarray(p["force_left"], dtype=float)
             right = np.asarray(p["force_right"], dtype=float)
         except (KeyError, ValueError) as exc:
-            raise InputError(f"{path}: {kind} piece {i}: fields 'rupture', 'force_left' and "
-                             f"'force_right' (numeric arrays) expected ({exc}); allowed: the "
-                             "layout written by python -m wetcontact.calibrate capillary"
-                             ) from None
+            raise InputError(f"{path}: {where} piece {i}: fields 'rupture', 'force_left' and "
+                             f"'force_right' (numeric arrays) expected ({exc}); allowed: "
+                             + LAYOUT_HINT) from None
         if left.ndim < 2 or right.ndim < 2 or left.shape[-1] != right.shape[0]:
-            raise InputError(f"{path}: {kind} piece {i}: force factors of shapes "
+            raise InputError(f"{path}: {where} piece {i}: force factors of shapes "
                              f"{left.shape} and {right.shape}; allowed: (..., r) and (r, ...)")
         shape = (*left.shape[:-1], *right.shape[1:])  # the force table's axes
         if rup.ndim != ndim or shape[:-1] != rup.shape or not (
                 np.all(np.isfinite(rup)) and np.all(np.isfinite(left))
                 and np.all(np.isfinite(right))):
-            raise InputError(f"{path}: {kind} piece {i}: tables of shapes {rup.shape} "
+            raise InputError(f"{path}: {where} piece {i}: tables of shapes {rup.shape} "
                              f"(rupture), {left.shape} and {right.shape} (force factors); "
                              f"allowed: finite, rupture {ndim}-D, the force (the factors' "
                              "product) the same plus a gap axis")
@@ -231,7 +322,7 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
         tmap = p.get("theta_map", "linear")
         if tmap not in ("linear", "ridge-quadratic") or (
                 tmap == "ridge-quadratic" and None not in (lo, hi)):
-            raise InputError(f"{path}: {kind} piece {i}: theta_map = {tmap!r}; allowed: "
+            raise InputError(f"{path}: {where} piece {i}: theta_map = {tmap!r}; allowed: "
                              "'linear', or 'ridge-quadratic' for a piece that ends at the "
                              "split angle")
         pieces.append(CapillaryPiece(None if lo is None else float(lo),
@@ -250,20 +341,18 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
         spans, top = (lo, hi) == tuple(THETA_RANGE_DEG), f"{THETA_RANGE_DEG[1]:g}"
     split_ndim = 2 if two else 1
     if split is not None and (split.ndim != split_ndim or not np.all(np.isfinite(split))):
-        raise InputError(f"{path}: {kind} theta_split of shape {split.shape}; allowed: a "
+        raise InputError(f"{path}: {where} theta_split of shape {split.shape}; allowed: a "
                          f"finite {split_ndim}-D Chebyshev series in "
                          + ("(a, b1)" if two else "a"))
     if (None in bounds and split is None) or not contiguous or not spans:
-        raise InputError(f"{path}: {kind} theta pieces {ends}; allowed: contiguous from "
+        raise InputError(f"{path}: {where} theta pieces {ends}; allowed: contiguous from "
                          f"{THETA_RANGE_DEG[0]:g} to {top} deg, None (the split angle) only "
                          "with a theta_split series")
     if e.get("ridge_margin_deg", 0.0) != 0.0:  # a layout before the quadratic ridge map
-        raise InputError(f"{path}: {kind} ridge_margin_deg = {e['ridge_margin_deg']!r}; "
+        raise InputError(f"{path}: {where} ridge_margin_deg = {e['ridge_margin_deg']!r}; "
                          "allowed: 0 or absent (each point is evaluated in its own piece, "
                          "as the model does)")
-    strata = {k.removeprefix("held_out_"): v for k, v in e.items()
-              if k.startswith("held_out_") and isinstance(v, dict)}
-    return CapillaryPart(kind, tuple(pieces), split, e.get("held_out", {}), strata)
+    return tuple(pieces), split
 
 
 def shipped_capillary() -> CapillaryTable:

@@ -19,10 +19,12 @@ from wetcontact.export.c_header import (
     FUNCTIONS,
     _bridge_fields,
     capillary_fields,
+    halves_text,
     held_out_lines,
 )
 from wetcontact.export.closures import (
     TWO_ANGLES,
+    CapillaryHalf,
     CapillaryPart,
     CapillarySource,
     immersed_tables,
@@ -68,11 +70,12 @@ geometry may carry several tables, e.g. below and above a split angle theta_s(V)
 Chebyshev series in a), w from (ln r)^(1/3) (sphere pairs only), c = 2 z - 1 with
 z = sqrt(1 - ln(1 + S/eps)/ln(1 + S_c/eps)), eps = sqrt(v/(pi rho)) (all lengths over R_s).
 A plane with TWO contact angles, theta1 the sphere's and theta2 the plane's, has its own
-table: S_c = R v^(1/3) exp(sum C_rup T(a) T(b1) T(b2)) and
+table in halves of theta1 (a point in the first half whose upper end is at or above theta1):
+{halves}; each S_c = R v^(1/3) exp(sum C_rup T(a) T(b1) T(b2)) and
 F = -2 pi sigma R (cos theta1 + cos theta2) exp(sum C_F T(a) T(b1) T(b2) T(c)), b1 from
-theta1 over [{ct_lo:.6g}, {ct_hi:.6g}] deg, b2 from theta2 within its piece: the pieces
-meet at the ridge of S_c, a plane angle theta2*(a, b1) = sum s_ij T_i(a) T_j(b1) (deg),
-and b2 is quadratic toward it (_cap_b), so that the nodes cluster where S_c peaks.
+theta1 over its half's range, b2 from theta2 within its piece: the pieces meet at the
+ridge of S_c, a plane angle theta2*(a, b1) = sum s_ij T_i(a) T_j(b1) (deg, the half's own
+series), and b2 is quadratic toward it (_cap_b), so that the nodes cluster where S_c peaks.
 C_F is carried in its low-rank form C_F = sum_k L[..., k] R[k, ...] (rank r, the package's
 own layout) and evaluated as such: the Chebyshev rows of the left axes ((w, a) for sphere
 pairs, (a, b) on a plane, (a, b1) on a plane with two angles in the shipped data) times L,
@@ -200,12 +203,14 @@ _CAP_Q_HI, _CAP_W_MAX = {q_hi_r}, {w_max_r}
 _CAP_ANGLE_TOL = {angle_tol_r}  # rad: two angles closer than this count as one
 # per geometry: the theta pieces (lo, hi, rupture table, force_left, force_right,
 # quadratic: the angle's coordinate quadratic toward the split end, _cap_b), lo/hi in
-# deg or None for the split angle ("split": a Chebyshev series in a; for a plane with two
-# angles, "wall2", the ridge's plane angle, a tensor series in (a, b1)); a point belongs
+# deg or None for the split angle ("split": a Chebyshev series in a); a point belongs
 # to the first piece whose upper end is at or above its angle; None where no table was
-# generated. Axes: sphere pair (w, a, b[, c]),
-# plane (a, b[, c]), plane with two angles (a, b1, b2[, c]), b1 from theta1 over
-# [{ct_lo:g}, {ct_hi:g}] deg, b2 from theta2 within its piece; the force table is
+# generated. A plane with two angles, "wall2", is a list of halves of the sphere's angle
+# theta1, each such a table with its "theta_sphere" range (lo, hi) (deg; a point belongs
+# to the first half whose hi is at or above theta1) and its "split", the ridge's plane
+# angle, a tensor series in (a, b1). Axes: sphere pair (w, a, b[, c]),
+# plane (a, b[, c]), plane with two angles (a, b1, b2[, c]), b1 from theta1 over its
+# half's range, b2 from theta2 within its piece; the force table is
 # C_F = tensordot(force_left, force_right, 1) (rank r: left (..., r), right (r, ...)).
 _CAP = {{"wall": {cap_wall}, "spheres": {cap_ss},
         "wall2": {cap_wall2}}}
@@ -283,12 +288,33 @@ def _cap_star(tables, coords, v, rho, cos_t, s):
     return f, s_c
 
 
+def _cap_pieces(pieces, lead, theta, sp, v, rho, cos_t, s, idx, f, s_c, ok):
+    """One table's pieces at the points idx (of the flat arrays f, s_c, ok, set in place):
+    each point in the first piece whose upper end is at or above its angle theta (the one
+    angle, or the plane's of two), b from theta within that piece; sp the split angle (or
+    ridge) per point, None without one; ok False where no piece holds the point."""
+    todo = np.ones(idx.size, dtype=bool)
+    for pc in pieces:
+        lo = sp if pc[0] is None else np.full(idx.size, pc[0])
+        hi = sp if pc[1] is None else np.full(idx.size, pc[1])
+        j = np.flatnonzero(todo & (theta <= hi))
+        todo[j] = False
+        if j.size == 0:
+            continue
+        coords = [x[j] for x in lead] + [_cap_b(theta[j], lo[j], hi[j], pc)]
+        f[idx[j]], s_c[idx[j]] = _cap_star(pc[2:5], coords, v[j], rho[j], cos_t[j],
+                                           None if s is None else s[j])
+    ok[idx[todo]] = False
+
+
 def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
     """Shared by the two capillary functions: (F*, S_c*, R_s, ok) on flat arrays. One
     angle (theta1 = theta2 within the tolerance): a plane's or the sphere pairs' table, b
-    from theta. Two angles on a plane: its own table, b1 from theta1 (the sphere's) over
-    the angle range, b2 from theta2 (the plane's) within its piece, the pieces meeting at
-    the ridge, a series in (a, b1)."""
+    from theta. Two angles on a plane: its own table, in halves of the sphere's angle
+    theta1 (the first half whose upper end is at or above theta1, taken as the package
+    holds it, degrees(radians(theta1))), b1 from theta1 over that half's range, b2 from
+    theta2 (the plane's) within its piece, the pieces meeting at the half's ridge, a series
+    in (a, b1)."""
     plane = np.isinf(r2) & (r2 > 0)
     ok = ((r1 > 0) & np.isfinite(r1) & (r2 > 0) & (vol > 0) & np.isfinite(vol)
           & (t1 >= 0) & (t1 < 180) & (t2 >= 0) & (t2 < 180))
@@ -313,34 +339,33 @@ def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
             continue
         vi, ti = v[idx], t1[idx]
         a = _cap_map(np.log(vi), _CAP_LNV_LO, _CAP_LNV_HI)
+        si = None if s_over_rs is None else s_over_rs[idx]
+        if name == "wall2":  # the half that holds the sphere's angle; in it, b1 and the ridge
+            ts = np.degrees(np.radians(ti))  # the sphere's angle as the package holds it
+            cos_t = np.cos(np.radians(ti)) + np.cos(np.radians(t2[idx]))
+            todo = np.ones(idx.size, dtype=bool)
+            for half in table:
+                h = np.flatnonzero(todo & (ts <= half["theta_sphere"][1]))
+                todo[h] = False
+                if h.size == 0:
+                    continue
+                b1 = _cap_map(ts[h], *half["theta_sphere"])
+                split = half["split"]
+                sp = np.einsum("ij,ij->i", _cap_rows(a[h], split.shape[0]) @ split,
+                               _cap_rows(b1, split.shape[1]))
+                _cap_pieces(half["pieces"], [a[h], b1], t2[idx[h]], sp, vi[h],
+                            np.ones(h.size), cos_t[h], None if si is None else si[h],
+                            idx[h], f, s_c, ok)
+            ok[idx[todo]] = False
+            continue
         lead, rho = [a], np.ones(idx.size)
         if name == "spheres":
             q = ratio[idx]
             lead, rho = [_cap_map(np.cbrt(np.log(q)), 0.0, _CAP_W_MAX), a], q / (1.0 + q)
         split = table["split"]
-        if name == "wall2":  # the pieces divide the plane's angle; the ridge in (a, b1)
-            lead = [a, _cap_map(ti, _CAP_T_LO, _CAP_T_HI)]
-            cos_t = np.cos(np.radians(ti)) + np.cos(np.radians(t2[idx]))
-            ti = t2[idx]
-            sp = None if split is None else np.einsum(
-                "ij,ij->i", _cap_rows(a, split.shape[0]) @ split,
-                _cap_rows(lead[1], split.shape[1]))
-        else:
-            cos_t = 2.0 * np.cos(np.radians(ti))
-            sp = None if split is None else _cap_rows(a, split.size) @ split
-        si = None if s_over_rs is None else s_over_rs[idx]
-        todo = np.ones(idx.size, dtype=bool)
-        for pc in table["pieces"]:
-            lo = sp if pc[0] is None else np.full(idx.size, pc[0])
-            hi = sp if pc[1] is None else np.full(idx.size, pc[1])
-            j = np.flatnonzero(todo & (ti <= hi))
-            todo[j] = False
-            if j.size == 0:
-                continue
-            coords = [x[j] for x in lead] + [_cap_b(ti[j], lo[j], hi[j], pc)]
-            f[idx[j]], s_c[idx[j]] = _cap_star(pc[2:5], coords, vi[j], rho[j], cos_t[j],
-                                               None if si is None else si[j])
-        ok[idx[todo]] = False
+        cos_t = 2.0 * np.cos(np.radians(ti))
+        sp = None if split is None else _cap_rows(a, split.size) @ split
+        _cap_pieces(table["pieces"], lead, ti, sp, vi, rho, cos_t, si, idx, f, s_c, ok)
     return f, s_c, rs, ok
 
 
@@ -445,7 +470,7 @@ def module_text(source: CapillarySource) -> str:
         **br, **capillary_fields(source),
         cap_held_out=_fill("; ".join(held_out_lines(source)) + "."),
         cap_wall=_tables(parts.get("sphere-wall")), cap_ss=_tables(parts.get("sphere-sphere")),
-        cap_wall2=_tables(parts.get(TWO_ANGLES)),
+        cap_wall2=_halves(parts.get(TWO_ANGLES)), halves=halves_text(parts.get(TWO_ANGLES)),
         br_err_wall=bw["held_out"]["after"]["max"], br_err_ss=bs["held_out"]["after"]["max"],
         version=__version__, imm_err_wall=w["held_out"]["max"],
         imm_err_ss=ss["held_out"]["max"], s_lo=math.exp(lo), s_hi=math.exp(hi),
@@ -463,8 +488,8 @@ def _fill(text: str) -> str:
     return textwrap.fill(text, 88, break_on_hyphens=False)
 
 
-def _tables(part: CapillaryPart | None) -> str:
-    """One geometry's pieces and split series as Python source, or ``None``."""
+def _tables(part: CapillaryPart | CapillaryHalf | None) -> str:
+    """One table's pieces and split series as Python source, or ``None``."""
     if part is None:
         return "None"
     pieces = []
@@ -478,8 +503,17 @@ def _tables(part: CapillaryPart | None) -> str:
             f"{p.force_right.shape}), {p.quadratic!r})")
     split = "None" if part.split is None else (
         f"np.array({_list(part.split.ravel(), 4)}).reshape({part.split.shape})")
-    return (f'{{"split": {split},\n    "pieces": ['
+    rng = "" if not isinstance(part, CapillaryHalf) else (
+        f'"theta_sphere": ({part.theta_sphere_lo!r}, {part.theta_sphere_hi!r}),\n    ')
+    return (f'{{{rng}"split": {split},\n    "pieces": ['
             + ",\n    ".join(pieces) + "]}")
+
+
+def _halves(part: CapillaryPart | None) -> str:
+    """A plane with two angles as Python source: the list of its halves, or ``None``."""
+    if part is None:
+        return "None"
+    return "[\n    " + ",\n    ".join(_tables(h) for h in part.halves) + "]"
 
 
 def _list(values: Any, per_line: int = 3) -> str:
