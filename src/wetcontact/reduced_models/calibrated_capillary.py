@@ -408,8 +408,9 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
 
     On a wall, ``theta_wall`` (rad) gives the wall its own angle (``theta`` is then the
     sphere's): points whose two angles differ by more than :data:`ANGLE_TOL` are evaluated
-    in the two-angle table :data:`WALL_TWO_ANGLES` (sphere angle ``b1``, and the wall angle
-    within the pieces that meet at the rupture distance's ridge), the others in the
+    in the two-angle table :data:`WALL_TWO_ANGLES` (in the half that holds the sphere's
+    angle, :func:`half_index`: sphere angle ``b1`` over the half, and the wall angle within
+    the pieces that meet at the half's ridge), the others in the
     one-angle table (``entry``, if given, is the one-angle table), and the Derjaguin
     prefactor is ``cos theta_s + cos theta_w``."""
     v, theta, s = np.broadcast_arrays(np.asarray(v, float), np.asarray(theta, float),
