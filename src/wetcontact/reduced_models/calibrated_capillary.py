@@ -96,6 +96,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Iterator
 from functools import cache
 from importlib import resources
 from typing import Any
@@ -227,13 +228,22 @@ def ridge_deg(v: Any, theta_sphere_deg: Any, entry: dict[str, Any] | None = None
     e = _entry(WALL_TWO_ANGLES) if entry is None else entry
     v, t = np.broadcast_arrays(np.asarray(v, dtype=float), np.asarray(theta_sphere_deg,
                                                                       dtype=float))
-    a, out = volume_coordinate(v), np.full(v.shape, np.nan)
-    which = half_index(e, t)
-    for k, half in enumerate(e["halves"]):
-        m = which == k
-        if m.any():
-            out[m] = theta_split_deg(half, a[m], sphere_coordinate(half, t[m]))
-    return out
+    a, out = volume_coordinate(v.ravel()), np.full(v.size, np.nan)
+    for half, m, b1 in _by_half(e, t.ravel()):
+        out[m] = theta_split_deg(half, a[m], b1)
+    return out.reshape(v.shape)
+
+
+def _by_half(entry: dict[str, Any], theta_sphere_deg: np.ndarray
+             ) -> Iterator[tuple[dict[str, Any], np.ndarray, np.ndarray]]:
+    """Per half of a two-angle table that holds some of the (flat) sphere angles (deg):
+    the half, the indices of its points (:func:`half_index`) and their b1
+    (:func:`sphere_coordinate`)."""
+    which = half_index(entry, theta_sphere_deg)
+    for k, half in enumerate(entry["halves"]):
+        m = np.flatnonzero(which == k)
+        if m.size:
+            yield half, m, sphere_coordinate(half, theta_sphere_deg[m])
 
 
 def piece_range(piece: dict[str, Any], split: np.ndarray | None, n: int
@@ -439,14 +449,9 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
         tw = np.broadcast_to(np.asarray(theta_wall, float), shape).ravel()
         ts = np.degrees(theta)
         f, s_c = np.full(v.size, np.nan), np.full(v.size, np.nan)
-        which = half_index(e, ts)
-        for k, half in enumerate(e["halves"]):  # each half: its own b1 range and ridge
-            m = np.flatnonzero(which == k)
-            if m.size:
-                b1 = sphere_coordinate(half, ts[m])
-                f[m], s_c[m] = _pieces(half, [a[m], b1], np.degrees(tw[m]),
-                                       theta_split_deg(half, a[m], b1), v[m], s[m], rho[m],
-                                       chunk)
+        for half, m, b1 in _by_half(e, ts):  # each half: its own b1 range and ridge
+            f[m], s_c[m] = _pieces(half, [a[m], b1], np.degrees(tw[m]),
+                                   theta_split_deg(half, a[m], b1), v[m], s[m], rho[m], chunk)
         cos_sum = np.cos(theta) + np.cos(tw)
     else:
         lead = [a] if kind == "sphere-wall" else [ratio_coordinate(ratio), a]
