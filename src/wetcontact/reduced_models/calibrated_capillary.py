@@ -402,7 +402,7 @@ def reduced_star(kind: str, ratio: np.ndarray | None) -> np.ndarray | float:
 
 
 def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
-               ratio: np.ndarray | None = None, chunk: int = 2048,
+               ratio: np.ndarray | None = None, chunk: int | None = None,
                entry: dict[str, Any] | None = None, theta_wall: np.ndarray | None = None
                ) -> tuple[np.ndarray, np.ndarray]:
     """Attractive force ``F/(2 pi sigma R_s)`` at gap ``s = S/R_s`` (0 at and beyond
@@ -462,7 +462,7 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
 
 def _pieces(e: dict[str, Any], lead: list[np.ndarray], piece_deg: np.ndarray,
             split: np.ndarray | None, v: np.ndarray, s: np.ndarray, rho: np.ndarray,
-            chunk: int) -> tuple[np.ndarray, np.ndarray]:
+            chunk: int | None) -> tuple[np.ndarray, np.ndarray]:
     """``rho q`` and ``S_c/R_s`` from a table's pieces: the lead coordinates, the angle that
     the pieces divide (deg) mapped within its piece, and the gap coordinate; a point
     belongs to the first piece whose upper end is at or above its angle."""
@@ -480,14 +480,17 @@ def _pieces(e: dict[str, Any], lead: list[np.ndarray], piece_deg: np.ndarray,
 
 def _piece(piece: dict[str, Any], lo: np.ndarray, hi: np.ndarray, idx: np.ndarray,
            lead: list[np.ndarray], piece_deg: np.ndarray, v: np.ndarray, s: np.ndarray,
-           rho: np.ndarray, eps: np.ndarray, chunk: int) -> tuple[np.ndarray, np.ndarray]:
-    """``rho q`` and ``S_c/R_s`` of the points ``idx`` from one piece's tables."""
+           rho: np.ndarray, eps: np.ndarray, chunk: int | None
+           ) -> tuple[np.ndarray, np.ndarray]:
+    """``rho q`` and ``S_c/R_s`` of the points ``idx`` from one piece's tables, ``chunk``
+    points at a time (default :func:`piece_chunk`)."""
     f, s_c = np.empty(idx.size), np.empty(idx.size)
     rup = np.asarray(piece["rupture"])
     left, right = np.asarray(piece["force_left"]), np.asarray(piece["force_right"])
     dims = (*left.shape[:-1], *right.shape[1:])  # the force table's axes
     k = left.ndim - 1
     rup2 = rup.reshape(-1, rup.shape[-1]).T
+    chunk = piece_chunk(dims, k) if chunk is None else chunk
     for j in range(0, idx.size, chunk):
         sl = idx[j:j + chunk]
         out = slice(j, j + sl.size)
@@ -504,6 +507,20 @@ def _piece(piece: dict[str, Any], lo: np.ndarray, hi: np.ndarray, idx: np.ndarra
         f[out] = np.where(inside, rho[sl] * q, 0.0)
         s_c[out] = sc
     return f, s_c
+
+
+CHUNK_FLOATS = 2**18
+"""The largest outer product of Chebyshev rows a chunk of points may build (floats, 2 MiB):
+about the L2 cache of the machine the costs were measured on (AMD EPYC, 2 MiB for 2
+cores), so that the matrix product reads it from cache."""
+
+
+def piece_chunk(dims: tuple[int, ...], k: int) -> int:
+    """Points per chunk for a piece whose force table has axes ``dims``, the first ``k``
+    of them its low-rank left factor's: :data:`CHUNK_FLOATS` over the larger of the two
+    outer products (:func:`low_rank_rows`), between 256 and 4096."""
+    size = max(math.prod(dims[:k]), math.prod(dims[k:]))
+    return int(min(4096, max(256, CHUNK_FLOATS // size)))
 
 
 @register
