@@ -494,20 +494,33 @@ RIDGE_TOP_BAND_DEG = (1e-4, cc.RIDGE_TOP_ZONE_DEG)
 """The ridge-top stratum of a wall with two angles: the wall angle's distance from the
 ridge log-uniform in this range (deg), on either side: the sharp top of S_c, which a
 uniform draw over :data:`NEAR_RIDGE_DEG` rarely comes close to."""
+RIDGE_ONSET = {"theta_sphere_deg": (17.5, 35.0), "theta_wall_deg_from_ridge": (1e-4, 3e-2)}
+"""The ridge-onset stratum of a wall with two angles: the sphere angles where the jump of
+S_c at the ridge's top appears (at 17.5-26 deg for V* > 0.006, 26-35 deg below), with the
+wall angle's distance from the table's ridge series log-uniform in the second range (deg),
+on either side. The ridge's locus has a kink of its slope at the onset, which the lower
+half's series follows only to about 1e-2 deg (v = 0.08, theta_s = 21 deg), so there the
+table may evaluate the other side's arm; the ridge-top stratum, over all sphere angles and
+out to 0.3 deg, rarely lands in that sliver. Its maximum has a long tail (the worst of 60
+bridges, 1.3e-3 on the rupture distance, was 20 % below that of 200 others), so it has
+twice the uniform design's bridges."""
 
 
 def held_out_design(kind: str, n: int, gaps_per: int, seed: int,
                     near_equal: bool = False, near_ridge: dict[str, Any] | None = None,
-                    ridge_top: bool = False) -> list[dict[str, Any]]:
+                    ridge_band: tuple[float, float] | None = None,
+                    theta_range: tuple[float, float] | None = None) -> list[dict[str, Any]]:
     """Seeded bridges (v log-uniform, theta uniform, ratio log-uniform; in the
     :data:`NEAR_EQUAL` ranges if ``near_equal``) with ``gaps_per`` uniform fractions of the
     rupture distance in [0, 0.999] each. On a wall with two angles the wall's angle is
     uniform too, or, given a table ``near_ridge``, within :data:`NEAR_RIDGE_DEG` of its
-    ridge, uniformly, or (``ridge_top``) at a distance log-uniform in :data:`RIDGE_TOP_BAND_DEG`
-    on either side (redrawn until inside the domain)."""
+    ridge, uniformly, or (``ridge_band``, deg) at a distance log-uniform in that band on
+    either side (redrawn until inside the domain). ``theta_range`` (deg): the (sphere's)
+    angle's range, default the whole domain's."""
     rng = np.random.default_rng(seed)
     r_hi = NEAR_EQUAL["radius_ratio"][1] if near_equal else cc.RATIO_RANGE[1]
-    th = NEAR_EQUAL["theta_deg"] if near_equal else cc.THETA_RANGE_DEG
+    th = (NEAR_EQUAL["theta_deg"] if near_equal else
+          cc.THETA_RANGE_DEG if theta_range is None else theta_range)
     out = []
     while len(out) < n:
         row = {"v": float(np.exp(rng.uniform(*np.log(cc.V_RANGE)))),
@@ -519,8 +532,8 @@ def held_out_design(kind: str, n: int, gaps_per: int, seed: int,
         if kind == cc.WALL_TWO_ANGLES:
             tw = rng.uniform(*cc.THETA_RANGE_DEG)
             if near_ridge is not None:
-                d = (rng.choice([-1.0, 1.0]) * math.exp(rng.uniform(*np.log(RIDGE_TOP_BAND_DEG)))
-                     if ridge_top else rng.uniform(-NEAR_RIDGE_DEG, NEAR_RIDGE_DEG))
+                d = (rng.choice([-1.0, 1.0]) * math.exp(rng.uniform(*np.log(ridge_band)))
+                     if ridge_band else rng.uniform(-NEAR_RIDGE_DEG, NEAR_RIDGE_DEG))
                 tw = float(cc.ridge_deg(row["v"], row["theta_deg"], near_ridge)) + d
                 if not cc.THETA_RANGE_DEG[0] <= tw <= cc.THETA_RANGE_DEG[1]:
                     continue
@@ -542,16 +555,18 @@ def _held_job(args: tuple) -> tuple[float, np.ndarray, np.ndarray]:
 def held_out(kind: str, n: int = 120, gaps_per: int = 8, seed: int = 2611,
              workers: int = 2, near_equal: bool = False, entry: dict[str, Any] | None = None,
              cache_dir: Path | None = None, near_ridge: bool = False,
-             ridge_top: bool = False) -> dict[str, Any]:
+             ridge_band: tuple[float, float] | None = None,
+             theta_range: tuple[float, float] | None = None) -> dict[str, Any]:
     """Held-out error table of a table (``entry``: one kind's, default the shipped one)
     against ``meniscus`` (relative errors of the rupture distance and of the force, max /
     mean / 95th percentile, where the maximum sits; ``force_attached``: the force at the
     points where the closure's own bridge exists, short of its rupture distance).
     ``near_ridge``: a wall with two angles, the wall angle near the table's ridge
-    (``ridge_top``: at its top, see :func:`held_out_design`)."""
+    (``ridge_band``: in a band of distances from it; ``theta_range``: the sphere angle's
+    range; see :func:`held_out_design`)."""
     e = cc._entry(kind) if entry is None else entry
     design = held_out_design(kind, n, gaps_per, seed, near_equal,
-                             e if near_ridge or ridge_top else None, ridge_top)
+                             e if near_ridge or ridge_band else None, ridge_band, theta_range)
 
     def rad(x: float | None) -> float | None:
         return None if x is None else math.radians(x)
@@ -639,8 +654,15 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = KIND
                 "stratum": {"theta_wall_deg_from_ridge": [-NEAR_RIDGE_DEG, NEAR_RIDGE_DEG]}}
             data[kind]["held_out_ridge_top"] = {
                 **held_out(kind, n=max(n_held_out // 2, 8), seed=2614, workers=workers,
-                           entry=entry, cache_dir=cache_dir, ridge_top=True),
+                           entry=entry, cache_dir=cache_dir, ridge_band=RIDGE_TOP_BAND_DEG),
                 "stratum": {"theta_wall_deg_from_ridge_abs_log_uniform": list(RIDGE_TOP_BAND_DEG)}}
+            band = RIDGE_ONSET["theta_wall_deg_from_ridge"]
+            data[kind]["held_out_ridge_onset"] = {
+                **held_out(kind, n=max(2 * n_held_out, 8), seed=2615, workers=workers,
+                           entry=entry, cache_dir=cache_dir, ridge_band=band,
+                           theta_range=RIDGE_ONSET["theta_sphere_deg"]),
+                "stratum": {"theta_sphere_deg": list(RIDGE_ONSET["theta_sphere_deg"]),
+                            "theta_wall_deg_from_ridge_abs_log_uniform": list(band)}}
         _write(out, data)
     data["wall_time_s"] = round(time.perf_counter() - t0, 1)
     data["branches"] = {k: BRANCHES[k] - start[k] for k in BRANCHES}

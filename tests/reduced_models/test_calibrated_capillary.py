@@ -159,6 +159,35 @@ def test_two_angles_on_a_wall_against_meniscus() -> None:
     assert max(z[0] for z in zones["top"]) < MARGIN * top["rupture_distance"]["max"]
 
 
+def test_two_angles_where_the_ridge_jump_appears() -> None:
+    """Sphere angles 17.5-35 deg, larger volumes (v 0.02-0.1), the wall angle 1e-3 to
+    1.5e-2 deg from the table's ridge series (seeded): where the series misses the true
+    top by up to about 1e-2 deg (the locus's kink at the jump's onset). The goals are not
+    claimed there; what is claimed is checked against ``meniscus``: the true S_c lies in
+    the closure's rupture window, which is the onset stratum's (1.25x its held-out
+    rupture maximum), and short of it the force's error is below the closure's own
+    ``bound_floor``."""
+    model = get_model("calibrated-capillary")
+    onset = cc.capillary_table()[cc.WALL_TWO_ANGLES]["held_out_ridge_onset"]
+    rng = np.random.default_rng(80)
+    worst = 0.0
+    for _ in range(8):
+        v = float(np.exp(rng.uniform(math.log(0.02), math.log(0.1))))
+        ts = float(rng.uniform(17.5, 35.0))
+        d = float(rng.choice([-1.0, 1.0]) * np.exp(rng.uniform(math.log(1e-3),
+                                                               math.log(1.5e-2))))
+        tw, x = float(cc.ridge_deg(v, ts)) + d, float(rng.uniform(0.0, 0.99))
+        scene = make_scene("sphere-wall", {"bridge_volume": v * R**3}, [R * 1e-3], None,
+                           (ts, tw))
+        window = cc.NEAR_RIDGE_MARGIN * max(ho["rupture_distance"]["max"]
+                                            for ho in sum(model.held_out_tables(scene), []))
+        assert window == pytest.approx(MARGIN * onset["rupture_distance"]["max"], rel=1e-12)
+        e_r, e_f = _errors_against_meniscus(model, scene, v, x)
+        assert e_r < window and e_f < float(model.bound_floor(scene)[0]), (v, ts, d, e_r, e_f)
+        worst = max(worst, e_r)
+    assert worst > 3e-4  # the design reaches where the series is off (measured 4.9e-4)
+
+
 def test_ridge_is_where_the_rupture_distance_peaks() -> None:
     """Between the table's ridge nodes, the ridge series agrees with a fresh search for
     the maximum of S_c over the wall angle (to its measured interpolation error, a few
@@ -412,7 +441,8 @@ def test_near_ridge_scenes_claim_no_less_than_the_near_ridge_errors() -> None:
     (the selection's and the curve's error estimate) at gaps short of its rupture window
     is at least its near-ridge held-out maximum (rupture distance, or force where the
     closure's bridge exists), and within RIDGE_TOP_ZONE_DEG also its ridge-top maximum;
-    elsewhere the sampled bound tables apply unchanged."""
+    elsewhere the sampled bound tables apply unchanged; at sphere angles of 17.5-35 deg,
+    where the jump at the ridge's top appears, the ridge-onset stratum's too."""
     from wetcontact import select
 
     model = get_model("calibrated-capillary")
@@ -423,11 +453,15 @@ def test_near_ridge_scenes_claim_no_less_than_the_near_ridge_errors() -> None:
                    for k in keys)
 
     near, top = worst("held_out_near_ridge"), worst("held_out_near_ridge", "held_out_ridge_top")
-    assert top > near
-    v, ts = 3e-3, 40.0
-    ridge = float(cc.ridge_deg(v, ts))
-    for tw, least in ((ridge - 1.0, near), (ridge + 2.5, near), (ridge + 0.01, top),
-                      (ridge - 0.2, top), (ridge - 8.0, 0.0), (ts, 0.0)):
+    onset = worst("held_out_near_ridge", "held_out_ridge_top", "held_out_ridge_onset")
+    assert onset > top > near
+    cases = []
+    for v, ts, at_top in ((3e-3, 40.0, top), (3e-3, 25.0, onset)):  # onset: 17.5-35 deg
+        ridge = float(cc.ridge_deg(v, ts))
+        cases += [(v, ts, tw, least) for tw, least in (
+            (ridge - 1.0, near), (ridge + 2.5, near), (ridge + 0.01, at_top),
+            (ridge - 0.2, at_top), (ridge - 8.0, 0.0), (ts, 0.0))]
+    for v, ts, tw, least in cases:
         scene = make_scene("sphere-wall", {"bridge_volume": v * R**3}, [1e-6, 2e-5], None,
                            (ts, tw))
         floor = model.bound_floor(scene)  # both gaps far short of S_c

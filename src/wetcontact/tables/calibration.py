@@ -140,7 +140,9 @@ def capillary_rows(path: str, data: dict[str, Any]) -> list[dict[str, Any]]:
             continue
         for key, label in (("held_out", ""), ("held_out_near_equal", " (nearly equal)"),
                            ("held_out_near_ridge", " (near the ridge)"),
-                           ("held_out_ridge_top", " (at the ridge top)")):
+                           ("held_out_ridge_top", " (at the ridge top)"),
+                           ("held_out_ridge_onset", " (at the ridge top where its jump "
+                                                    "appears)")):
             if key not in data[kind]:
                 continue
             ho = data[kind][key]
