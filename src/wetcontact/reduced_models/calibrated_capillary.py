@@ -214,19 +214,52 @@ def table_pieces(entry: dict[str, Any]) -> list[dict[str, Any]]:
     return list(entry["pieces"])
 
 
-def half_index(entry: dict[str, Any], theta_sphere_deg: np.ndarray) -> np.ndarray:
+ONSET_KEY = "theta_sphere_split"
+"""The two-angle table's field with the sphere angle (deg) where the ridge's jump appears,
+a Chebyshev series in the volume coordinate ``a``: a half's end given as ``None``."""
+
+
+def onset_deg(entry: dict[str, Any], a: np.ndarray) -> np.ndarray:
+    """The sphere angle (deg) where the jump of S_c at the ridge's top appears, at volume
+    coordinates ``a``: the two-angle table's series :data:`ONSET_KEY`."""
+    series = entry.get(ONSET_KEY)
+    if series is None:
+        raise ValueError("calibrated-capillary: a half bounded by the onset angle in a "
+                         f"table without {ONSET_KEY!r}")
+    return chebyshev_tensor(np.asarray(series["chebyshev"]), [np.asarray(a, dtype=float)])
+
+
+def sphere_range(entry: dict[str, Any], half: dict[str, Any], a: np.ndarray
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """A half's range of the sphere's angle (deg) at volume coordinates ``a``: its ends,
+    a number, or ``None`` for the onset angle (:func:`onset_deg`)."""
+    a = np.asarray(a, dtype=float)
+    lo, hi = (onset_deg(entry, a) if x is None else np.full(a.shape, float(x))
+              for x in half["theta_sphere_deg"])
+    return lo, hi
+
+
+def half_index(entry: dict[str, Any], theta_sphere_deg: np.ndarray,
+               a: np.ndarray | None = None) -> np.ndarray:
     """Which half of a two-angle table (``entry["halves"]``) each sphere angle (deg) falls
-    in: the first whose upper end is at or above it (-1 past the last)."""
+    in: the first whose upper end (at the volume coordinate ``a``, needed where an end is
+    the onset angle) is at or above it (-1 past the last)."""
     t = np.asarray(theta_sphere_deg, dtype=float)
     out = np.full(t.shape, -1)
     for k, half in reversed(list(enumerate(entry["halves"]))):
-        out[t <= half["theta_sphere_deg"][1]] = k
+        hi = half["theta_sphere_deg"][1]
+        out[t <= (onset_deg(entry, a) if hi is None else hi)] = k
     return out
 
 
-def sphere_coordinate(half: dict[str, Any], theta_sphere_deg: np.ndarray) -> np.ndarray:
-    """b1: the sphere's angle (deg) mapped linearly from its half's range to [-1, 1]."""
-    return _map(np.asarray(theta_sphere_deg, dtype=float), *half["theta_sphere_deg"])
+def sphere_coordinate(half: dict[str, Any], theta_sphere_deg: np.ndarray,
+                      lo: Any = None, hi: Any = None) -> np.ndarray:
+    """b1: the sphere's angle (deg) mapped linearly from its half's range to [-1, 1] (the
+    range per point, ``lo`` and ``hi``, where an end is the onset angle:
+    :func:`sphere_range`)."""
+    if lo is None or hi is None:
+        lo, hi = half["theta_sphere_deg"]
+    return _map(np.asarray(theta_sphere_deg, dtype=float), lo, hi)
 
 
 def ridge_deg(v: Any, theta_sphere_deg: Any, entry: dict[str, Any] | None = None
@@ -238,21 +271,22 @@ def ridge_deg(v: Any, theta_sphere_deg: Any, entry: dict[str, Any] | None = None
     v, t = np.broadcast_arrays(np.asarray(v, dtype=float), np.asarray(theta_sphere_deg,
                                                                       dtype=float))
     a, out = volume_coordinate(v.ravel()), np.full(v.size, np.nan)
-    for half, m, b1 in _by_half(e, t.ravel()):
+    for half, m, b1 in _by_half(e, t.ravel(), a):
         out[m] = theta_split_deg(half, a[m], b1)
     return out.reshape(v.shape)
 
 
-def _by_half(entry: dict[str, Any], theta_sphere_deg: np.ndarray
+def _by_half(entry: dict[str, Any], theta_sphere_deg: np.ndarray, a: np.ndarray
              ) -> Iterator[tuple[dict[str, Any], np.ndarray, np.ndarray]]:
-    """Per half of a two-angle table that holds some of the (flat) sphere angles (deg):
-    the half, the indices of its points (:func:`half_index`) and their b1
-    (:func:`sphere_coordinate`)."""
-    which = half_index(entry, theta_sphere_deg)
+    """Per half of a two-angle table that holds some of the (flat) sphere angles (deg; at
+    volume coordinates ``a``): the half, the indices of its points (:func:`half_index`)
+    and their b1 (:func:`sphere_coordinate`)."""
+    which = half_index(entry, theta_sphere_deg, a)
     for k, half in enumerate(entry["halves"]):
         m = np.flatnonzero(which == k)
         if m.size:
-            yield half, m, sphere_coordinate(half, theta_sphere_deg[m])
+            yield half, m, sphere_coordinate(half, theta_sphere_deg[m],
+                                             *sphere_range(entry, half, a[m]))
 
 
 def piece_range(piece: dict[str, Any], split: np.ndarray | None, n: int
@@ -458,7 +492,7 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
         tw = np.broadcast_to(np.asarray(theta_wall, float), shape).ravel()
         ts = np.degrees(theta)
         f, s_c = np.full(v.size, np.nan), np.full(v.size, np.nan)
-        for half, m, b1 in _by_half(e, ts):  # each half: its own b1 range and ridge
+        for half, m, b1 in _by_half(e, ts, a):  # each half: its own b1 range and ridge
             f[m], s_c[m] = _pieces(half, [a[m], b1], np.degrees(tw[m]),
                                    theta_split_deg(half, a[m], b1), v[m], s[m], rho[m], chunk)
         cos_sum = np.cos(theta) + np.cos(tw)
