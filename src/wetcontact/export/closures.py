@@ -20,11 +20,13 @@ for a plane:
     Chebyshev interpolant of ``meniscus``. Domain: a plane or a sphere pair with
     ``r = R_l/R_s`` in [1, 10], ``v = V/R_s^3`` in [1e-4, 0.1], ONE contact angle
     (theta1 = theta2) in [0, 70] deg; or a plane with TWO angles, the sphere's theta1 and
-    the plane's theta2, each in [0, 70] deg (the table ``sphere-wall-two-angles``, in two
-    halves of the sphere's angle, [0, 35] and [35, 70] deg, theta1 = 35 in the first, each
-    a table ``S_c = R v^(1/3) exp(sum C T_i(a) T_j(b1) T_k(b2))``, b1 from theta1 over its
-    half, b2 from theta2 within its piece, the pieces meeting at the half's ridge
-    theta2*(a, b1)).
+    the plane's theta2, each in [0, 70] deg (the table ``sphere-wall-two-angles``, in
+    halves of the sphere's angle, e.g. [0, 35] and [35, 70] deg, theta1 = 35 in the first,
+    each a table ``S_c = R v^(1/3) exp(sum C T_i(a) T_j(b1) T_k(b2))``, b1 from theta1 over
+    its half, b2 from theta2 within its piece, the pieces meeting at the half's ridge
+    theta2*(a, b1); a half's end may be the onset angle theta_on(V) = sum_k o_k T_k(a) where
+    the ridge's jump appears, so that e.g. [0, theta_on], [theta_on, 35] and [35, 70] deg
+    split the lower range along that curve, b1 then mapped over the point's own range).
 ``capillary_force(r1, r2, volume, gap, surface_tension, theta1_deg, theta2_deg)``
     The shipped ``calibrated-capillary`` closure: ``F = -2 pi sigma R* (2 cos theta)
     exp(sum C T_i(w) T_j(a) T_k(b) T_l(c))`` (two angles on a plane: ``-2 pi sigma R
@@ -45,7 +47,8 @@ for a plane:
 carry: the shipped ``calibrated-capillary`` table (whatever geometries, theta pieces, split
 angle and node counts its package data holds: ``pieces`` in theta, with a ``theta_split``
 series where a piece ends at the split angle; a plane with two angles in ``halves`` of the
-sphere's angle, each with such pieces and its ridge series) and the two refits.
+sphere's angle, each with such pieces and its ridge series, a half's end possibly the onset
+angle of the series ``theta_sphere_split``) and the two refits.
 
 Outside the calibrated domain (or for inputs no closure covers: unequal spheres for the
 immersed part, two contact angles between spheres for ``calibrated-capillary``, a geometry
@@ -144,14 +147,33 @@ class CapillaryPiece:
 class CapillaryHalf:
     """One half of the table of a wall with two contact angles: the sphere angles
     ``theta_sphere_lo`` ... ``theta_sphere_hi`` (deg) it covers (b1 is the sphere's angle
-    mapped linearly from that range to [-1, 1]), its ridge series ``split`` (the wall angle
-    of the rupture distance's ridge, a tensor Chebyshev series in ``a`` and b1, shape
-    (n_a, n_b1)) and its pieces, which divide the wall's angle at that ridge."""
+    mapped linearly from that range to [-1, 1]: ``b1 = (2 theta_s - lo - hi)/(hi - lo)``),
+    its ridge series ``split`` (the wall angle of the rupture distance's ridge, a tensor
+    Chebyshev series in ``a`` and b1, shape (n_a, n_b1)) and its pieces, which divide the
+    wall's angle at that ridge. An end ``None`` is the onset angle theta_on(V) of the
+    part's ``onset`` series at the point's own volume coordinate ``a`` (the range, and b1's
+    map, then differ from point to point)."""
 
-    theta_sphere_lo: float
-    theta_sphere_hi: float
+    theta_sphere_lo: float | None
+    theta_sphere_hi: float | None
     pieces: tuple[CapillaryPiece, ...]
     split: np.ndarray
+
+    @property
+    def range_text(self) -> str:
+        """``[lo, hi] deg``, an onset end as ``theta_on(V)``."""
+        return f"[{sphere_end_text(self.theta_sphere_lo)}, " \
+               f"{sphere_end_text(self.theta_sphere_hi)}] deg"
+
+
+ONSET_TEXT = "theta_on(V)"
+"""How the exports' texts name a half's end at the onset angle (``None``)."""
+
+
+def sphere_end_text(x: float | None) -> str:
+    """A half's end of the sphere angle as text: the number (``%g``), or
+    :data:`ONSET_TEXT` for the onset angle."""
+    return ONSET_TEXT if x is None else f"{x:g}"
 
 
 @dataclass(frozen=True, eq=False)
@@ -164,9 +186,13 @@ class CapillaryPart:
     coordinate ``a``; ``halves`` is empty.
 
     A wall with two angles (``two_angles``): ``halves``, the table split in the sphere's
-    angle (a point belongs to the first half whose upper ``theta_sphere_hi`` is at or above
-    its sphere angle), each a complete table with its own b1 range, ridge series and pieces
-    (:class:`CapillaryHalf`); ``pieces`` is empty and ``split`` ``None``.
+    angle (a point belongs to the first half whose upper ``theta_sphere_hi``, evaluated at
+    the point, is at or above its sphere angle), each a complete table with its own b1
+    range, ridge series and pieces (:class:`CapillaryHalf`); ``pieces`` is empty and
+    ``split`` ``None``. ``onset``: the package data's ``theta_sphere_split``, the sphere
+    angle theta_on (deg) where the ridge's jump appears as a 1-D Chebyshev series in ``a``,
+    ``theta_on = sum_k o_k T_k(a)``, the value of a half's end ``None``; ``None`` when the
+    table has no such series (then no half ends there).
 
     ``held_out``: the error table of the geometry; ``held_out_strata``: those of its
     stress strata (e.g. ``near_ridge``), by name."""
@@ -177,6 +203,7 @@ class CapillaryPart:
     held_out: dict[str, Any]
     held_out_strata: dict[str, dict[str, Any]] = field(default_factory=dict)
     halves: tuple[CapillaryHalf, ...] = ()
+    onset: np.ndarray | None = None
 
     @property
     def two_angles(self) -> bool:
@@ -233,13 +260,15 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
     One angle: ``pieces`` (and ``theta_split``), rupture tables 2-D (a wall) or 3-D (sphere
     pairs), a 1-D split series, the pieces contiguous from 0 to 70 deg.
 
-    Two angles on a wall: ``halves``, each with its ``theta_sphere_deg`` range (finite,
-    increasing; the halves contiguous from 0 to 70 deg), a 2-D ridge series over (a, b1)
-    and pieces of rupture tables 3-D (a, b1, b2), contiguous from 0 deg to an end at or
-    above 70 deg (past the domain: the ridge may lie above 70 deg). An entry with the
-    former top-level ``pieces``/``theta_split`` (one table over the whole sphere range) is
-    refused: the model no longer evaluates it."""
-    from wetcontact.reduced_models.calibrated_capillary import THETA_RANGE_DEG
+    Two angles on a wall: ``halves``, each with its ``theta_sphere_deg`` range (finite, or
+    ``None`` for the onset angle of the entry's ``theta_sphere_split``, a non-empty 1-D
+    Chebyshev series in ``a`` of finite numbers; increasing at every ``a`` in [-1, 1]; the
+    halves contiguous from 0 to 70 deg, an end ``None`` followed by a start ``None``), a
+    2-D ridge series over (a, b1) and pieces of rupture tables 3-D (a, b1, b2), contiguous
+    from 0 deg to an end at or above 70 deg (past the domain: the ridge may lie above 70
+    deg). An entry with the former top-level ``pieces``/``theta_split`` (one table over the
+    whole sphere range) is refused: the model no longer evaluates it."""
+    from wetcontact.reduced_models.calibrated_capillary import ONSET_KEY, THETA_RANGE_DEG
 
     strata = {k.removeprefix("held_out_"): v for k, v in e.items()
               if k.startswith("held_out_") and isinstance(v, dict)}
@@ -248,7 +277,8 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
         return CapillaryPart(kind, pieces, split, e.get("held_out", {}), strata)
     raw = e.get("halves")
     allowed = ("allowed: 'halves', a list of tables each with 'theta_sphere_deg' [lo, hi] "
-               f"(finite, increasing, contiguous from {THETA_RANGE_DEG[0]:g} to "
+               f"(finite, or null for the onset angle of the field {ONSET_KEY!r}; "
+               f"increasing, contiguous from {THETA_RANGE_DEG[0]:g} to "
                f"{THETA_RANGE_DEG[1]:g} deg), 'theta_split' (a 2-D Chebyshev series in (a, "
                "b1)) and 'pieces' (" + LAYOUT_HINT + ")")
     if "pieces" in e or "theta_split" in e:
@@ -261,18 +291,32 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
         raise InputError(f"{path}: {kind} ridge_margin_deg = {e['ridge_margin_deg']!r}; "
                          "allowed: 0 or absent (each point is evaluated in its own piece, "
                          "as the model does)")
-    halves, top = [], THETA_RANGE_DEG[0]
+    onset = _onset_series(path, kind, e.get(ONSET_KEY))
+    # the onset angle at Chebyshev-Lobatto points of a: where the halves' ends are compared
+    on = None if onset is None else _series(onset, np.cos(np.linspace(0.0, math.pi, 513)))
+    halves: list[CapillaryHalf] = []
+    top: float | None = THETA_RANGE_DEG[0]
     for i, h in enumerate(raw):
         where = f"{kind} half {i}"
         rng = h.get("theta_sphere_deg") if isinstance(h, dict) else None
         try:
-            lo, hi = (float(x) for x in rng)
+            lo, hi = (None if x is None else float(x) for x in rng)
         except (TypeError, ValueError):
             raise InputError(f"{path}: {where}: theta_sphere_deg = {rng!r}; {allowed}"
                              ) from None
-        if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi) or lo != top:
+        if None in (lo, hi) and on is None:
+            raise InputError(f"{path}: {where}: theta_sphere_deg = {rng!r}, an end null (the "
+                             f"onset angle) in an entry without the field {ONSET_KEY!r}; "
+                             f"{allowed}")
+        if not all(x is None or math.isfinite(x) for x in (lo, hi)) or lo != top:
             raise InputError(f"{path}: {where}: theta_sphere_deg = {rng!r} (after "
-                             f"{top:g} deg); {allowed}")
+                             f"{sphere_end_text(top)} deg); {allowed}")
+        ends = [on if x is None else x for x in (lo, hi)]
+        if not np.all(np.less(*ends)):
+            raise InputError(
+                f"{path}: {where}: theta_sphere_deg = {rng!r}, empty or decreasing"
+                + ("" if on is None else f" where the onset angle is {np.min(on):.6g} to "
+                   f"{np.max(on):.6g} deg (a in [-1, 1])") + f"; {allowed}")
         top = hi
         pieces, split = _sections(path, kind, where, h)
         if split is None:
@@ -280,9 +324,42 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
         halves.append(CapillaryHalf(lo, hi, pieces, split))
     if top != THETA_RANGE_DEG[1]:
         ends = [[hv.theta_sphere_lo, hv.theta_sphere_hi] for hv in halves]
-        raise InputError(f"{path}: {kind}: halves' theta_sphere_deg {ends} end at {top:g} "
-                         f"deg; {allowed}")
-    return CapillaryPart(kind, (), None, e.get("held_out", {}), strata, tuple(halves))
+        raise InputError(f"{path}: {kind}: halves' theta_sphere_deg {ends} end at "
+                         f"{sphere_end_text(top)} deg; {allowed}")
+    return CapillaryPart(kind, (), None, e.get("held_out", {}), strata, tuple(halves), onset)
+
+
+def _onset_series(path: Path, kind: str, raw: Any) -> np.ndarray | None:
+    """The two-angle entry's onset series (``theta_sphere_split``: ``{"chebyshev": [o_0,
+    ...]}``, deg), validated; ``None`` when absent."""
+    from wetcontact.reduced_models.calibrated_capillary import ONSET_KEY
+
+    if raw is None:
+        return None
+    coef = raw.get("chebyshev") if isinstance(raw, dict) else None
+    if not (isinstance(coef, list) and coef and all(
+            isinstance(c, int | float) and not isinstance(c, bool) and math.isfinite(c)
+            for c in coef)):
+        raise InputError(f"{path}: {kind}: field {ONSET_KEY!r} = {raw!r}; allowed: "
+                         "{'chebyshev': [o_0, ..., o_n]}, a non-empty list of finite numbers "
+                         "(the onset angle theta_on = sum_k o_k T_k(a), deg, a 1-D Chebyshev "
+                         "series in the volume coordinate a)")
+    return np.asarray(coef, dtype=float)
+
+
+def _series(coef: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """``sum_k c_k T_k(t)`` (1-D), the terms added in the order of k at each point, as the
+    exports add them."""
+    rows = np.empty((coef.size, t.size))
+    rows[0] = 1.0
+    if coef.size > 1:
+        rows[1] = t
+    for k in range(2, coef.size):
+        rows[k] = 2.0 * t * rows[k - 1] - rows[k - 2]
+    out = np.zeros(t.size)
+    for k in range(coef.size):
+        out = out + coef[k] * rows[k]
+    return out
 
 
 def _sections(path: Path, kind: str, where: str, e: dict[str, Any]
