@@ -15,10 +15,12 @@ from typing import Any
 
 from wetcontact import __version__
 from wetcontact.export.closures import (
+    ONSET_TEXT,
     TWO_ANGLES,
     CapillaryPart,
     CapillarySource,
     immersed_tables,
+    sphere_end_text,
 )
 from wetcontact.fileio import atomic_write_text
 from wetcontact.reduced_models.calibrated import viscous_table
@@ -98,8 +100,10 @@ CAP_COMMENT = """\
  *   s = S/R_s. A plane with TWO contact angles (theta1 the sphere's, theta2 the plane's)
  *   has its own table, axes (a, b1, b2[, c]): S_c = R v^(1/3) exp(sum C_rup T(a) T(b1)
  *   T(b2)), F = -2 pi sigma R (cos theta1 + cos theta2) exp(sum C_F T(a) T(b1) T(b2) T(c)),
- *   in halves of theta1 (a point in the first half whose upper end is at or above theta1):
- *   {halves}, each with its own tables: b1 from theta1 over the half's range, b2
+ *   in halves of theta1 (a point in the first half whose upper end, at the point's v, is at
+ *   or above theta1):
+ *   {halves}, each with its own tables: b1 from theta1 over the half's range (at the
+ *   point's own a where an end is theta_on: wc__cap_select), b2
  *   from theta2 within its piece (quadratic toward the ridge where the piece says so:
  *   wc__cap_b); the pieces meet at the ridge of S_c, a plane angle
  *   theta2* = sum s_ij T_i(a) T_j(b1) (deg, the half's own series).
@@ -271,9 +275,11 @@ struct wc__cap_piece {{
  * the plane angle of the rupture distance's ridge as sum_ij split[i][j] T_i(a) T_j(b1)
  * (nsplit x nsplit_b, row-major). A plane with two angles has one table per half of the
  * sphere's angle, [ts_lo, ts_hi] (deg; b1 mapped from it; a point belongs to the first
- * half whose ts_hi is at or above its sphere angle); the one-angle geometries have one. */
+ * half whose ts_hi is at or above its sphere angle), an end flagged ts_lo_onset /
+ * ts_hi_onset being the onset angle wc__cap_onset(a) at the point (wc__cap_select sets
+ * it); the one-angle geometries have one. */
 struct wc__cap_table {{
-    int npieces, nsplit, nsplit_b;
+    int npieces, nsplit, nsplit_b, ts_lo_onset, ts_hi_onset;
     double ts_lo, ts_hi;
     const double *split;
     struct wc__cap_piece piece[WC__CAP_PIECES];
@@ -308,21 +314,6 @@ static inline int wc__cap_table(int geometry, int half, struct wc__cap_table *t)
 {cap_tables}
 }}
 
-/* The table of a geometry that holds the sphere angle ts (deg): for a plane with two
- * angles the first half whose upper end is at or above ts, else the geometry's one
- * table; 0 when none does (or it was not generated). */
-static inline int wc__cap_select(int geometry, double ts, struct wc__cap_table *t)
-{{
-    int h;
-    for (h = 0; h < WC__CAP_HALVES; ++h) {{
-        if (!wc__cap_table(geometry, h, t))
-            return 0;
-        if (geometry != WC__CAP_PLANE2 || ts <= t->ts_hi)
-            return 1;
-    }}
-    return 0;
-}}
-
 /* T_0(t) ... T_{{n-1}}(t) by the three-term recurrence. */
 static inline void wc__cheb_rows(double t, double *out, int n)
 {{
@@ -332,6 +323,35 @@ static inline void wc__cheb_rows(double t, double *out, int n)
         out[1] = t;
     for (k = 2; k < n; ++k)
         out[k] = 2.0 * t * out[k - 1] - out[k - 2];
+}}
+
+/* The sphere angle (deg) where the ridge's jump appears on a plane with two angles, at the
+ * volume coordinate a: theta_on = sum_k o[k] T_k(a), the terms added in the order of k;
+ * NAN when the table has no such series (then no half ends there). */
+static inline double wc__cap_onset(double a)
+{{
+{cap_onset}
+}}
+
+/* The table of a geometry that holds the sphere angle ts (deg) at the volume coordinate a:
+ * for a plane with two angles the first half whose upper end (the onset angle at a where
+ * it is flagged so, set in the table) is at or above ts, else the geometry's one table; 0
+ * when none does (or it was not generated). */
+static inline int wc__cap_select(int geometry, double ts, double a, struct wc__cap_table *t)
+{{
+    int h;
+    double on = geometry == WC__CAP_PLANE2 ? wc__cap_onset(a) : 0.0;
+    for (h = 0; h < WC__CAP_HALVES; ++h) {{
+        if (!wc__cap_table(geometry, h, t))
+            return 0;
+        if (t->ts_lo_onset)
+            t->ts_lo = on;
+        if (t->ts_hi_onset)
+            t->ts_hi = on;
+        if (geometry != WC__CAP_PLANE2 || ts <= t->ts_hi)
+            return 1;
+    }}
+    return 0;
 }}
 
 /* x in [lo, hi] mapped to [-1, 1]. */
@@ -414,11 +434,6 @@ static inline int wc__cap_bridge(double r1, double r2, double volume, double the
         return 0;
     if (!(theta2_deg >= {ct_lo_r} && theta2_deg <= {ct_hi_r} * (1 + 1e-12)))
         return 0;
-    /* the sphere's angle as the package holds it (radians and back): it picks the half */
-    ts = theta1_deg * (WC_PI / 180.0) * (180.0 / WC_PI);
-    if (!wc__cap_select(plane ? (*two ? WC__CAP_PLANE2 : WC__CAP_PLANE) : WC__CAP_SPHERES, ts,
-                        tab))
-        return 0;
     *rs = plane ? r1 : (r1 < r2 ? r1 : r2);
     ratio = plane ? 1.0 : (r1 < r2 ? r2 : r1) / *rs;
     *v = volume / (*rs * *rs * *rs);
@@ -428,6 +443,11 @@ static inline int wc__cap_bridge(double r1, double r2, double volume, double the
         return 0;
     *rho = plane ? 1.0 : ratio / (1.0 + ratio);
     a = wc__map(log(*v), {lnv_lo_r}, {lnv_hi_r});
+    /* the sphere's angle as the package holds it (radians and back): it picks the half */
+    ts = theta1_deg * (WC_PI / 180.0) * (180.0 / WC_PI);
+    if (!wc__cap_select(plane ? (*two ? WC__CAP_PLANE2 : WC__CAP_PLANE) : WC__CAP_SPHERES, ts,
+                        a, tab))
+        return 0;
     if (*two) {{  /* axes (a, b1, b2): b1 within the half; the pieces divide theta2 */
         x0 = a;
         x1 = wc__map(ts, tab->ts_lo, tab->ts_hi);
@@ -737,7 +757,7 @@ def header_text(source: CapillarySource) -> str:
                        for sec in p.sections),
         cap_halves=max(len(p.sections) for p in source.table.parts.values()),
         cap_rmax=max(pc.rank for p in source.table.parts.values() for pc in p.all_pieces),
-        cap_tables=_cap_tables(source),
+        cap_tables=_cap_tables(source), cap_onset=_cap_onset(source),
         n_wall=len(w["chebyshev"]), cheb_wall=c_array(w["chebyshev"]),
         n_ss=len(ss["chebyshev"]), cheb_ss=c_array(ss["chebyshev"]), log_lo=repr(lo),
         log_hi=repr(hi), s_lo=repr(math.exp(lo)), s_hi=repr(math.exp(hi)),
@@ -748,10 +768,28 @@ def header_text(source: CapillarySource) -> str:
 
 
 def halves_text(part: CapillaryPart | None) -> str:
-    """The halves' sphere-angle ranges of a plane with two angles, for the comments."""
+    """The halves' sphere-angle ranges of a plane with two angles, for the comments (an end
+    at the onset angle as ``theta_on(V)``, then that angle's series)."""
     if part is None:
         return "not generated"
-    return ", ".join(f"[{h.theta_sphere_lo:g}, {h.theta_sphere_hi:g}] deg" for h in part.halves)
+    text = ", ".join(h.range_text for h in part.halves)
+    if part.onset is not None:
+        text += (f" ({ONSET_TEXT} = sum_k o_k T_k(a), deg, {part.onset.size} coefficients: "
+                 "the sphere angle where the ridge's jump appears)")
+    return text
+
+
+def _cap_onset(source: CapillarySource) -> str:
+    """The body of ``wc__cap_onset``: the two-angle table's onset series, summed in the
+    order of k, or NAN without one."""
+    part = source.table.parts.get(TWO_ANGLES)
+    if part is None or part.onset is None:
+        return "    (void)a;\n    return NAN;"
+    n = part.onset.size
+    return (f"    static const double o[{n}] = {c_array(part.onset)};\n"
+            f"    double t[{n}], sum = 0.0;\n    int k;\n"
+            f"    wc__cheb_rows(a, t, {n});\n"
+            f"    for (k = 0; k < {n}; ++k)\n        sum += o[k] * t[k];\n    return sum;")
 
 
 def capillary_fields(source: CapillarySource) -> dict[str, Any]:
@@ -798,7 +836,8 @@ def _cap_tables(source: CapillarySource) -> str:
         for h, sec in enumerate(part.sections):
             ts = ((sec.theta_sphere_lo, sec.theta_sphere_hi) if part.halves
                   else source.table.theta_range_deg)
-            what = f"{kind}, sphere angle {ts[0]:g} to {ts[1]:g} deg" if part.halves else kind
+            what = (f"{kind}, sphere angle {sphere_end_text(ts[0])} to "
+                    f"{sphere_end_text(ts[1])} deg" if part.halves else kind)
             lines = [f"    if (geometry == {code} && half == {h}) {{  /* {what} */"]
             split = "(const double *)0"
             if sec.split is not None:
@@ -817,8 +856,9 @@ def _cap_tables(source: CapillarySource) -> str:
             lines.append(f"        t->npieces = {len(sec.pieces)};")
             lines.append(f"        t->nsplit = {nsplit[0]};")
             lines.append(f"        t->nsplit_b = {nsplit[1]};")
-            lines.append(f"        t->ts_lo = {float(ts[0])!r};")
-            lines.append(f"        t->ts_hi = {float(ts[1])!r};")
+            for end, x in zip(("lo", "hi"), ts, strict=True):  # None: the onset angle
+                lines.append(f"        t->ts_{end} = {0.0 if x is None else float(x)!r};")
+                lines.append(f"        t->ts_{end}_onset = {int(x is None)};")
             lines.append(f"        t->split = {split};")
             for n, p in enumerate(sec.pieces):
                 plane = kind == "sphere-wall"  # no w axis: one entry in the header's layout

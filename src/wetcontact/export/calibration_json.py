@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 from wetcontact import __version__
 from wetcontact.errors import InputError
+from wetcontact.export.closures import sphere_end_text
 from wetcontact.fileio import atomic_write_text
 
 if TYPE_CHECKING:
@@ -89,7 +90,10 @@ FORMS = {
         "[lo, hi] of theta_w (below), [v0, v1] the domain's v, [t0, t1] its "
         "theta_sphere_deg: the table is split in the sphere's angle into halves, each with "
         "its own parts and ridge, and a point belongs to the first half whose upper "
-        "theta_sphere_deg end is at or above theta_s"),
+        "theta_sphere_deg end is at or above theta_s; an end null is the onset angle "
+        "theta_on(V) = sum_k o_k T_k(a) (deg, the part's theta_sphere_split, o_k its "
+        "'chebyshev'; the sphere angle where the ridge's jump appears) at the point's own a, "
+        "so that t0, t1 and b1's map differ from point to point"),
     "capillary-force-two-angles": (
         "F = -2 pi sigma R (cos theta_s + cos theta_w) exp(sum C[i, j, k, l] T_i(a) T_j(b1) "
         "T_k(b2) T_l(c)) for S < S_c, exactly 0 at and past S_c; c = 2 z - 1, z = sqrt(1 - "
@@ -108,6 +112,10 @@ FORMS = {
         "the ridge is the part's upper end (hi), b2 = 2 sqrt((theta_w_deg - lo)/(hi - lo)) - "
         "1 when it is its lower end (lo), the square roots' arguments clipped at 0"),
 }
+ONSET_DESCRIPTION = (
+    "the sphere angle theta_on (deg) where the jump of S_c at the ridge's top appears, "
+    "theta_on(V) = sum_k o_k T_k(a), o_k = 'chebyshev', a = m(ln v; ln v0, ln v1): the value "
+    "of each null end of this part's theta_sphere_deg, at the point's own a")
 LAYOUT = {"willett": "k[i, j, m] flattened in C order, shape (4, 4, 3)",
           "finite-liquid": "(p, c0, ..., c8)", "lian-rupture": "(a, b, c)"}
 
@@ -199,15 +207,19 @@ def shipped_document(closure: str) -> dict[str, Any]:
                 "stokes (flat film top) for films; lubrication for bridges")}
 
 
-def capillary_document() -> dict[str, Any]:
+def capillary_document(table: CapillaryTable | None = None) -> dict[str, Any]:
     """The shipped ``calibrated-capillary`` closure: per generated geometry a rupture part
     and a force part, each tensor flattened in C order (its shape in the layout); a wall
     with two contact angles (geometry ``sphere-wall-two-angles``) has axes (a, b1, b2) and
     a 2-D ridge series, per half of the sphere's angle (its parts' ``theta_sphere_deg``:
-    the half's range, over which b1 is mapped)."""
+    the half's range, over which b1 is mapped; an end ``null`` is the onset angle, whose
+    1-D series in ``a`` the part carries as ``theta_sphere_split``).
+
+    ``table``: the capillary table to write (default the shipped one,
+    :func:`~wetcontact.export.closures.shipped_capillary`)."""
     from wetcontact.export.closures import KINDS, shipped_capillary
 
-    t = shipped_capillary()
+    t = shipped_capillary() if table is None else table
     parts = []
     for kind, part in t.parts.items():
         ho = part.held_out
@@ -222,9 +234,10 @@ def capillary_document() -> dict[str, Any]:
             if kind == "sphere-sphere":
                 domain["radius_ratio"] = list(t.ratio_range)
             half = ""
-            if two:
+            if two:  # an end None (JSON null): the onset angle, its series in the part
                 domain["theta_sphere_deg"] = [sec.theta_sphere_lo, sec.theta_sphere_hi]
-                half = f"sphere angle {sec.theta_sphere_lo:g} to {sec.theta_sphere_hi:g} deg"
+                half = (f"sphere angle {sphere_end_text(sec.theta_sphere_lo)} to "
+                        f"{sphere_end_text(sec.theta_sphere_hi)} deg")
             for piece in sec.pieces:
                 parts.extend(_capillary_piece_parts(t, kind, part, sec, piece, axes, angle,
                                                     domain, half))
@@ -292,6 +305,11 @@ def _capillary_piece_parts(t: CapillaryTable, kind: str, part: CapillaryPart,
         out.append({"name": f"{name} {kind}{where}", "geometry": kind, "amount": "bridge",
                     "form": text, "coefficient_layout": layout, "coefficients": coef,
                     "domain": {**domain, angle: [lo, hi], **extra}, "held_out": held_out})
+        if None in domain.get("theta_sphere_deg", ()):
+            assert part.onset is not None  # the reader refuses a null end without it
+            out[-1]["theta_sphere_split"] = {
+                "chebyshev": [float(c) for c in part.onset],
+                "description": ONSET_DESCRIPTION}
     return out
 
 

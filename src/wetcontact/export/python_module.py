@@ -70,10 +70,12 @@ geometry may carry several tables, e.g. below and above a split angle theta_s(V)
 Chebyshev series in a), w from (ln r)^(1/3) (sphere pairs only), c = 2 z - 1 with
 z = sqrt(1 - ln(1 + S/eps)/ln(1 + S_c/eps)), eps = sqrt(v/(pi rho)) (all lengths over R_s).
 A plane with TWO contact angles, theta1 the sphere's and theta2 the plane's, has its own
-table in halves of theta1 (a point in the first half whose upper end is at or above theta1):
+table in halves of theta1 (a point in the first half whose upper end, at the point's v, is at
+or above theta1):
 {halves}; each S_c = R v^(1/3) exp(sum C_rup T(a) T(b1) T(b2)) and
 F = -2 pi sigma R (cos theta1 + cos theta2) exp(sum C_F T(a) T(b1) T(b2) T(c)), b1 from
-theta1 over its half's range, b2 from theta2 within its piece: the pieces meet at the
+theta1 over its half's range (at the point's own a where an end is theta_on), b2 from
+theta2 within its piece: the pieces meet at the
 ridge of S_c, a plane angle theta2*(a, b1) = sum s_ij T_i(a) T_j(b1) (deg, the half's own
 series), and b2 is quadratic toward it (_cap_b), so that the nodes cluster where S_c peaks.
 C_F is carried in its low-rank form C_F = sum_k L[..., k] R[k, ...] (rank r, the package's
@@ -206,14 +208,16 @@ _CAP_ANGLE_TOL = {angle_tol_r}  # rad: two angles closer than this count as one
 # deg or None for the split angle ("split": a Chebyshev series in a); a point belongs
 # to the first piece whose upper end is at or above its angle; None where no table was
 # generated. A plane with two angles, "wall2", is a list of halves of the sphere's angle
-# theta1, each such a table with its "theta_sphere" range (lo, hi) (deg; a point belongs
-# to the first half whose hi is at or above theta1) and its "split", the ridge's plane
-# angle, a tensor series in (a, b1). Axes: sphere pair (w, a, b[, c]),
+# theta1, each such a table with its "theta_sphere" range (lo, hi) (deg, or None for
+# the onset angle theta_on = sum_k o_k T_k(a) of _CAP_ONSET at the point's a; a point
+# belongs to the first half whose hi is at or above theta1) and its "split", the ridge's
+# plane angle, a tensor series in (a, b1). Axes: sphere pair (w, a, b[, c]),
 # plane (a, b[, c]), plane with two angles (a, b1, b2[, c]), b1 from theta1 over its
 # half's range, b2 from theta2 within its piece; the force table is
 # C_F = tensordot(force_left, force_right, 1) (rank r: left (..., r), right (r, ...)).
 _CAP = {{"wall": {cap_wall}, "spheres": {cap_ss},
         "wall2": {cap_wall2}}}
+_CAP_ONSET = {cap_onset}  # deg, (o_0, ..., o_n) in a; None: no half ends at theta_on
 _CHUNK = 4096
 
 
@@ -239,6 +243,16 @@ def _cap_rows(t, n):
         out[:, 1] = t
     for k in range(2, n):
         out[:, k] = 2.0 * t * out[:, k - 1] - out[:, k - 2]
+    return out
+
+
+def _cap_series(t, c):
+    """sum_k c_k T_k(t), the terms added in the order of k (each point alike, whatever
+    the others)."""
+    rows = _cap_rows(t, c.size)
+    out = np.zeros(t.size)
+    for k in range(c.size):
+        out = out + c[k] * rows[:, k]
     return out
 
 
@@ -312,9 +326,9 @@ def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
     angle (theta1 = theta2 within the tolerance): a plane's or the sphere pairs' table, b
     from theta. Two angles on a plane: its own table, in halves of the sphere's angle
     theta1 (the first half whose upper end is at or above theta1, taken as the package
-    holds it, degrees(radians(theta1))), b1 from theta1 over that half's range, b2 from
-    theta2 (the plane's) within its piece, the pieces meeting at the half's ridge, a series
-    in (a, b1)."""
+    holds it, degrees(radians(theta1)); an end None is the onset angle at the point's a),
+    b1 from theta1 over that half's range, b2 from theta2 (the plane's) within its piece,
+    the pieces meeting at the half's ridge, a series in (a, b1)."""
     plane = np.isinf(r2) & (r2 > 0)
     ok = ((r1 > 0) & np.isfinite(r1) & (r2 > 0) & (vol > 0) & np.isfinite(vol)
           & (t1 >= 0) & (t1 < 180) & (t2 >= 0) & (t2 < 180))
@@ -344,12 +358,15 @@ def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
             ts = np.degrees(np.radians(ti))  # the sphere's angle as the package holds it
             cos_t = np.cos(np.radians(ti)) + np.cos(np.radians(t2[idx]))
             todo = np.ones(idx.size, dtype=bool)
-            for half in table:
-                h = np.flatnonzero(todo & (ts <= half["theta_sphere"][1]))
+            on = None if _CAP_ONSET is None else _cap_series(a, _CAP_ONSET)
+            for half in table:  # its range per point: a number, or None for theta_on
+                lo, hi = (on if x is None else np.full(idx.size, x)
+                          for x in half["theta_sphere"])
+                h = np.flatnonzero(todo & (ts <= hi))
                 todo[h] = False
                 if h.size == 0:
                     continue
-                b1 = _cap_map(ts[h], *half["theta_sphere"])
+                b1 = _cap_map(ts[h], lo[h], hi[h])
                 split = half["split"]
                 sp = np.einsum("ij,ij->i", _cap_rows(a[h], split.shape[0]) @ split,
                                _cap_rows(b1, split.shape[1]))
@@ -471,6 +488,7 @@ def module_text(source: CapillarySource) -> str:
         cap_held_out=_fill("; ".join(held_out_lines(source)) + "."),
         cap_wall=_tables(parts.get("sphere-wall")), cap_ss=_tables(parts.get("sphere-sphere")),
         cap_wall2=_halves(parts.get(TWO_ANGLES)), halves=halves_text(parts.get(TWO_ANGLES)),
+        cap_onset=_onset(parts.get(TWO_ANGLES)),
         br_err_wall=bw["held_out"]["after"]["max"], br_err_ss=bs["held_out"]["after"]["max"],
         version=__version__, imm_err_wall=w["held_out"]["max"],
         imm_err_ss=ss["held_out"]["max"], s_lo=math.exp(lo), s_hi=math.exp(hi),
@@ -514,6 +532,13 @@ def _halves(part: CapillaryPart | None) -> str:
     if part is None:
         return "None"
     return "[\n    " + ",\n    ".join(_tables(h) for h in part.halves) + "]"
+
+
+def _onset(part: CapillaryPart | None) -> str:
+    """The onset series of a plane with two angles as Python source, or ``None``."""
+    if part is None or part.onset is None:
+        return "None"
+    return f"np.array({_list(part.onset)})"
 
 
 def _list(values: Any, per_line: int = 3) -> str:
