@@ -102,11 +102,11 @@ CAP_COMMENT = """\
  *   T(b2)), F = -2 pi sigma R (cos theta1 + cos theta2) exp(sum C_F T(a) T(b1) T(b2) T(c)),
  *   in halves of theta1 (a point in the first half whose upper end, at the point's v, is at
  *   or above theta1):
- *   {halves}, each with its own tables: b1 from theta1 over the half's range (at the
- *   point's own a where an end is theta_on: wc__cap_select), b2
- *   from theta2 within its piece (quadratic toward the ridge where the piece says so:
+ *   {halves};
+ *   each with its own tables: b1 from theta1 over the half's range (at the point's own a
+ *   where an end is theta_on: wc__cap_select), b2 from theta2 within its piece (quadratic toward the ridge where the piece says so:
  *   wc__cap_b); the pieces meet at the ridge of S_c, a plane angle
- *   theta2* = sum s_ij T_i(a) T_j(b1) (deg, the half's own series).
+ *   theta2* = sum s_ij T_i(a) T_j(b1) (deg, the half's own series).{onset}
  *   C_F is stored in its low-rank form (the package's own layout),
  *   C_F = sum_q L[..][q] R[q][..] with L over the leading axes and R over the others, and
  *   evaluated as such: the left rows contracted with L (rank numbers), the right rows with
@@ -742,6 +742,7 @@ def header_text(source: CapillarySource) -> str:
             **capillary_fields(source),
             cap_held_out="\n *     ".join(held_out_lines(source)),
             halves=halves_text(source.table.parts.get(TWO_ANGLES)),
+            onset=onset_text(source.table.parts.get(TWO_ANGLES), " *   "),
             cap_src=Path(source.table.source).name, cap_sha=source.table.sha256[:16],
             label=_wrap(source.refit_label), rup_src=Path(rup.source).name,
             rup_sha=rup.sha256[:16], refit_src=Path(cap.source).name,
@@ -772,11 +773,23 @@ def halves_text(part: CapillaryPart | None) -> str:
     at the onset angle as ``theta_on(V)``, then that angle's series)."""
     if part is None:
         return "not generated"
-    text = ", ".join(h.range_text for h in part.halves)
-    if part.onset is not None:
-        text += (f" ({ONSET_TEXT} = sum_k o_k T_k(a), deg, {part.onset.size} coefficients: "
-                 "the sphere angle where the ridge's jump appears)")
-    return text
+    return ", ".join(h.range_text for h in part.halves)
+
+
+def onset_text(part: CapillaryPart | None, lead: str) -> str:
+    """The sentence on the onset angle for the comments, its lines after the first led by
+    ``lead``; empty when no half ends there."""
+    if part is None or part.onset is None:
+        return ""
+    text = (f" {ONSET_TEXT} = sum_k o_k T_k(a) (deg, {part.onset.size} coefficients) is the "
+            "sphere angle where the jump of S_c at the ridge's top appears, evaluated at the "
+            "point's own a.")
+    words, lines = text.split(), [""]
+    for word in words:
+        if len(lines[-1]) + len(word) + 1 > 84 - len(lead):
+            lines.append("")
+        lines[-1] = f"{lines[-1]} {word}".strip()
+    return "\n" + lead + ("\n" + lead).join(lines)
 
 
 def _cap_onset(source: CapillarySource) -> str:

@@ -21,6 +21,7 @@ from wetcontact.export.c_header import (
     capillary_fields,
     halves_text,
     held_out_lines,
+    onset_text,
 )
 from wetcontact.export.closures import (
     TWO_ANGLES,
@@ -72,12 +73,13 @@ z = sqrt(1 - ln(1 + S/eps)/ln(1 + S_c/eps)), eps = sqrt(v/(pi rho)) (all lengths
 A plane with TWO contact angles, theta1 the sphere's and theta2 the plane's, has its own
 table in halves of theta1 (a point in the first half whose upper end, at the point's v, is at
 or above theta1):
-{halves}; each S_c = R v^(1/3) exp(sum C_rup T(a) T(b1) T(b2)) and
+{halves};
+each S_c = R v^(1/3) exp(sum C_rup T(a) T(b1) T(b2)) and
 F = -2 pi sigma R (cos theta1 + cos theta2) exp(sum C_F T(a) T(b1) T(b2) T(c)), b1 from
 theta1 over its half's range (at the point's own a where an end is theta_on), b2 from
 theta2 within its piece: the pieces meet at the
 ridge of S_c, a plane angle theta2*(a, b1) = sum s_ij T_i(a) T_j(b1) (deg, the half's own
-series), and b2 is quadratic toward it (_cap_b), so that the nodes cluster where S_c peaks.
+series), and b2 is quadratic toward it (_cap_b), so that the nodes cluster where S_c peaks.{onset}
 C_F is carried in its low-rank form C_F = sum_k L[..., k] R[k, ...] (rank r, the package's
 own layout) and evaluated as such: the Chebyshev rows of the left axes ((w, a) for sphere
 pairs, (a, b) on a plane, (a, b1) on a plane with two angles in the shipped data) times L,
@@ -488,7 +490,7 @@ def module_text(source: CapillarySource) -> str:
         cap_held_out=_fill("; ".join(held_out_lines(source)) + "."),
         cap_wall=_tables(parts.get("sphere-wall")), cap_ss=_tables(parts.get("sphere-sphere")),
         cap_wall2=_halves(parts.get(TWO_ANGLES)), halves=halves_text(parts.get(TWO_ANGLES)),
-        cap_onset=_onset(parts.get(TWO_ANGLES)),
+        cap_onset=_onset(parts.get(TWO_ANGLES)), onset=onset_text(parts.get(TWO_ANGLES), ""),
         br_err_wall=bw["held_out"]["after"]["max"], br_err_ss=bs["held_out"]["after"]["max"],
         version=__version__, imm_err_wall=w["held_out"]["max"],
         imm_err_ss=ss["held_out"]["max"], s_lo=math.exp(lo), s_hi=math.exp(hi),
