@@ -104,9 +104,10 @@ CAP_COMMENT = """\
  *   or above theta1):
  *   {halves};
  *   each with its own tables: b1 from theta1 over the half's range (at the point's own a
- *   where an end is theta_on: wc__cap_select), b2 from theta2 within its piece (quadratic toward the ridge where the piece says so:
- *   wc__cap_b); the pieces meet at the ridge of S_c, a plane angle
- *   theta2* = sum s_ij T_i(a) T_j(b1) (deg, the half's own series).{onset}
+ *   where an end is theta_on: wc__cap_select), b2 from theta2 within its piece
+ *   (quadratic toward the ridge where the piece says so: wc__cap_b); the pieces meet at
+ *   the ridge of S_c, a plane angle theta2* = sum s_ij T_i(a) T_j(b1) (deg, the half's
+ *   own series).{onset}
  *   C_F is stored in its low-rank form (the package's own layout),
  *   C_F = sum_q L[..][q] R[q][..] with L over the leading axes and R over the others, and
  *   evaluated as such: the left rows contracted with L (rank numbers), the right rows with
