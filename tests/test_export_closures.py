@@ -1214,7 +1214,7 @@ def test_onset_halves_package_rule(onset, onset_points, source):
     c = np.asarray(ONSET_SERIES)
     plain = (c[0] + c[1] * a) + c[2] * (2.0 * a * a - 1.0)  # the exports' order
     assert np.array_equal(on, plain), (
-        "the package's onset (a BLAS product, its last bit depending on the batch) and the "
+        "the package's onset (summed term by term, batch-independent) and the exports' "
         f"term-by-term sum differ at {np.sum(on != plain)} points: exactly at theta_on the "
         "package and the exports may then pick different halves")
     assert 14.5 <= on.min() and on.max() <= 26.5

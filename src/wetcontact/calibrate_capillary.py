@@ -8,7 +8,9 @@ volume-controlled
 the gap nodes ``c`` of its own rupture distance; the coefficients follow by a discrete
 cosine transform (interpolation, exact at the nodes). Sphere pairs are split in theta at the
 angle where the equal-sphere branch's end changes from a fold to a bifurcation (a kink of
-S_c at r = 1), located by bisection at Lobatto nodes in ln V (:func:`fit_split`). The
+S_c at r = 1), located by bisection at Lobatto nodes in ln V (:func:`fit_split`); a wall
+with two angles at the sphere angle where S_c's top over the wall angle becomes a jump
+(:func:`fit_onset`) and at 35 deg, each table with its ridge (:func:`fit_ridge`). The
 held-out design is seeded and disjoint from the nodes: random bridges, each with its
 rupture distance and the force at random fractions of it, solved by the same ``meniscus``
 branch machinery at those points; sphere pairs also on a stress stratum of nearly equal
@@ -45,12 +47,18 @@ PIECES: dict[str, list[dict[str, Any]]] = {
 and their Lobatto nodes per axis ((w,) a = ln v, b = theta within the piece, c = gap; two
 angles on a wall: a, b1 = the sphere's angle within its half, b2 = the wall's angle within
 the piece, c)."""
-TWO_ANGLE_HALVES_DEG = ((0.0, 35.0), (35.0, 70.0))
-"""The sphere angle's halves of the two-angle wall table, each a table of its own (ridge
-series and pieces). The ridge's locus bends where S_c's jump at the top appears (theta_s
-between 17.5 and 35 deg, with V); above 35 deg the jump is present at every volume and the
-locus is smooth. One range over [0, 70] deg stalled the b1 coefficients near 6e-5 and put
-the ridge series up to 1.6e-2 deg off."""
+TWO_ANGLE_HALVES_DEG: tuple[tuple[float | None, float | None], ...] = (
+    (0.0, None), (None, 35.0), (35.0, 70.0))
+"""The sphere angle's ranges ("halves", three of them) of the two-angle wall table, each a
+table of its own (ridge series and pieces); ``None`` is the onset angle theta_on(V)
+(:func:`fit_onset`), where S_c's jump at the ridge's top appears (29.9 deg at v = 1e-4 down
+to 19.2 at 0.08). The ridge's locus has a kink of its curvature there (v = 0.08: its
+second derivative drops from 0.021 to 0.0095 per deg, the slope continuous), and a series
+across it converges slowly: one range over [0, 35] deg missed the true top by up to
+1.2e-2 deg (v = 0.08, theta_s = 21 deg), one over [0, 70] by 1.6e-2. On either side the
+locus is smooth (v = 0.08, 9 nodes: 2.2e-7 deg above the onset, 5e-5 below, where every
+top is a smooth maximum and the pieces meet in the flat of S_c). 35 deg stays a break: the
+upper table is the former upper half's, its nodes reused."""
 SPLIT_NODES = 7
 """Lobatto nodes in ln v of the split angle (equal spheres: fold below, bifurcation above)."""
 SPLIT_BRACKET_DEG = (24.0, 36.0)
@@ -130,6 +138,8 @@ def fit_split(workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]
             "v_nodes": vs.tolist(), "tolerance_deg": SPLIT_TOL_DEG}
 
 
+SphereRange = tuple[float | None, float | None]
+"""A range of the sphere's angle (deg); ``None``: the onset angle (a series in ln V)."""
 RIDGE_NODES = (10, 9)
 """Lobatto nodes in (a, b1) of the ridge angle of a wall with two angles (per half)."""
 RIDGE_BRACKET_DEG = (-2.0, 45.0)
@@ -196,12 +206,14 @@ def _ridge_job(args: tuple[float, float]) -> tuple[float, float]:
 
 
 def fit_ridge(workers: int = 2, cache_dir: Path | None = None,
-              theta_range: tuple[float, float] = cc.THETA_RANGE_DEG) -> dict[str, Any]:
+              theta_range: SphereRange = cc.THETA_RANGE_DEG,
+              onset: dict[str, Any] | None = None) -> dict[str, Any]:
     """Chebyshev coefficients in (a, b1) of the ridge's wall angle (deg), at Lobatto nodes
-    (:data:`RIDGE_NODES`), b1 the sphere's angle over ``theta_range`` (deg)."""
+    (:data:`RIDGE_NODES`), b1 the sphere's angle over ``theta_range`` (deg; an end
+    ``None`` is the onset series ``onset``, :func:`sphere_angle_grid`)."""
     vs = _volume_nodes(RIDGE_NODES[0])
-    ts = _sphere_angle_nodes(RIDGE_NODES[1], theta_range)
-    jobs = [(float(v), float(t)) for v in vs for t in ts]
+    ts = sphere_angle_grid(vs, RIDGE_NODES[1], theta_range, onset)
+    jobs = [(float(v), float(t)) for v, row in zip(vs, ts, strict=True) for t in row]
     # a cached line holds the bracket's width (a line written before the width was kept
     # holds none: that search could only end at the tolerance)
     got = _cached_map(_ridge_job, jobs, lambda j: f"ridge|{j[0]!r}|{j[1]!r}|{RIDGE_TOL_DEG}",
@@ -215,10 +227,70 @@ def fit_ridge(workers: int = 2, cache_dir: Path | None = None,
             "bracket_max_deg": max(w for _, w in got)}
 
 
-def _sphere_angle_nodes(n: int, theta_range: tuple[float, float] = cc.THETA_RANGE_DEG
-                        ) -> np.ndarray:
-    lo, hi = theta_range
-    return 0.5 * (lobatto(n) * (hi - lo) + lo + hi)
+ONSET_NODES = 10
+"""Lobatto nodes in ln v of the onset angle (where S_c's jump at the ridge's top appears)."""
+ONSET_BRACKET_DEG = (10.0, 35.0)
+"""Where the onset angle is sought: a smooth top at the first, a jump at the second."""
+ONSET_TOL_DEG = 0.01
+ONSET_PROBE_DEG = 1e-5
+"""The rupture distance's slope toward the ridge's top is measured over this (deg)."""
+ONSET_SLOPE = 1e-2
+"""Slope (relative, per deg) of S_c just short of the ridge's top above which the top is a
+jump. A smooth maximum gives about 3 x curvature x probe: 2e-7 at v = 0.1, theta_s = 10
+deg, rising to 2.3e-3 at 0.05 deg short of the onset (v = 0.08, theta_s = 19.1 deg: the
+maximum sharpens as the two folds near each other). A jump is reached at a finite slope:
+1.2e-2 at 19.15, 2.5e-2 at 19.2, 0.08-0.2 at 35 deg. So the onset is located to about
+0.05 deg; the locus's curvature changes there by about 0.012 per deg (v = 0.08), so a
+split that far off leaves about 1.5e-5 deg in the ridge series."""
+
+
+def top_is_jump(v: float, theta_sphere_deg: float) -> bool:
+    r"""Whether S_c's top over the wall angle is a jump at (v, theta_s) (deg): the ridge
+    (:func:`_ridge_job`, the left end of its bracket theta^*) is reached at a finite slope,
+    :math:`(S_c(\theta^* - h) - S_c(\theta^* - 2h)) / (h S_c(\theta^* - h))` above
+    :data:`ONSET_SLOPE` with h = :data:`ONSET_PROBE_DEG`, rather than at the zero slope of
+    a smooth maximum."""
+    top, width = _ridge_job((v, theta_sphere_deg))
+    h, left = ONSET_PROBE_DEG, top - 0.5 * width
+    s1 = wall_rupture(v, theta_sphere_deg, left - h)
+    s2 = wall_rupture(v, theta_sphere_deg, left - 2.0 * h)
+    return (s1 - s2) / (h * s1) > ONSET_SLOPE
+
+
+def _onset_job(v: float) -> float:
+    """Bisection for the onset angle at ``v`` (to :data:`ONSET_TOL_DEG`)."""
+    lo, hi = ONSET_BRACKET_DEG
+    if top_is_jump(v, lo) or not top_is_jump(v, hi):
+        raise RuntimeError(f"calibrated-capillary: the ridge's jump onset is not bracketed by "
+                           f"{ONSET_BRACKET_DEG} deg at V* = {v:.4g}")
+    while hi - lo > ONSET_TOL_DEG:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if top_is_jump(v, mid) else (mid, hi)
+    return 0.5 * (lo + hi)
+
+
+def fit_onset(workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
+    """Chebyshev coefficients (in the volume coordinate a) of the onset angle (deg): the
+    sphere angle above which S_c's top over the wall angle is a jump (:func:`top_is_jump`),
+    where the ridge's locus has a kink of its slope."""
+    vs = _volume_nodes(ONSET_NODES)
+    th = np.array(_cached_map(_onset_job, list(vs), lambda v: f"onset|{v!r}|{ONSET_TOL_DEG}",
+                              lambda v, t: (t, []), lambda v, got: got[0],
+                              workers, "onset angle", cache_dir))
+    return {"chebyshev": lobatto_coefficients(th).tolist(), "at_nodes_deg": th.tolist(),
+            "v_nodes": vs.tolist(), "tolerance_deg": ONSET_TOL_DEG}
+
+
+def sphere_angle_grid(vs: np.ndarray, n: int, theta_range: SphereRange,
+                      onset: dict[str, Any] | None = None) -> np.ndarray:
+    """The sphere angle's Lobatto nodes (deg) over ``theta_range`` at each volume ``vs``,
+    shape (len(vs), n): an end ``None`` is the onset angle, the series ``onset`` evaluated
+    as the model does (:func:`~wetcontact.reduced_models.calibrated_capillary.onset_deg`),
+    so that the nodes lie where the model maps them."""
+    a = cc.volume_coordinate(np.asarray(vs, dtype=float))
+    lo, hi = (cc.onset_deg({cc.ONSET_KEY: onset}, a) if x is None else np.full(a.shape, x)
+              for x in theta_range)
+    return 0.5 * (lobatto(n)[None, :] * (hi - lo)[:, None] + lo[:, None] + hi[:, None])
 
 
 BRANCHES = {"solved": 0, "reused": 0}
@@ -296,7 +368,10 @@ def _map_jobs(fn, jobs: list, workers: int, label: str, on_result=None) -> list:
     out, t0, step = [], time.perf_counter(), max(1, len(jobs) // 10)
     pool = ProcessPoolExecutor(max_workers=workers) if workers > 1 and len(jobs) > 1 else None
     try:
-        it = pool.map(fn, jobs, chunksize=4) if pool else map(fn, jobs)
+        # chunks of up to 4 jobs, fewer where they are few (the 10 onset searches, minutes
+        # each, took 4 + 4 + 2 chunks: a third of the time on one process)
+        chunk = max(1, min(4, len(jobs) // (8 * workers)))
+        it = pool.map(fn, jobs, chunksize=chunk) if pool else map(fn, jobs)
         for k, (job, r) in enumerate(zip(jobs, it, strict=True), 1):
             out.append(r)
             if on_result is not None:
@@ -401,7 +476,8 @@ def factor_table(coef: np.ndarray, n_left: int = FACTOR_LEFT_AXES, tol: float = 
 
 def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
               workers: int = 2, cache_dir: Path | None = None,
-              theta_range: tuple[float, float] = cc.THETA_RANGE_DEG) -> dict[str, Any]:
+              theta_range: SphereRange = cc.THETA_RANGE_DEG,
+              onset: dict[str, Any] | None = None) -> dict[str, Any]:
     """Coefficients of one theta piece from ``meniscus`` at its tensor nodes.
 
     The lead axes are (a,) on a wall, (w, a) for sphere pairs and (a, b1) on a wall with
@@ -415,7 +491,7 @@ def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
     i_a = 1 if kind == "sphere-sphere" else 0
     vs = _volume_nodes(nodes[i_a])
     a = cc.volume_coordinate(vs)
-    t_s = _sphere_angle_nodes(nodes[1], theta_range) if two else None
+    t_s = sphere_angle_grid(vs, nodes[1], theta_range, onset) if two else None
     lead_shape = nodes[:2] if two else (nodes[i_a],)
 
     def lead(idx: tuple[int, ...]) -> tuple[int, ...]:
@@ -442,7 +518,7 @@ def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
         theta = math.radians(float(cc.piece_angle(piece, b[i_b], lo[li], hi[li])))
         ratio = None if kind != "sphere-sphere" else float(ratios[idx[0]])
         if two:  # the sphere's angle on axis b1, the wall's in the piece
-            jobs.append((idx, kind, ratio, float(vs[idx[0]]), math.radians(t_s[idx[1]]),
+            jobs.append((idx, kind, ratio, float(vs[idx[0]]), math.radians(t_s[idx[:2]]),
                          c_nodes, theta))
         else:
             jobs.append((idx, kind, ratio, float(vs[idx[i_a]]), theta, c_nodes, None))
@@ -468,13 +544,15 @@ def fit_kind(kind: str, workers: int = 2, cache_dir: Path | None = None) -> dict
     angles: per half of the sphere's angle (:data:`TWO_ANGLE_HALVES_DEG`) its ridge and
     pieces, b1 over the half."""
     if kind == cc.WALL_TWO_ANGLES:
+        onset = (fit_onset(workers, cache_dir)
+                 if any(None in rng for rng in TWO_ANGLE_HALVES_DEG) else None)
         halves = []
         for rng in TWO_ANGLE_HALVES_DEG:
-            ridge = fit_ridge(workers, cache_dir, rng)
+            ridge = fit_ridge(workers, cache_dir, rng, onset)
             halves.append({"theta_sphere_deg": list(rng), "theta_split": ridge,
-                           "pieces": [fit_piece(kind, p, ridge, workers, cache_dir, rng)
-                                      for p in PIECES[kind]]})
-        return {"halves": halves}
+                           "pieces": [fit_piece(kind, p, ridge, workers, cache_dir, rng,
+                                                onset) for p in PIECES[kind]]})
+        return {**({cc.ONSET_KEY: onset} if onset else {}), "halves": halves}
     split = None
     if any(None in p["theta_deg"] for p in PIECES[kind]):
         split = fit_split(workers, cache_dir)
@@ -496,14 +574,14 @@ ridge log-uniform in this range (deg), on either side: the sharp top of S_c, whi
 uniform draw over :data:`NEAR_RIDGE_DEG` rarely comes close to."""
 RIDGE_ONSET = {"theta_sphere_deg": (17.5, 35.0), "theta_wall_deg_from_ridge": (1e-4, 3e-2)}
 """The ridge-onset stratum of a wall with two angles: the sphere angles where the jump of
-S_c at the ridge's top appears (at 17.5-26 deg for V* > 0.006, 26-35 deg below), with the
-wall angle's distance from the table's ridge series log-uniform in the second range (deg),
-on either side. The ridge's locus has a kink of its slope at the onset, which the lower
-half's series follows only to about 1e-2 deg (v = 0.08, theta_s = 21 deg), so there the
-table may evaluate the other side's arm; the ridge-top stratum, over all sphere angles and
-out to 0.3 deg, rarely lands in that sliver. Its maximum has a long tail (the worst of 60
-bridges, 1.3e-3 on the rupture distance, was 20 % below that of 200 others), so it has
-twice the uniform design's bridges."""
+S_c at the ridge's top appears (the onset angle theta_on(V) runs from 29.9 to 18.1 deg),
+with the wall angle's distance from the table's ridge series log-uniform in the second
+range (deg), on either side: where a series that does not follow the locus's curvature
+kink at the onset misses the true top (one table over [0, 35] deg: by up to 1.2e-2 deg,
+and 1.5e-3 off the rupture distance here), so that the table evaluates the other side's
+arm. The ridge-top stratum, over all sphere angles and out to 0.3 deg, rarely lands in
+that sliver. Its maximum has a long tail (of that table: the worst of 60 bridges was
+1.3e-3, of 200 others 1.7e-3), so it has twice the uniform design's bridges."""
 
 
 def held_out_design(kind: str, n: int, gaps_per: int, seed: int,

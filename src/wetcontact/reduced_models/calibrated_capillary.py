@@ -48,46 +48,43 @@ tensor Chebyshev-Lobatto points (:mod:`wetcontact.calibrate_capillary`); the pac
 Two angles on a wall (table ``sphere-wall-two-angles``): the prefactor is ``2 pi sigma R
 (cos theta_s + cos theta_w)``. As theta_w grows, S_c rises to a ridge and falls beyond it,
 at ``theta_w*(V, theta_s)``, 1.5-34 deg above theta_s (rising with V, falling with
-theta_s). The table is two tables, ``halves`` in the sphere's angle, [0, 35] and [35, 70]
-deg (a point at 35 deg belongs to the first, :func:`half_index`), each with coordinates a,
-b1 from theta_s over its half (:func:`sphere_coordinate`), b2 from theta_w within its
-piece, and c. In each half the wall angle's pieces are [0, theta_w*] and [theta_w*, 90 deg]
-(the second reaches past 70 deg so that it is never empty: theta_w* is up to about 85 deg),
-with theta_w* a tensor Chebyshev series in (a, b1) of the half located by a golden-section
-search for the maximum of S_c to 1e-6 deg
-(:func:`wetcontact.calibrate_capillary.fit_ridge`). Within each piece b2 is quadratic
-toward the ridge (:func:`piece_coordinate`), so that the nodes cluster there and a square-
-root side of the top is linear in b2.
+theta_s). The table is three tables (``halves``, the name of its first layout) in the
+sphere's angle: [0, theta_on(V)], [theta_on(V), 35] and [35, 70] deg, theta_on the onset
+angle below (a point at an end belongs to the lower table, :func:`half_index`). Each has
+coordinates a, b1 from theta_s over its range at the point's V (:func:`sphere_range`,
+:func:`sphere_coordinate`), b2 from theta_w within its piece, and c. In each the wall
+angle's pieces are [0, theta_w*] and [theta_w*, 90 deg] (the second reaches past 70 deg so
+that it is never empty: theta_w* is up to about 85 deg), with theta_w* a tensor Chebyshev
+series in (a, b1) of that table located by a golden-section search for the maximum of S_c
+to 1e-6 deg (:func:`wetcontact.calibrate_capillary.fit_ridge`). Within each piece b2 is
+quadratic toward the ridge (:func:`piece_coordinate`), so that the nodes cluster there and
+a square-root side of the top is linear in b2.
 
-The ridge's shape changes over the domain, and this is why the table has halves. At small
-sphere angles it is a smooth maximum (v = 1e-3, theta_s = 20 deg: S_c drops by 3e-7 at 0.01
-deg from the top, as the square of the distance). At larger ones S_c **jumps** at the top:
-the stable branch from contact ends at one of two nearby folds (nearing one, the contact
-line recedes on the sphere and advances on the wall; nearing the other, the reverse), and
-which one it reaches changes at theta_w*. From below, S_c rises smoothly to the jump;
-above, it starts lower and falls like a square root (v = 0.082, theta_s = 50 deg: down by
-7.7e-4 of S_c within 5e-5 deg, then by another 3.9e-4 over 2.5e-4 deg). The jump is absent
-at theta_s <= 17.5 deg, appears between 26 and 35 deg for V* <= 0.006 and between 17.5 and
-26 deg above, and grows with V and theta_s to 1.2e-3 of S_c (v = 0.1, theta_s = 44 deg).
-The ridge's locus bends where the jump appears: a single table over [0, 70] deg (13 nodes
-in b1) had its b1 coefficients stall near 6e-5 and its ridge series up to 1.6e-2 deg off
-the true top between nodes, where the table then evaluated the other side's arm (held-out
-at the top: 2.1e-3 rupture distance, 2.8e-3 force). Above 35 deg the jump is present at
-every volume and the locus is smooth; below it the bend lies inside the lower half, whose
-smaller range the series follows only in part. With the halves the held-out maxima are
-1.7e-4 / 2.8e-4 (rupture distance / force) uniformly, 1.6e-4 / 2.2e-4 within
-:data:`RIDGE_ZONE_DEG` of the ridge and 2.3e-4 / 1.8e-4 within :data:`RIDGE_TOP_ZONE_DEG`
-(goals 5e-4 / 1e-3). Where the jump appears the goal on the rupture distance is **not met**:
-the locus has a kink of its slope at the onset (v = 0.08: its second difference over 1 deg
-steps of theta_s drops from 0.021 to 0.009 between 18 and 20 deg), which the lower half's
-series misses by up to 1.2e-2 deg (v = 0.08, theta_s = 21 deg; 4e-7 deg at 35 and 36), so
-that between the series and the true top the table evaluates the other side's arm. The
-stratum ``held_out_ridge_onset`` (240 bridges, theta_s in [17.5, 35] deg, 1e-4 to 3e-2 deg
-from the series) measures 1.5e-3 / 9.8e-4 there; within the top zone at those sphere
-angles the closure's rupture window and :meth:`CalibratedCapillary.bound_floor` are set by
-it. A fix needs the table split along the onset curve theta_s(V), not at a fixed angle.
-Elsewhere the series is within 4e-7 deg of fresh searches (the upper half) or off a smooth
-top (harmless: S_c is smooth across it).
+The ridge's top changes its shape at theta_on(V), and this is why the table is split
+there. Below it the top is a smooth maximum (v = 1e-3, theta_s = 20 deg: S_c drops by 3e-7
+at 0.01 deg from the top, as the square of the distance). Above it S_c **jumps** at the
+top: the stable branch from contact ends at one of two nearby folds (nearing one, the
+contact line recedes on the sphere and advances on the wall; nearing the other, the
+reverse), and which one it reaches changes at theta_w*. From below, S_c rises to the jump
+at a finite slope; above, it starts lower and falls like a square root (v = 0.082, theta_s
+= 50 deg: down by 7.7e-4 of S_c within 5e-5 deg, then by another 3.9e-4 over 2.5e-4 deg).
+The jump grows from the onset as about (theta_s - theta_on)^2 (v = 0.08: 1.1e-5
+(theta_s - theta_on)^1.93, to 1.2e-3 of S_c at v = 0.1, theta_s = 44 deg). theta_on falls
+from 29.9 deg at v = 1e-4 to 18.1 at 0.1 (:data:`ONSET_KEY`, a Chebyshev series in a
+located by bisection at 10 nodes, :func:`wetcontact.calibrate_capillary.fit_onset`). There
+the ridge's locus has a kink of its curvature (v = 0.08: the second derivative drops from
+0.021 to 0.0095 per deg, the slope continuous), which a series across it follows slowly:
+one table over [0, 35] deg missed the true top by up to 1.2e-2 deg (v = 0.08, theta_s = 21
+deg), so that between its series and the true top it evaluated the other side's arm
+(held-out where the jump appears, 240 bridges: 1.5e-3 rupture distance, 9.8e-4 force);
+one over [0, 70] deg by 1.6e-2. Split at the onset, held-out maxima (rupture distance /
+force; goals 5e-4 / 1e-3) are 4.6e-5 / 2.8e-4 uniformly, 4.3e-5 / 4.8e-5 within
+:data:`RIDGE_ZONE_DEG` of the ridge, 6.1e-5 / 1.7e-4 within :data:`RIDGE_TOP_ZONE_DEG`, and
+5.6e-5 / 3.8e-4 where the jump appears (theta_s 17.5-35 deg, 1e-4 to 3e-2 deg from the
+series); the closure's :meth:`CalibratedCapillary.bound_floor` still claims no less than
+its held-out maxima near the ridge. Below the onset the ridge series converges slowly in b1
+(last coefficients about 5e-4 deg), harmless where every top is a smooth maximum: S_c is
+flat across it.
 
 The force table is stored in low-rank form: its unfolding over the first two axes
 ((a, b) on a wall, (w, a) for sphere pairs) against the rest is a truncated SVD,
@@ -133,10 +130,8 @@ near-ridge held-out maximum (its stratum ``held_out_near_ridge``), whatever its 
 bound table says (see the module's notes)."""
 RIDGE_TOP_ZONE_DEG = 0.3
 """Two angles on a wall: within this of the ridge series lies the ridge's top (a jump of S_c
-at larger angles), the table's own held-out stratum ``held_out_ridge_top``. The series is
-within 4e-7 deg of fresh searches in the upper half and up to 1.2e-2 deg off in the lower
-half where the jump appears (theta_s 17.5-35 deg; stratum ``held_out_ridge_onset``), see
-the module's notes."""
+above the onset angle), the table's own held-out stratum ``held_out_ridge_top`` (and, at
+sphere angles of 17.5-35 deg, ``held_out_ridge_onset``), see the module's notes."""
 NEAR_RIDGE_MARGIN = 1.25
 """Factor on the near-ridge held-out maxima in :meth:`CalibratedCapillary.bound_floor`:
 the bound tables' own margin (``wetcontact.bounds_gen.MARGIN``)."""
@@ -411,8 +406,14 @@ def chebyshev_tensor(coef: np.ndarray, coords: list[np.ndarray], chunk: int = 81
     pts = [np.ravel(np.asarray(x, dtype=float)) for x in coords]
     n = pts[0].size
     out = np.empty(n)
-    if coef.ndim == 1:
-        return (_cheb_matrix(pts[0], coef.size) @ coef).reshape(np.shape(coords[0]))
+    if coef.ndim == 1:  # term by term in the order of k: each point's value alike,
+        # whatever the batch (a BLAS product's last bit depends on it, and a point exactly
+        # at a split or onset angle must fall in the same piece in every call and export)
+        rows = _cheb_rows(pts[0], coef.size)
+        out = np.zeros(n)
+        for c, row in zip(coef, rows, strict=True):
+            out = out + c * row
+        return out.reshape(np.shape(coords[0]))
     head = coef.reshape(-1, coef.shape[-1]).T  # (n_last, prod(others))
     for lo in range(0, n, chunk):
         sl = slice(lo, min(n, lo + chunk))
