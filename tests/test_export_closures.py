@@ -31,6 +31,7 @@ from wetcontact.export.closures import (
     REFIT_FILES,
     capillary_source,
     package_evaluation_many,
+    sphere_end_text,
 )
 from wetcontact.export.python_module import write_module
 from wetcontact.reduced_models import calibrated_capillary as cc
@@ -695,8 +696,8 @@ def _half_alone(half_entry, a: dict[str, np.ndarray], onset=None) -> np.ndarray:
 
 @pytest.mark.parametrize("language", ["python", "c"])
 def test_two_angle_halves_meet_at_their_boundary(source, tmp_path, language):
-    """A plane with two angles: a sphere angle exactly at the halves' boundary (35 deg)
-    belongs to the first half, one an ulp above it to the second (the package's rule,
+    """A plane with two angles: a sphere angle exactly at the halves' boundary at 35 deg
+    belongs to the lower half, one an ulp above it to the upper (the package's rule,
     checked against each half evaluated alone), and the exports agree with the package
     at and around it (ulps to 0.1 deg either side) to the comparison's tolerance. The check
     is sharp: at the boundary the two halves' forces differ by far more than the tolerance
@@ -705,15 +706,17 @@ def test_two_angle_halves_meet_at_their_boundary(source, tmp_path, language):
     part = source.table.parts.get(cc.WALL_TWO_ANGLES)
     if part is None or len(part.halves) < 2:
         pytest.skip("the package data has no two-angle table in halves")
-    edge = part.halves[0].theta_sphere_hi
-    assert edge == 35.0 and part.halves[1].theta_sphere_lo == edge
+    k = next(i for i, h in enumerate(part.halves) if h.theta_sphere_hi == 35.0)
+    edge = part.halves[k].theta_sphere_hi
+    assert part.halves[k + 1].theta_sphere_lo == edge
     pts = _boundary_design(edge)
     cap = pts["capillary_force"]
     ref = {name: package_evaluation_many(name, source, **a) for name, a in pts.items()}
     assert np.all(np.isfinite(ref["rupture_distance"]))
     # the package's rule, from each half alone
-    halves = cc.capillary_table()[cc.WALL_TWO_ANGLES]["halves"]
-    first, second = (_half_alone(h, cap) for h in halves[:2])
+    entry = cc.capillary_table()[cc.WALL_TWO_ANGLES]
+    first, second = (_half_alone(h, cap, entry.get(cc.ONSET_KEY))
+                     for h in entry["halves"][k:k + 2])
     ts = cap["theta1_deg"]
     held = np.degrees(np.radians(ts))  # the sphere's angle as the package holds it
     assert np.array_equal(held, ts)  # (these angles survive the round trip)
@@ -811,8 +814,9 @@ def _entry_json(source, kind: str) -> dict:
 
 
 def test_two_angle_layout_is_validated(source):
-    """The reader accepts the two-angle entry's layout (halves of the sphere's angle,
-    contiguous from 0 to 70 deg, each a 2-D ridge series and pieces from 0 to an end at or
+    """The reader accepts the two-angle entry's layout (halves of the sphere's angle, the
+    shipped ones ending at the onset angle and 35 deg, or at fixed angles, contiguous from
+    0 to 70 deg, each a 2-D ridge series and pieces from 0 to an end at or
     above 70 deg) and refuses it broken (a half's table, the halves' ranges, the former
     top-level layout), naming the file and the field; the one-angle layout still needs
     pieces ending exactly at 70 deg and a 1-D series."""
@@ -822,11 +826,18 @@ def test_two_angle_layout_is_validated(source):
     assert TWO_ANGLES == cc.WALL_TWO_ANGLES
     if cc.WALL_TWO_ANGLES not in source.table.parts:
         pytest.skip("the package data has no two-angle table")
-    good = _entry_json(source, cc.WALL_TWO_ANGLES)
-    part = _capillary_part(Path("t.json"), cc.WALL_TWO_ANGLES, good)
+    shipped = _entry_json(source, cc.WALL_TWO_ANGLES)
+    part = _capillary_part(Path("t.json"), cc.WALL_TWO_ANGLES, shipped)
     assert part.two_angles and not part.pieces and part.split is None
     assert [(h.theta_sphere_lo, h.theta_sphere_hi) for h in part.halves] == [
-        (0.0, 35.0), (35.0, 70.0)]
+        (0.0, None), (None, 35.0), (35.0, 70.0)] and part.onset is not None
+    # the refusals below on the fixed-range layout (the shipped lowest and highest tables,
+    # [0, 35] and [35, 70] deg, no onset series), which the reader accepts as well
+    good = {"halves": [{**shipped["halves"][0], "theta_sphere_deg": [0.0, 35.0]},
+                       shipped["halves"][-1]], "held_out": shipped["held_out"]}
+    part = _capillary_part(Path("t.json"), cc.WALL_TWO_ANGLES, good)
+    assert [(h.theta_sphere_lo, h.theta_sphere_hi) for h in part.halves] == [
+        (0.0, 35.0), (35.0, 70.0)] and part.onset is None
     for h in part.halves:
         assert h.split.ndim == 2 and h.pieces[-1].theta_hi >= 70.0
         assert all(p.quadratic for p in h.pieces)  # the wall angle quadratic toward the ridge
@@ -954,7 +965,8 @@ def test_json_calibrated_capillary_matches_table_and_schema(tmp_path, source):
             if two:  # the sphere's angle over its half, the wall's within the piece
                 assert p["domain"]["theta_sphere_deg"] == [sec.theta_sphere_lo,
                                                            sec.theta_sphere_hi]
-                assert f"sphere angle {sec.theta_sphere_lo:g} to " in p["name"]
+                lo_text = sphere_end_text(sec.theta_sphere_lo)
+                assert f"sphere angle {lo_text} to " in p["name"]
                 assert "first half whose upper" in p["form"] or name == "force"
                 lo, hi = p["domain"]["theta_wall_deg"]
                 assert lo == (piece.theta_lo or 0.0) and hi <= 70.0
@@ -1061,10 +1073,12 @@ ONSET_HALVES = [(0.0, None), (None, 35.0), (35.0, 70.0)]
 
 def _onset_entry(shipped: dict) -> dict:
     """The shipped two-angle entry with its halves replaced by three, ``ONSET_HALVES``: [0,
-    theta_on] and [theta_on, 35] deg both the shipped lower half's tables (coefficients
+    theta_on] and [theta_on, 35] deg both the shipped lowest half's tables (coefficients
     unchanged: the values are not physical, the package and the exports must only agree)
-    and [35, 70] the shipped upper half; theta_on the series ``ONSET_SERIES``."""
-    lower, upper = shipped["halves"]
+    and [35, 70] the shipped upper half; theta_on the series ``ONSET_SERIES`` (the shipped
+    table's own halves are its lowest, highest and one between: the lowest and highest
+    are taken)."""
+    lower, upper = shipped["halves"][0], shipped["halves"][-1]
     return {**shipped, cc.ONSET_KEY: {"chebyshev": list(ONSET_SERIES)},
             "halves": [{**lower, "theta_sphere_deg": list(ONSET_HALVES[0])},
                        {**lower, "theta_sphere_deg": list(ONSET_HALVES[1])}, upper]}
@@ -1290,7 +1304,9 @@ def test_onset_layout_is_validated(onset, source):
     part = _capillary_part(Path("t.json"), cc.WALL_TWO_ANGLES, good)
     assert [(h.theta_sphere_lo, h.theta_sphere_hi) for h in part.halves] == ONSET_HALVES
     assert part.onset.tolist() == ONSET_SERIES
-    plus = {**_entry_json(source, cc.WALL_TWO_ANGLES), cc.ONSET_KEY: {"chebyshev": [20.0]}}
+    shipped = _entry_json(source, cc.WALL_TWO_ANGLES)
+    fixed = [{**shipped["halves"][0], "theta_sphere_deg": [0.0, 35.0]}, shipped["halves"][-1]]
+    plus = {**shipped, "halves": fixed, cc.ONSET_KEY: {"chebyshev": [20.0]}}
     part = _capillary_part(Path("t.json"), cc.WALL_TWO_ANGLES, plus)
     assert [(h.theta_sphere_lo, h.theta_sphere_hi) for h in part.halves] == [
         (0.0, 35.0), (35.0, 70.0)]
