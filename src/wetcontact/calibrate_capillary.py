@@ -130,12 +130,21 @@ def _split_job(v: float) -> float:
 
 def fit_split(workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
     """Chebyshev coefficients (in the volume coordinate a) of the split angle (deg)."""
-    vs = _volume_nodes(SPLIT_NODES)
-    th = np.array(_cached_map(_split_job, list(vs), lambda v: f"split|{v!r}",
+    return _angle_series(_split_job, SPLIT_NODES, "split", None, SPLIT_TOL_DEG,
+                         "split angle", workers, cache_dir)
+
+
+def _angle_series(job, n: int, key: str, tol_key: float | None, tol: float, label: str,
+                  workers: int, cache_dir: Path | None) -> dict[str, Any]:
+    """An angle (deg) as a Chebyshev series in the volume coordinate a: ``job(v)`` at ``n``
+    Lobatto nodes in ln v, through the node cache (lines ``key|v[|tol_key]``)."""
+    vs = _volume_nodes(n)
+    tail = "" if tol_key is None else f"|{tol_key}"
+    th = np.array(_cached_map(job, list(vs), lambda v: f"{key}|{v!r}{tail}",
                               lambda v, t: (t, []), lambda v, got: got[0],
-                              workers, "split angle", cache_dir))
+                              workers, label, cache_dir))
     return {"chebyshev": lobatto_coefficients(th).tolist(), "at_nodes_deg": th.tolist(),
-            "v_nodes": vs.tolist(), "tolerance_deg": SPLIT_TOL_DEG}
+            "v_nodes": vs.tolist(), "tolerance_deg": tol}
 
 
 SphereRange = tuple[float | None, float | None]
@@ -272,13 +281,9 @@ def _onset_job(v: float) -> float:
 def fit_onset(workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
     """Chebyshev coefficients (in the volume coordinate a) of the onset angle (deg): the
     sphere angle above which S_c's top over the wall angle is a jump (:func:`top_is_jump`),
-    where the ridge's locus has a kink of its slope."""
-    vs = _volume_nodes(ONSET_NODES)
-    th = np.array(_cached_map(_onset_job, list(vs), lambda v: f"onset|{v!r}|{ONSET_TOL_DEG}",
-                              lambda v, t: (t, []), lambda v, got: got[0],
-                              workers, "onset angle", cache_dir))
-    return {"chebyshev": lobatto_coefficients(th).tolist(), "at_nodes_deg": th.tolist(),
-            "v_nodes": vs.tolist(), "tolerance_deg": ONSET_TOL_DEG}
+    where the ridge's locus has a kink of its curvature."""
+    return _angle_series(_onset_job, ONSET_NODES, "onset", ONSET_TOL_DEG, ONSET_TOL_DEG,
+                         "onset angle", workers, cache_dir)
 
 
 def sphere_angle_grid(vs: np.ndarray, n: int, theta_range: SphereRange,
