@@ -292,9 +292,8 @@ def sphere_angle_grid(vs: np.ndarray, n: int, theta_range: SphereRange,
     shape (len(vs), n): an end ``None`` is the onset angle, the series ``onset`` evaluated
     as the model does (:func:`~wetcontact.reduced_models.calibrated_capillary.onset_deg`),
     so that the nodes lie where the model maps them."""
-    a = cc.volume_coordinate(np.asarray(vs, dtype=float))
-    lo, hi = (cc.onset_deg({cc.ONSET_KEY: onset}, a) if x is None else np.full(a.shape, x)
-              for x in theta_range)
+    lo, hi = cc.sphere_range({cc.ONSET_KEY: onset}, {"theta_sphere_deg": theta_range},
+                             cc.volume_coordinate(np.asarray(vs, dtype=float)))
     return 0.5 * (lobatto(n)[None, :] * (hi - lo)[:, None] + lo[:, None] + hi[:, None])
 
 

@@ -785,12 +785,7 @@ def onset_text(part: CapillaryPart | None, lead: str) -> str:
     text = (f" {ONSET_TEXT} = sum_k o_k T_k(a) (deg, {part.onset.size} coefficients) is the "
             "sphere angle where the jump of S_c at the ridge's top appears, evaluated at the "
             "point's own a.")
-    words, lines = text.split(), [""]
-    for word in words:
-        if len(lines[-1]) + len(word) + 1 > 84 - len(lead):
-            lines.append("")
-        lines[-1] = f"{lines[-1]} {word}".strip()
-    return "\n" + lead + ("\n" + lead).join(lines)
+    return "\n" + lead + ("\n" + lead).join(_wrap_lines(text, 84 - len(lead)))
 
 
 def _cap_onset(source: CapillarySource) -> str:
@@ -904,17 +899,23 @@ def _bridge_fields(bw: dict[str, Any], bs: dict[str, Any]) -> dict[str, Any]:
     return fields
 
 
-def _wrap(text: str, width: int = 76) -> str:
-    """Wrap a label into the ``!!!`` comment lines."""
-    words, lines, line = text.split(), [], ""
-    for word in words:
+def _wrap_lines(text: str, width: int) -> list[str]:
+    """The words of ``text`` in lines, a word starting a new line where it would take the
+    line past ``width`` characters."""
+    lines, line = [], ""
+    for word in text.split():
         if len(line) + len(word) + 1 > width:
             lines.append(line)
             line = word
         else:
             line = f"{line} {word}".strip()
     lines.append(line)
-    return "\n * !!!   ".join(lines)
+    return lines
+
+
+def _wrap(text: str, width: int = 76) -> str:
+    """Wrap a label into the ``!!!`` comment lines."""
+    return "\n * !!!   ".join(_wrap_lines(text, width))
 
 
 def write_header(out: str | Path, source: CapillarySource) -> dict[str, Any]:

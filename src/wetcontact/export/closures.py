@@ -268,7 +268,11 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
     from 0 deg to an end at or above 70 deg (past the domain: the ridge may lie above 70
     deg). An entry with the former top-level ``pieces``/``theta_split`` (one table over the
     whole sphere range) is refused: the model no longer evaluates it."""
-    from wetcontact.reduced_models.calibrated_capillary import ONSET_KEY, THETA_RANGE_DEG
+    from wetcontact.reduced_models.calibrated_capillary import (
+        ONSET_KEY,
+        THETA_RANGE_DEG,
+        chebyshev_tensor,
+    )
 
     strata = {k.removeprefix("held_out_"): v for k, v in e.items()
               if k.startswith("held_out_") and isinstance(v, dict)}
@@ -287,13 +291,12 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
                          f"longer evaluates); {allowed}")
     if not isinstance(raw, list) or not raw:
         raise InputError(f"{path}: {kind}: field 'halves' = {raw!r}; {allowed}")
-    if e.get("ridge_margin_deg", 0.0) != 0.0:  # a layout before the quadratic ridge map
-        raise InputError(f"{path}: {kind} ridge_margin_deg = {e['ridge_margin_deg']!r}; "
-                         "allowed: 0 or absent (each point is evaluated in its own piece, "
-                         "as the model does)")
+    _no_ridge_margin(path, kind, e)
     onset = _onset_series(path, kind, e.get(ONSET_KEY))
-    # the onset angle at Chebyshev-Lobatto points of a: where the halves' ends are compared
-    on = None if onset is None else _series(onset, np.cos(np.linspace(0.0, math.pi, 513)))
+    # the onset angle at Chebyshev-Lobatto points of a, summed as the model and the exports
+    # sum it: where the halves' ends are compared
+    on = None if onset is None else chebyshev_tensor(
+        onset, [np.cos(np.linspace(0.0, math.pi, 513))])
     halves: list[CapillaryHalf] = []
     top: float | None = THETA_RANGE_DEG[0]
     for i, h in enumerate(raw):
@@ -345,21 +348,6 @@ def _onset_series(path: Path, kind: str, raw: Any) -> np.ndarray | None:
                          "(the onset angle theta_on = sum_k o_k T_k(a), deg, a 1-D Chebyshev "
                          "series in the volume coordinate a)")
     return np.asarray(coef, dtype=float)
-
-
-def _series(coef: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """``sum_k c_k T_k(t)`` (1-D), the terms added in the order of k at each point, as the
-    exports add them."""
-    rows = np.empty((coef.size, t.size))
-    rows[0] = 1.0
-    if coef.size > 1:
-        rows[1] = t
-    for k in range(2, coef.size):
-        rows[k] = 2.0 * t * rows[k - 1] - rows[k - 2]
-    out = np.zeros(t.size)
-    for k in range(coef.size):
-        out = out + coef[k] * rows[k]
-    return out
 
 
 def _sections(path: Path, kind: str, where: str, e: dict[str, Any]
@@ -425,11 +413,17 @@ def _sections(path: Path, kind: str, where: str, e: dict[str, Any]
         raise InputError(f"{path}: {where} theta pieces {ends}; allowed: contiguous from "
                          f"{THETA_RANGE_DEG[0]:g} to {top} deg, None (the split angle) only "
                          "with a theta_split series")
-    if e.get("ridge_margin_deg", 0.0) != 0.0:  # a layout before the quadratic ridge map
+    _no_ridge_margin(path, where, e)
+    return tuple(pieces), split
+
+
+def _no_ridge_margin(path: Path, where: str, e: dict[str, Any]) -> None:
+    """Refuse a table (or a two-angle entry) carrying a ridge margin: a layout from before
+    the quadratic ridge map, when pieces were continued past the ridge."""
+    if e.get("ridge_margin_deg", 0.0) != 0.0:
         raise InputError(f"{path}: {where} ridge_margin_deg = {e['ridge_margin_deg']!r}; "
                          "allowed: 0 or absent (each point is evaluated in its own piece, "
                          "as the model does)")
-    return tuple(pieces), split
 
 
 def shipped_capillary() -> CapillaryTable:

@@ -383,7 +383,7 @@ def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
             lead, rho = [_cap_map(np.cbrt(np.log(q)), 0.0, _CAP_W_MAX), a], q / (1.0 + q)
         split = table["split"]
         cos_t = 2.0 * np.cos(np.radians(ti))
-        sp = None if split is None else _cap_rows(a, split.size) @ split
+        sp = None if split is None else _cap_series(a, split)
         _cap_pieces(table["pieces"], lead, ti, sp, vi, rho, cos_t, si, idx, f, s_c, ok)
     return f, s_c, rs, ok
 
