@@ -583,11 +583,11 @@ PERTURBED_ARRAY = {"force": "force_left", "rupture": "rupture"}
 
 
 def _with_sections(source, kind: str, change):
-    """``source`` with each table of one geometry (the geometry's own, or each half of a
+    """``source`` with each table of one geometry (the geometry's own, or each band of a
     plane with two angles) replaced by ``change(index, table)``."""
     part = source.table.parts[kind]
-    if part.halves:
-        part = replace(part, halves=tuple(change(i, h) for i, h in enumerate(part.halves)))
+    if part.bands:
+        part = replace(part, bands=tuple(change(i, h) for i, h in enumerate(part.bands)))
     else:
         part = change(0, part)
     parts = {**source.table.parts, kind: part}
@@ -596,7 +596,7 @@ def _with_sections(source, kind: str, change):
 
 def _perturbed(source, kind: str, table: str):
     """``source`` with the leading coefficient of one shipped table (the first theta piece
-    of one geometry, of its first half for a plane with two angles; for the force, the
+    of one geometry, of its first band for a plane with two angles; for the force, the
     leading entry of its left factor) moved by 1e-9 (a relative change of up to 1e-9 in
     the force or the rupture distance, 1000x the comparison's 1e-12)."""
     field = PERTURBED_ARRAY[table]
@@ -663,7 +663,7 @@ def test_comparison_sees_the_quadratic_ridge_map(points, source, tmp_path, langu
 
 
 def _boundary_design(edge: float, seed: int = 35) -> dict[str, dict[str, np.ndarray]]:
-    """Planes with two angles whose sphere angle is at the halves' boundary ``edge`` (deg)
+    """Planes with two angles whose sphere angle is at the bands' boundary ``edge`` (deg)
     exactly, 1 and 2 ulps either side, and 1e-12 ... 0.1 deg either side; per angle 12
     bridges (v from 1e-4 to 0.1, the plane's angle 0-70 deg, gaps as :func:`_gaps`)."""
     up, down = np.nextafter(edge, np.inf), np.nextafter(edge, -np.inf)
@@ -686,37 +686,37 @@ def _half_alone(half_entry, a: dict[str, np.ndarray], onset=None) -> np.ndarray:
     """The package's capillary force (N) at the plane points ``a`` (``capillary_force``'s
     arguments) from a two-angle table that holds only ``half_entry`` (NaN at the sphere
     angles above its range; b1 mapped from its own range; ``onset``: the table's onset
-    series, where an end of the half is the onset angle)."""
+    series, where an end of the band is the onset angle)."""
     r1 = a["r1"]
-    entry = {"halves": [half_entry], **({} if onset is None else {cc.ONSET_KEY: onset})}
+    entry = {"bands": [half_entry], **({} if onset is None else {cc.ONSET_KEY: onset})}
     f, _ = cc.force_star(cc.WALL_TWO_ANGLES, a["volume"] / r1**3, np.radians(a["theta1_deg"]),
                          a["gap"] / r1, entry=entry, theta_wall=np.radians(a["theta2_deg"]))
     return -(2.0 * np.pi * a["surface_tension"] * r1 * f)
 
 
 @pytest.mark.parametrize("language", ["python", "c"])
-def test_two_angle_halves_meet_at_their_boundary(source, tmp_path, language):
-    """A plane with two angles: a sphere angle exactly at the halves' boundary at 35 deg
-    belongs to the lower half, one an ulp above it to the upper (the package's rule,
-    checked against each half evaluated alone), and the exports agree with the package
+def test_two_angle_bands_meet_at_their_boundary(source, tmp_path, language):
+    """A plane with two angles: a sphere angle exactly at the bands' boundary at 35 deg
+    belongs to the lower band, one an ulp above it to the upper (the package's rule,
+    checked against each band evaluated alone), and the exports agree with the package
     at and around it (ulps to 0.1 deg either side) to the comparison's tolerance. The check
-    is sharp: at the boundary the two halves' forces differ by far more than the tolerance
+    is sharp: at the boundary the two bands' forces differ by far more than the tolerance
     (their rupture distances meet to round-off, their force tables' low-rank factors do
-    not), so a point put in the wrong half fails it."""
+    not), so a point put in the wrong band fails it."""
     part = source.table.parts.get(cc.WALL_TWO_ANGLES)
-    if part is None or len(part.halves) < 2:
-        pytest.skip("the package data has no two-angle table in halves")
-    k = next(i for i, h in enumerate(part.halves) if h.theta_sphere_hi == 35.0)
-    edge = part.halves[k].theta_sphere_hi
-    assert part.halves[k + 1].theta_sphere_lo == edge
+    if part is None or len(part.bands) < 2:
+        pytest.skip("the package data has no two-angle table in bands")
+    k = next(i for i, h in enumerate(part.bands) if h.theta_sphere_hi == 35.0)
+    edge = part.bands[k].theta_sphere_hi
+    assert part.bands[k + 1].theta_sphere_lo == edge
     pts = _boundary_design(edge)
     cap = pts["capillary_force"]
     ref = {name: package_evaluation_many(name, source, **a) for name, a in pts.items()}
     assert np.all(np.isfinite(ref["rupture_distance"]))
-    # the package's rule, from each half alone
+    # the package's rule, from each band alone
     entry = cc.capillary_table()[cc.WALL_TWO_ANGLES]
     first, second = (_half_alone(h, cap, entry.get(cc.ONSET_KEY))
-                     for h in entry["halves"][k:k + 2])
+                     for h in entry["bands"][k:k + 2])
     ts = cap["theta1_deg"]
     held = np.degrees(np.radians(ts))  # the sphere's angle as the package holds it
     assert np.array_equal(held, ts)  # (these angles survive the round trip)
@@ -790,7 +790,7 @@ def test_a_table_without_two_angles_still_exports(points, source, tmp_path, lang
 
 
 def _table_json(sec) -> dict:
-    """One table (a geometry's, or a half's) as the package data lays it out."""
+    """One table (a geometry's, or a band's) as the package data lays it out."""
     return {"theta_split": None if sec.split is None else {"chebyshev": sec.split.tolist()},
             "pieces": [{"theta_deg": [p.theta_lo, p.theta_hi], "rupture": p.rupture.tolist(),
                         "force_left": p.force_left.tolist(),
@@ -801,23 +801,23 @@ def _table_json(sec) -> dict:
 
 def _entry_json(source, kind: str) -> dict:
     """One geometry of ``source`` as the package data lays it out (lists, None ends; a
-    plane with two angles in ``halves``, each with its ``theta_sphere_deg``, and its onset
+    plane with two angles in ``bands``, each with its ``theta_sphere_deg``, and its onset
     series if it has one)."""
     part = source.table.parts[kind]
-    if part.halves:
+    if part.bands:
         onset = {} if part.onset is None else {
             cc.ONSET_KEY: {"chebyshev": part.onset.tolist()}}
-        return {"halves": [{"theta_sphere_deg": [h.theta_sphere_lo, h.theta_sphere_hi],
-                            **_table_json(h)} for h in part.halves],
+        return {"bands": [{"theta_sphere_deg": [h.theta_sphere_lo, h.theta_sphere_hi],
+                            **_table_json(h)} for h in part.bands],
                 "held_out": part.held_out, **onset}
     return {**_table_json(part), "held_out": part.held_out}
 
 
 def test_two_angle_layout_is_validated(source):
-    """The reader accepts the two-angle entry's layout (halves of the sphere's angle, the
+    """The reader accepts the two-angle entry's layout (bands of the sphere's angle, the
     shipped ones ending at the onset angle and 35 deg, or at fixed angles, contiguous from
     0 to 70 deg, each a 2-D ridge series and pieces from 0 to an end at or
-    above 70 deg) and refuses it broken (a half's table, the halves' ranges, the former
+    above 70 deg) and refuses it broken (a band's table, the bands' ranges, the former
     top-level layout), naming the file and the field; the one-angle layout still needs
     pieces ending exactly at 70 deg and a 1-D series."""
     from wetcontact.errors import InputError
@@ -829,16 +829,16 @@ def test_two_angle_layout_is_validated(source):
     shipped = _entry_json(source, cc.WALL_TWO_ANGLES)
     part = _capillary_part(Path("t.json"), cc.WALL_TWO_ANGLES, shipped)
     assert part.two_angles and not part.pieces and part.split is None
-    assert [(h.theta_sphere_lo, h.theta_sphere_hi) for h in part.halves] == [
+    assert [(h.theta_sphere_lo, h.theta_sphere_hi) for h in part.bands] == [
         (0.0, None), (None, 35.0), (35.0, 70.0)] and part.onset is not None
     # the refusals below on the fixed-range layout (the shipped lowest and highest tables,
     # [0, 35] and [35, 70] deg, no onset series), which the reader accepts as well
-    good = {"halves": [{**shipped["halves"][0], "theta_sphere_deg": [0.0, 35.0]},
-                       shipped["halves"][-1]], "held_out": shipped["held_out"]}
+    good = {"bands": [{**shipped["bands"][0], "theta_sphere_deg": [0.0, 35.0]},
+                       shipped["bands"][-1]], "held_out": shipped["held_out"]}
     part = _capillary_part(Path("t.json"), cc.WALL_TWO_ANGLES, good)
-    assert [(h.theta_sphere_lo, h.theta_sphere_hi) for h in part.halves] == [
+    assert [(h.theta_sphere_lo, h.theta_sphere_hi) for h in part.bands] == [
         (0.0, 35.0), (35.0, 70.0)] and part.onset is None
-    for h in part.halves:
+    for h in part.bands:
         assert h.split.ndim == 2 and h.pieces[-1].theta_hi >= 70.0
         assert all(p.quadratic for p in h.pieces)  # the wall angle quadratic toward the ridge
     one = _entry_json(source, "sphere-sphere")
@@ -848,42 +848,42 @@ def test_two_angle_layout_is_validated(source):
         change(e)
         return e
 
-    def half(i, change):  # a broken half of the two-angle entry
-        return broken(good, lambda e: change(e["halves"][i]))
+    def band(i, change):  # a broken band of the two-angle entry
+        return broken(good, lambda e: change(e["bands"][i]))
 
-    first = good["halves"][0]
+    first = good["bands"][0]
     cases = [
-        (cc.WALL_TWO_ANGLES, half(1, lambda h: h["theta_split"].update(
-            chebyshev=h["theta_split"]["chebyshev"][0])), "half 1 theta_split of shape"),
-        (cc.WALL_TWO_ANGLES, half(0, lambda h: h["pieces"][-1].update(
-            theta_deg=[None, 60.0])), "half 0 theta pieces .* an end at or above 70"),
-        (cc.WALL_TWO_ANGLES, half(1, lambda h: h["pieces"][0].update(
-            theta_deg=[5.0, None])), "half 1 theta pieces .* contiguous from 0"),
-        (cc.WALL_TWO_ANGLES, half(0, lambda h: h["pieces"][0].update(
-            rupture=h["pieces"][0]["rupture"][0])), "half 0 piece 0: .* rupture 3-D"),
-        (cc.WALL_TWO_ANGLES, half(1, lambda h: h.update(theta_split=None)),
-         "half 1 theta pieces .* only with a theta_split series"),
-        (cc.WALL_TWO_ANGLES, half(0, lambda h: h.update(ridge_margin_deg=-0.3)),
-         "half 0 ridge_margin_deg"),
+        (cc.WALL_TWO_ANGLES, band(1, lambda h: h["theta_split"].update(
+            chebyshev=h["theta_split"]["chebyshev"][0])), "band 1 theta_split of shape"),
+        (cc.WALL_TWO_ANGLES, band(0, lambda h: h["pieces"][-1].update(
+            theta_deg=[None, 60.0])), "band 0 theta pieces .* an end at or above 70"),
+        (cc.WALL_TWO_ANGLES, band(1, lambda h: h["pieces"][0].update(
+            theta_deg=[5.0, None])), "band 1 theta pieces .* contiguous from 0"),
+        (cc.WALL_TWO_ANGLES, band(0, lambda h: h["pieces"][0].update(
+            rupture=h["pieces"][0]["rupture"][0])), "band 0 piece 0: .* rupture 3-D"),
+        (cc.WALL_TWO_ANGLES, band(1, lambda h: h.update(theta_split=None)),
+         "band 1 theta pieces .* only with a theta_split series"),
+        (cc.WALL_TWO_ANGLES, band(0, lambda h: h.update(ridge_margin_deg=-0.3)),
+         "band 0 ridge_margin_deg"),
         (cc.WALL_TWO_ANGLES, broken(good, lambda e: e.update(ridge_margin_deg=-0.3)),
          "ridge_margin_deg"),
-        (cc.WALL_TWO_ANGLES, half(1, lambda h: h["pieces"][0].update(theta_map="cubic")),
-         "half 1 piece 0: theta_map = 'cubic'"),
-        # the halves' sphere-angle ranges: finite, increasing, contiguous over [0, 70]
-        (cc.WALL_TWO_ANGLES, half(0, lambda h: h.update(theta_sphere_deg=[0.0, 30.0])),
-         r"half 1: theta_sphere_deg = \[35.0, 70.0\] \(after 30 deg\)"),
-        (cc.WALL_TWO_ANGLES, half(0, lambda h: h.update(theta_sphere_deg=[1.0, 35.0])),
-         r"half 0: theta_sphere_deg = \[1.0, 35.0\]"),
-        (cc.WALL_TWO_ANGLES, half(1, lambda h: h.update(theta_sphere_deg=[35.0, 60.0])),
-         r"end at 60 deg; allowed: 'halves'"),
-        (cc.WALL_TWO_ANGLES, half(1, lambda h: h.update(theta_sphere_deg=[35.0, 35.0])),
-         r"half 1: theta_sphere_deg = \[35.0, 35.0\]"),
-        (cc.WALL_TWO_ANGLES, half(1, lambda h: h.update(theta_sphere_deg=[35.0, "inf"])),
-         "half 1: theta_sphere_deg"),
-        (cc.WALL_TWO_ANGLES, half(1, lambda h: h.update(theta_sphere_deg=[35.0])),
-         "half 1: theta_sphere_deg = \\[35.0\\]"),
-        (cc.WALL_TWO_ANGLES, broken(good, lambda e: e.update(halves=[])),
-         "field 'halves' = \\[\\]; allowed: 'halves', a list"),
+        (cc.WALL_TWO_ANGLES, band(1, lambda h: h["pieces"][0].update(theta_map="cubic")),
+         "band 1 piece 0: theta_map = 'cubic'"),
+        # the bands' sphere-angle ranges: finite, increasing, contiguous over [0, 70]
+        (cc.WALL_TWO_ANGLES, band(0, lambda h: h.update(theta_sphere_deg=[0.0, 30.0])),
+         r"band 1: theta_sphere_deg = \[35.0, 70.0\] \(after 30 deg\)"),
+        (cc.WALL_TWO_ANGLES, band(0, lambda h: h.update(theta_sphere_deg=[1.0, 35.0])),
+         r"band 0: theta_sphere_deg = \[1.0, 35.0\]"),
+        (cc.WALL_TWO_ANGLES, band(1, lambda h: h.update(theta_sphere_deg=[35.0, 60.0])),
+         r"end at 60 deg; allowed: 'bands'"),
+        (cc.WALL_TWO_ANGLES, band(1, lambda h: h.update(theta_sphere_deg=[35.0, 35.0])),
+         r"band 1: theta_sphere_deg = \[35.0, 35.0\]"),
+        (cc.WALL_TWO_ANGLES, band(1, lambda h: h.update(theta_sphere_deg=[35.0, "inf"])),
+         "band 1: theta_sphere_deg"),
+        (cc.WALL_TWO_ANGLES, band(1, lambda h: h.update(theta_sphere_deg=[35.0])),
+         "band 1: theta_sphere_deg = \\[35.0\\]"),
+        (cc.WALL_TWO_ANGLES, broken(good, lambda e: e.update(bands=[])),
+         "field 'bands' = \\[\\]; allowed: 'bands', a list"),
         # the former layout: one table over the whole sphere range, no longer evaluated
         (cc.WALL_TWO_ANGLES, {**{k: v for k, v in first.items() if k != "theta_sphere_deg"},
                               "held_out": good["held_out"]},
@@ -962,12 +962,12 @@ def test_json_calibrated_capillary_matches_table_and_schema(tmp_path, source):
             assert p["domain"]["v"] == [1e-4, 0.1]
             assert ("radius_ratio" in p["domain"]) == (kind == "sphere-sphere")
             two = kind == cc.WALL_TWO_ANGLES
-            if two:  # the sphere's angle over its half, the wall's within the piece
+            if two:  # the sphere's angle over its band, the wall's within the piece
                 assert p["domain"]["theta_sphere_deg"] == [sec.theta_sphere_lo,
                                                            sec.theta_sphere_hi]
                 lo_text = sphere_end_text(sec.theta_sphere_lo)
                 assert f"sphere angle {lo_text} to " in p["name"]
-                assert "first half whose upper" in p["form"] or name == "force"
+                assert "first band whose upper" in p["form"] or name == "force"
                 lo, hi = p["domain"]["theta_wall_deg"]
                 assert lo == (piece.theta_lo or 0.0) and hi <= 70.0
                 assert "cos theta_s + cos theta_w" in p["form"] or name != "force"
@@ -1063,25 +1063,25 @@ def test_cli_json_summary(tmp_path, capsys, source):
     assert info["bytes"] > 1000
 
 
-# ---- a two-angle table whose halves end at the onset angle theta_on(V) -------------------
+# ---- a two-angle table whose bands end at the onset angle theta_on(V) -------------------
 
 #: the synthetic table's onset series (deg, Chebyshev in a): theta_on = 23.5 + 6 a - 3 a^2,
 #: from 14.5 deg (a = -1, v = 1e-4) to 26.5 deg (a = 1, v = 0.1)
 ONSET_SERIES = [22.0, 6.0, -1.5]
-ONSET_HALVES = [(0.0, None), (None, 35.0), (35.0, 70.0)]
+ONSET_BANDS = [(0.0, None), (None, 35.0), (35.0, 70.0)]
 
 
 def _onset_entry(shipped: dict) -> dict:
-    """The shipped two-angle entry with its halves replaced by three, ``ONSET_HALVES``: [0,
-    theta_on] and [theta_on, 35] deg both the shipped lowest half's tables (coefficients
+    """The shipped two-angle entry with its bands replaced by three, ``ONSET_BANDS``: [0,
+    theta_on] and [theta_on, 35] deg both the shipped lowest band's tables (coefficients
     unchanged: the values are not physical, the package and the exports must only agree)
-    and [35, 70] the shipped upper half; theta_on the series ``ONSET_SERIES`` (the shipped
-    table's own halves are its lowest, highest and one between: the lowest and highest
+    and [35, 70] the shipped upper band; theta_on the series ``ONSET_SERIES`` (the shipped
+    table's own bands are its lowest, highest and one between: the lowest and highest
     are taken)."""
-    lower, upper = shipped["halves"][0], shipped["halves"][-1]
+    lower, upper = shipped["bands"][0], shipped["bands"][-1]
     return {**shipped, cc.ONSET_KEY: {"chebyshev": list(ONSET_SERIES)},
-            "halves": [{**lower, "theta_sphere_deg": list(ONSET_HALVES[0])},
-                       {**lower, "theta_sphere_deg": list(ONSET_HALVES[1])}, upper]}
+            "bands": [{**lower, "theta_sphere_deg": list(ONSET_BANDS[0])},
+                       {**lower, "theta_sphere_deg": list(ONSET_BANDS[1])}, upper]}
 
 
 @pytest.fixture(scope="module")
@@ -1096,7 +1096,7 @@ def onset(source):
         pytest.skip("the package data has no two-angle table")
     entry = _onset_entry(table[cc.WALL_TWO_ANGLES])
     part = _capillary_part(Path("synthetic.json"), cc.WALL_TWO_ANGLES, entry)
-    assert [(h.theta_sphere_lo, h.theta_sphere_hi) for h in part.halves] == ONSET_HALVES
+    assert [(h.theta_sphere_lo, h.theta_sphere_hi) for h in part.bands] == ONSET_BANDS
     src = replace(source, table=replace(source.table, parts={
         **source.table.parts, cc.WALL_TWO_ANGLES: part}))
     return entry, src
@@ -1204,17 +1204,17 @@ def _onset_tolerance(entry, cap: dict[str, np.ndarray], sc: np.ndarray
             "capillary_force": REL + ridge + np.where(np.isfinite(fold), fold, 0.0)}
 
 
-def test_onset_halves_package_rule(onset, onset_points, source):
+def test_onset_bands_package_rule(onset, onset_points, source):
     """The reference and the package's rule at the onset angle. On the shipped table the
     reference's formula (:func:`_onset_reference`) is the model's (package_evaluation,
-    through a Scene) to REL. At the onset angle theta_on(V) (the synthetic table's halves
-    [0, theta_on], [theta_on, 35]) a point belongs to the first half, an ulp above it to
-    the second, as each half evaluated alone says; there the two halves' forces differ by
+    through a Scene) to REL. At the onset angle theta_on(V) (the synthetic table's bands
+    [0, theta_on], [theta_on, 35]) a point belongs to the first band, an ulp above it to
+    the second, as each band evaluated alone says; there the two bands' forces differ by
     far more than the comparison's tolerance (b1 = 1 in the first, -1 in the second), so a
-    point put in the wrong half by an export fails the comparison below. Both sides of
+    point put in the wrong band by an export fails the comparison below. Both sides of
     the onset occur within an ulp. The onset series summed term by term in the order of k
     (as the exports sum it) gives the package's value to the bit at every point, which is
-    what lets the exports pick the package's half at the onset exactly."""
+    what lets the exports pick the package's band at the onset exactly."""
     entry, _ = onset
     cap, where, ref = onset_points
     sub = {k: x[:40] for k, x in cap.items()}
@@ -1230,16 +1230,16 @@ def test_onset_halves_package_rule(onset, onset_points, source):
     assert np.array_equal(on, plain), (
         "the package's onset (summed term by term, batch-independent) and the exports' "
         f"term-by-term sum differ at {np.sum(on != plain)} points: exactly at theta_on the "
-        "package and the exports may then pick different halves")
+        "package and the exports may then pick different bands")
     assert 14.5 <= on.min() and on.max() <= 26.5
     held = np.degrees(np.radians(cap["theta1_deg"]))
     ulp = np.abs(np.spacing(on))
     at, tiny = where["onset"] & (held == on), where["onset"] & (np.abs(held - on) <= 2 * ulp)
     assert np.sum(at) >= 6 and np.sum(tiny & (held < on)) >= 12 and np.sum(
         tiny & (held > on)) >= 12
-    halves = entry["halves"]
-    with np.errstate(all="ignore"):  # each half alone, extrapolated beyond its range
-        first, second = (_half_alone(halves[k], cap, entry[cc.ONSET_KEY]) for k in (0, 1))
+    bands = entry["bands"]
+    with np.errstate(all="ignore"):  # each band alone, extrapolated beyond its range
+        first, second = (_half_alone(bands[k], cap, entry[cc.ONSET_KEY]) for k in (0, 1))
         want = np.where(held <= on, first, second)
         sel = where["onset"] & (ref["capillary_force"] != 0.0)
         jump = np.abs(first[at & sel] / second[at & sel] - 1.0)
@@ -1248,11 +1248,11 @@ def test_onset_halves_package_rule(onset, onset_points, source):
 
 
 @pytest.mark.parametrize("language", ["python", "c"])
-def test_onset_halves_exports_agree(onset, onset_points, tmp_path, language):
-    """A table whose halves end at the onset angle (the synthetic one): both exports agree
+def test_onset_bands_exports_agree(onset, onset_points, tmp_path, language):
+    """A table whose bands end at the onset angle (the synthetic one): both exports agree
     with the package to the comparison's tolerance at every point, at the onset angle and
     35 deg exactly, ulps and 1e-12 ... 0.1 deg either side (0 at the same points), and
-    their texts name the halves' ends ``theta_on(V)``. In C also the contact API, bit for
+    their texts name the bands' ends ``theta_on(V)``. In C also the contact API, bit for
     bit wc_capillary_force."""
     entry, src = onset
     cap, where, ref = onset_points
@@ -1290,9 +1290,9 @@ def test_onset_halves_exports_agree(onset, onset_points, tmp_path, language):
 
 
 def test_onset_layout_is_validated(onset, source):
-    """The reader takes a half's end null (the onset angle) with the entry's series
+    """The reader takes a band's end null (the onset angle) with the entry's series
     ``theta_sphere_split`` ([.., null] then [null, ..] contiguous), and a series without a
-    null end (the halves as before); it refuses a null end without the series, a series
+    null end (the bands as before); it refuses a null end without the series, a series
     that is not a non-empty list of finite numbers, ranges not contiguous, empty or
     decreasing at some volume (the onset angle outside its neighbours' ends), naming the
     file, the field and its value."""
@@ -1302,13 +1302,13 @@ def test_onset_layout_is_validated(onset, source):
     _, src = onset
     good = _entry_json(src, cc.WALL_TWO_ANGLES)
     part = _capillary_part(Path("t.json"), cc.WALL_TWO_ANGLES, good)
-    assert [(h.theta_sphere_lo, h.theta_sphere_hi) for h in part.halves] == ONSET_HALVES
+    assert [(h.theta_sphere_lo, h.theta_sphere_hi) for h in part.bands] == ONSET_BANDS
     assert part.onset.tolist() == ONSET_SERIES
     shipped = _entry_json(source, cc.WALL_TWO_ANGLES)
-    fixed = [{**shipped["halves"][0], "theta_sphere_deg": [0.0, 35.0]}, shipped["halves"][-1]]
-    plus = {**shipped, "halves": fixed, cc.ONSET_KEY: {"chebyshev": [20.0]}}
+    fixed = [{**shipped["bands"][0], "theta_sphere_deg": [0.0, 35.0]}, shipped["bands"][-1]]
+    plus = {**shipped, "bands": fixed, cc.ONSET_KEY: {"chebyshev": [20.0]}}
     part = _capillary_part(Path("t.json"), cc.WALL_TWO_ANGLES, plus)
-    assert [(h.theta_sphere_lo, h.theta_sphere_hi) for h in part.halves] == [
+    assert [(h.theta_sphere_lo, h.theta_sphere_hi) for h in part.bands] == [
         (0.0, 35.0), (35.0, 70.0)]
 
     def broken(change):
@@ -1319,15 +1319,15 @@ def test_onset_layout_is_validated(onset, source):
     def series(value):
         return lambda e: e.update({cc.ONSET_KEY: value})
 
-    def ranges(*rng):  # the halves' theta_sphere_deg (the first len(rng) halves, tables kept)
+    def ranges(*rng):  # the bands' theta_sphere_deg (the first len(rng) bands, tables kept)
         def change(e):
-            e["halves"] = [{**h, "theta_sphere_deg": list(r)} for h, r in zip(
-                e["halves"] * 2, rng, strict=False)]
+            e["bands"] = [{**h, "theta_sphere_deg": list(r)} for h, r in zip(
+                e["bands"] * 2, rng, strict=False)]
         return change
 
     key = cc.ONSET_KEY
     cases = [
-        (lambda e: e.pop(key), r"half 0: theta_sphere_deg = \[0.0, None\], an end null \(the "
+        (lambda e: e.pop(key), r"band 0: theta_sphere_deg = \[0.0, None\], an end null \(the "
          r"onset angle\) in an entry without the field 'theta_sphere_split'; allowed: "),
         (series({"chebyshev": []}), r"field 'theta_sphere_split' = \{'chebyshev': \[\]\}; "
          r"allowed: \{'chebyshev': \[o_0, ..., o_n\]\}, a non-empty list of finite numbers"),
@@ -1339,23 +1339,23 @@ def test_onset_layout_is_validated(onset, source):
         (series({"coefficients": [22.0]}), r"'theta_sphere_split' = \{'coefficients'"),
         (series(22.0), r"field 'theta_sphere_split' = 22.0; allowed"),
         (ranges((None, 35.0), (35.0, 70.0)),
-         r"half 0: theta_sphere_deg = \[None, 35.0\] \(after 0 deg\)"),
+         r"band 0: theta_sphere_deg = \[None, 35.0\] \(after 0 deg\)"),
         (ranges((0.0, None), (30.0, 35.0), (35.0, 70.0)),
-         r"half 1: theta_sphere_deg = \[30.0, 35.0\] \(after theta_on\(V\) deg\)"),
+         r"band 1: theta_sphere_deg = \[30.0, 35.0\] \(after theta_on\(V\) deg\)"),
         (ranges((0.0, 20.0), (None, 35.0), (35.0, 70.0)),
-         r"half 1: theta_sphere_deg = \[None, 35.0\] \(after 20 deg\)"),
+         r"band 1: theta_sphere_deg = \[None, 35.0\] \(after 20 deg\)"),
         (lambda e: (series({"chebyshev": [50.0]})(e), ranges((0.0, 35.0), (35.0, None))(e)),
-         r"halves' theta_sphere_deg \[\[0.0, 35.0\], \[35.0, None\]\] end at "
-         r"theta_on\(V\) deg; allowed: 'halves'"),
+         r"bands' theta_sphere_deg \[\[0.0, 35.0\], \[35.0, None\]\] end at "
+         r"theta_on\(V\) deg; allowed: 'bands'"),
         (ranges((0.0, None), (None, None), (None, 70.0)),
-         r"half 1: theta_sphere_deg = \[None, None\], empty or decreasing where the onset "
+         r"band 1: theta_sphere_deg = \[None, None\], empty or decreasing where the onset "
          r"angle is 14.5 to 26.5 deg"),
-        (series({"chebyshev": [40.0]}), r"half 1: theta_sphere_deg = \[None, 35.0\], empty "
+        (series({"chebyshev": [40.0]}), r"band 1: theta_sphere_deg = \[None, 35.0\], empty "
          r"or decreasing where the onset angle is 40 to 40 deg \(a in \[-1, 1\]\); allowed"),
-        (series({"chebyshev": [5.0, 10.0]}), r"half 0: theta_sphere_deg = \[0.0, None\], "
+        (series({"chebyshev": [5.0, 10.0]}), r"band 0: theta_sphere_deg = \[0.0, None\], "
          r"empty or decreasing where the onset angle is -5 to 15 deg"),
         (ranges((0.0, "null"), (None, 35.0), (35.0, 70.0)),
-         r"half 0: theta_sphere_deg = \[0.0, 'null'\]; allowed: 'halves', a list of tables "
+         r"band 0: theta_sphere_deg = \[0.0, 'null'\]; allowed: 'bands', a list of tables "
          r"each with 'theta_sphere_deg' \[lo, hi\] \(finite, or null for the onset angle"),
     ]
     for change, says in cases:
@@ -1364,8 +1364,8 @@ def test_onset_layout_is_validated(onset, source):
 
 
 def test_onset_json_document(onset):
-    """``export json`` of a table whose halves end at the onset angle: the two-angle parts'
-    ``theta_sphere_deg`` are the halves' ranges with null for the onset angle, exactly the
+    """``export json`` of a table whose bands end at the onset angle: the two-angle parts'
+    ``theta_sphere_deg`` are the bands' ranges with null for the onset angle, exactly the
     parts with a null end carry the series (``theta_sphere_split``), the document is valid;
     the schema refuses a null end without the series, a series not of numbers or empty,
     and null in another range."""
@@ -1378,11 +1378,11 @@ def test_onset_json_document(onset):
     part = src.table.parts[cc.WALL_TWO_ANGLES]
     two = [p for p in doc["parts"] if p["geometry"] == cc.WALL_TWO_ANGLES]
     assert [p["domain"]["theta_sphere_deg"] for p in two] == [
-        [h.theta_sphere_lo, h.theta_sphere_hi] for h in part.halves for _ in h.pieces
+        [h.theta_sphere_lo, h.theta_sphere_hi] for h in part.bands for _ in h.pieces
         for _ in range(2)]
     nulls = [i for i, p in enumerate(doc["parts"]) if None in p["domain"].get(
         "theta_sphere_deg", ())]
-    assert len(nulls) == 2 * sum(len(h.pieces) for h in part.halves[:2])
+    assert len(nulls) == 2 * sum(len(h.pieces) for h in part.bands[:2])
     for i, p in enumerate(doc["parts"]):
         assert ("theta_sphere_split" in p) == (i in nulls)
         assert ("theta_on(V)" in p["name"]) == (i in nulls), p["name"]
@@ -1404,8 +1404,8 @@ def test_onset_json_document(onset):
 def test_onset_comparison_sees_a_moved_onset(onset, onset_points, tmp_path, language):
     """The comparison above is sharp at the onset: with the exports' onset series moved by
     1e-9 deg (its leading coefficient) they disagree with the package there (the points
-    within ulps above the onset change half, the others' b1 moves by about 1e-10), and
-    agree at 35 deg and above, where no half's range is the onset angle."""
+    within ulps above the onset change band, the others' b1 moves by about 1e-10), and
+    agree at 35 deg and above, where no band's range is the onset angle."""
     entry, src = onset
     cap, where, ref = onset_points
     part = src.table.parts[cc.WALL_TWO_ANGLES]

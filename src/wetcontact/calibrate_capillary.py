@@ -45,11 +45,11 @@ PIECES: dict[str, list[dict[str, Any]]] = {
 }
 """Theta pieces per kind (``None``: the split angle, or the ridge on a wall with two angles)
 and their Lobatto nodes per axis ((w,) a = ln v, b = theta within the piece, c = gap; two
-angles on a wall: a, b1 = the sphere's angle within its half, b2 = the wall's angle within
+angles on a wall: a, b1 = the sphere's angle within its band, b2 = the wall's angle within
 the piece, c)."""
-TWO_ANGLE_HALVES_DEG: tuple[tuple[float | None, float | None], ...] = (
+TWO_ANGLE_BANDS_DEG: tuple[tuple[float | None, float | None], ...] = (
     (0.0, None), (None, 35.0), (35.0, 70.0))
-"""The sphere angle's ranges ("halves", three of them) of the two-angle wall table, each a
+"""The sphere angle's ranges (``bands``) of the two-angle wall table, each a
 table of its own (ridge series and pieces); ``None`` is the onset angle theta_on(V)
 (:func:`fit_onset`), where S_c's jump at the ridge's top appears (29.9 deg at v = 1e-4 down
 to 19.2 at 0.08). The ridge's locus has a kink of its curvature there (v = 0.08: its
@@ -58,7 +58,7 @@ across it converges slowly: one range over [0, 35] deg missed the true top by up
 1.2e-2 deg (v = 0.08, theta_s = 21 deg), one over [0, 70] by 1.6e-2. On either side the
 locus is smooth (v = 0.08, 9 nodes: 2.2e-7 deg above the onset, 5e-5 below, where every
 top is a smooth maximum and the pieces meet in the flat of S_c). 35 deg stays a break: the
-upper table is the former upper half's, its nodes reused."""
+upper table is the former upper half's (when there were two bands), its nodes reused."""
 SPLIT_NODES = 7
 """Lobatto nodes in ln v of the split angle (equal spheres: fold below, bifurcation above)."""
 SPLIT_BRACKET_DEG = (24.0, 36.0)
@@ -150,7 +150,7 @@ def _angle_series(job, n: int, key: str, tol_key: float | None, tol: float, labe
 SphereRange = tuple[float | None, float | None]
 """A range of the sphere's angle (deg); ``None``: the onset angle (a series in ln V)."""
 RIDGE_NODES = (10, 9)
-"""Lobatto nodes in (a, b1) of the ridge angle of a wall with two angles (per half)."""
+"""Lobatto nodes in (a, b1) of the ridge angle of a wall with two angles (per band)."""
 RIDGE_BRACKET_DEG = (-2.0, 45.0)
 """Where the ridge is sought: the sphere's angle plus these (the wall's angle clipped to
 [0, :data:`~wetcontact.reduced_models.calibrated_capillary.RIDGE_TOP_DEG`])."""
@@ -545,18 +545,18 @@ def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
 
 def fit_kind(kind: str, workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
     """Every theta piece of one kind (and the split angle for sphere pairs); a wall with two
-    angles: per half of the sphere's angle (:data:`TWO_ANGLE_HALVES_DEG`) its ridge and
-    pieces, b1 over the half."""
+    angles: per band of the sphere's angle (:data:`TWO_ANGLE_BANDS_DEG`) its ridge and
+    pieces, b1 over the band."""
     if kind == cc.WALL_TWO_ANGLES:
         onset = (fit_onset(workers, cache_dir)
-                 if any(None in rng for rng in TWO_ANGLE_HALVES_DEG) else None)
-        halves = []
-        for rng in TWO_ANGLE_HALVES_DEG:
+                 if any(None in rng for rng in TWO_ANGLE_BANDS_DEG) else None)
+        bands = []
+        for rng in TWO_ANGLE_BANDS_DEG:
             ridge = fit_ridge(workers, cache_dir, rng, onset)
-            halves.append({"theta_sphere_deg": list(rng), "theta_split": ridge,
+            bands.append({"theta_sphere_deg": list(rng), "theta_split": ridge,
                            "pieces": [fit_piece(kind, p, ridge, workers, cache_dir, rng,
                                                 onset) for p in PIECES[kind]]})
-        return {**({cc.ONSET_KEY: onset} if onset else {}), "halves": halves}
+        return {**({cc.ONSET_KEY: onset} if onset else {}), "bands": bands}
     split = None
     if any(None in p["theta_deg"] for p in PIECES[kind]):
         split = fit_split(workers, cache_dir)

@@ -186,7 +186,7 @@ def test_two_angles_where_the_ridge_jump_appears() -> None:
     the locus's curvature kink is largest), the sphere angle within 1 deg of the table's
     onset angle theta_on(V), the wall angle 1e-3 to 1.5e-2 deg from the ridge series,
     seeded. One table across the onset missed the true top by up to 1.2e-2 deg there and
-    the rupture distance by 4.9e-4 at these points; the halves that meet at theta_on
+    the rupture distance by 4.9e-4 at these points; the bands that meet at theta_on
     (fresh ``meniscus`` references): the goals hold, the true S_c lies in the closure's
     rupture window, and short of it the force's error is below its ``bound_floor``."""
     model = get_model("calibrated-capillary")
@@ -231,12 +231,12 @@ def test_ridge_nodes_sit_on_the_jump_or_the_smooth_top() -> None:
     a margin."""
     from wetcontact.calibrate_capillary import wall_rupture
 
-    halves = cc.capillary_table()[cc.WALL_TWO_ANGLES]["halves"]
-    for half in halves:
+    bands = cc.capillary_table()[cc.WALL_TWO_ANGLES]["bands"]
+    for band in bands:
         # the searches end at 1e-6 deg, or, where a fold refinement fails next to a jump,
         # with the bracket they have (at most 1.6e-5 deg: S_c off by about 1.5e-4 there)
-        assert half["theta_split"]["bracket_max_deg"] < 2e-5
-    below, above = halves[0], halves[-1]
+        assert band["theta_split"]["bracket_max_deg"] < 2e-5
+    below, above = bands[0], bands[-1]
     assert below["theta_sphere_deg"][1] is None  # up to the onset angle
     ridge = above["theta_split"]
     nodes = np.asarray(ridge["at_nodes_deg"])
@@ -253,17 +253,17 @@ def test_ridge_nodes_sit_on_the_jump_or_the_smooth_top() -> None:
         assert abs(s[0] / s[1] - 1) < 1e-8, (i, j, s)
 
 
-def test_two_angle_halves_join_at_their_breaks() -> None:
-    """The two-angle table's halves in the sphere's angle (the lowest ends at the onset
+def test_two_angle_bands_join_at_their_breaks() -> None:
+    """The two-angle table's bands in the sphere's angle (the lowest ends at the onset
     angle, a series in the volume, the next at 35 deg): a point at a break belongs to the
-    lower half, the halves are contiguous over the angle range, and on either side of each
+    lower band, the bands are contiguous over the angle range, and on either side of each
     break (1e-9 deg) they agree: the ridge and S_c interpolate the same nodes there (to
     round-off), the force to within its two low-rank factorisations (each changes it by at
     most the generator's FACTOR_TOL)."""
     from wetcontact.calibrate_capillary import FACTOR_TOL
 
     e = cc.capillary_table()[cc.WALL_TWO_ANGLES]
-    ends = [h["theta_sphere_deg"] for h in e["halves"]]
+    ends = [h["theta_sphere_deg"] for h in e["bands"]]
     assert ends[0][0] == cc.THETA_RANGE_DEG[0] and ends[-1][1] == cc.THETA_RANGE_DEG[1]
     assert all(a[1] == b[0] for a, b in zip(ends, ends[1:], strict=False))
     rng = np.random.default_rng(35)
@@ -272,8 +272,8 @@ def test_two_angle_halves_join_at_their_breaks() -> None:
     tw = np.radians(rng.uniform(*cc.THETA_RANGE_DEG, 60))
     for k, (_, cut) in enumerate(ends[:-1]):
         cut_deg = cc.onset_deg(e, a) if cut is None else np.full(60, cut)
-        np.testing.assert_array_equal(cc.half_index(e, cut_deg, a), k)
-        np.testing.assert_array_equal(cc.half_index(e, cut_deg + 1e-9, a), k + 1)
+        np.testing.assert_array_equal(cc.band_index(e, cut_deg, a), k)
+        np.testing.assert_array_equal(cc.band_index(e, cut_deg + 1e-9, a), k + 1)
         sides = np.radians([cut_deg - 1e-9, cut_deg + 1e-9])
         ridge = [cc.ridge_deg(v, np.degrees(t)) for t in sides]
         np.testing.assert_allclose(ridge[1], ridge[0], rtol=0, atol=1e-7)
@@ -282,7 +282,7 @@ def test_two_angle_halves_join_at_their_breaks() -> None:
                                                 theta_wall=tw) for t in sides)
         np.testing.assert_allclose(s_c1, s_c0, rtol=1e-9)
         np.testing.assert_allclose(f1, f0, rtol=2 * FACTOR_TOL)
-    np.testing.assert_array_equal(cc.half_index(e, np.array([70.0, 70.1]), a[:2]),
+    np.testing.assert_array_equal(cc.band_index(e, np.array([70.0, 70.1]), a[:2]),
                                   [len(ends) - 1, -1])
 
 

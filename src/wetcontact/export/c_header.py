@@ -100,13 +100,13 @@ CAP_COMMENT = """\
  *   s = S/R_s. A plane with TWO contact angles (theta1 the sphere's, theta2 the plane's)
  *   has its own table, axes (a, b1, b2[, c]): S_c = R v^(1/3) exp(sum C_rup T(a) T(b1)
  *   T(b2)), F = -2 pi sigma R (cos theta1 + cos theta2) exp(sum C_F T(a) T(b1) T(b2) T(c)),
- *   in halves of theta1 (a point in the first half whose upper end, at the point's v, is at
+ *   in bands of theta1 (a point in the first band whose upper end, at the point's v, is at
  *   or above theta1):
- *   {halves};
- *   each with its own tables: b1 from theta1 over the half's range (at the point's own a
+ *   {bands};
+ *   each with its own tables: b1 from theta1 over the band's range (at the point's own a
  *   where an end is theta_on: wc__cap_select), b2 from theta2 within its piece
  *   (quadratic toward the ridge where the piece says so: wc__cap_b); the pieces meet at
- *   the ridge of S_c, a plane angle theta2* = sum s_ij T_i(a) T_j(b1) (deg, the half's
+ *   the ridge of S_c, a plane angle theta2* = sum s_ij T_i(a) T_j(b1) (deg, the band's
  *   own series).{onset}
  *   C_F is stored in its low-rank form (the package's own layout),
  *   C_F = sum_q L[..][q] R[q][..] with L over the leading axes and R over the others, and
@@ -251,7 +251,7 @@ static inline double wc_viscous_force_bridge(double r1, double r2, double viscos
 #define WC__CAP_NMAX {cap_nmax}
 #define WC__CAP_RMAX {cap_rmax}
 #define WC__CAP_PIECES {cap_pieces}
-#define WC__CAP_HALVES {cap_halves}
+#define WC__CAP_BANDS {cap_bands}
 #define WC__CAP_PLANE 0   /* one contact angle on a plane: axes (1, a, b, c) */
 #define WC__CAP_SPHERES 1 /* one contact angle between two spheres: (w, a, b, c) */
 #define WC__CAP_PLANE2 2  /* two contact angles on a plane: (a, b1, b2, c) */
@@ -274,9 +274,9 @@ struct wc__cap_piece {{
  * or above the angle they divide: the one angle, or the plane's of two) and the split
  * angle (deg) as sum_k split[k] T_k(a) (nsplit_b = 0), or, for a plane with two angles,
  * the plane angle of the rupture distance's ridge as sum_ij split[i][j] T_i(a) T_j(b1)
- * (nsplit x nsplit_b, row-major). A plane with two angles has one table per half of the
+ * (nsplit x nsplit_b, row-major). A plane with two angles has one table per band of the
  * sphere's angle, [ts_lo, ts_hi] (deg; b1 mapped from it; a point belongs to the first
- * half whose ts_hi is at or above its sphere angle), an end flagged ts_lo_onset /
+ * band whose ts_hi is at or above its sphere angle), an end flagged ts_lo_onset /
  * ts_hi_onset being the onset angle wc__cap_onset(a) at the point (wc__cap_select sets
  * it); the one-angle geometries have one. */
 struct wc__cap_table {{
@@ -307,10 +307,10 @@ static inline void wc__cap_set(struct wc__cap_piece *p, int lo_split, double lo,
     p->right = right;
 }}
 
-/* Table `half` of one geometry (WC__CAP_PLANE, WC__CAP_SPHERES: half 0 only;
- * WC__CAP_PLANE2: its halves of the sphere's angle, 0, 1, ...); 0 when there is none (or
+/* Table `band` of one geometry (WC__CAP_PLANE, WC__CAP_SPHERES: band 0 only;
+ * WC__CAP_PLANE2: its bands of the sphere's angle, 0, 1, ...); 0 when there is none (or
  * the geometry's table was not generated). */
-static inline int wc__cap_table(int geometry, int half, struct wc__cap_table *t)
+static inline int wc__cap_table(int geometry, int band, struct wc__cap_table *t)
 {{
 {cap_tables}
 }}
@@ -328,21 +328,21 @@ static inline void wc__cheb_rows(double t, double *out, int n)
 
 /* The sphere angle (deg) where the ridge's jump appears on a plane with two angles, at the
  * volume coordinate a: theta_on = sum_k o[k] T_k(a), the terms added in the order of k;
- * NAN when the table has no such series (then no half ends there). */
+ * NAN when the table has no such series (then no band ends there). */
 static inline double wc__cap_onset(double a)
 {{
 {cap_onset}
 }}
 
 /* The table of a geometry that holds the sphere angle ts (deg) at the volume coordinate a:
- * for a plane with two angles the first half whose upper end (the onset angle at a where
+ * for a plane with two angles the first band whose upper end (the onset angle at a where
  * it is flagged so, set in the table) is at or above ts, else the geometry's one table; 0
  * when none does (or it was not generated). */
 static inline int wc__cap_select(int geometry, double ts, double a, struct wc__cap_table *t)
 {{
     int h;
     double on = geometry == WC__CAP_PLANE2 ? wc__cap_onset(a) : 0.0;
-    for (h = 0; h < WC__CAP_HALVES; ++h) {{
+    for (h = 0; h < WC__CAP_BANDS; ++h) {{
         if (!wc__cap_table(geometry, h, t))
             return 0;
         if (t->ts_lo_onset)
@@ -444,12 +444,12 @@ static inline int wc__cap_bridge(double r1, double r2, double volume, double the
         return 0;
     *rho = plane ? 1.0 : ratio / (1.0 + ratio);
     a = wc__map(log(*v), {lnv_lo_r}, {lnv_hi_r});
-    /* the sphere's angle as the package holds it (radians and back): it picks the half */
+    /* the sphere's angle as the package holds it (radians and back): it picks the band */
     ts = theta1_deg * (WC_PI / 180.0) * (180.0 / WC_PI);
     if (!wc__cap_select(plane ? (*two ? WC__CAP_PLANE2 : WC__CAP_PLANE) : WC__CAP_SPHERES, ts,
                         a, tab))
         return 0;
-    if (*two) {{  /* axes (a, b1, b2): b1 within the half; the pieces divide theta2 */
+    if (*two) {{  /* axes (a, b1, b2): b1 within the band; the pieces divide theta2 */
         x0 = a;
         x1 = wc__map(ts, tab->ts_lo, tab->ts_hi);
         theta = theta2_deg;
@@ -742,7 +742,7 @@ def header_text(source: CapillarySource) -> str:
         cap_comment=CAP_COMMENT.format(
             **capillary_fields(source),
             cap_held_out="\n *     ".join(held_out_lines(source)),
-            halves=halves_text(source.table.parts.get(TWO_ANGLES)),
+            bands=bands_text(source.table.parts.get(TWO_ANGLES)),
             onset=onset_text(source.table.parts.get(TWO_ANGLES), " *   "),
             cap_src=Path(source.table.source).name, cap_sha=source.table.sha256[:16],
             label=_wrap(source.refit_label), rup_src=Path(rup.source).name,
@@ -757,7 +757,7 @@ def header_text(source: CapillarySource) -> str:
                         for sec in p.sections if sec.split is not None]),
         cap_pieces=max(len(sec.pieces) for p in source.table.parts.values()
                        for sec in p.sections),
-        cap_halves=max(len(p.sections) for p in source.table.parts.values()),
+        cap_bands=max(len(p.sections) for p in source.table.parts.values()),
         cap_rmax=max(pc.rank for p in source.table.parts.values() for pc in p.all_pieces),
         cap_tables=_cap_tables(source), cap_onset=_cap_onset(source),
         n_wall=len(w["chebyshev"]), cheb_wall=c_array(w["chebyshev"]),
@@ -769,17 +769,17 @@ def header_text(source: CapillarySource) -> str:
     return head + body
 
 
-def halves_text(part: CapillaryPart | None) -> str:
-    """The halves' sphere-angle ranges of a plane with two angles, for the comments (an end
+def bands_text(part: CapillaryPart | None) -> str:
+    """The bands' sphere-angle ranges of a plane with two angles, for the comments (an end
     at the onset angle as ``theta_on(V)``, then that angle's series)."""
     if part is None:
         return "not generated"
-    return ", ".join(h.range_text for h in part.halves)
+    return ", ".join(h.range_text for h in part.bands)
 
 
 def onset_text(part: CapillaryPart | None, lead: str) -> str:
     """The sentence on the onset angle for the comments, its lines after the first led by
-    ``lead``; empty when no half ends there."""
+    ``lead``; empty when no band ends there."""
     if part is None or part.onset is None:
         return ""
     text = (f" {ONSET_TEXT} = sum_k o_k T_k(a) (deg, {part.onset.size} coefficients) is the "
@@ -832,7 +832,7 @@ def held_out_lines(source: CapillarySource) -> list[str]:
 
 def _cap_tables(source: CapillarySource) -> str:
     """The body of ``wc__cap_table``: each generated geometry's tables (one, or a plane with
-    two angles' halves, each with its sphere-angle range) as static arrays (a plane's with
+    two angles' bands, each with its sphere-angle range) as static arrays (a plane's with
     a leading axis of one entry) and split series (flattened row-major: a plane with two
     angles has 2-D ridge series), ``return 0`` for a missing one."""
     out = []
@@ -843,11 +843,11 @@ def _cap_tables(source: CapillarySource) -> str:
                        "generated */")
             continue
         for h, sec in enumerate(part.sections):
-            ts = ((sec.theta_sphere_lo, sec.theta_sphere_hi) if part.halves
+            ts = ((sec.theta_sphere_lo, sec.theta_sphere_hi) if part.bands
                   else source.table.theta_range_deg)
             what = (f"{kind}, sphere angle {sphere_end_text(ts[0])} to "
-                    f"{sphere_end_text(ts[1])} deg" if part.halves else kind)
-            lines = [f"    if (geometry == {code} && half == {h}) {{  /* {what} */"]
+                    f"{sphere_end_text(ts[1])} deg" if part.bands else kind)
+            lines = [f"    if (geometry == {code} && band == {h}) {{  /* {what} */"]
             split = "(const double *)0"
             if sec.split is not None:
                 lines.append(f"        static const double split[{sec.split.size}] = "

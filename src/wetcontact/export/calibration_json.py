@@ -26,7 +26,7 @@ from wetcontact.fileio import atomic_write_text
 
 if TYPE_CHECKING:
     from wetcontact.export.closures import (
-        CapillaryHalf,
+        CapillaryBand,
         CapillaryPart,
         CapillaryPiece,
         CapillaryTable,
@@ -88,8 +88,8 @@ FORMS = {
         "mapped to [-1, 1] as m(x; lo, hi) = (2 x - lo - hi)/(hi - lo): a = m(ln v; ln v0, "
         "ln v1), b1 = m(theta_s_deg; t0, t1), b2 from theta_w_deg within the part's range "
         "[lo, hi] of theta_w (below), [v0, v1] the domain's v, [t0, t1] its "
-        "theta_sphere_deg: the table is split in the sphere's angle into halves, each with "
-        "its own parts and ridge, and a point belongs to the first half whose upper "
+        "theta_sphere_deg: the table is split in the sphere's angle into bands, each with "
+        "its own parts and ridge, and a point belongs to the first band whose upper "
         "theta_sphere_deg end is at or above theta_s; an end null is the onset angle "
         "theta_on(V) = sum_k o_k T_k(a) (deg, the part's theta_sphere_split, o_k its "
         "'chebyshev'; the sphere angle where the ridge's jump appears) at the point's own a, "
@@ -102,10 +102,10 @@ FORMS = {
         "smooth correction)"),
     "capillary-piece-two-angles": (
         "; this part covers the wall's angle theta_w from {lo} to {hi} deg (a point belongs "
-        "to the first part of its half whose upper end is at or above theta_w; the domain "
+        "to the first part of its band whose upper end is at or above theta_w; the domain "
         "stops at the domain's theta_wall_deg) and {b2} within it, where 'ridge' is "
         "the wall angle of the rupture distance's ridge theta_w* = sum_ij s_ij T_i(a) "
-        "T_j(b1) (deg, the half's own series), where S_c peaks and the parts meet"),
+        "T_j(b1) (deg, the band's own series), where S_c peaks and the parts meet"),
     "capillary-b2-linear": "b2 = m(theta_w_deg; lo, hi)",
     "capillary-b2-quadratic": (
         "b2 quadratic toward the ridge: b2 = 1 - 2 sqrt((hi - theta_w_deg)/(hi - lo)) when "
@@ -211,8 +211,8 @@ def capillary_document(table: CapillaryTable | None = None) -> dict[str, Any]:
     """The shipped ``calibrated-capillary`` closure: per generated geometry a rupture part
     and a force part, each tensor flattened in C order (its shape in the layout); a wall
     with two contact angles (geometry ``sphere-wall-two-angles``) has axes (a, b1, b2) and
-    a 2-D ridge series, per half of the sphere's angle (its parts' ``theta_sphere_deg``:
-    the half's range, over which b1 is mapped; an end ``null`` is the onset angle, whose
+    a 2-D ridge series, per band of the sphere's angle (its parts' ``theta_sphere_deg``:
+    the band's range, over which b1 is mapped; an end ``null`` is the onset angle, whose
     1-D series in ``a`` the part carries as ``theta_sphere_split``).
 
     ``table``: the capillary table to write (default the shipped one,
@@ -233,14 +233,14 @@ def capillary_document(table: CapillaryTable | None = None) -> dict[str, Any]:
             domain = {"v": list(t.v_range)}
             if kind == "sphere-sphere":
                 domain["radius_ratio"] = list(t.ratio_range)
-            half = ""
+            band = ""
             if two:  # an end None (JSON null): the onset angle, its series in the part
                 domain["theta_sphere_deg"] = [sec.theta_sphere_lo, sec.theta_sphere_hi]
-                half = (f"sphere angle {sphere_end_text(sec.theta_sphere_lo)} to "
+                band = (f"sphere angle {sphere_end_text(sec.theta_sphere_lo)} to "
                         f"{sphere_end_text(sec.theta_sphere_hi)} deg")
             for piece in sec.pieces:
                 parts.extend(_capillary_piece_parts(t, kind, part, sec, piece, axes, angle,
-                                                    domain, half))
+                                                    domain, band))
     from wetcontact.reduced_models.calibrated_capillary import capillary_table
 
     return {"format": "wetcontact-calibration", "format_version": 1,
@@ -260,11 +260,11 @@ def capillary_document(table: CapillaryTable | None = None) -> dict[str, Any]:
 
 
 def _capillary_piece_parts(t: CapillaryTable, kind: str, part: CapillaryPart,
-                           sec: CapillaryHalf | CapillaryPart, piece: CapillaryPiece,
-                           axes: str, angle: str, domain: dict[str, Any], half: str
+                           sec: CapillaryBand | CapillaryPart, piece: CapillaryPiece,
+                           axes: str, angle: str, domain: dict[str, Any], band: str
                            ) -> list[dict[str, Any]]:
     """The rupture and force parts of one piece of one table (``sec``: the geometry, or a
-    half of a wall with two angles, named by ``half``)."""
+    band of a wall with two angles, named by ``band``)."""
     ho = part.held_out
     two = part.two_angles
     out = []
@@ -272,7 +272,7 @@ def _capillary_piece_parts(t: CapillaryTable, kind: str, part: CapillaryPart,
     ends = [split_name if e is None else f"{e:g}" for e in (piece.theta_lo, piece.theta_hi)]
     where = [] if len(sec.pieces) == 1 else [
         f"{'wall angle' if two else 'theta'} {ends[0]} to {ends[1]} deg"]
-    where = f" ({', '.join(([half] if half else []) + where)})" if half or where else ""
+    where = f" ({', '.join(([band] if band else []) + where)})" if band or where else ""
     lo = t.theta_range_deg[0] if piece.theta_lo is None else piece.theta_lo
     hi = t.theta_range_deg[1] if piece.theta_hi is None else min(
         piece.theta_hi, t.theta_range_deg[1])  # a piece may reach past the domain

@@ -21,10 +21,10 @@ for a plane:
     ``r = R_l/R_s`` in [1, 10], ``v = V/R_s^3`` in [1e-4, 0.1], ONE contact angle
     (theta1 = theta2) in [0, 70] deg; or a plane with TWO angles, the sphere's theta1 and
     the plane's theta2, each in [0, 70] deg (the table ``sphere-wall-two-angles``, in
-    halves of the sphere's angle, e.g. [0, 35] and [35, 70] deg, theta1 = 35 in the first,
+    bands of the sphere's angle, e.g. [0, 35] and [35, 70] deg, theta1 = 35 in the first,
     each a table ``S_c = R v^(1/3) exp(sum C T_i(a) T_j(b1) T_k(b2))``, b1 from theta1 over
-    its half, b2 from theta2 within its piece, the pieces meeting at the half's ridge
-    theta2*(a, b1); a half's end may be the onset angle theta_on(V) = sum_k o_k T_k(a) where
+    its band, b2 from theta2 within its piece, the pieces meeting at the band's ridge
+    theta2*(a, b1); a band's end may be the onset angle theta_on(V) = sum_k o_k T_k(a) where
     the ridge's jump appears, so that e.g. [0, theta_on], [theta_on, 35] and [35, 70] deg
     split the lower range along that curve, b1 then mapped over the point's own range).
 ``capillary_force(r1, r2, volume, gap, surface_tension, theta1_deg, theta2_deg)``
@@ -46,8 +46,8 @@ for a plane:
 :class:`CapillarySource` is the one place that names the capillary tables the exports
 carry: the shipped ``calibrated-capillary`` table (whatever geometries, theta pieces, split
 angle and node counts its package data holds: ``pieces`` in theta, with a ``theta_split``
-series where a piece ends at the split angle; a plane with two angles in ``halves`` of the
-sphere's angle, each with such pieces and its ridge series, a half's end possibly the onset
+series where a piece ends at the split angle; a plane with two angles in ``bands`` of the
+sphere's angle, each with such pieces and its ridge series, a band's end possibly the onset
 angle of the series ``theta_sphere_split``) and the two refits.
 
 Outside the calibrated domain (or for inputs no closure covers: unequal spheres for the
@@ -144,8 +144,8 @@ class CapillaryPiece:
 
 
 @dataclass(frozen=True, eq=False)
-class CapillaryHalf:
-    """One half of the table of a wall with two contact angles: the sphere angles
+class CapillaryBand:
+    """One band of the table of a wall with two contact angles: the sphere angles
     ``theta_sphere_lo`` ... ``theta_sphere_hi`` (deg) it covers (b1 is the sphere's angle
     mapped linearly from that range to [-1, 1]: ``b1 = (2 theta_s - lo - hi)/(hi - lo)``),
     its ridge series ``split`` (the wall angle of the rupture distance's ridge, a tensor
@@ -167,11 +167,11 @@ class CapillaryHalf:
 
 
 ONSET_TEXT = "theta_on(V)"
-"""How the exports' texts name a half's end at the onset angle (``None``)."""
+"""How the exports' texts name a band's end at the onset angle (``None``)."""
 
 
 def sphere_end_text(x: float | None) -> str:
-    """A half's end of the sphere angle as text: the number (``%g``), or
+    """A band's end of the sphere angle as text: the number (``%g``), or
     :data:`ONSET_TEXT` for the onset angle."""
     return ONSET_TEXT if x is None else f"{x:g}"
 
@@ -183,16 +183,16 @@ class CapillaryPart:
     One angle (``sphere-wall``, ``sphere-sphere``): its theta pieces (a point belongs to
     the first whose upper end is at or above its angle) and, where a piece ends at the
     split angle, that angle (deg) as a Chebyshev series (``split``) in the volume
-    coordinate ``a``; ``halves`` is empty.
+    coordinate ``a``; ``bands`` is empty.
 
-    A wall with two angles (``two_angles``): ``halves``, the table split in the sphere's
-    angle (a point belongs to the first half whose upper ``theta_sphere_hi``, evaluated at
+    A wall with two angles (``two_angles``): ``bands``, the table split in the sphere's
+    angle (a point belongs to the first band whose upper ``theta_sphere_hi``, evaluated at
     the point, is at or above its sphere angle), each a complete table with its own b1
-    range, ridge series and pieces (:class:`CapillaryHalf`); ``pieces`` is empty and
+    range, ridge series and pieces (:class:`CapillaryBand`); ``pieces`` is empty and
     ``split`` ``None``. ``onset``: the package data's ``theta_sphere_split``, the sphere
     angle theta_on (deg) where the ridge's jump appears as a 1-D Chebyshev series in ``a``,
-    ``theta_on = sum_k o_k T_k(a)``, the value of a half's end ``None``; ``None`` when the
-    table has no such series (then no half ends there).
+    ``theta_on = sum_k o_k T_k(a)``, the value of a band's end ``None``; ``None`` when the
+    table has no such series (then no band ends there).
 
     ``held_out``: the error table of the geometry; ``held_out_strata``: those of its
     stress strata (e.g. ``near_ridge``), by name."""
@@ -202,7 +202,7 @@ class CapillaryPart:
     split: np.ndarray | None
     held_out: dict[str, Any]
     held_out_strata: dict[str, dict[str, Any]] = field(default_factory=dict)
-    halves: tuple[CapillaryHalf, ...] = ()
+    bands: tuple[CapillaryBand, ...] = ()
     onset: np.ndarray | None = None
 
     @property
@@ -211,13 +211,13 @@ class CapillaryPart:
         return self.kind == TWO_ANGLES
 
     @property
-    def sections(self) -> tuple[CapillaryHalf | CapillaryPart, ...]:
-        """What holds pieces and a split series: the halves (two angles), or the part."""
-        return self.halves or (self,)
+    def sections(self) -> tuple[CapillaryBand | CapillaryPart, ...]:
+        """What holds pieces and a split series: the bands (two angles), or the part."""
+        return self.bands or (self,)
 
     @property
     def all_pieces(self) -> tuple[CapillaryPiece, ...]:
-        """Every piece of the geometry, half after half."""
+        """Every piece of the geometry, band after band."""
         return tuple(p for sec in self.sections for p in sec.pieces)
 
 
@@ -260,10 +260,10 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
     One angle: ``pieces`` (and ``theta_split``), rupture tables 2-D (a wall) or 3-D (sphere
     pairs), a 1-D split series, the pieces contiguous from 0 to 70 deg.
 
-    Two angles on a wall: ``halves``, each with its ``theta_sphere_deg`` range (finite, or
+    Two angles on a wall: ``bands``, each with its ``theta_sphere_deg`` range (finite, or
     ``None`` for the onset angle of the entry's ``theta_sphere_split``, a non-empty 1-D
     Chebyshev series in ``a`` of finite numbers; increasing at every ``a`` in [-1, 1]; the
-    halves contiguous from 0 to 70 deg, an end ``None`` followed by a start ``None``), a
+    bands contiguous from 0 to 70 deg, an end ``None`` followed by a start ``None``), a
     2-D ridge series over (a, b1) and pieces of rupture tables 3-D (a, b1, b2), contiguous
     from 0 deg to an end at or above 70 deg (past the domain: the ridge may lie above 70
     deg). An entry with the former top-level ``pieces``/``theta_split`` (one table over the
@@ -279,8 +279,8 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
     if kind != TWO_ANGLES:
         pieces, split = _sections(path, kind, kind, e)
         return CapillaryPart(kind, pieces, split, e.get("held_out", {}), strata)
-    raw = e.get("halves")
-    allowed = ("allowed: 'halves', a list of tables each with 'theta_sphere_deg' [lo, hi] "
+    raw = e.get("bands")
+    allowed = ("allowed: 'bands', a list of tables each with 'theta_sphere_deg' [lo, hi] "
                f"(finite, or null for the onset angle of the field {ONSET_KEY!r}; "
                f"increasing, contiguous from {THETA_RANGE_DEG[0]:g} to "
                f"{THETA_RANGE_DEG[1]:g} deg), 'theta_split' (a 2-D Chebyshev series in (a, "
@@ -290,17 +290,17 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
                          "table over the whole sphere angle range, a layout the model no "
                          f"longer evaluates); {allowed}")
     if not isinstance(raw, list) or not raw:
-        raise InputError(f"{path}: {kind}: field 'halves' = {raw!r}; {allowed}")
+        raise InputError(f"{path}: {kind}: field 'bands' = {raw!r}; {allowed}")
     _no_ridge_margin(path, kind, e)
     onset = _onset_series(path, kind, e.get(ONSET_KEY))
     # the onset angle at Chebyshev-Lobatto points of a, summed as the model and the exports
-    # sum it: where the halves' ends are compared
+    # sum it: where the bands' ends are compared
     on = None if onset is None else chebyshev_tensor(
         onset, [np.cos(np.linspace(0.0, math.pi, 513))])
-    halves: list[CapillaryHalf] = []
+    bands: list[CapillaryBand] = []
     top: float | None = THETA_RANGE_DEG[0]
     for i, h in enumerate(raw):
-        where = f"{kind} half {i}"
+        where = f"{kind} band {i}"
         rng = h.get("theta_sphere_deg") if isinstance(h, dict) else None
         try:
             lo, hi = (None if x is None else float(x) for x in rng)
@@ -324,12 +324,12 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
         pieces, split = _sections(path, kind, where, h)
         if split is None:
             raise InputError(f"{path}: {where}: field 'theta_split' missing; {allowed}")
-        halves.append(CapillaryHalf(lo, hi, pieces, split))
+        bands.append(CapillaryBand(lo, hi, pieces, split))
     if top != THETA_RANGE_DEG[1]:
-        ends = [[hv.theta_sphere_lo, hv.theta_sphere_hi] for hv in halves]
-        raise InputError(f"{path}: {kind}: halves' theta_sphere_deg {ends} end at "
+        ends = [[hv.theta_sphere_lo, hv.theta_sphere_hi] for hv in bands]
+        raise InputError(f"{path}: {kind}: bands' theta_sphere_deg {ends} end at "
                          f"{sphere_end_text(top)} deg; {allowed}")
-    return CapillaryPart(kind, (), None, e.get("held_out", {}), strata, tuple(halves), onset)
+    return CapillaryPart(kind, (), None, e.get("held_out", {}), strata, tuple(bands), onset)
 
 
 def _onset_series(path: Path, kind: str, raw: Any) -> np.ndarray | None:
@@ -352,7 +352,7 @@ def _onset_series(path: Path, kind: str, raw: Any) -> np.ndarray | None:
 
 def _sections(path: Path, kind: str, where: str, e: dict[str, Any]
               ) -> tuple[tuple[CapillaryPiece, ...], np.ndarray | None]:
-    """The ``pieces`` and ``theta_split`` of one table (a one-angle geometry, or one half
+    """The ``pieces`` and ``theta_split`` of one table (a one-angle geometry, or one band
     of a wall with two angles, named ``where`` in the messages), validated."""
     from wetcontact.reduced_models.calibrated_capillary import THETA_RANGE_DEG
 

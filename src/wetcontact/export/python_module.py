@@ -18,14 +18,14 @@ from wetcontact import __version__
 from wetcontact.export.c_header import (
     FUNCTIONS,
     _bridge_fields,
+    bands_text,
     capillary_fields,
-    halves_text,
     held_out_lines,
     onset_text,
 )
 from wetcontact.export.closures import (
     TWO_ANGLES,
-    CapillaryHalf,
+    CapillaryBand,
     CapillaryPart,
     CapillarySource,
     immersed_tables,
@@ -71,14 +71,14 @@ geometry may carry several tables, e.g. below and above a split angle theta_s(V)
 Chebyshev series in a), w from (ln r)^(1/3) (sphere pairs only), c = 2 z - 1 with
 z = sqrt(1 - ln(1 + S/eps)/ln(1 + S_c/eps)), eps = sqrt(v/(pi rho)) (all lengths over R_s).
 A plane with TWO contact angles, theta1 the sphere's and theta2 the plane's, has its own
-table in halves of theta1 (a point in the first half whose upper end, at the point's v, is at
+table in bands of theta1 (a point in the first band whose upper end, at the point's v, is at
 or above theta1):
-{halves};
+{bands};
 each S_c = R v^(1/3) exp(sum C_rup T(a) T(b1) T(b2)) and
 F = -2 pi sigma R (cos theta1 + cos theta2) exp(sum C_F T(a) T(b1) T(b2) T(c)), b1 from
-theta1 over its half's range (at the point's own a where an end is theta_on), b2 from
+theta1 over its band's range (at the point's own a where an end is theta_on), b2 from
 theta2 within its piece: the pieces meet at the
-ridge of S_c, a plane angle theta2*(a, b1) = sum s_ij T_i(a) T_j(b1) (deg, the half's own
+ridge of S_c, a plane angle theta2*(a, b1) = sum s_ij T_i(a) T_j(b1) (deg, the band's own
 series), and b2 is quadratic toward it (_cap_b), so that the nodes cluster where S_c peaks.{onset}
 C_F is carried in its low-rank form C_F = sum_k L[..., k] R[k, ...] (rank r, the package's
 own layout) and evaluated as such: the Chebyshev rows of the left axes ((w, a) for sphere
@@ -209,17 +209,17 @@ _CAP_ANGLE_TOL = {angle_tol_r}  # rad: two angles closer than this count as one
 # quadratic: the angle's coordinate quadratic toward the split end, _cap_b), lo/hi in
 # deg or None for the split angle ("split": a Chebyshev series in a); a point belongs
 # to the first piece whose upper end is at or above its angle; None where no table was
-# generated. A plane with two angles, "wall2", is a list of halves of the sphere's angle
+# generated. A plane with two angles, "wall2", is a list of bands of the sphere's angle
 # theta1, each such a table with its "theta_sphere" range (lo, hi) (deg, or None for
 # the onset angle theta_on = sum_k o_k T_k(a) of _CAP_ONSET at the point's a; a point
-# belongs to the first half whose hi is at or above theta1) and its "split", the ridge's
+# belongs to the first band whose hi is at or above theta1) and its "split", the ridge's
 # plane angle, a tensor series in (a, b1). Axes: sphere pair (w, a, b[, c]),
 # plane (a, b[, c]), plane with two angles (a, b1, b2[, c]), b1 from theta1 over its
-# half's range, b2 from theta2 within its piece; the force table is
+# band's range, b2 from theta2 within its piece; the force table is
 # C_F = tensordot(force_left, force_right, 1) (rank r: left (..., r), right (r, ...)).
 _CAP = {{"wall": {cap_wall}, "spheres": {cap_ss},
         "wall2": {cap_wall2}}}
-_CAP_ONSET = {cap_onset}  # deg, (o_0, ..., o_n) in a; None: no half ends at theta_on
+_CAP_ONSET = {cap_onset}  # deg, (o_0, ..., o_n) in a; None: no band ends at theta_on
 _CHUNK = 4096
 
 
@@ -326,11 +326,11 @@ def _cap_pieces(pieces, lead, theta, sp, v, rho, cos_t, s, idx, f, s_c, ok):
 def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
     """Shared by the two capillary functions: (F*, S_c*, R_s, ok) on flat arrays. One
     angle (theta1 = theta2 within the tolerance): a plane's or the sphere pairs' table, b
-    from theta. Two angles on a plane: its own table, in halves of the sphere's angle
-    theta1 (the first half whose upper end is at or above theta1, taken as the package
+    from theta. Two angles on a plane: its own table, in bands of the sphere's angle
+    theta1 (the first band whose upper end is at or above theta1, taken as the package
     holds it, degrees(radians(theta1)); an end None is the onset angle at the point's a),
-    b1 from theta1 over that half's range, b2 from theta2 (the plane's) within its piece,
-    the pieces meeting at the half's ridge, a series in (a, b1)."""
+    b1 from theta1 over that band's range, b2 from theta2 (the plane's) within its piece,
+    the pieces meeting at the band's ridge, a series in (a, b1)."""
     plane = np.isinf(r2) & (r2 > 0)
     ok = ((r1 > 0) & np.isfinite(r1) & (r2 > 0) & (vol > 0) & np.isfinite(vol)
           & (t1 >= 0) & (t1 < 180) & (t2 >= 0) & (t2 < 180))
@@ -356,23 +356,23 @@ def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
         vi, ti = v[idx], t1[idx]
         a = _cap_map(np.log(vi), _CAP_LNV_LO, _CAP_LNV_HI)
         si = None if s_over_rs is None else s_over_rs[idx]
-        if name == "wall2":  # the half that holds the sphere's angle; in it, b1 and the ridge
+        if name == "wall2":  # the band that holds the sphere's angle; in it, b1 and the ridge
             ts = np.degrees(np.radians(ti))  # the sphere's angle as the package holds it
             cos_t = np.cos(np.radians(ti)) + np.cos(np.radians(t2[idx]))
             todo = np.ones(idx.size, dtype=bool)
             on = None if _CAP_ONSET is None else _cap_series(a, _CAP_ONSET)
-            for half in table:  # its range per point: a number, or None for theta_on
+            for band in table:  # its range per point: a number, or None for theta_on
                 lo, hi = (on if x is None else np.full(idx.size, x)
-                          for x in half["theta_sphere"])
+                          for x in band["theta_sphere"])
                 h = np.flatnonzero(todo & (ts <= hi))
                 todo[h] = False
                 if h.size == 0:
                     continue
                 b1 = _cap_map(ts[h], lo[h], hi[h])
-                split = half["split"]
+                split = band["split"]
                 sp = np.einsum("ij,ij->i", _cap_rows(a[h], split.shape[0]) @ split,
                                _cap_rows(b1, split.shape[1]))
-                _cap_pieces(half["pieces"], [a[h], b1], t2[idx[h]], sp, vi[h],
+                _cap_pieces(band["pieces"], [a[h], b1], t2[idx[h]], sp, vi[h],
                             np.ones(h.size), cos_t[h], None if si is None else si[h],
                             idx[h], f, s_c, ok)
             ok[idx[todo]] = False
@@ -489,7 +489,7 @@ def module_text(source: CapillarySource) -> str:
         **br, **capillary_fields(source),
         cap_held_out=_fill("; ".join(held_out_lines(source)) + "."),
         cap_wall=_tables(parts.get("sphere-wall")), cap_ss=_tables(parts.get("sphere-sphere")),
-        cap_wall2=_halves(parts.get(TWO_ANGLES)), halves=halves_text(parts.get(TWO_ANGLES)),
+        cap_wall2=_bands(parts.get(TWO_ANGLES)), bands=bands_text(parts.get(TWO_ANGLES)),
         cap_onset=_onset(parts.get(TWO_ANGLES)), onset=onset_text(parts.get(TWO_ANGLES), ""),
         br_err_wall=bw["held_out"]["after"]["max"], br_err_ss=bs["held_out"]["after"]["max"],
         version=__version__, imm_err_wall=w["held_out"]["max"],
@@ -508,7 +508,7 @@ def _fill(text: str) -> str:
     return textwrap.fill(text, 88, break_on_hyphens=False)
 
 
-def _tables(part: CapillaryPart | CapillaryHalf | None) -> str:
+def _tables(part: CapillaryPart | CapillaryBand | None) -> str:
     """One table's pieces and split series as Python source, or ``None``."""
     if part is None:
         return "None"
@@ -523,17 +523,17 @@ def _tables(part: CapillaryPart | CapillaryHalf | None) -> str:
             f"{p.force_right.shape}), {p.quadratic!r})")
     split = "None" if part.split is None else (
         f"np.array({_list(part.split.ravel(), 4)}).reshape({part.split.shape})")
-    rng = "" if not isinstance(part, CapillaryHalf) else (
+    rng = "" if not isinstance(part, CapillaryBand) else (
         f'"theta_sphere": ({part.theta_sphere_lo!r}, {part.theta_sphere_hi!r}),\n    ')
     return (f'{{{rng}"split": {split},\n    "pieces": ['
             + ",\n    ".join(pieces) + "]}")
 
 
-def _halves(part: CapillaryPart | None) -> str:
-    """A plane with two angles as Python source: the list of its halves, or ``None``."""
+def _bands(part: CapillaryPart | None) -> str:
+    """A plane with two angles as Python source: the list of its bands, or ``None``."""
     if part is None:
         return "None"
-    return "[\n    " + ",\n    ".join(_tables(h) for h in part.halves) + "]"
+    return "[\n    " + ",\n    ".join(_tables(h) for h in part.bands) + "]"
 
 
 def _onset(part: CapillaryPart | None) -> str:

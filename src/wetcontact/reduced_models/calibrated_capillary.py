@@ -48,9 +48,9 @@ tensor Chebyshev-Lobatto points (:mod:`wetcontact.calibrate_capillary`); the pac
 Two angles on a wall (table ``sphere-wall-two-angles``): the prefactor is ``2 pi sigma R
 (cos theta_s + cos theta_w)``. As theta_w grows, S_c rises to a ridge and falls beyond it,
 at ``theta_w*(V, theta_s)``, 1.5-34 deg above theta_s (rising with V, falling with
-theta_s). The table is three tables (``halves``, the name of its first layout) in the
+theta_s). The table is three tables (``bands``) in the
 sphere's angle: [0, theta_on(V)], [theta_on(V), 35] and [35, 70] deg, theta_on the onset
-angle below (a point at an end belongs to the lower table, :func:`half_index`). Each has
+angle below (a point at an end belongs to the lower table, :func:`band_index`). Each has
 coordinates a, b1 from theta_s over its range at the point's V (:func:`sphere_range`,
 :func:`sphere_coordinate`), b2 from theta_w within its piece, and c. In each the wall
 angle's pieces are [0, theta_w*] and [theta_w*, 90 deg] (the second reaches past 70 deg so
@@ -165,8 +165,8 @@ def as_arrays(table: dict[str, Any]) -> dict[str, Any]:
     """A copy of the table with each piece's coefficient lists as float arrays (the
     argument is left as it was)."""
     def entry(e: Any) -> Any:
-        if isinstance(e, dict) and "halves" in e:  # a wall with two angles
-            return {**e, "halves": [entry(h) for h in e["halves"]]}
+        if isinstance(e, dict) and "bands" in e:  # a wall with two angles
+            return {**e, "bands": [entry(h) for h in e["bands"]]}
         if not isinstance(e, dict) or "pieces" not in e:
             return e
         return {**e, "pieces": [{**p, **{n: np.asarray(p[n], dtype=float)
@@ -203,15 +203,15 @@ def theta_split_deg(entry: dict[str, Any], a: np.ndarray,
 
 
 def table_pieces(entry: dict[str, Any]) -> list[dict[str, Any]]:
-    """A table's pieces in evaluation order (a wall with two angles: its halves' in turn)."""
-    if "halves" in entry:
-        return [p for half in entry["halves"] for p in half["pieces"]]
+    """A table's pieces in evaluation order (a wall with two angles: its bands' in turn)."""
+    if "bands" in entry:
+        return [p for band in entry["bands"] for p in band["pieces"]]
     return list(entry["pieces"])
 
 
 ONSET_KEY = "theta_sphere_split"
 """The two-angle table's field with the sphere angle (deg) where the ridge's jump appears,
-a Chebyshev series in the volume coordinate ``a``: a half's end given as ``None``."""
+a Chebyshev series in the volume coordinate ``a``: a band's end given as ``None``."""
 
 
 def onset_deg(entry: dict[str, Any], a: np.ndarray) -> np.ndarray:
@@ -219,69 +219,69 @@ def onset_deg(entry: dict[str, Any], a: np.ndarray) -> np.ndarray:
     coordinates ``a``: the two-angle table's series :data:`ONSET_KEY`."""
     series = entry.get(ONSET_KEY)
     if series is None:
-        raise ValueError("calibrated-capillary: a half bounded by the onset angle in a "
+        raise ValueError("calibrated-capillary: a band bounded by the onset angle in a "
                          f"table without {ONSET_KEY!r}")
     return chebyshev_tensor(np.asarray(series["chebyshev"]), [np.asarray(a, dtype=float)])
 
 
-def sphere_range(entry: dict[str, Any], half: dict[str, Any], a: np.ndarray
+def sphere_range(entry: dict[str, Any], band: dict[str, Any], a: np.ndarray
                  ) -> tuple[np.ndarray, np.ndarray]:
-    """A half's range of the sphere's angle (deg) at volume coordinates ``a``: its ends,
+    """A band's range of the sphere's angle (deg) at volume coordinates ``a``: its ends,
     a number, or ``None`` for the onset angle (:func:`onset_deg`)."""
     a = np.asarray(a, dtype=float)
     lo, hi = (onset_deg(entry, a) if x is None else np.full(a.shape, float(x))
-              for x in half["theta_sphere_deg"])
+              for x in band["theta_sphere_deg"])
     return lo, hi
 
 
-def half_index(entry: dict[str, Any], theta_sphere_deg: np.ndarray,
+def band_index(entry: dict[str, Any], theta_sphere_deg: np.ndarray,
                a: np.ndarray | None = None) -> np.ndarray:
-    """Which half of a two-angle table (``entry["halves"]``) each sphere angle (deg) falls
+    """Which band of a two-angle table (``entry["bands"]``) each sphere angle (deg) falls
     in: the first whose upper end (at the volume coordinate ``a``, needed where an end is
     the onset angle) is at or above it (-1 past the last)."""
     t = np.asarray(theta_sphere_deg, dtype=float)
     out = np.full(t.shape, -1)
-    for k, half in reversed(list(enumerate(entry["halves"]))):
-        hi = half["theta_sphere_deg"][1]
+    for k, band in reversed(list(enumerate(entry["bands"]))):
+        hi = band["theta_sphere_deg"][1]
         out[t <= (onset_deg(entry, a) if hi is None else hi)] = k
     return out
 
 
-def sphere_coordinate(half: dict[str, Any], theta_sphere_deg: np.ndarray,
+def sphere_coordinate(band: dict[str, Any], theta_sphere_deg: np.ndarray,
                       lo: Any = None, hi: Any = None) -> np.ndarray:
-    """b1: the sphere's angle (deg) mapped linearly from its half's range to [-1, 1] (the
+    """b1: the sphere's angle (deg) mapped linearly from its band's range to [-1, 1] (the
     range per point, ``lo`` and ``hi``, where an end is the onset angle:
     :func:`sphere_range`)."""
     if lo is None or hi is None:
-        lo, hi = half["theta_sphere_deg"]
+        lo, hi = band["theta_sphere_deg"]
     return _map(np.asarray(theta_sphere_deg, dtype=float), lo, hi)
 
 
 def ridge_deg(v: Any, theta_sphere_deg: Any, entry: dict[str, Any] | None = None
               ) -> np.ndarray:
     """The wall angle (deg) of the ridge of S_c on a wall with two angles, at ``v`` and the
-    sphere's angle (deg): the split series of the two-angle table's half that holds the
+    sphere's angle (deg): the split series of the two-angle table's band that holds the
     sphere's angle (``entry``: that table, default the shipped one)."""
     e = _entry(WALL_TWO_ANGLES) if entry is None else entry
     v, t = np.broadcast_arrays(np.asarray(v, dtype=float), np.asarray(theta_sphere_deg,
                                                                       dtype=float))
     a, out = volume_coordinate(v.ravel()), np.full(v.size, np.nan)
-    for half, m, b1 in _by_half(e, t.ravel(), a):
-        out[m] = theta_split_deg(half, a[m], b1)
+    for band, m, b1 in _by_band(e, t.ravel(), a):
+        out[m] = theta_split_deg(band, a[m], b1)
     return out.reshape(v.shape)
 
 
-def _by_half(entry: dict[str, Any], theta_sphere_deg: np.ndarray, a: np.ndarray
+def _by_band(entry: dict[str, Any], theta_sphere_deg: np.ndarray, a: np.ndarray
              ) -> Iterator[tuple[dict[str, Any], np.ndarray, np.ndarray]]:
-    """Per half of a two-angle table that holds some of the (flat) sphere angles (deg; at
-    volume coordinates ``a``): the half, the indices of its points (:func:`half_index`)
+    """Per band of a two-angle table that holds some of the (flat) sphere angles (deg; at
+    volume coordinates ``a``): the band, the indices of its points (:func:`band_index`)
     and their b1 (:func:`sphere_coordinate`)."""
-    which = half_index(entry, theta_sphere_deg, a)
-    for k, half in enumerate(entry["halves"]):
+    which = band_index(entry, theta_sphere_deg, a)
+    for k, band in enumerate(entry["bands"]):
         m = np.flatnonzero(which == k)
         if m.size:
-            yield half, m, sphere_coordinate(half, theta_sphere_deg[m],
-                                             *sphere_range(entry, half, a[m]))
+            yield band, m, sphere_coordinate(band, theta_sphere_deg[m],
+                                             *sphere_range(entry, band, a[m]))
 
 
 def piece_range(piece: dict[str, Any], split: np.ndarray | None, n: int
@@ -462,9 +462,9 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
 
     On a wall, ``theta_wall`` (rad) gives the wall its own angle (``theta`` is then the
     sphere's): points whose two angles differ by more than :data:`ANGLE_TOL` are evaluated
-    in the two-angle table :data:`WALL_TWO_ANGLES` (in the half that holds the sphere's
-    angle, :func:`half_index`: sphere angle ``b1`` over the half, and the wall angle within
-    the pieces that meet at the half's ridge), the others in the
+    in the two-angle table :data:`WALL_TWO_ANGLES` (in the band that holds the sphere's
+    angle, :func:`band_index`: sphere angle ``b1`` over the band, and the wall angle within
+    the pieces that meet at the band's ridge), the others in the
     one-angle table (``entry``, if given, is the one-angle table), and the Derjaguin
     prefactor is ``cos theta_s + cos theta_w``."""
     v, theta, s = np.broadcast_arrays(np.asarray(v, float), np.asarray(theta, float),
@@ -493,9 +493,9 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
         tw = np.broadcast_to(np.asarray(theta_wall, float), shape).ravel()
         ts = np.degrees(theta)
         f, s_c = np.full(v.size, np.nan), np.full(v.size, np.nan)
-        for half, m, b1 in _by_half(e, ts, a):  # each half: its own b1 range and ridge
-            f[m], s_c[m] = _pieces(half, [a[m], b1], np.degrees(tw[m]),
-                                   theta_split_deg(half, a[m], b1), v[m], s[m], rho[m], chunk)
+        for band, m, b1 in _by_band(e, ts, a):  # each band: its own b1 range and ridge
+            f[m], s_c[m] = _pieces(band, [a[m], b1], np.degrees(tw[m]),
+                                   theta_split_deg(band, a[m], b1), v[m], s[m], rho[m], chunk)
         cos_sum = np.cos(theta) + np.cos(tw)
     else:
         lead = [a] if kind == "sphere-wall" else [ratio_coordinate(ratio), a]
