@@ -24,6 +24,7 @@ import math
 import os
 import sys
 import time
+from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any
@@ -116,16 +117,26 @@ def branch_end(theta_deg: float, v: float) -> str:
     return _branch_ends(1.0, v, theta_deg, theta_deg).end
 
 
-def _split_job(v: float) -> float:
-    """Bisection for the angle where the end changes (to :data:`SPLIT_TOL_DEG`)."""
-    lo, hi = SPLIT_BRACKET_DEG
-    if branch_end(lo, v) != "fold" or branch_end(hi, v) != "bifurcation":
-        raise RuntimeError(f"calibrated-capillary: fold/bifurcation change not bracketed by "
-                           f"{SPLIT_BRACKET_DEG} deg at V* = {v:.4g}")
-    while hi - lo > SPLIT_TOL_DEG:
+def _bisect_change(above: Callable[[float], bool], bracket: tuple[float, float], tol: float,
+                   what: str, v: float) -> float:
+    """The angle (deg) where ``above(angle)`` turns true, bisected to ``tol`` within
+    ``bracket`` (false at its lower end, true at its upper; else an error naming ``what``
+    and the volume ``v``): the split and the onset angle's search."""
+    lo, hi = bracket
+    if above(lo) or not above(hi):
+        raise RuntimeError(f"calibrated-capillary: {what} not bracketed by {bracket} deg at "
+                           f"V* = {v:.4g}")
+    while hi - lo > tol:
         mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if branch_end(mid, v) == "fold" else (lo, mid)
+        lo, hi = (lo, mid) if above(mid) else (mid, hi)
     return 0.5 * (lo + hi)
+
+
+def _split_job(v: float) -> float:
+    """Bisection for the angle where the end changes from fold to bifurcation (to
+    :data:`SPLIT_TOL_DEG`)."""
+    return _bisect_change(lambda t: branch_end(t, v) == "bifurcation", SPLIT_BRACKET_DEG,
+                          SPLIT_TOL_DEG, "fold/bifurcation change", v)
 
 
 def fit_split(workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
@@ -268,14 +279,8 @@ def top_is_jump(v: float, theta_sphere_deg: float) -> bool:
 
 def _onset_job(v: float) -> float:
     """Bisection for the onset angle at ``v`` (to :data:`ONSET_TOL_DEG`)."""
-    lo, hi = ONSET_BRACKET_DEG
-    if top_is_jump(v, lo) or not top_is_jump(v, hi):
-        raise RuntimeError(f"calibrated-capillary: the ridge's jump onset is not bracketed by "
-                           f"{ONSET_BRACKET_DEG} deg at V* = {v:.4g}")
-    while hi - lo > ONSET_TOL_DEG:
-        mid = 0.5 * (lo + hi)
-        lo, hi = (lo, mid) if top_is_jump(v, mid) else (mid, hi)
-    return 0.5 * (lo + hi)
+    return _bisect_change(lambda t: top_is_jump(v, t), ONSET_BRACKET_DEG, ONSET_TOL_DEG,
+                          "the ridge's jump onset", v)
 
 
 def fit_onset(workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:

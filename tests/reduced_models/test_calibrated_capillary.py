@@ -310,6 +310,33 @@ def test_split_angle_separates_fold_from_bifurcation() -> None:
         assert branch_end(split + 0.02, v) == "bifurcation"
 
 
+def test_bisection_finds_the_change_and_refuses_an_open_bracket() -> None:
+    """The split and onset searches' bisection: within its tolerance of where a predicate
+    turns true, and an error naming what and the volume when the bracket does not hold
+    the change."""
+    from wetcontact.calibrate_capillary import _bisect_change
+
+    for edge in (24.3, 30.0, 35.99):
+        got = _bisect_change(lambda t, e=edge: t > e, (24.0, 36.0), 1e-3, "x", 0.01)
+        assert abs(got - edge) <= 1e-3
+    with pytest.raises(RuntimeError, match=r"the change not bracketed .* V\* = 0.01"):
+        _bisect_change(lambda t: t > 40.0, (24.0, 36.0), 1e-3, "the change", 0.01)
+    with pytest.raises(RuntimeError, match="not bracketed"):
+        _bisect_change(lambda t: t > 10.0, (24.0, 36.0), 1e-3, "the change", 0.01)
+
+
+@pytest.mark.slow
+def test_split_search_reproduces_the_shipped_nodes() -> None:
+    """The generator's split search, rerun at two of the shipped series' volume nodes,
+    gives the node values the package data holds (the search is deterministic: the same
+    bisection steps on the same ``meniscus`` branch ends)."""
+    from wetcontact.calibrate_capillary import _split_job
+
+    split = cc.capillary_table()["sphere-sphere"]["theta_split"]
+    for k in (0, len(split["v_nodes"]) // 2):
+        assert _split_job(split["v_nodes"][k]) == split["at_nodes_deg"][k]
+
+
 def test_zero_beyond_rupture_and_attractive_inside() -> None:
     scene = make_scene("sphere-wall", {"bridge_volume": 1e-3 * R**3}, [1e-6], None, (20, 20))
     model = get_model("calibrated-capillary")
