@@ -16,8 +16,12 @@ kinds (:func:`top_shape`):
   theta1 the branch ends at a symmetry-breaking bifurcation, which an angle difference
   unfolds into a fold at S_b - k |delta|^(2/3) (continuous, the slope infinite).
 
-They differ in how the left slope of S_c at a distance h short of the top scales with h:
-as h (smooth), h^0 (jump) and h^(-1/3) (cusp).
+A smooth top is told from the others by how the left slope of S_c at a distance h short
+of it scales with h: as h (smooth), h^0 (jump) and h^(-1/3) (cusp); a cusp from a jump by
+whether S_c drops across the top. Between unequal spheres the top is a jump, of a size
+that vanishes about as (ln r)^2 as r -> 1; below ln r of about 0.1 (and just above the
+onset angle where the top stops being smooth) no jump is resolved and the top is
+continuous but singular on both sides (the notes give the measured sizes).
 """
 
 from __future__ import annotations
@@ -35,10 +39,16 @@ PROBE_DEG = gen.ONSET_PROBE_DEG
 """Distance h (deg) short of and past the top at which :func:`top_shape` probes S_c."""
 PROBE_FAR = 8.0
 """The left slope is also taken at this multiple of h (its ratio gives the exponent)."""
-CUSP_EXPONENT = 1.0 / 6.0
-"""Exponent p of the left slope's growth, ``slope ~ h^(-p)``, above which a top is a cusp
-(p = 1/3 there, 0 at a jump, -1 at a smooth maximum; the midpoints separate them)."""
-JUMP_EXPONENT = -0.5
+SMOOTH_EXPONENT = -0.5
+"""Exponent p of the left slope's growth toward the top, ``slope ~ h^(-p)``, below which a
+top is a smooth maximum (p = -1 there, 0 at a jump, 1/3 at a cusp)."""
+CUSP_DROP = 0.25
+"""A top that is not smooth is a cusp when S_c drops across it (over 2h) by less than this
+fraction of its rise over the last h short of it (0 at a symmetric cusp), a jump
+otherwise. Between nearly equal spheres the drop over 2h grows as h^(1/3) with no
+resolved jump (|J| < 2e-6 for ln r < 0.1 at v = 0.01), approached along the cusp's
+|delta|^(2/3): the kind is then the one seen at the scale h (``jump`` from r = 1.03 at
+v = 0.01, h = 1e-5 deg), not that of the limit h -> 0."""
 
 
 def pair_rupture(ratio: float, v: float, theta1_deg: float, theta2_deg: float) -> float:
@@ -92,8 +102,8 @@ class TopShape:
         The drop extrapolated to h = 0: the left side linearly, the right side as a
         square root (a fold's), ``S(0+) = 2 S(h) - S(4h)``; relative to S_top.
     kind
-        ``smooth``, ``jump`` or ``cusp`` (by ``exponent``: :data:`JUMP_EXPONENT`,
-        :data:`CUSP_EXPONENT`).
+        ``smooth`` (``exponent`` below :data:`SMOOTH_EXPONENT`), else ``cusp`` (``drop``
+        below :data:`CUSP_DROP` times the rise over the last h) or ``jump``.
     """
 
     top: float
@@ -115,7 +125,9 @@ def top_shape(rupture, top: float, width: float, h: float = PROBE_DEG) -> TopSha
     :math:`s(h) = (S(\theta_l - h) - S(\theta_l - 2h)) / (h S(\theta_l - h))` grows as
     :math:`h^{-p}` toward the top: p = -1 at a smooth maximum (``S ~ -delta^2``), 0 where S_c
     jumps (a finite slope), 1/3 at a cusp (``S ~ -|delta|^{2/3}``), so that
-    :math:`p = \log(s(h)/s(8h))/\log 8` sorts them. The jump across the top is
+    :math:`p = \log(s(h)/s(8h))/\log 8` tells a smooth top from the others, and the drop
+    across the top, :math:`1 - S(\theta_r + h)/S(\theta_l - h)`, a cusp (where the two sides
+    are alike) from a jump (:data:`CUSP_DROP`). The jump across the top is
     extrapolated from :math:`\theta_l - h, \theta_l - 2h` (linearly) and
     :math:`\theta_r + h, \theta_r + 4h` (as a square root, a fold's side)."""
     left, right = top - 0.5 * width, top + 0.5 * width
@@ -128,9 +140,11 @@ def top_shape(rupture, top: float, width: float, h: float = PROBE_DEG) -> TopSha
         p = math.log(slope / slope_far) / math.log(PROBE_FAR)
     else:  # a flat or noisy top: no growth toward it
         p = -1.0
-    kind = "smooth" if p < JUMP_EXPONENT else "cusp" if p > CUSP_EXPONENT else "jump"
+    drop = 1.0 - r1 / s1
+    kind = ("smooth" if p < SMOOTH_EXPONENT else
+            "cusp" if abs(drop) < CUSP_DROP * slope * h else "jump")
     return TopShape(top=top, width=width, s_top=s1, slope=slope, slope_far=slope_far,
-                    exponent=p, drop=1.0 - r1 / s1,
+                    exponent=p, drop=drop,
                     jump=((2.0 * s1 - s2) - (2.0 * r1 - r4)) / s1, kind=kind)
 
 
