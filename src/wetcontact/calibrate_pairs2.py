@@ -19,9 +19,9 @@ kinds (:func:`top_shape`):
 A smooth top is told from the others by how the left slope of S_c at a distance h short
 of it scales with h: as h (smooth), h^0 (jump) and h^(-1/3) (cusp); a cusp from a jump by
 whether S_c drops across the top. Between unequal spheres the top is a jump, of a size
-that vanishes about as (ln r)^2 as r -> 1; below ln r of about 0.1 (and just above the
-onset angle where the top stops being smooth) no jump is resolved and the top is
-continuous but singular on both sides (the notes give the measured sizes).
+that vanishes as (ln r)^1.6-2 as r -> 1 (and toward the angle where the top stops being
+smooth); there both its sides are cusp-like, further from r = 1 a finite slope short of
+it and a fold's square root past it (the notes give the measured sizes).
 """
 
 from __future__ import annotations
@@ -45,10 +45,9 @@ top is a smooth maximum (p = -1 there, 0 at a jump, 1/3 at a cusp)."""
 CUSP_DROP = 0.25
 """A top that is not smooth is a cusp when S_c drops across it (over 2h) by less than this
 fraction of its rise over the last h short of it (0 at a symmetric cusp), a jump
-otherwise. Between nearly equal spheres the drop over 2h grows as h^(1/3) with no
-resolved jump (|J| < 2e-6 for ln r < 0.1 at v = 0.01), approached along the cusp's
-|delta|^(2/3): the kind is then the one seen at the scale h (``jump`` from r = 1.03 at
-v = 0.01, h = 1e-5 deg), not that of the limit h -> 0."""
+otherwise. Between nearly equal spheres a small jump (1e-6 of S_c at r = 1.03) sits
+between two cusp-like sides (|delta|^(2/3) down to 1e-6 deg): the kind is then the one
+seen at the scale h (``jump`` from r = 1.03 at v = 0.01, h = 1e-5 deg)."""
 
 
 def pair_rupture(ratio: float, v: float, theta1_deg: float, theta2_deg: float) -> float:
