@@ -174,37 +174,36 @@ def wall_rupture(v: float, theta_sphere_deg: float, theta_wall_deg: float) -> fl
     return _branch_ends(None, v, theta_sphere_deg, theta_wall_deg).rupture_distance
 
 
-def _ridge_job(args: tuple[float, float]) -> tuple[float, float]:
-    """The wall angle (deg) of the rupture distance's ridge at (v, theta_sphere), and the
-    width of the bracket it was found in: golden-section search for the maximum of S_c
-    over the wall angle (to :data:`RIDGE_TOL_DEG`).
+def golden_top(rupture: Callable[[float], float], lo: float, hi: float, where: str,
+               angle: str, tol: float = RIDGE_TOL_DEG) -> tuple[float, float]:
+    """The angle (deg) in [lo, hi] where ``rupture(angle)`` peaks, and the width of the
+    bracket it was found in: golden-section search (Kiefer 1953) for the maximum, to
+    ``tol``.
 
-    S_c rises to the ridge and falls beyond it; the search needs no derivative and
-    converges on the peak, also where the top is a jump (at larger sphere angles S_c jumps
-    down by up to about 1e-3 where the branch from contact comes to end at the other of two
-    nearby folds: the left limit is the maximum). Within about 1e-6 deg of such a jump the
-    fold refinement may fail; the point is then moved by 1 % of the bracket, and if that
-    fails too the search stops with the bracket it has (its width is returned)."""
-    v, ts = args
-    lo = max(0.0, ts + RIDGE_BRACKET_DEG[0])
-    hi = min(cc.RIDGE_TOP_DEG, ts + RIDGE_BRACKET_DEG[1])
+    The search needs no derivative and converges on the peak also where the top is a jump
+    or a cusp (the left limit is the maximum). Within about 1e-6 deg of a jump the fold
+    refinement may fail (:class:`~wetcontact.errors.SolverError`); the point is then moved
+    by 1 % of the bracket, and if that fails too the search stops with the bracket it has.
+    ``where`` and ``angle`` name the bridge and the searched angle in the errors: no
+    rupture distance at the first two points, or a top within ten tolerances of the
+    bracket's ends (not inside it)."""
     g = 0.5 * (math.sqrt(5.0) - 1.0)
 
     def at(x: float, width: float) -> tuple[float, float] | None:
         for dx in (0.0, 0.01 * width, -0.01 * width):
             try:
-                return x + dx, wall_rupture(v, ts, x + dx)
+                return x + dx, rupture(x + dx)
             except SolverError:
                 continue
         return None
 
     first = at(hi - g * (hi - lo), hi - lo), at(lo + g * (hi - lo), hi - lo)
     if None in first:
-        raise SolverError(f"calibrated-capillary: no rupture distance at V* = {v:.4g}, "
-                          f"sphere angle {ts:.4g} deg inside the wall angle's bracket")
+        raise SolverError(f"calibrated-capillary: no rupture distance at {where} inside the "
+                          f"{angle}'s bracket")
     (x1, f1), (x2, f2) = first
     a, b = lo, hi
-    while b - a > RIDGE_TOL_DEG:
+    while b - a > tol:
         if f1 >= f2:
             b, x2, f2 = x2, x1, f1
             got = at(b - g * (b - a), b - a)
@@ -218,11 +217,26 @@ def _ridge_job(args: tuple[float, float]) -> tuple[float, float]:
                 break
             x2, f2 = got
     top = 0.5 * (a + b)
-    if min(top - lo, hi - top) < 10 * max(RIDGE_TOL_DEG, b - a):
-        raise RuntimeError(f"calibrated-capillary: the rupture distance's ridge at V* = "
-                           f"{v:.4g}, sphere angle {ts:.4g} deg is not inside the bracket "
-                           f"[{lo:.4g}, {hi:.4g}] deg of the wall angle")
+    if min(top - lo, hi - top) < 10 * max(tol, b - a):
+        raise RuntimeError(f"calibrated-capillary: the rupture distance's ridge at {where} "
+                           f"is not inside the bracket [{lo:.4g}, {hi:.4g}] deg of the "
+                           f"{angle}")
     return top, b - a
+
+
+def _ridge_job(args: tuple[float, float]) -> tuple[float, float]:
+    """The wall angle (deg) of the rupture distance's ridge at (v, theta_sphere), and the
+    width of the bracket it was found in: :func:`golden_top` over the wall angle in the
+    sphere's angle plus :data:`RIDGE_BRACKET_DEG` (to :data:`RIDGE_TOL_DEG`).
+
+    S_c rises to the ridge and falls beyond it; at larger sphere angles the top is a jump
+    (S_c jumps down by up to about 1e-3 where the branch from contact comes to end at the
+    other of two nearby folds)."""
+    v, ts = args
+    lo = max(0.0, ts + RIDGE_BRACKET_DEG[0])
+    hi = min(cc.RIDGE_TOP_DEG, ts + RIDGE_BRACKET_DEG[1])
+    return golden_top(lambda x: wall_rupture(v, ts, x), lo, hi,
+                      f"V* = {v:.4g}, sphere angle {ts:.4g} deg", "wall angle")
 
 
 def fit_ridge(workers: int = 2, cache_dir: Path | None = None,
@@ -271,10 +285,20 @@ def top_is_jump(v: float, theta_sphere_deg: float) -> bool:
     :data:`ONSET_SLOPE` with h = :data:`ONSET_PROBE_DEG`, rather than at the zero slope of
     a smooth maximum."""
     top, width = _ridge_job((v, theta_sphere_deg))
-    h, left = ONSET_PROBE_DEG, top - 0.5 * width
-    s1 = wall_rupture(v, theta_sphere_deg, left - h)
-    s2 = wall_rupture(v, theta_sphere_deg, left - 2.0 * h)
-    return (s1 - s2) / (h * s1) > ONSET_SLOPE
+    return left_slope(lambda x: wall_rupture(v, theta_sphere_deg, x), top,
+                      width) > ONSET_SLOPE
+
+
+def left_slope(rupture: Callable[[float], float], top: float, width: float,
+               h: float = ONSET_PROBE_DEG) -> float:
+    r"""Relative slope (per deg) of ``rupture`` just short of a top found by
+    :func:`golden_top` (``top`` and its bracket's ``width``):
+    :math:`(S(\theta_l - h) - S(\theta_l - 2h)) / (h S(\theta_l - h))`, theta_l the
+    bracket's left end."""
+    left = top - 0.5 * width
+    s1 = rupture(left - h)
+    s2 = rupture(left - 2.0 * h)
+    return (s1 - s2) / (h * s1)
 
 
 def _onset_job(v: float) -> float:
