@@ -117,11 +117,12 @@ def branch_end(theta_deg: float, v: float) -> str:
     return _branch_ends(1.0, v, theta_deg, theta_deg).end
 
 
-def _bisect_change(above: Callable[[float], bool], bracket: tuple[float, float], tol: float,
+def bisect_change(above: Callable[[float], bool], bracket: tuple[float, float], tol: float,
                    what: str, v: float) -> float:
     """The angle (deg) where ``above(angle)`` turns true, bisected to ``tol`` within
     ``bracket`` (false at its lower end, true at its upper; else an error naming ``what``
-    and the volume ``v``): the split and the onset angle's search."""
+    and the volume ``v``): the split and the onset angle's search, and a sphere pair's
+    onset (:func:`wetcontact.calibrate_pairs2.pair_onset`)."""
     lo, hi = bracket
     if above(lo) or not above(hi):
         raise RuntimeError(f"calibrated-capillary: {what} not bracketed by {bracket} deg at "
@@ -135,7 +136,7 @@ def _bisect_change(above: Callable[[float], bool], bracket: tuple[float, float],
 def _split_job(v: float) -> float:
     """Bisection for the angle where the end changes from fold to bifurcation (to
     :data:`SPLIT_TOL_DEG`)."""
-    return _bisect_change(lambda t: branch_end(t, v) == "bifurcation", SPLIT_BRACKET_DEG,
+    return bisect_change(lambda t: branch_end(t, v) == "bifurcation", SPLIT_BRACKET_DEG,
                           SPLIT_TOL_DEG, "fold/bifurcation change", v)
 
 
@@ -303,7 +304,7 @@ def left_slope(rupture: Callable[[float], float], top: float, width: float,
 
 def _onset_job(v: float) -> float:
     """Bisection for the onset angle at ``v`` (to :data:`ONSET_TOL_DEG`)."""
-    return _bisect_change(lambda t: top_is_jump(v, t), ONSET_BRACKET_DEG, ONSET_TOL_DEG,
+    return bisect_change(lambda t: top_is_jump(v, t), ONSET_BRACKET_DEG, ONSET_TOL_DEG,
                           "the ridge's jump onset", v)
 
 

@@ -130,11 +130,10 @@ def top_shape(rupture, top: float, width: float, h: float = PROBE_DEG) -> TopSha
     extrapolated from :math:`\theta_l - h, \theta_l - 2h` (linearly) and
     :math:`\theta_r + h, \theta_r + 4h` (as a square root, a fold's side)."""
     left, right = top - 0.5 * width, top + 0.5 * width
-    s1, s2 = rupture(left - h), rupture(left - 2.0 * h)
-    f1, f2 = rupture(left - PROBE_FAR * h), rupture(left - 2.0 * PROBE_FAR * h)
+    s1, s2 = rupture(left - h), rupture(left - 2.0 * h)  # also the drop's and jump's
     r1, r4 = rupture(right + h), rupture(right + 4.0 * h)
-    slope = (s1 - s2) / (h * s1)
-    slope_far = (f1 - f2) / (PROBE_FAR * h * f1)
+    slope = (s1 - s2) / (h * s1)  # gen.left_slope at h, from the values already solved
+    slope_far = gen.left_slope(rupture, top, width, PROBE_FAR * h)
     if slope > 0.0 and slope_far > 0.0:
         p = math.log(slope / slope_far) / math.log(PROBE_FAR)
     else:  # a flat or noisy top: no growth toward it
@@ -158,11 +157,7 @@ def pair_onset(ratio: float, v: float, lo: float, hi: float,
                tol: float = 0.5) -> float:
     """Bisection (to ``tol``, deg) for the small sphere's angle in [lo, hi] above which the
     top over the large sphere's angle is not smooth (:func:`pair_top`); the top must be
-    smooth at ``lo`` and not at ``hi``."""
-    if pair_top(ratio, v, lo).kind != "smooth" or pair_top(ratio, v, hi).kind == "smooth":
-        raise RuntimeError(f"calibrate_pairs2: the onset at radius ratio {ratio:.6g}, "
-                           f"V* = {v:.4g} is not bracketed by [{lo:.4g}, {hi:.4g}] deg")
-    while hi - lo > tol:
-        mid = 0.5 * (lo + hi)
-        lo, hi = (lo, mid) if pair_top(ratio, v, mid).kind != "smooth" else (mid, hi)
-    return 0.5 * (lo + hi)
+    smooth at ``lo`` and not at ``hi`` (the generator's
+    :func:`~wetcontact.calibrate_capillary.bisect_change`)."""
+    return gen.bisect_change(lambda t: pair_top(ratio, v, t).kind != "smooth", (lo, hi),
+                              tol, f"the pair's onset at radius ratio {ratio:.6g}", v)

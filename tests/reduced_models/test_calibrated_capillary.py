@@ -314,15 +314,15 @@ def test_bisection_finds_the_change_and_refuses_an_open_bracket() -> None:
     """The split and onset searches' bisection: within its tolerance of where a predicate
     turns true, and an error naming what and the volume when the bracket does not hold
     the change."""
-    from wetcontact.calibrate_capillary import _bisect_change
+    from wetcontact.calibrate_capillary import bisect_change
 
     for edge in (24.3, 30.0, 35.99):
-        got = _bisect_change(lambda t, e=edge: t > e, (24.0, 36.0), 1e-3, "x", 0.01)
+        got = bisect_change(lambda t, e=edge: t > e, (24.0, 36.0), 1e-3, "x", 0.01)
         assert abs(got - edge) <= 1e-3
     with pytest.raises(RuntimeError, match=r"the change not bracketed .* V\* = 0.01"):
-        _bisect_change(lambda t: t > 40.0, (24.0, 36.0), 1e-3, "the change", 0.01)
+        bisect_change(lambda t: t > 40.0, (24.0, 36.0), 1e-3, "the change", 0.01)
     with pytest.raises(RuntimeError, match="not bracketed"):
-        _bisect_change(lambda t: t > 10.0, (24.0, 36.0), 1e-3, "the change", 0.01)
+        bisect_change(lambda t: t > 10.0, (24.0, 36.0), 1e-3, "the change", 0.01)
 
 
 @pytest.mark.slow
