@@ -97,3 +97,126 @@ def test_equal_spheres_onset_is_the_fold_bifurcation_split() -> None:
                                      cc.volume_coordinate(np.array([v])))[0])
     onset = p2.pair_onset(1.0, v, 29.0, 31.0, tol=1.0)
     assert onset == pytest.approx(split, abs=0.5 + 0.01), (onset, split)
+
+
+# ---- the table's pipeline on a synthetic bridge: onset, ridge and pieces exact ----------
+
+
+def _w_a(ratio: float, v: float) -> tuple[float, float]:
+    from wetcontact.reduced_models import calibrated_capillary as cc
+
+    return (float(cc.ratio_coordinate(np.array(ratio))),
+            float(cc.volume_coordinate(np.array(v))))
+
+
+def _onset(ratio: float, v: float) -> float:
+    w, a = _w_a(ratio, v)
+    return 25.0 + 2.0 * w - 1.5 * a + 0.5 * w * a
+
+
+def _ridge(ratio: float, v: float, t1: float) -> float:
+    w, a = _w_a(ratio, v)
+    return t1 + 6.0 + w + a
+
+
+def _rupture(ratio: float, v: float, t1: float, t2: float) -> float:
+    return v ** (1.0 / 3.0) * math.exp(0.1 + 0.01 * t1 + 0.005 * t2
+                                       + 0.05 * _w_a(ratio, v)[1])
+
+
+def _q(ratio: float, t2: float, c: np.ndarray) -> np.ndarray:
+    return np.exp(0.2 * c + 0.001 * t2 + 0.01 * _w_a(ratio, 1e-3)[0])
+
+
+@pytest.fixture
+def synthetic_table(monkeypatch, tmp_path):
+    """The coarse stage of :func:`fit_pair_table` on a synthetic bridge whose onset,
+    ridge, rupture distance and force are polynomials of low degree in the table's
+    coordinates (the onset in (w, a), the ridge linear in theta1, log S_c linear in both
+    angles, log q linear in theta2 and c): the coarse nodes interpolate them exactly."""
+    def fake_branch(kind, ratio, v, theta, c_nodes, theta2=None):
+        t1, t2 = math.degrees(theta), math.degrees(theta2)
+        return _rupture(ratio, v, t1, t2), _q(ratio, t2, np.asarray(c_nodes))
+
+    monkeypatch.setattr(gen, "solve_branch", fake_branch)
+    monkeypatch.setattr(p2, "pair_onset", lambda r, v, lo, hi, tol, ridge_tol: _onset(r, v))
+    monkeypatch.setattr(p2, "split_at", lambda vs: np.array([_onset(1.0, v) for v in vs]))
+    monkeypatch.setattr(p2, "pair_ridge",
+                        lambda r, v, t1, bracket, tol: (_ridge(r, v, t1), tol))
+    return p2.fit_pair_table("coarse", workers=1, cache_dir=tmp_path)
+
+
+def test_pair_table_interpolates_a_synthetic_bridge_exactly(synthetic_table) -> None:
+    """The generator's grids (band ends from the onset's nodes, b2 from the ridge's) and
+    the model's coordinates (the onset and ridge series, the quadratic map toward the
+    ridge) agree: at seeded points in every band and both pieces the table returns the
+    synthetic S_c, ridge and force to rounding."""
+    from wetcontact.reduced_models import calibrated_capillary as cc
+
+    entry = cc.as_arrays({"e": synthetic_table})["e"]
+    assert [b["theta_sphere_deg"] for b in entry["bands"]] == [[0.0, None], [None, 35.0],
+                                                              [35.0, 70.0]]
+    rng = np.random.default_rng(5)
+    n = 400
+    r = np.exp(rng.uniform(0.0, math.log(10.0), n))
+    v = np.exp(rng.uniform(math.log(1e-4), math.log(0.1), n))
+    t1 = rng.uniform(0.0, 70.0, n)
+    t2 = rng.uniform(0.0, 70.0, n)
+    x = rng.uniform(-1.0, 1.0, n)
+    ridge = np.array([_ridge(*p) for p in zip(r, v, t1, strict=True)])
+    np.testing.assert_allclose(cc.ridge_deg(v, t1, entry, r), ridge, rtol=0, atol=1e-10)
+    sc = np.array([_rupture(*p) for p in zip(r, v, t1, t2, strict=True)])
+    rho = r / (1.0 + r)
+    s = np.array([cc.gap_from_coordinate(xx, s_c, math.sqrt(vv / (math.pi * rr)))
+                  for xx, s_c, vv, rr in zip(x, sc, v, rho, strict=True)])
+    f, s_c = cc.force_star(cc.PAIR_TWO_ANGLES, v, np.radians(t1), s, r, entry=entry,
+                           theta_wall=np.radians(t2))
+    np.testing.assert_allclose(s_c, sc, rtol=1e-11)
+    q = np.array([_q(rr, tt, np.array([xx]))[0] for rr, tt, xx in zip(r, t2, x, strict=True)])
+    want = rho * q * (np.cos(np.radians(t1)) + np.cos(np.radians(t2)))
+    np.testing.assert_allclose(f, want, rtol=1e-9)
+    which = cc.band_index(entry, t1, [cc.ratio_coordinate(r), cc.volume_coordinate(v)])
+    assert set(which) == {0, 1, 2}  # every band was evaluated
+
+
+def test_pair_table_onset_and_nested_stages(synthetic_table) -> None:
+    """The onset's r = 1 row is the split angle, its other rows the bisection's; the
+    coarse grid's nodes are every other (w, a, b1) and every third b2 node of the full
+    grid, bit for bit (what lets the full stage reuse the coarse stage's cache)."""
+    on = synthetic_table[gen.cc.ONSET_KEY]
+    rs, vs = on["ratio_nodes"], on["v_nodes"]
+    np.testing.assert_allclose(on["at_nodes_deg"],
+                               [[_onset(r, v) for v in vs] for r in rs], atol=1e-12)
+    assert list(p2.ratio_nodes(9)[::2]) == list(p2.ratio_nodes(5))
+    assert list(gen._volume_nodes(9)[::2]) == list(gen._volume_nodes(5))
+    assert list(gen.lobatto(9)[::2]) == list(gen.lobatto(5))
+    assert list(p2.nested_gauss(15)[1::3]) == list(p2.nested_gauss(5))
+    assert list(p2.nested_gauss(9)[1::3]) == list(p2.nested_gauss(3))
+    np.testing.assert_allclose(p2.nested_gauss(7), gen.gauss(7), atol=1e-15)
+
+
+def test_model_takes_the_small_spheres_angle_first(synthetic_table, monkeypatch) -> None:
+    """``calibrated-capillary`` on two spheres with two angles evaluates the two-angle
+    table with theta1 the smaller sphere's angle, whichever of the scene's spheres it is
+    (the synthetic S_c is not symmetric in the angles, so a swap would show)."""
+    from wetcontact.models import get_model
+    from wetcontact.reduced_models import calibrated_capillary as cc
+    from wetcontact.scene import Scene
+
+    table = {**cc.capillary_table(),
+             cc.PAIR_TWO_ANGLES: cc.as_arrays({"e": synthetic_table})["e"]}
+    monkeypatch.setattr(cc, "capillary_table", lambda: table)
+    model = get_model("calibrated-capillary")
+    rs, ratio, v = 1e-3, 3.0, 2e-3
+
+    def scene(r1: float, r2: float, th1: float, th2: float) -> Scene:
+        return Scene(name="two-angle pair", kind="sphere-sphere", amount="bridge",
+                     radius=r1, radius2=r2, bridge_volume=v * rs**3, viscosity=1e-3,
+                     surface_tension=0.07, density=1000.0, velocity=0.0, gaps=(1e-7,),
+                     contact_angle_sphere=math.radians(th1),
+                     contact_angle_wall=math.radians(th2))
+
+    want = _rupture(ratio, v, 20.0, 40.0) * rs
+    for sc in (scene(rs, ratio * rs, 20.0, 40.0), scene(ratio * rs, rs, 40.0, 20.0)):
+        model.check(sc)
+        assert model.rupture_distance(sc) == pytest.approx(want, rel=1e-11)

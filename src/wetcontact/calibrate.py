@@ -1039,12 +1039,36 @@ def main(argv: list[str] | None = None) -> int:
     sub.add_parser("viscous", help="regenerate the calibrated-viscous closure")
     c = sub.add_parser("capillary", help="regenerate the calibrated-capillary closure")
     c.add_argument("--kind", choices=["sphere-wall", "sphere-sphere", "sphere-wall-two-angles",
-                                      "all"], default="all",
-                   help="one table (a sphere and a wall with two contact angles: "
-                        "sphere-wall-two-angles); the others are kept as they are")
+                                      "sphere-sphere-two-angles", "all"], default="all",
+                   help="one table (two contact angles: sphere-wall-two-angles, "
+                        "sphere-sphere-two-angles); the others are kept as they are; 'all' "
+                        "is the first three")
     c.add_argument("--workers", type=int, default=2)
     c.add_argument("--held-out", type=int, default=120, help="held-out bridges per kind")
+    c.add_argument("--stage", choices=["coarse", "full"], default="full",
+                   help="sphere-sphere-two-angles only: the node counts (nested: the full "
+                        "stage reuses what the coarse one solved)")
+    c.add_argument("--out", type=Path, default=None,
+                   help="sphere-sphere-two-angles only: write into this copy of the table "
+                        "file (default: the package data)")
     args = p.parse_args(argv)
+    if args.command == "capillary" and args.kind == "sphere-sphere-two-angles":
+        from wetcontact.calibrate_pairs2 import generate_pair_table
+
+        out = args.out
+        if out is not None and not out.is_file():
+            import shutil
+
+            from wetcontact.reduced_models import calibrated_capillary as cc
+
+            shutil.copy(Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE, out)
+        entry = generate_pair_table(args.stage, out, args.workers, args.held_out)
+        for key in sorted(k for k in entry if k.startswith("held_out")):
+            ho = entry[key]
+            print(f"{args.kind} {key}: max rupture {ho['rupture_distance']['max']:.3g}, "
+                  f"force {ho['force']['max']:.3g} ({ho['force']['points']} points)")
+        print(f"{entry['wall_time_s']} s")
+        return 0
     if args.command == "capillary":
         from wetcontact.calibrate_capillary import KINDS, generate_calibrated_capillary
 

@@ -624,11 +624,11 @@ def held_out_design(kind: str, n: int, gaps_per: int, seed: int,
                     theta_range: tuple[float, float] | None = None) -> list[dict[str, Any]]:
     """Seeded bridges (v log-uniform, theta uniform, ratio log-uniform; in the
     :data:`NEAR_EQUAL` ranges if ``near_equal``) with ``gaps_per`` uniform fractions of the
-    rupture distance in [0, 0.999] each. On a wall with two angles the wall's angle is
-    uniform too, or, given a table ``near_ridge``, within :data:`NEAR_RIDGE_DEG` of its
-    ridge, uniformly, or (``ridge_band``, deg) at a distance log-uniform in that band on
-    either side (redrawn until inside the domain). ``theta_range`` (deg): the (sphere's)
-    angle's range, default the whole domain's."""
+    rupture distance in [0, 0.999] each. With two angles (a wall's, or the large sphere's)
+    the other angle is uniform too, or, given a table ``near_ridge``, within
+    :data:`NEAR_RIDGE_DEG` of its ridge, uniformly, or (``ridge_band``, deg) at a distance
+    log-uniform in that band on either side (redrawn until inside the domain).
+    ``theta_range`` (deg): the (small sphere's) angle's range, default the whole domain's."""
     rng = np.random.default_rng(seed)
     r_hi = NEAR_EQUAL["radius_ratio"][1] if near_equal else cc.RATIO_RANGE[1]
     th = (NEAR_EQUAL["theta_deg"] if near_equal else
@@ -638,15 +638,16 @@ def held_out_design(kind: str, n: int, gaps_per: int, seed: int,
         row = {"v": float(np.exp(rng.uniform(*np.log(cc.V_RANGE)))),
                "theta_deg": float(rng.uniform(*th)),
                "ratio": (float(np.exp(rng.uniform(0.0, math.log(r_hi))))
-                         if kind == "sphere-sphere" else None),
+                         if kind in ("sphere-sphere", cc.PAIR_TWO_ANGLES) else None),
                "theta_wall_deg": None,
                "fractions": np.sort(rng.uniform(0.0, 0.999, gaps_per)).tolist()}
-        if kind == cc.WALL_TWO_ANGLES:
+        if kind in (cc.WALL_TWO_ANGLES, cc.PAIR_TWO_ANGLES):
             tw = rng.uniform(*cc.THETA_RANGE_DEG)
             if near_ridge is not None:
                 d = (rng.choice([-1.0, 1.0]) * math.exp(rng.uniform(*np.log(ridge_band)))
                      if ridge_band else rng.uniform(-NEAR_RIDGE_DEG, NEAR_RIDGE_DEG))
-                tw = float(cc.ridge_deg(row["v"], row["theta_deg"], near_ridge)) + d
+                tw = float(cc.ridge_deg(row["v"], row["theta_deg"], near_ridge,
+                                        row["ratio"])) + d
                 if not cc.THETA_RANGE_DEG[0] <= tw <= cc.THETA_RANGE_DEG[1]:
                     continue
             row["theta_wall_deg"] = float(tw)

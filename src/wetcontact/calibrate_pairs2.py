@@ -26,8 +26,14 @@ it and a fold's square root past it (the notes give the measured sizes).
 
 from __future__ import annotations
 
+import json
 import math
+import time
 from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
 
 from wetcontact import calibrate_capillary as gen
 from wetcontact.reduced_models import calibrated_capillary as cc
@@ -146,18 +152,276 @@ def top_shape(rupture, top: float, width: float, h: float = PROBE_DEG) -> TopSha
                     jump=((2.0 * s1 - s2) - (2.0 * r1 - r4)) / s1, kind=kind)
 
 
-def pair_top(ratio: float, v: float, theta1_deg: float) -> TopShape:
-    """The ridge over the large sphere's angle at theta1 (:func:`pair_ridge`) and its
-    :func:`top_shape`."""
-    top, width = pair_ridge(ratio, v, theta1_deg)
+def pair_top(ratio: float, v: float, theta1_deg: float,
+             ridge_tol: float = gen.RIDGE_TOL_DEG) -> TopShape:
+    """The ridge over the large sphere's angle at theta1 (:func:`pair_ridge`, to
+    ``ridge_tol``) and its :func:`top_shape`."""
+    top, width = pair_ridge(ratio, v, theta1_deg, tol=ridge_tol)
     return top_shape(lambda x: pair_rupture(ratio, v, theta1_deg, x), top, width)
 
 
 def pair_onset(ratio: float, v: float, lo: float, hi: float,
-               tol: float = 0.5) -> float:
+               tol: float = 0.5, ridge_tol: float = gen.RIDGE_TOL_DEG) -> float:
     """Bisection (to ``tol``, deg) for the small sphere's angle in [lo, hi] above which the
     top over the large sphere's angle is not smooth (:func:`pair_top`); the top must be
     smooth at ``lo`` and not at ``hi`` (the generator's
     :func:`~wetcontact.calibrate_capillary.bisect_change`)."""
-    return gen.bisect_change(lambda t: pair_top(ratio, v, t).kind != "smooth", (lo, hi),
+    return gen.bisect_change(lambda t: pair_top(ratio, v, t, ridge_tol).kind != "smooth",
+                             (lo, hi),
                               tol, f"the pair's onset at radius ratio {ratio:.6g}", v)
+
+
+# ---- the table: onset, ridge and pieces on nested Chebyshev grids ---------------------------
+
+PAIR_TWO_ANGLES = "sphere-sphere-two-angles"
+"""Table key of two spheres with two different contact angles."""
+STAGES: dict[str, dict[str, Any]] = {
+    "coarse": {"w": 5, "a": 5, "b1": 5, "b2": (5, 3)},
+    "full": {"w": 9, "a": 9, "b1": 9, "b2": (15, 9)},
+}
+"""Node counts per stage: w, a, b1 on Chebyshev-Lobatto points (5 of them are every other
+of 9: nested), b2 on Chebyshev-Gauss points below and above the ridge (5 and 3 of them are
+every third of 15 and 9: nested). Every node of a stage is a node of the next, with the
+same floats (:func:`ratio_nodes`, :func:`~wetcontact.calibrate_capillary._volume_nodes`,
+and the band ends and ridge taken at their own nodes, not from a series), so that the
+node cache keeps what a coarser stage solved. The gap axis has
+:data:`~wetcontact.calibrate_capillary` 's 19 Lobatto nodes at every stage."""
+GAP_NODES = 19
+PAIR_BANDS_DEG = gen.TWO_ANGLE_BANDS_DEG
+"""The small sphere's angle ranges (deg), as on the wall: [0, theta_on(r, V)],
+[theta_on, 35], [35, 70]."""
+PAIR_RIDGE_BRACKET_DEG = (-2.0, 45.0)
+"""The ridge is sought over the large sphere's angle in theta1 plus these (deg): it lies
+0 to 32 deg above theta1 (docs/notes/sphere_pair_two_angles.md)."""
+PAIR_RIDGE_TOL_DEG = (1e-4, 1e-5, 1e-5)
+"""The ridge search's tolerance per band (deg): below the onset the top is a smooth
+maximum (S_c flat across it, the series' own error there is larger); above it S_c jumps
+(by up to 9e-4 at r = 10, v = 0.1) and the pieces must meet at the top."""
+PAIR_ONSET_TOL_DEG = 0.05
+"""The onset's bisection tolerance (deg). The ridge's locus has a kink of its curvature
+there (on a wall about 0.012 per deg), so a band end this far off leaves about 3e-5 deg in
+a ridge series, where the jump is still about (0.05 deg)^2 times 1e-5 (the wall's growth)."""
+PAIR_ONSET_PROBE_TOL_DEG = 1e-5
+"""The ridge's tolerance in the onset's searches (the kind probes sit 1e-5 deg short of
+its bracket)."""
+
+
+def ratio_nodes(n: int) -> np.ndarray:
+    """The radius ratios at the ``n`` Lobatto nodes of ``w = (ln r)^(1/3)`` (the one-angle
+    pair table's expression, so that nested stages give the same floats)."""
+    return np.exp((0.5 * (gen.lobatto(n) + 1.0) * cc.W_MAX) ** 3)
+
+
+def onset_bracket(v: float) -> tuple[float, float]:
+    """Where the pair's onset is sought at volume ``v`` (deg): it falls with r from the
+    equal spheres' split angle theta_s(V) (the one-angle pair table's series) toward the
+    wall's onset theta_on(V) (the two-angle wall table's), r = 10 being 0-1.1 deg above
+    it; the bracket is [theta_on - 1.5, theta_s + 0.5]."""
+    a = cc.volume_coordinate(np.array([v]))
+    t_s = float(cc.theta_split_deg(cc._entry("sphere-sphere"), a)[0])
+    t_on = float(cc.onset_deg(cc._entry(cc.WALL_TWO_ANGLES), a)[0])
+    return t_on - 1.5, t_s + 0.5
+
+
+def split_at(v: np.ndarray) -> np.ndarray:
+    """The equal spheres' split angle theta_s(V) (deg) from the shipped one-angle pair
+    table: the pair's onset at r = 1."""
+    return cc.theta_split_deg(cc._entry("sphere-sphere"), cc.volume_coordinate(v))
+
+
+def _pair_onset_job(args: tuple[float, float]) -> float:
+    """The onset (deg) at (ratio, v): :func:`pair_onset` from :func:`onset_bracket` to
+    :data:`PAIR_ONSET_TOL_DEG` (from [8, 36] deg if that is not a bracket)."""
+    ratio, v = args
+    try:
+        return pair_onset(ratio, v, *onset_bracket(v), tol=PAIR_ONSET_TOL_DEG,
+                          ridge_tol=PAIR_ONSET_PROBE_TOL_DEG)
+    except RuntimeError:
+        return pair_onset(ratio, v, 8.0, 36.0, tol=PAIR_ONSET_TOL_DEG,
+                          ridge_tol=PAIR_ONSET_PROBE_TOL_DEG)
+
+
+def fit_pair_onset(nw: int, na: int, workers: int = 2,
+                   cache_dir: Path | None = None) -> dict[str, Any]:
+    """The onset theta_on(w, a) (deg) at the (nw, na) Lobatto nodes and its Chebyshev
+    coefficients: at r = 1 (w's first node) the split angle (:func:`split_at`), elsewhere
+    :func:`_pair_onset_job`, through the node cache (lines ``pair-onset|r|v|tol``)."""
+    rs, vs = ratio_nodes(nw), gen._volume_nodes(na)
+    jobs = [(float(r), float(v)) for r in rs[1:] for v in vs]
+    got = gen._cached_map(_pair_onset_job, jobs,
+                          lambda j: f"pair-onset|{j[0]!r}|{j[1]!r}|{PAIR_ONSET_TOL_DEG}",
+                          lambda j, t: (t, []), lambda j, got: got[0], workers,
+                          "pair onset angle", cache_dir)
+    th = np.vstack([split_at(vs), np.reshape(got, (nw - 1, na))])
+    return {"chebyshev": gen.lobatto_coefficients(th).tolist(), "at_nodes_deg": th.tolist(),
+            "ratio_nodes": rs.tolist(), "v_nodes": vs.tolist(),
+            "tolerance_deg": PAIR_ONSET_TOL_DEG}
+
+
+def nested_gauss(n: int) -> np.ndarray:
+    """Chebyshev-Gauss points ``sin(pi (2k + 1 - n)/(2n))`` on (-1, 1), increasing: the
+    :func:`~wetcontact.calibrate_capillary.gauss` points, with the fraction reduced before
+    it is rounded, so that every third point of 3n is bit for bit a point of n."""
+    from fractions import Fraction
+
+    return np.array([math.sin(math.pi * float(Fraction(2 * k + 1 - n, 2 * n)))
+                     for k in range(n)])
+
+
+def small_angle_grid(onset: dict[str, Any], rng: gen.SphereRange, nb1: int) -> np.ndarray:
+    """The small sphere's angle (deg) at the (w, a, b1) Lobatto nodes of a band ``rng``:
+    mapped linearly from the band's range at each (w, a) node, an end ``None`` being the
+    onset's own value at that node (``onset["at_nodes_deg"]``: the lead grid is the
+    onset's), shape (nw, na, nb1)."""
+    at = np.asarray(onset["at_nodes_deg"])
+    lo, hi = (at if e is None else np.full(at.shape, float(e)) for e in rng)
+    return 0.5 * (gen.lobatto(nb1) * (hi - lo)[..., None] + (lo + hi)[..., None])
+
+
+def _pair_ridge_job(args: tuple[float, float, float, float]) -> tuple[float, float]:
+    """:func:`pair_ridge` at (ratio, v, theta1 deg) to ``tol`` over
+    :data:`PAIR_RIDGE_BRACKET_DEG`: the top and its bracket's width."""
+    ratio, v, t1, tol = args
+    return pair_ridge(ratio, v, t1, bracket=PAIR_RIDGE_BRACKET_DEG, tol=tol)
+
+
+def fit_pair_ridge(onset: dict[str, Any], rng: gen.SphereRange, nb1: int, tol: float,
+                   workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
+    """The ridge theta2*(w, a, b1) (deg) of a band at its Lobatto nodes (the onset's (w, a)
+    grid times ``nb1``) and its Chebyshev coefficients, through the node cache (lines
+    ``pair-ridge|r|v|theta1|tol``)."""
+    rs, vs = np.asarray(onset["ratio_nodes"]), np.asarray(onset["v_nodes"])
+    t1 = small_angle_grid(onset, rng, nb1)
+    jobs = [(float(rs[i]), float(vs[j]), float(t1[i, j, k]), tol)
+            for i, j, k in np.ndindex(t1.shape)]
+    got = gen._cached_map(_pair_ridge_job, jobs,
+                          lambda j: f"pair-ridge|{j[0]!r}|{j[1]!r}|{j[2]!r}|{j[3]}",
+                          lambda j, r: (r[0], [r[1]]),
+                          lambda j, got: (got[0], float(got[1][0])), workers,
+                          f"pair ridge {list(rng)}", cache_dir)
+    th = np.reshape([t for t, _ in got], t1.shape)
+    return {"chebyshev": gen.lobatto_coefficients(th).tolist(), "at_nodes_deg": th.tolist(),
+            "theta_small_nodes_deg": t1.tolist(), "tolerance_deg": tol,
+            "bracket_max_deg": max(w for _, w in got)}
+
+
+PAIR_PIECES = ({"theta_deg": [0.0, None], "theta_map": cc.RIDGE_QUADRATIC},
+               {"theta_deg": [None, cc.RIDGE_TOP_DEG], "theta_map": cc.RIDGE_QUADRATIC})
+"""The large sphere's angle's pieces: below and above the ridge (to 90 deg, as on the
+wall: the ridge reaches 82 deg), each quadratic toward it."""
+PAIR_FACTOR_LEFT_AXES = 3
+"""The force tables are factorised as (w, a, b1) against (b2, c): at the full stage
+729 + 285 (or 171) per rank, against 81 + 2 565 for (w, a) against the rest."""
+
+
+def fit_pair_piece(piece: dict[str, Any], nb2: int, onset: dict[str, Any],
+                   ridge: dict[str, Any], workers: int = 2,
+                   cache_dir: Path | None = None) -> dict[str, Any]:
+    """One piece's rupture and force tables over (w, a, b1, b2, c) from ``meniscus`` at
+    its nodes: b2 at ``nb2`` :func:`nested_gauss` points of the large sphere's angle,
+    mapped within the piece at each (w, a, b1) node from the ridge's own value there
+    (:func:`~wetcontact.reduced_models.calibrated_capillary.piece_angle`)."""
+    rs, vs = np.asarray(onset["ratio_nodes"]), np.asarray(onset["v_nodes"])
+    t1 = np.asarray(ridge["theta_small_nodes_deg"])
+    top = np.asarray(ridge["at_nodes_deg"])
+    b2, c_nodes = nested_gauss(nb2), gen.lobatto(GAP_NODES)
+    lo, hi = ((top if e is None else np.full(top.shape, float(e)))
+              for e in piece["theta_deg"])
+    jobs = []
+    for idx in np.ndindex(*t1.shape, nb2):
+        lead = idx[:3]
+        t2 = float(cc.piece_angle(piece, b2[idx[3]], lo[lead], hi[lead]))
+        jobs.append((idx, "sphere-sphere", float(rs[idx[0]]), float(vs[idx[1]]),
+                     math.radians(t1[lead]), c_nodes, math.radians(t2)))
+    shape = (*t1.shape, nb2)
+    rup, q = np.empty(shape), np.empty((*shape, GAP_NODES))
+    results = gen._cached_map(gen._node_job, jobs, gen.NodeCache.key,
+                              lambda j, r: (r[1], r[2]), lambda j, got: (j[0], *got),
+                              workers, f"pair piece {piece['theta_deg']}", cache_dir)
+    for idx, s_c, qq in results:
+        rup[idx] = math.log(s_c / vs[idx[1]] ** (1.0 / 3.0))
+        q[idx] = np.log(qq)
+    left, right, err = gen.factor_table(gen.lobatto_coefficients(q, (3,)),
+                                        PAIR_FACTOR_LEFT_AXES)
+    return {"theta_deg": piece["theta_deg"], "nodes": list(q.shape),
+            "theta_map": piece["theta_map"], "theta_points": "gauss",
+            "rupture": gen.lobatto_coefficients(rup, (3,)).tolist(),
+            "force_left": left.tolist(), "force_right": right.tolist(),
+            "force_rank": int(left.shape[-1]), "force_factor_change": err}
+
+
+def fit_pair_table(stage: str = "coarse", workers: int = 2,
+                   cache_dir: Path | None = None) -> dict[str, Any]:
+    """The two-angle sphere-pair table at ``stage`` (:data:`STAGES`): the onset series
+    theta_on(w, a), and per band (:data:`PAIR_BANDS_DEG`) its ridge series theta2*(w, a,
+    b1) and the two pieces over (w, a, b1, b2, c)."""
+    st = STAGES[stage]
+    onset = fit_pair_onset(st["w"], st["a"], workers, cache_dir)
+    bands = []
+    for rng, tol in zip(PAIR_BANDS_DEG, PAIR_RIDGE_TOL_DEG, strict=True):
+        ridge = fit_pair_ridge(onset, rng, st["b1"], tol, workers, cache_dir)
+        bands.append({"theta_sphere_deg": list(rng), "theta_split": ridge,
+                      "pieces": [fit_pair_piece(p, n, onset, ridge, workers, cache_dir)
+                                 for p, n in zip(PAIR_PIECES, st["b2"], strict=True)]})
+    return {"stage": stage, cc.ONSET_KEY: onset, "bands": bands}
+
+
+PAIR_STRATA: dict[str, dict[str, Any]] = {
+    "held_out": {"seed": 2621},
+    "held_out_near_ridge": {"seed": 2622, "near_ridge": True, "part": 3},
+    "held_out_ridge_top": {"seed": 2623, "ridge_band": gen.RIDGE_TOP_BAND_DEG, "part": 2},
+    "held_out_ridge_onset": {"seed": 2624, "ridge_band": (1e-4, 3e-2), "scale": 2,
+                             "theta_range": (17.5, 35.0)},
+    "held_out_near_equal": {"seed": 2625, "near_equal": True, "near_ridge": True,
+                            "part": 3},
+}
+"""The two-angle pair table's held-out design (against ``meniscus``), as the wall's: a
+uniform one and its stress strata, the large sphere's angle within
+:data:`~wetcontact.calibrate_capillary.NEAR_RIDGE_DEG` of the table's ridge, at a
+log-uniform distance from it (its top), at the small sphere's angles where the top's jump
+appears (the onset runs from 31 deg at r = 1 to 16.6 at r = 10, v = 0.1), and nearly
+equal spheres (r < 1.1, theta1 20-45 deg) near the ridge, where both sides of the top are
+a cusp's (|delta|^(2/3)) rather than a jump's. ``part``: the uniform count over this,
+``scale``: times it."""
+
+
+def pair_held_out(entry: dict[str, Any], n: int = 120, workers: int = 2,
+                  cache_dir: Path | None = None) -> dict[str, dict[str, Any]]:
+    """The held-out tables of a two-angle pair table (``entry``) per stratum of
+    :data:`PAIR_STRATA` (:func:`~wetcontact.calibrate_capillary.held_out`)."""
+    out = {}
+    for key, st in PAIR_STRATA.items():
+        m = max(8, n // st.get("part", 1) * st.get("scale", 1))
+        ho = gen.held_out(PAIR_TWO_ANGLES, n=m, seed=st["seed"], workers=workers,
+                          near_equal=st.get("near_equal", False), entry=entry,
+                          cache_dir=cache_dir, near_ridge=st.get("near_ridge", False),
+                          ridge_band=st.get("ridge_band"), theta_range=st.get("theta_range"))
+        stratum = {k: (list(v) if isinstance(v, tuple) else v) for k, v in st.items()
+                   if k not in ("seed", "part", "scale")}
+        if st.get("near_equal"):
+            stratum.update({k: list(v) for k, v in gen.NEAR_EQUAL.items()})
+        if st.get("near_ridge") and "ridge_band" not in st:
+            stratum["theta2_deg_from_ridge"] = [-gen.NEAR_RIDGE_DEG, gen.NEAR_RIDGE_DEG]
+        out[key] = {**ho, **({"stratum": stratum} if stratum else {})}
+    return out
+
+
+def generate_pair_table(stage: str = "coarse", out: Path | None = None, workers: int = 2,
+                        n_held_out: int = 120, cache_dir: Path | None = None
+                        ) -> dict[str, Any]:
+    """Fit the two-angle pair table at ``stage`` and its held-out tables, and write it
+    into ``out`` (a copy of the package data's file, or that file itself: other kinds are
+    kept as they are)."""
+    t0 = time.perf_counter()
+    start = dict(gen.BRANCHES)
+    out = Path(out) if out else Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
+    data = json.loads(out.read_text()) if out.is_file() else {}
+    entry = fit_pair_table(stage, workers, cache_dir)
+    entry["fit_time_s"] = round(time.perf_counter() - t0, 1)
+    entry.update(pair_held_out(cc.as_arrays({"e": entry})["e"], n_held_out, workers,
+                               cache_dir))
+    entry["wall_time_s"] = round(time.perf_counter() - t0, 1)
+    entry["branches"] = {k: gen.BRANCHES[k] - start[k] for k in gen.BRANCHES}
+    data[PAIR_TWO_ANGLES] = entry
+    gen._write(out, data)
+    return entry

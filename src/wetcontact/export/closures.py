@@ -606,8 +606,8 @@ def _calibrated_capillary(function: str, liquid: dict[str, Any], **args: float) 
     if gap == 0.0:
         v, ratio = model._v_ratio(nominal)
         rs = model.small_radius(nominal)
-        f, _ = force_star(nominal.kind, v, nominal.contact_angle_sphere, 0.0, ratio,
-                          theta_wall=model._theta_wall(nominal))
+        th, other = model._angles(nominal)
+        f, _ = force_star(nominal.kind, v, th, 0.0, ratio, theta_wall=other)
         return -float(2.0 * math.pi * nominal.surface_tension * rs * f)
     if gap > 100.0 * r1 and math.isfinite(gap):
         assert gap > sc

@@ -121,6 +121,11 @@ RATIO_RANGE = (1.0, 10.0)
 W_MAX = math.log(RATIO_RANGE[1]) ** (1.0 / 3.0)
 WALL_TWO_ANGLES = "sphere-wall-two-angles"
 """Table key of a sphere and a wall with two different contact angles."""
+PAIR_TWO_ANGLES = "sphere-sphere-two-angles"
+"""Table key of two spheres with two different contact angles (theta1 the small sphere's,
+theta2 the large one's; its lead coordinates are (w, a) where the wall's are (a,))."""
+TWO_ANGLE_TABLES = {"sphere-wall": WALL_TWO_ANGLES, "sphere-sphere": PAIR_TWO_ANGLES}
+"""The two-angle table of each geometry."""
 RIDGE_TOP_DEG = 90.0
 """Upper end of the wall angle's second piece (two angles on a wall): beyond the ridge,
 which reaches about 85 deg at the sphere angle 70 deg and v = 0.1."""
@@ -189,17 +194,19 @@ def ratio_coordinate(ratio: np.ndarray) -> np.ndarray:
     return _map(np.cbrt(np.log(ratio)), 0.0, W_MAX)
 
 
-def theta_split_deg(entry: dict[str, Any], a: np.ndarray,
+def theta_split_deg(entry: dict[str, Any], a: Lead,
                     b1: np.ndarray | None = None) -> np.ndarray | None:
     """Where a table's pieces meet (deg), or ``None`` when it has one piece: between equal
     spheres the angle where the branch's end changes from fold to bifurcation, a series in
-    the volume coordinate ``a``; on a wall with two angles the wall angle of the rupture
-    distance's ridge, a series in ``a`` and the sphere angle's coordinate ``b1``."""
+    the volume coordinate ``a``; with two angles the other solid's angle of the rupture
+    distance's ridge, a series in the lead coordinates (``a``, or ``[w, a]`` for sphere
+    pairs) and the (small) sphere angle's coordinate ``b1``."""
     ts = entry.get("theta_split")
     if ts is None:
         return None
     coef = np.asarray(ts["chebyshev"])
-    return chebyshev_tensor(coef, [a] if coef.ndim == 1 else [a, b1])
+    coords = lead_list(a) + ([] if b1 is None else [np.asarray(b1, dtype=float)])
+    return chebyshev_tensor(coef, coords[-coef.ndim:])
 
 
 def table_pieces(entry: dict[str, Any]) -> list[dict[str, Any]]:
@@ -214,31 +221,51 @@ ONSET_KEY = "theta_sphere_split"
 a Chebyshev series in the volume coordinate ``a``: a band's end given as ``None``."""
 
 
-def onset_deg(entry: dict[str, Any], a: np.ndarray) -> np.ndarray:
-    """The sphere angle (deg) where the jump of S_c at the ridge's top appears, at volume
-    coordinates ``a``: the two-angle table's series :data:`ONSET_KEY`."""
+Lead = np.ndarray | list[np.ndarray]
+"""The lead coordinates of a two-angle table's points: the volume coordinate ``a`` (a
+wall), or the list ``[w, a]`` (a sphere pair)."""
+
+
+def lead_list(lead: Lead) -> list[np.ndarray]:
+    """The lead coordinates as a list of float arrays (``a`` alone: ``[a]``)."""
+    if isinstance(lead, list | tuple):
+        return [np.asarray(x, dtype=float) for x in lead]
+    return [np.asarray(lead, dtype=float)]
+
+
+def _take(lead: Lead, m: np.ndarray) -> Lead:
+    """The lead coordinates of the points ``m``."""
+    return [x[m] for x in lead] if isinstance(lead, list | tuple) else lead[m]
+
+
+def onset_deg(entry: dict[str, Any], a: Lead) -> np.ndarray:
+    """The (small) sphere angle (deg) where the jump of S_c at the ridge's top appears, at
+    lead coordinates ``a`` (:data:`Lead`): the two-angle table's series :data:`ONSET_KEY`,
+    in a on a wall, in (w, a) for sphere pairs."""
     series = entry.get(ONSET_KEY)
     if series is None:
         raise ValueError("calibrated-capillary: a band bounded by the onset angle in a "
                          f"table without {ONSET_KEY!r}")
-    return chebyshev_tensor(np.asarray(series["chebyshev"]), [np.asarray(a, dtype=float)])
+    coef = np.asarray(series["chebyshev"])
+    return chebyshev_tensor(coef, lead_list(a)[-coef.ndim:])
 
 
-def sphere_range(entry: dict[str, Any], band: dict[str, Any], a: np.ndarray
+def sphere_range(entry: dict[str, Any], band: dict[str, Any], a: Lead
                  ) -> tuple[np.ndarray, np.ndarray]:
-    """A band's range of the sphere's angle (deg) at volume coordinates ``a``: its ends,
-    a number, or ``None`` for the onset angle (:func:`onset_deg`)."""
-    a = np.asarray(a, dtype=float)
-    lo, hi = (onset_deg(entry, a) if x is None else np.full(a.shape, float(x))
+    """A band's range of the (small) sphere's angle (deg) at lead coordinates ``a``
+    (:data:`Lead`): its ends, a number, or ``None`` for the onset angle
+    (:func:`onset_deg`)."""
+    shape = lead_list(a)[0].shape
+    lo, hi = (onset_deg(entry, a) if x is None else np.full(shape, float(x))
               for x in band["theta_sphere_deg"])
     return lo, hi
 
 
 def band_index(entry: dict[str, Any], theta_sphere_deg: np.ndarray,
-               a: np.ndarray | None = None) -> np.ndarray:
-    """Which band of a two-angle table (``entry["bands"]``) each sphere angle (deg) falls
-    in: the first whose upper end (at the volume coordinate ``a``, needed where an end is
-    the onset angle) is at or above it (-1 past the last)."""
+               a: Lead | None = None) -> np.ndarray:
+    """Which band of a two-angle table (``entry["bands"]``) each (small) sphere angle (deg)
+    falls in: the first whose upper end (at the lead coordinates ``a``, needed where an end
+    is the onset angle) is at or above it (-1 past the last)."""
     t = np.asarray(theta_sphere_deg, dtype=float)
     out = np.full(t.shape, -1)
     for k, band in reversed(list(enumerate(entry["bands"]))):
@@ -257,31 +284,35 @@ def sphere_coordinate(band: dict[str, Any], theta_sphere_deg: np.ndarray,
     return _map(np.asarray(theta_sphere_deg, dtype=float), lo, hi)
 
 
-def ridge_deg(v: Any, theta_sphere_deg: Any, entry: dict[str, Any] | None = None
-              ) -> np.ndarray:
-    """The wall angle (deg) of the ridge of S_c on a wall with two angles, at ``v`` and the
-    sphere's angle (deg): the split series of the two-angle table's band that holds the
-    sphere's angle (``entry``: that table, default the shipped one)."""
-    e = _entry(WALL_TWO_ANGLES) if entry is None else entry
-    v, t = np.broadcast_arrays(np.asarray(v, dtype=float), np.asarray(theta_sphere_deg,
-                                                                      dtype=float))
+def ridge_deg(v: Any, theta_sphere_deg: Any, entry: dict[str, Any] | None = None,
+              ratio: Any = None) -> np.ndarray:
+    """The other solid's angle (deg) at the ridge of S_c with two angles, at ``v`` and the
+    (small) sphere's angle (deg): the split series of the two-angle table's band that holds
+    the sphere's angle (``entry``: that table, default the shipped one: the wall's, or,
+    given the radius ratio ``ratio``, the sphere pairs')."""
+    if entry is None:
+        entry = _entry(WALL_TWO_ANGLES if ratio is None else PAIR_TWO_ANGLES)
+    v, t, r = np.broadcast_arrays(np.asarray(v, dtype=float),
+                                  np.asarray(theta_sphere_deg, dtype=float),
+                                  np.asarray(1.0 if ratio is None else ratio, dtype=float))
     a, out = volume_coordinate(v.ravel()), np.full(v.size, np.nan)
-    for band, m, b1 in _by_band(e, t.ravel(), a):
-        out[m] = theta_split_deg(band, a[m], b1)
+    lead: Lead = a if ratio is None else [ratio_coordinate(r.ravel()), a]
+    for band, m, b1 in _by_band(entry, t.ravel(), lead):
+        out[m] = theta_split_deg(band, _take(lead, m), b1)
     return out.reshape(v.shape)
 
 
-def _by_band(entry: dict[str, Any], theta_sphere_deg: np.ndarray, a: np.ndarray
+def _by_band(entry: dict[str, Any], theta_sphere_deg: np.ndarray, a: Lead
              ) -> Iterator[tuple[dict[str, Any], np.ndarray, np.ndarray]]:
     """Per band of a two-angle table that holds some of the (flat) sphere angles (deg; at
-    volume coordinates ``a``): the band, the indices of its points (:func:`band_index`)
-    and their b1 (:func:`sphere_coordinate`)."""
+    lead coordinates ``a``, :data:`Lead`): the band, the indices of its points
+    (:func:`band_index`) and their b1 (:func:`sphere_coordinate`)."""
     which = band_index(entry, theta_sphere_deg, a)
     for k, band in enumerate(entry["bands"]):
         m = np.flatnonzero(which == k)
         if m.size:
             yield band, m, sphere_coordinate(band, theta_sphere_deg[m],
-                                             *sphere_range(entry, band, a[m]))
+                                             *sphere_range(entry, band, _take(a, m)))
 
 
 def piece_range(piece: dict[str, Any], split: np.ndarray | None, n: int
@@ -473,29 +504,31 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
     v, theta, s = v.ravel(), theta.ravel(), s.ravel()
     if ratio is not None:
         ratio = np.broadcast_to(np.asarray(ratio, float), shape).ravel()
-    if kind == "sphere-wall" and theta_wall is not None:
+    if kind in TWO_ANGLE_TABLES and theta_wall is not None:
         tw = np.broadcast_to(np.asarray(theta_wall, float), shape).ravel()
         two = np.abs(tw - theta) > ANGLE_TOL
         f, s_c = np.empty(v.size), np.empty(v.size)
-        for mask, k in ((~two, "sphere-wall"), (two, WALL_TWO_ANGLES)):
+        for mask, k in ((~two, kind), (two, TWO_ANGLE_TABLES[kind])):
             if mask.any():
                 f[mask], s_c[mask] = force_star(
-                    k, v[mask], theta[mask], s[mask], chunk=chunk,
-                    entry=entry if k == "sphere-wall" else None,
-                    theta_wall=None if k == "sphere-wall" else tw[mask])
+                    k, v[mask], theta[mask], s[mask], None if ratio is None else ratio[mask],
+                    chunk=chunk, entry=entry if k == kind else None,
+                    theta_wall=None if k == kind else tw[mask])
         return f.reshape(shape), s_c.reshape(shape)
     e = _entry(kind) if entry is None else entry
     a = volume_coordinate(v)
     rho = np.broadcast_to(np.asarray(reduced_star(kind, ratio), dtype=float), (v.size,))
-    if kind == WALL_TWO_ANGLES:
+    if kind in (WALL_TWO_ANGLES, PAIR_TWO_ANGLES):
         if theta_wall is None:
-            raise ValueError("calibrated-capillary: the two-angle wall table needs theta_wall")
+            raise ValueError(f"calibrated-capillary: the {kind} table needs theta_wall")
         tw = np.broadcast_to(np.asarray(theta_wall, float), shape).ravel()
         ts = np.degrees(theta)
+        lead: Lead = a if kind == WALL_TWO_ANGLES else [ratio_coordinate(ratio), a]
         f, s_c = np.full(v.size, np.nan), np.full(v.size, np.nan)
-        for band, m, b1 in _by_band(e, ts, a):  # each band: its own b1 range and ridge
-            f[m], s_c[m] = _pieces(band, [a[m], b1], np.degrees(tw[m]),
-                                   theta_split_deg(band, a[m], b1), v[m], s[m], rho[m], chunk)
+        for band, m, b1 in _by_band(e, ts, lead):  # each band: its own b1 range and ridge
+            lm = _take(lead, m)
+            f[m], s_c[m] = _pieces(band, [*lead_list(lm), b1], np.degrees(tw[m]),
+                                   theta_split_deg(band, lm, b1), v[m], s[m], rho[m], chunk)
         cos_sum = np.cos(theta) + np.cos(tw)
     else:
         lead = [a] if kind == "sphere-wall" else [ratio_coordinate(ratio), a]
@@ -577,8 +610,8 @@ class CalibratedCapillary(Model):
     level = 0
     validity = ("pendular bridge on a wall or between spheres of radius ratio 1-10, "
                 "V/R_small^3 in [1e-4, 0.1], one contact angle in [0, 70] deg on both "
-                "solids (on a wall also two, each in [0, 70] deg), no gravity; any gap (0 "
-                "beyond its rupture distance)")
+                "solids, or two, each in [0, 70] deg (between spheres where the two-angle "
+                "table is generated), no gravity; any gap (0 beyond its rupture distance)")
     reference = "calibrated here: tensor Chebyshev interpolation of meniscus"
     cost = 1e-6
 
@@ -590,12 +623,7 @@ class CalibratedCapillary(Model):
         _entry(scene.kind)
         th1, th2 = scene.contact_angle_sphere, scene.contact_angle_wall
         if abs(th1 - th2) > ANGLE_TOL:
-            if scene.kind != "sphere-wall":
-                raise ValidityError(self.name, f"contact angles {math.degrees(th1):.4g} deg "
-                                    f"(sphere) and {math.degrees(th2):.4g} deg (sphere 2) "
-                                    "differ; calibrated for one angle on both spheres (two "
-                                    "angles only on a wall)", "meniscus")
-            _entry(WALL_TWO_ANGLES)
+            _entry(TWO_ANGLE_TABLES[scene.kind])
         for th, what in ((th1, "sphere"), (th2, "wall" if scene.kind == "sphere-wall"
                                            else "sphere 2")):
             deg = math.degrees(th)
@@ -630,9 +658,10 @@ class CalibratedCapillary(Model):
     def rupture_distance(self, scene: Scene) -> float:
         """S_c (m)."""
         v, ratio = self._v_ratio(scene)
-        return float(rupture_star(scene.kind, np.array(v), np.array(scene.contact_angle_sphere),
+        th, other = self._angles(scene)
+        return float(rupture_star(scene.kind, np.array(v), np.array(th),
                                   None if ratio is None else np.array(ratio),
-                                  theta_wall=self._theta_wall(scene))
+                                  theta_wall=other)
                      * self.small_radius(scene))
 
     def held_out_tables(self, scene: Scene
@@ -644,9 +673,9 @@ class CalibratedCapillary(Model):
         of the narrowest zone of :data:`RIDGE_STRATA` that contains it and hold its sphere
         angle (within :data:`RIDGE_TOP_ZONE_DEG`: the ridge's top, and at 17.5-35 deg where
         its jump appears); empty elsewhere."""
-        th_s, th_w = scene.contact_angle_sphere, scene.contact_angle_wall
-        two = scene.kind == "sphere-wall" and abs(th_s - th_w) > ANGLE_TOL
-        e = _entry(WALL_TWO_ANGLES if two else scene.kind)
+        th_s, th_w = self._angles(scene)
+        two = th_w is not None and abs(th_s - th_w) > ANGLE_TOL
+        e = _entry(TWO_ANGLE_TABLES[scene.kind] if two else scene.kind)
         ts = math.degrees(th_s)
 
         def applies(k: str) -> bool:  # a stratum of some sphere angles only
@@ -659,8 +688,9 @@ class CalibratedCapillary(Model):
                                      if k.startswith("held_out_") and applies(k))]
         if not two:
             return geometry, []
-        v, _ = self._v_ratio(scene)
-        dist = abs(math.degrees(th_w) - float(ridge_deg(v, ts)))
+        v, ratio = self._v_ratio(scene)
+        assert th_w is not None
+        dist = abs(math.degrees(th_w) - float(ridge_deg(v, ts, ratio=ratio)))
         zones = [z for z in RIDGE_STRATA if dist <= z]
         return geometry, ([e[k] for k in RIDGE_STRATA[min(zones)] if k in e and applies(k)]
                           if zones else [])
@@ -694,16 +724,24 @@ class CalibratedCapillary(Model):
         return out
 
     @staticmethod
-    def _theta_wall(scene: Scene) -> float | None:
-        """The wall's own angle (rad) on a wall, ``None`` for a sphere pair."""
-        return scene.contact_angle_wall if scene.kind == "sphere-wall" else None
+    def _angles(scene: Scene) -> tuple[float, float | None]:
+        """The (small) sphere's angle and the other solid's (rad): on a wall the sphere's
+        and the wall's; for a sphere pair the smaller sphere's (sphere 1's at equal radii)
+        and the larger one's, or ``None`` when the two are one angle."""
+        th1, th2 = scene.contact_angle_sphere, scene.contact_angle_wall
+        if scene.kind == "sphere-wall":
+            return th1, th2
+        if abs(th1 - th2) <= ANGLE_TOL:
+            return th1, None
+        assert scene.radius2 is not None
+        return (th2, th1) if scene.radius2 < scene.radius else (th1, th2)
 
     def _force(self, scene: Scene, preset: str, **opts: Any) -> ForceCurve:
         rs = self.small_radius(scene)
         v, ratio = self._v_ratio(scene)
         gap = scene.gap_array
-        f, s_c = force_star(scene.kind, v, scene.contact_angle_sphere, gap / rs, ratio,
-                            theta_wall=self._theta_wall(scene))
+        th, other = self._angles(scene)
+        f, s_c = force_star(scene.kind, v, th, gap / rs, ratio, theta_wall=other)
         sc = float(s_c.flat[0]) * rs
         force = 2.0 * np.pi * scene.surface_tension * rs * f
         est = estimate_or_none(self.name, "capillary", scene, sc)
