@@ -305,10 +305,17 @@ def fit_pair_ridge(onset: dict[str, Any], rng: gen.SphereRange, nb1: int, tol: f
             "bracket_max_deg": max(w for _, w in got)}
 
 
+PAIR_TOP_DEG = 70.5
+"""The piece above the ridge ends at this plus the ridge's offset from theta1
+(:data:`~wetcontact.reduced_models.calibrated_capillary.UPPER_PAST_RIDGE`): past the
+domain's 70 deg (by a margin for the model's check's rounding) and past the ridge."""
 PAIR_PIECES = ({"theta_deg": [0.0, None], "theta_map": cc.RIDGE_QUADRATIC},
-               {"theta_deg": [None, cc.RIDGE_TOP_DEG], "theta_map": cc.RIDGE_QUADRATIC})
-"""The large sphere's angle's pieces: below and above the ridge (to 90 deg, as on the
-wall: the ridge reaches 82 deg), each quadratic toward it."""
+               {"theta_deg": [None, PAIR_TOP_DEG], "theta_map": cc.RIDGE_QUADRATIC,
+                cc.UPPER_PAST_RIDGE: True})
+"""The large sphere's angle's pieces: below and above the ridge, each quadratic toward
+it. The first reaches past 70 deg where the ridge does (to 82 deg); the second's upper end
+follows the ridge (the wall's fixed 90 deg gave repulsive forces near contact at v = 0.1,
+theta1 = 65-70 deg between nearly equal spheres: no logarithm)."""
 PAIR_FACTOR_LEFT_AXES = 3
 """The force tables are factorised as (w, a, b1) against (b2, c): at the full stage
 729 + 285 (or 171) per rank, against 81 + 2 565 for (w, a) against the rest."""
@@ -327,6 +334,8 @@ def fit_pair_piece(piece: dict[str, Any], nb2: int, onset: dict[str, Any],
     b2, c_nodes = nested_gauss(nb2), gen.lobatto(GAP_NODES)
     lo, hi = ((top if e is None else np.full(top.shape, float(e)))
               for e in piece["theta_deg"])
+    if piece.get(cc.UPPER_PAST_RIDGE):
+        hi = hi + (top - t1)
     jobs = []
     for idx in np.ndindex(*t1.shape, nb2):
         lead = idx[:3]
@@ -345,6 +354,7 @@ def fit_pair_piece(piece: dict[str, Any], nb2: int, onset: dict[str, Any],
                                         PAIR_FACTOR_LEFT_AXES)
     return {"theta_deg": piece["theta_deg"], "nodes": list(q.shape),
             "theta_map": piece["theta_map"], "theta_points": "gauss",
+            **({cc.UPPER_PAST_RIDGE: True} if piece.get(cc.UPPER_PAST_RIDGE) else {}),
             "rupture": gen.lobatto_coefficients(rup, (3,)).tolist(),
             "force_left": left.tolist(), "force_right": right.tolist(),
             "force_rank": int(left.shape[-1]), "force_factor_change": err}

@@ -315,9 +315,20 @@ def _by_band(entry: dict[str, Any], theta_sphere_deg: np.ndarray, a: Lead
                                              *sphere_range(entry, band, _take(a, m)))
 
 
-def piece_range(piece: dict[str, Any], split: np.ndarray | None, n: int
-                ) -> tuple[np.ndarray, np.ndarray]:
-    """A piece's theta range (deg) per point: a number, or ``None`` for the split angle."""
+UPPER_PAST_RIDGE = "upper_past_ridge"
+"""A piece's flag (the pair table's piece above the ridge): its upper end is
+``theta_deg[1] + theta2* - theta1`` (deg), its number plus the ridge's offset from the
+small sphere's angle. It is at or past both the domain's 70 deg and the ridge and smooth in
+the lead coordinates, where a fixed 90 deg (the wall's) would reach angle sums at which the
+force near contact between nearly equal spheres turns repulsive (v = 0.1, theta1 = 65,
+theta2 = 86.7 deg), so that its logarithm has no table."""
+
+
+def piece_range(piece: dict[str, Any], split: np.ndarray | None, n: int,
+                first_deg: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """A piece's theta range (deg) per point: a number, or ``None`` for the split angle;
+    with :data:`UPPER_PAST_RIDGE` the upper end moves with the ridge ``split`` and the
+    (small) sphere's angle ``first_deg``."""
     ends = []
     for e in piece["theta_deg"]:
         if e is None:
@@ -327,6 +338,11 @@ def piece_range(piece: dict[str, Any], split: np.ndarray | None, n: int
             ends.append(np.asarray(split, dtype=float))
         else:
             ends.append(np.full(n, float(e)))
+    if piece.get(UPPER_PAST_RIDGE):
+        if split is None or first_deg is None:
+            raise ValueError("calibrated-capillary: a piece whose upper end follows the "
+                             "ridge needs the ridge and the sphere's angle")
+        ends[1] = ends[1] + (np.asarray(split, dtype=float) - first_deg)
     return ends[0], ends[1]
 
 
@@ -528,7 +544,8 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
         for band, m, b1 in _by_band(e, ts, lead):  # each band: its own b1 range and ridge
             lm = _take(lead, m)
             f[m], s_c[m] = _pieces(band, [*lead_list(lm), b1], np.degrees(tw[m]),
-                                   theta_split_deg(band, lm, b1), v[m], s[m], rho[m], chunk)
+                                   theta_split_deg(band, lm, b1), v[m], s[m], rho[m], chunk,
+                                   ts[m])
         cos_sum = np.cos(theta) + np.cos(tw)
     else:
         lead = [a] if kind == "sphere-wall" else [ratio_coordinate(ratio), a]
@@ -539,16 +556,18 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
 
 def _pieces(e: dict[str, Any], lead: list[np.ndarray], piece_deg: np.ndarray,
             split: np.ndarray | None, v: np.ndarray, s: np.ndarray, rho: np.ndarray,
-            chunk: int | None) -> tuple[np.ndarray, np.ndarray]:
+            chunk: int | None, first_deg: np.ndarray | None = None
+            ) -> tuple[np.ndarray, np.ndarray]:
     """``rho q`` and ``S_c/R_s`` from a table's pieces: the lead coordinates, the angle that
     the pieces divide (deg) mapped within its piece, and the gap coordinate; a point
-    belongs to the first piece whose upper end is at or above its angle."""
+    belongs to the first piece whose upper end is at or above its angle (``first_deg``:
+    the sphere's angle, for a piece whose end follows the ridge, :func:`piece_range`)."""
     n = v.size
     eps = np.sqrt(v / (np.pi * rho))
     f, s_c = np.full(n, np.nan), np.full(n, np.nan)
     todo = np.ones(n, dtype=bool)
     for piece in e["pieces"]:
-        lo, hi = piece_range(piece, split, n)
+        lo, hi = piece_range(piece, split, n, first_deg)
         idx = np.flatnonzero(todo & (piece_deg <= hi))
         todo[idx] = False
         f[idx], s_c[idx] = _piece(piece, lo, hi, idx, lead, piece_deg, v, s, rho, eps, chunk)
