@@ -220,3 +220,33 @@ def test_model_takes_the_small_spheres_angle_first(synthetic_table, monkeypatch)
     for sc in (scene(rs, ratio * rs, 20.0, 40.0), scene(ratio * rs, rs, 40.0, 20.0)):
         model.check(sc)
         assert model.rupture_distance(sc) == pytest.approx(want, rel=1e-11)
+
+
+def test_pair_held_out_strata_draw_where_they_say(synthetic_table) -> None:
+    """The held-out design of the two-angle pair table: ratios in [1, 10] (nearly equal
+    spheres: [1, 1.1], theta1 in 20-45 deg), the large sphere's angle within 3 deg of the
+    table's ridge or at a log-uniform distance in the band, theta1 in the onset stratum's
+    range; every draw inside the domain."""
+    from wetcontact.reduced_models import calibrated_capillary as cc
+
+    entry = cc.as_arrays({"e": synthetic_table})["e"]
+    for key, st in p2.PAIR_STRATA.items():
+        design = gen.held_out_design(cc.PAIR_TWO_ANGLES, 60, 4, st["seed"],
+                                     st.get("near_equal", False),
+                                     entry if st.get("near_ridge") or "ridge_band" in st
+                                     else None, st.get("ridge_band"), st.get("theta_range"))
+        r = np.array([d["ratio"] for d in design])
+        t1 = np.array([d["theta_deg"] for d in design])
+        t2 = np.array([d["theta_wall_deg"] for d in design])
+        assert r.min() >= 1.0 and r.max() <= (1.1 if st.get("near_equal") else 10.0), key
+        assert t2.min() >= 0.0 and t2.max() <= 70.0, key
+        lo, hi = st.get("stratum", {}).get("theta_sphere_deg", (0.0, 70.0))
+        assert t1.min() >= lo and t1.max() <= hi, key
+        d = np.abs(t2 - cc.ridge_deg([x["v"] for x in design], t1, entry, r))
+        if "ridge_band" in st:
+            assert d.min() >= st["ridge_band"][0] * (1 - 1e-9), key
+            assert d.max() <= st["ridge_band"][1] * (1 + 1e-9), key
+        elif st.get("near_ridge"):
+            assert d.max() <= gen.NEAR_RIDGE_DEG, key
+        else:
+            assert d.max() > gen.NEAR_RIDGE_DEG, key  # uniform: not only near the ridge

@@ -376,14 +376,23 @@ def fit_pair_table(stage: str = "coarse", workers: int = 2,
     return {"stage": stage, cc.ONSET_KEY: onset, "bands": bands}
 
 
+_NEAR = {"theta2_deg_from_ridge": [-gen.NEAR_RIDGE_DEG, gen.NEAR_RIDGE_DEG]}
+_ONSET_SPHERE_DEG = (17.5, 35.0)
 PAIR_STRATA: dict[str, dict[str, Any]] = {
     "held_out": {"seed": 2621},
-    "held_out_near_ridge": {"seed": 2622, "near_ridge": True, "part": 3},
-    "held_out_ridge_top": {"seed": 2623, "ridge_band": gen.RIDGE_TOP_BAND_DEG, "part": 2},
-    "held_out_ridge_onset": {"seed": 2624, "ridge_band": (1e-4, 3e-2), "scale": 2,
-                             "theta_range": (17.5, 35.0)},
-    "held_out_near_equal": {"seed": 2625, "near_equal": True, "near_ridge": True,
-                            "part": 3},
+    "held_out_near_ridge": {"seed": 2622, "near_ridge": True, "part": 3, "stratum": _NEAR},
+    "held_out_ridge_top": {
+        "seed": 2623, "ridge_band": gen.RIDGE_TOP_BAND_DEG, "part": 2,
+        "stratum": {"theta2_deg_from_ridge_abs_log_uniform": list(gen.RIDGE_TOP_BAND_DEG)}},
+    "held_out_ridge_onset": {
+        "seed": 2624, "ridge_band": (1e-4, 3e-2), "scale": 2,
+        "theta_range": _ONSET_SPHERE_DEG,
+        "stratum": {"theta_sphere_deg": list(_ONSET_SPHERE_DEG),
+                    "theta2_deg_from_ridge_abs_log_uniform": [1e-4, 3e-2]}},
+    "held_out_near_equal": {
+        "seed": 2625, "near_equal": True, "near_ridge": True, "part": 3,
+        "stratum": {"radius_ratio": list(gen.NEAR_EQUAL["radius_ratio"]),
+                    "theta_sphere_deg": list(gen.NEAR_EQUAL["theta_deg"]), **_NEAR}},
 }
 """The two-angle pair table's held-out design (against ``meniscus``), as the wall's: a
 uniform one and its stress strata, the large sphere's angle within
@@ -392,7 +401,8 @@ log-uniform distance from it (its top), at the small sphere's angles where the t
 appears (the onset runs from 31 deg at r = 1 to 16.6 at r = 10, v = 0.1), and nearly
 equal spheres (r < 1.1, theta1 20-45 deg) near the ridge, where both sides of the top are
 a cusp's (|delta|^(2/3)) rather than a jump's. ``part``: the uniform count over this,
-``scale``: times it."""
+``scale``: times it; ``stratum``: what the table records (the wall's names; the model
+applies a stratum with ``theta_sphere_deg`` only to small-sphere angles inside it)."""
 
 
 def pair_held_out(entry: dict[str, Any], n: int = 120, workers: int = 2,
@@ -406,13 +416,7 @@ def pair_held_out(entry: dict[str, Any], n: int = 120, workers: int = 2,
                           near_equal=st.get("near_equal", False), entry=entry,
                           cache_dir=cache_dir, near_ridge=st.get("near_ridge", False),
                           ridge_band=st.get("ridge_band"), theta_range=st.get("theta_range"))
-        stratum = {k: (list(v) if isinstance(v, tuple) else v) for k, v in st.items()
-                   if k not in ("seed", "part", "scale")}
-        if st.get("near_equal"):
-            stratum.update({k: list(v) for k, v in gen.NEAR_EQUAL.items()})
-        if st.get("near_ridge") and "ridge_band" not in st:
-            stratum["theta2_deg_from_ridge"] = [-gen.NEAR_RIDGE_DEG, gen.NEAR_RIDGE_DEG]
-        out[key] = {**ho, **({"stratum": stratum} if stratum else {})}
+        out[key] = {**ho, **({"stratum": st["stratum"]} if "stratum" in st else {})}
     return out
 
 
