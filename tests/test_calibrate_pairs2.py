@@ -250,3 +250,26 @@ def test_pair_held_out_strata_draw_where_they_say(synthetic_table) -> None:
             assert d.max() <= gen.NEAR_RIDGE_DEG, key
         else:
             assert d.max() > gen.NEAR_RIDGE_DEG, key  # uniform: not only near the ridge
+
+
+def test_pair_onset_job_widens_a_bracket_that_does_not_hold(monkeypatch) -> None:
+    """The onset is first sought between the wall's onset - 1.5 and the split angle + 0.5
+    deg (the shipped series at that volume); where that is not a bracket, over [8, 36]."""
+    from wetcontact.reduced_models import calibrated_capillary as cc
+
+    seen = []
+
+    def fake(ratio, v, lo, hi, tol, ridge_tol):
+        seen.append((lo, hi))
+        if len(seen) == 1:
+            raise RuntimeError("not bracketed")
+        return 0.5 * (lo + hi)
+
+    monkeypatch.setattr(p2, "pair_onset", fake)
+    v = 0.01
+    a = cc.volume_coordinate(np.array([v]))
+    t_on = float(cc.onset_deg(cc.capillary_table()[cc.WALL_TWO_ANGLES], a)[0])
+    t_s = float(p2.split_at(np.array([v]))[0])
+    assert p2._pair_onset_job((3.0, v)) == 22.0
+    assert seen == [(t_on - 1.5, t_s + 0.5), (8.0, 36.0)]
+    assert t_on - 1.5 < t_s + 0.5  # the first bracket is not empty
