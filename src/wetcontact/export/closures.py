@@ -26,7 +26,12 @@ for a plane:
     its band, b2 from theta2 within its piece, the pieces meeting at the band's ridge
     theta2*(a, b1); a band's end may be the onset angle theta_on(V) = sum_k o_k T_k(a) where
     the ridge's jump appears, so that e.g. [0, theta_on], [theta_on, 35] and [35, 70] deg
-    split the lower range along that curve, b1 then mapped over the point's own range).
+    split the lower range along that curve, b1 then mapped over the point's own range);
+    or two spheres with TWO angles where the package data has their table
+    (``sphere-sphere-two-angles``): theta1 the smaller sphere's angle, the same bands with
+    lead coordinates (w, a) instead of (a): the onset a series in (w, a), the ridge
+    theta2*(w, a, b1), tables over (w, a, b1, b2), the piece above the ridge ending at its
+    number plus theta2* - theta1).
 ``capillary_force(r1, r2, volume, gap, surface_tension, theta1_deg, theta2_deg)``
     The shipped ``calibrated-capillary`` closure: ``F = -2 pi sigma R* (2 cos theta)
     exp(sum C T_i(w) T_j(a) T_k(b) T_l(c))`` (two angles on a plane: ``-2 pi sigma R
@@ -40,19 +45,21 @@ for a plane:
     equal spheres only, V* = V/R^3 in [1e-4, 0.1], the cosine mean of two contact angles in
     [0, 50] deg, the force also S/S_c(Willett) in the fitted range; 0 at and past the
     refitted Lian rupture distance. Kept for contacts with two different contact angles
-    between two spheres, which ``calibrated-capillary`` does not cover (it refuses and
-    names ``meniscus``).
+    between two spheres, which ``calibrated-capillary`` covers only where its package data
+    has the ``sphere-sphere-two-angles`` table (elsewhere it refuses and names
+    ``meniscus``).
 
 :class:`CapillarySource` is the one place that names the capillary tables the exports
 carry: the shipped ``calibrated-capillary`` table (whatever geometries, theta pieces, split
 angle and node counts its package data holds: ``pieces`` in theta, with a ``theta_split``
 series where a piece ends at the split angle; a plane with two angles in ``bands`` of the
 sphere's angle, each with such pieces and its ridge series, a band's end possibly the onset
-angle of the series ``theta_sphere_split``) and the two refits.
+angle of the series ``theta_sphere_split``; two spheres with two angles likewise over
+(w, a)) and the two refits.
 
 Outside the calibrated domain (or for inputs no closure covers: unequal spheres for the
-immersed part, two contact angles between spheres for ``calibrated-capillary``, a geometry
-whose table is not generated, a non-finite number) every function returns NaN: this is the
+immersed part, a geometry whose table is not generated, e.g. two contact angles between
+spheres without their table, a non-finite number) every function returns NaN: this is the
 documented contract of the exported C and Python code, where an exception is not available; the
 package itself (:func:`package_evaluation`) reports the same points as refusals
 (:class:`~wetcontact.errors.ValidityError`) and maps them to NaN only here, for comparison.
