@@ -6,6 +6,11 @@ import math
 
 import numpy as np
 import pytest
+from conftest import synthetic_onset as _onset
+from conftest import synthetic_pair_table
+from conftest import synthetic_q as _q
+from conftest import synthetic_ridge as _ridge
+from conftest import synthetic_rupture as _rupture
 
 from wetcontact import calibrate_capillary as gen
 from wetcontact import calibrate_pairs2 as p2
@@ -102,48 +107,12 @@ def test_equal_spheres_onset_is_the_fold_bifurcation_split() -> None:
 # ---- the table's pipeline on a synthetic bridge: onset, ridge and pieces exact ----------
 
 
-def _w_a(ratio: float, v: float) -> tuple[float, float]:
-    from wetcontact.reduced_models import calibrated_capillary as cc
-
-    return (float(cc.ratio_coordinate(np.array(ratio))),
-            float(cc.volume_coordinate(np.array(v))))
-
-
-def _onset(ratio: float, v: float) -> float:
-    w, a = _w_a(ratio, v)
-    return 25.0 + 2.0 * w - 1.5 * a + 0.5 * w * a
-
-
-def _ridge(ratio: float, v: float, t1: float) -> float:
-    w, a = _w_a(ratio, v)
-    return t1 + 6.0 + w + a
-
-
-def _rupture(ratio: float, v: float, t1: float, t2: float) -> float:
-    return v ** (1.0 / 3.0) * math.exp(0.1 + 0.01 * t1 + 0.005 * t2
-                                       + 0.05 * _w_a(ratio, v)[1])
-
-
-def _q(ratio: float, t2: float, c: np.ndarray) -> np.ndarray:
-    return np.exp(0.2 * c + 0.001 * t2 + 0.01 * _w_a(ratio, 1e-3)[0])
-
-
 @pytest.fixture
-def synthetic_table(monkeypatch, tmp_path):
-    """The coarse stage of :func:`fit_pair_table` on a synthetic bridge whose onset,
-    ridge, rupture distance and force are polynomials of low degree in the table's
-    coordinates (the onset in (w, a), the ridge linear in theta1, log S_c linear in both
-    angles, log q linear in theta2 and c): the coarse nodes interpolate them exactly."""
-    def fake_branch(kind, ratio, v, theta, c_nodes, theta2=None):
-        t1, t2 = math.degrees(theta), math.degrees(theta2)
-        return _rupture(ratio, v, t1, t2), _q(ratio, t2, np.asarray(c_nodes))
-
-    monkeypatch.setattr(gen, "solve_branch", fake_branch)
-    monkeypatch.setattr(p2, "pair_onset", lambda r, v, lo, hi, tol, ridge_tol: _onset(r, v))
-    monkeypatch.setattr(p2, "split_at", lambda vs: np.array([_onset(1.0, v) for v in vs]))
-    monkeypatch.setattr(p2, "pair_ridge",
-                        lambda r, v, t1, bracket, tol: (_ridge(r, v, t1), tol))
-    return p2.fit_pair_table("coarse", workers=1, cache_dir=tmp_path)
+def synthetic_table(tmp_path):
+    """The coarse stage of :func:`fit_pair_table` on the synthetic bridge of
+    :func:`conftest.synthetic_pair_table` (its onset, ridge, S_c and force interpolated
+    exactly by the coarse nodes)."""
+    return synthetic_pair_table(tmp_path)
 
 
 def test_pair_table_interpolates_a_synthetic_bridge_exactly(synthetic_table) -> None:

@@ -17,6 +17,7 @@ import shutil
 import subprocess
 import sys
 import textwrap
+from contextlib import contextmanager
 from dataclasses import replace
 from pathlib import Path
 
@@ -1422,3 +1423,429 @@ def test_onset_comparison_sees_a_moved_onset(onset, onset_points, tmp_path, lang
         with pytest.raises(AssertionError, match="relative difference|zeros differ"):
             _compare(name, got[name][sel], ref[name][sel], tol[name][sel])
         _compare(name, got[name][upper], ref[name][upper], tol[name][upper])
+
+
+# ---- two spheres with two contact angles (a synthetic sphere-sphere-two-angles table) ----
+
+#: noise added to every coefficient of the synthetic pair table (times 0.5 per unit of the
+#: sum of its indices), so that each coefficient of every axis moves the values: the fitted
+#: synthetic bridge alone is low-degree (most coefficients ~1e-17), and an export that
+#: mixed up two axes could still agree on it
+PAIR_NOISE = {"rupture": 0.02, "force_left": 0.02, "force_right": 0.02, "theta_split": 0.2,
+              cc.ONSET_KEY: 0.3}
+PAIR_FILE = Path("synthetic-pairs.json")
+
+
+def _noisy(coef, scale: float, rng: np.random.Generator) -> list:
+    """``coef`` plus seeded noise of ``scale`` times 0.5 per unit of the index sum."""
+    arr = np.asarray(coef, dtype=float)
+    decay = 0.5 ** np.indices(arr.shape).sum(axis=0)
+    return (arr + scale * decay * rng.uniform(-1.0, 1.0, arr.shape)).tolist()
+
+
+def _pair_table(cache_dir: Path) -> dict:
+    """The synthetic pair table (:func:`conftest.synthetic_pair_table`, the generator's
+    coarse stage on a polynomial bridge) with :data:`PAIR_NOISE` on every coefficient and a
+    stand-in held-out table (the model's bound floor and the json document read one)."""
+    from conftest import synthetic_pair_table
+
+    table = synthetic_pair_table(cache_dir)
+    rng = np.random.default_rng(2611)
+    onset = table[cc.ONSET_KEY]
+    onset["chebyshev"] = _noisy(onset["chebyshev"], PAIR_NOISE[cc.ONSET_KEY], rng)
+    for band in table["bands"]:
+        band["theta_split"]["chebyshev"] = _noisy(band["theta_split"]["chebyshev"],
+                                                  PAIR_NOISE["theta_split"], rng)
+        for piece in band["pieces"]:
+            for key in ("rupture", "force_left", "force_right"):
+                piece[key] = _noisy(piece[key], PAIR_NOISE[key], rng)
+    errors = {"max": 1e-4, "mean": 1e-5, "p95": 5e-5, "points": 100}
+    table["held_out"] = {"force": errors, "rupture_distance": errors, "seed": 1,
+                         "reference": "synthetic (the exports' test)"}
+    return table
+
+
+@pytest.fixture(scope="module")
+def pair2(source, tmp_path_factory):
+    """``(table, src)``: the synthetic pair table (:func:`_pair_table`) as the package data
+    would hold it, and ``source`` carrying it for the exports, read by their reader."""
+    from wetcontact.export.closures import PAIR_TWO_ANGLES, _capillary_part
+
+    assert PAIR_TWO_ANGLES == cc.PAIR_TWO_ANGLES
+    table = _pair_table(tmp_path_factory.mktemp("pair2"))
+    part = _capillary_part(PAIR_FILE, cc.PAIR_TWO_ANGLES, table)
+    assert [(h.theta_sphere_lo, h.theta_sphere_hi) for h in part.bands] == ONSET_BANDS
+    assert part.onset.ndim == 2 and all(h.split.ndim == 3 for h in part.bands)
+    assert [[p.upper_past_ridge for p in h.pieces] for h in part.bands] == [[False, True]] * 3
+    src = replace(source, table=replace(source.table, parts={
+        **source.table.parts, cc.PAIR_TWO_ANGLES: part}))
+    return table, src
+
+
+@contextmanager
+def _with_pair_table(table: dict):
+    """A context in which the model reads ``table`` as the package data's pair table."""
+    full = {**cc.capillary_table(), cc.PAIR_TWO_ANGLES: cc.as_arrays({"e": table})["e"]}
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(cc, "capillary_table", lambda: full)
+        yield
+
+
+def _pair_design(entry: dict, seed: int = 47) -> tuple[dict[str, np.ndarray], dict]:
+    """Two spheres with two angles (``capillary_force``'s arguments), ``where`` the labels
+    of its strata: 600 uniform (radius ratio 1-10 log-uniform, sphere 2 the smaller at
+    half of them, the small sphere's angle and the large one's 0-70 deg, at odd indices
+    the large one's within 1e-7 ... 3 deg of the table's ridge, both sides), 40 equal
+    spheres (ratio exactly 1: theta1 is sphere 1's), then per band boundary (the onset
+    angle at the bridge's own (w, a), and 35 deg) 12 bridges at each of 1e-9 ... 0.1 deg
+    either side (at 35 deg also exactly and 1-2 ulps either side: a fixed number, compared
+    bit for bit by all three; the onset, a 2-D series the package sums by a matrix
+    product, is not reproducible to the ulp), and 60 outside the domain (ratio 10-12,
+    an angle 70-75 deg, v beyond [1e-4, 0.1]); gaps as :func:`_gaps` without overlaps."""
+    rng = np.random.default_rng(seed)
+    n_uniform, n_equal, per, n_out = 600, 40, 12, 60
+    offsets = [sign * d for d in (1e-9, 1e-6, 1e-3, 0.1) for sign in (1, -1)]
+    n_onset, n_35 = per * len(offsets), per * (len(offsets) + 5)
+    n = n_uniform + n_equal + n_onset + n_35 + n_out
+    ratio = np.exp(rng.uniform(0.0, np.log(10.0), n))
+    ratio[n_uniform:n_uniform + n_equal] = 1.0
+    v = np.exp(rng.uniform(np.log(1e-4), np.log(0.1), n))
+    small, large = rng.uniform(0.0, 70.0, n), rng.uniform(0.0, 70.0, n)
+    lead = [cc.ratio_coordinate(ratio), cc.volume_coordinate(v)]
+    on = cc.onset_deg(entry, lead)
+    where = {k: np.zeros(n, dtype=bool) for k in ("onset", "35", "ridge", "outside")}
+    lo = n_uniform + n_equal
+    where["onset"][lo:lo + n_onset] = True
+    small[lo:lo + n_onset] = on[lo:lo + n_onset] + np.repeat(offsets, per)
+    lo += n_onset
+    where["35"][lo:lo + n_35] = True
+    edge = [35.0, *(np.nextafter(35.0, x) for x in (np.inf, -np.inf)),
+            np.nextafter(np.nextafter(35.0, np.inf), np.inf),
+            np.nextafter(np.nextafter(35.0, -np.inf), -np.inf)]
+    small[lo:lo + n_35] = _held_as(np.repeat(np.array(edge + [35.0 + d for d in offsets]),
+                                             per))
+    ridge = cc.ridge_deg(v, small, entry, ratio)
+    dist = 10.0 ** rng.uniform(-7.0, np.log10(3.0), n) * rng.choice([-1.0, 1.0], n)
+    near = (np.arange(n) % 2 == 1) & (np.arange(n) < n_uniform) & (ridge + dist <= 70.0)
+    large = np.where(near, np.abs(ridge + dist), large)
+    where["ridge"] = near
+    out = slice(n - n_out, n)
+    where["outside"][out] = True
+    k = np.arange(n_out) % 3
+    ratio[out] = np.where(k == 0, rng.uniform(10.05, 12.0, n_out), ratio[out])
+    large[out] = np.where(k == 1, rng.uniform(70.01, 75.0, n_out), large[out])
+    v[out] = np.where(k == 2, rng.choice([5e-5, 0.15], n_out), v[out])
+    rs = np.exp(rng.uniform(np.log(1e-5), np.log(1e-2), n))
+    swap = rng.uniform(size=n) < 0.5  # sphere 2 the smaller: its angle is theta1
+    swap[n_uniform:n_uniform + n_equal] = np.arange(n_equal) % 2 == 1  # r2 == r1
+    r1, r2 = np.where(swap, ratio * rs, rs), np.where(swap, rs, ratio * rs)
+    th1, th2 = np.where(swap, large, small), np.where(swap, small, large)
+    equal = r1 == r2  # theta1 is sphere 1's angle, whichever is smaller
+    small, large = np.where(equal, th1, small), np.where(equal, th2, large)
+    assert np.all(np.abs(np.radians(th1) - np.radians(th2)) > 1e-6)  # two angles
+    cap = {"r1": r1, "r2": r2, "volume": v * rs**3, "gap": np.abs(_gaps(rng, rs, small, v)),
+           "surface_tension": rng.uniform(0.02, 0.08, n), "theta1_deg": th1,
+           "theta2_deg": th2}
+    return cap, {**where, "small": small, "large": large, "v": v, "ratio": ratio}
+
+
+def _pair_reference(src, cap: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The package's rupture distance and force at ``cap`` through ``calibrated-capillary``
+    on Scenes (:func:`package_evaluation_many`: its checks, its angle rule, NaN where it
+    refuses)."""
+    return {name: package_evaluation_many(name, src, **{k: cap[k] for k in ARGS[name]})
+            for name in SHIPPED_CAPILLARY}
+
+
+@pytest.fixture(scope="module")
+def pair2_points(pair2):
+    """``(cap, where, ref, tol)``: :func:`_pair_design`, a third of its bridges moved near
+    rupture (not those near the ridge, as :func:`onset_points`), the package's values
+    through the model (:func:`_pair_reference`) and the comparison's tolerance: REL, plus
+    RIDGE/sqrt(d) at d deg from the ridge, plus FOLD/sqrt(1 - S/S_c) for the force, the
+    terms and reasons of the shipped comparison (:func:`tol`): the 3-D ridge series is
+    summed in another order by each implementation (measured below)."""
+    table, src = pair2
+    entry = cc.as_arrays({"e": table})["e"]
+    cap, where = _pair_design(entry)
+    with _with_pair_table(table):
+        sc = _pair_reference(src, cap)["rupture_distance"]
+        near_rupture(cap, np.where(where["ridge"], np.nan, sc), seed=48)
+        ref = _pair_reference(src, cap)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ridge = cc.ridge_deg(where["v"], where["small"], entry, where["ratio"])
+        rid = RIDGE / np.sqrt(np.abs(where["large"] - ridge))
+        fold = FOLD / np.sqrt(1.0 - cap["gap"] / ref["rupture_distance"])
+    rid = np.where(np.isfinite(rid), rid, 0.0)
+    tol = {"rupture_distance": REL + rid,
+           "capillary_force": REL + rid + np.where(np.isfinite(fold), fold, 0.0)}
+    return cap, where, ref, tol
+
+
+def _pair_pieces(entry: dict, where: dict) -> np.ndarray:
+    """Per point of :func:`_pair_design`: 2 band + piece (band 0-2, piece 0 below the
+    ridge, 1 above), as the package assigns them; -1 outside the domain."""
+    lead = [cc.ratio_coordinate(where["ratio"]), cc.volume_coordinate(where["v"])]
+    with np.errstate(invalid="ignore"):
+        band = cc.band_index(entry, np.degrees(np.radians(where["small"])), lead)
+        above = where["large"] > cc.ridge_deg(where["v"], where["small"], entry,
+                                              where["ratio"])
+    return np.where(where["outside"], -1, 2 * band + above)
+
+
+@pytest.mark.parametrize("language", ["python", "c"])
+def test_pair_two_angles_exports_agree(pair2, pair2_points, tmp_path, language):
+    """Two spheres with two angles (the synthetic pair table): both exports agree with the
+    package's ``calibrated-capillary`` to the comparison's tolerance at every point, in
+    every band and both pieces (each at least 40 computed points), within 1e-9 ... 0.1 deg
+    of the onset angle and at 35 deg exactly and ulps around it, near the ridge and near
+    rupture, with theta1 the smaller sphere's angle whichever argument it is (sphere 2 the
+    smaller at half the points; sphere 1's at equal radii); NaN outside the domain and 0
+    past rupture at the same points. In C also the contact API, bit for bit
+    wc_capillary_force."""
+    table, src = pair2
+    cap, where, ref, tol = pair2_points
+    entry = cc.as_arrays({"e": table})["e"]
+    pts = {"capillary_force": cap,
+           "rupture_distance": {k: cap[k] for k in ARGS["rupture_distance"]}}
+    got = _run_capillary(src, pts, tmp_path, language)
+    which = _pair_pieces(entry, where)
+    for name in SHIPPED_CAPILLARY:
+        _compare(name, got[name], ref[name], tol[name])
+        computed = np.isfinite(ref[name]) & (ref[name] != 0.0)
+        assert np.all(np.isnan(ref[name][where["outside"]])), name
+        assert np.all(np.isfinite(ref[name][~where["outside"]])), name
+        for k in range(6):
+            assert np.sum(computed & (which == k)) >= 40, (name, k)
+        for label in ("onset", "35", "ridge"):
+            assert np.sum(computed & where[label]) > 60, (name, label)
+        swapped = cap["r2"] < cap["r1"]
+        assert np.sum(computed & swapped) > 200 and np.sum(computed & ~swapped) > 200
+    assert np.sum(ref["capillary_force"] == 0.0) > 50
+    out = tmp_path / ("wetcontact_closures.py" if language == "python" else
+                      "wetcontact_closures.h")
+    assert "[0, theta_on(V)] deg, [theta_on(V), 35] deg, [35, 70] deg" in out.read_text()
+    if language == "c":
+        (tmp_path / "contact.c").write_text(C_CONTACT_DRIVER)
+        exe = tmp_path / "contact"
+        run = subprocess.run([shutil.which("cc"), "-std=c99", "-Wall", "-Wextra",
+                              "-pedantic", "-Werror", "-O2", "-o", str(exe),
+                              str(tmp_path / "contact.c"), "-lm"],
+                             capture_output=True, text=True, timeout=300)
+        assert run.returncode == 0, run.stderr
+        x = np.ascontiguousarray(np.stack([cap[k] for k in ARGS["capillary_force"]]),
+                                 dtype="<f8")
+        x.tofile(tmp_path / "in.bin")
+        run = subprocess.run([str(exe), str(x.shape[1]), str(tmp_path / "in.bin"),
+                              str(tmp_path / "out.bin")], capture_output=True, timeout=60)
+        assert run.returncode == 0, run.stderr
+        at, direct = np.fromfile(tmp_path / "out.bin", dtype="<f8").reshape(2, 6, -1)
+        assert np.array_equal(at, direct, equal_nan=True)
+        _compare("capillary_force (contact)", at[0], ref["capillary_force"],
+                 tol["capillary_force"])
+
+
+def _pair_changed(src, change):
+    """``src`` with each piece of its pair table replaced by ``change(band, i, piece)``."""
+    part = src.table.parts[cc.PAIR_TWO_ANGLES]
+    part = replace(part, bands=tuple(replace(h, pieces=tuple(
+        change(k, i, p) for i, p in enumerate(h.pieces))) for k, h in enumerate(part.bands)))
+    return replace(src, table=replace(src.table, parts={**src.table.parts,
+                                                        cc.PAIR_TWO_ANGLES: part}))
+
+
+def _bump(arr: np.ndarray) -> np.ndarray:
+    out = arr.copy()
+    out.flat[0] += 1e-9
+    return out
+
+
+PAIR_BREAKS = {
+    # the piece above the ridge ending at its fixed 70.5 deg instead of 70.5 + theta2* -
+    # theta1: its b2 moves at every point above the ridge (the pieces 1, 3, 5)
+    "fixed upper end": ((1, 3, 5), lambda k, i, p: replace(p, upper_past_ridge=False)),
+    # one coefficient of band 1's upper piece moved by 1e-9 (1000 x the tolerance)
+    "band 1 upper rupture": ((3,), lambda k, i, p: replace(p, rupture=_bump(p.rupture))
+                             if (k, i) == (1, 1) else p),
+    "band 2 lower force": ((4,), lambda k, i, p: replace(p, force_left=_bump(p.force_left))
+                           if (k, i) == (2, 0) else p),
+}
+
+
+@pytest.mark.parametrize("language", ["python", "c"])
+@pytest.mark.parametrize("case", sorted(PAIR_BREAKS))
+def test_pair_comparison_is_sharp(pair2, pair2_points, tmp_path, language, case):
+    """The comparison above sees a broken pair export: the upper pieces' moving end fixed
+    at its number, or one coefficient of one piece moved by 1e-9, fails it on the points of
+    the pieces concerned (a force coefficient: the force only) and leaves the other points
+    within tolerance."""
+    table, src = pair2
+    cap, where, ref, tol = pair2_points
+    entry = cc.as_arrays({"e": table})["e"]
+    pieces, change = PAIR_BREAKS[case]
+    pts = {"capillary_force": cap,
+           "rupture_distance": {k: cap[k] for k in ARGS["rupture_distance"]}}
+    got = _run_capillary(_pair_changed(src, change), pts, tmp_path, language)
+    hit = np.isin(_pair_pieces(entry, where), pieces)
+    for name in SHIPPED_CAPILLARY:
+        if name == "rupture_distance" and "force" in case:
+            _compare(name, got[name], ref[name], tol[name])
+            continue
+        with pytest.raises(AssertionError, match="relative difference|zeros differ"):
+            _compare(name, got[name][hit], ref[name][hit], tol[name][hit])
+        _compare(name, got[name][~hit], ref[name][~hit], tol[name][~hit])
+
+
+@pytest.mark.parametrize("language", ["python", "c"])
+def test_a_pair_table_changes_no_other_value(pair2, pair2_points, points, tmp_path,
+                                             language):
+    """With the pair table added, the exports return the values without it bit for bit at
+    every point of the shipped comparison (planes, sphere pairs with one angle, planes with
+    two) and at the pair points outside the domain; without it NaN at every pair point
+    (the package refuses two angles between spheres without their table). The shipped
+    comparison's sphere pairs with two angles are pair points too: computed with the
+    table, NaN without."""
+    _, src = pair2
+    cap, where, _, _ = pair2_points
+    shipped = points[0]
+    got = {}
+    for label, s in (("with", src), ("without", _without(src, cc.PAIR_TWO_ANGLES))):
+        d = tmp_path / label
+        d.mkdir()
+        pts = {name: {k: np.concatenate([shipped[name][k], cap[k]]) for k in ARGS[name]}
+               for name in SHIPPED_CAPILLARY}
+        got[label] = _run_capillary(s, pts, d, language)
+    n = shipped["capillary_force"]["r1"].size
+    for name in SHIPPED_CAPILLARY:
+        with_, without = got["with"][name], got["without"][name]
+        a = shipped[name]
+        with np.errstate(invalid="ignore"):
+            two = ~(np.abs(np.radians(a["theta1_deg"]) - np.radians(a["theta2_deg"]))
+                    <= cc.ANGLE_TOL)
+        pair = np.concatenate([~np.isposinf(a["r2"]) & two, np.ones(cap["r1"].size, bool)])
+        assert np.array_equal(with_[~pair], without[~pair], equal_nan=True), name
+        assert np.all(np.isnan(without[pair]))
+        assert np.sum(np.isfinite(with_[n:])) > 600, name
+        assert np.sum(np.isfinite(with_[:n][pair[:n]])) > 20, name
+
+
+def _without(src, kind: str):
+    parts = {k: v for k, v in src.table.parts.items() if k != kind}
+    return replace(src, table=replace(src.table, parts=parts))
+
+
+def test_pair_layout_is_validated(pair2):
+    """The reader refuses a broken pair table, naming the file, the field and its value:
+    an onset series not 2-D over (w, a), a ridge series not 3-D, a rupture table not 4-D,
+    ``upper_past_ridge`` on a piece other than the last or not [null, number], a moving
+    upper end that falls to 70 deg or below (checked on a grid of (w, a, b1)), and the
+    bands' ranges as on a wall."""
+    from wetcontact.errors import InputError
+    from wetcontact.export.closures import _capillary_part
+
+    table, _ = pair2
+    _capillary_part(PAIR_FILE, cc.PAIR_TWO_ANGLES, table)
+
+    def broken(change):
+        e = json.loads(json.dumps(table))
+        change(e)
+        return e
+
+    key = cc.ONSET_KEY
+    cases = [
+        (lambda e: e[key].update(chebyshev=e[key]["chebyshev"][0]),
+         r"field 'theta_sphere_split' = .*allowed: \{'chebyshev': \[\[o_00, ..., o_0n\], "
+         r"...\]\}, a non-empty rectangular list of lists of finite numbers"),
+        (lambda e: e[key]["chebyshev"][1].pop(),
+         r"field 'theta_sphere_split' = .*rectangular"),
+        (lambda e: e["bands"][1]["theta_split"].update(
+            chebyshev=e["bands"][1]["theta_split"]["chebyshev"][0]),
+         r"band 1 theta_split of shape \(5, 5\); allowed: a finite 3-D Chebyshev series in "
+         r"\(w, a, b1\)"),
+        (lambda e: e["bands"][0]["pieces"][0].update(
+            rupture=e["bands"][0]["pieces"][0]["rupture"][0]),
+         r"band 0 piece 0: tables of shapes \(5, 5, 5\) \(rupture\).* rupture 4-D"),
+        (lambda e: e["bands"][2]["pieces"][0].update(upper_past_ridge=True),
+         r"band 2 piece 0: upper_past_ridge = True \(theta_deg \[0.0, None\]\); allowed: "
+         r"absent or false, or true on a sphere pair's last piece \[null, number\]"),
+        (lambda e: e["bands"][2]["pieces"][1].update(upper_past_ridge="yes"),
+         r"band 2 piece 1: upper_past_ridge = 'yes'"),
+        (lambda e: e["bands"][1]["pieces"][1].update(theta_deg=[None, 62.0]),
+         r"band 1 theta pieces \[\(0.0, None\), \(None, 62.0\)\]; allowed: contiguous from 0 "
+         r"to an end at or above 70 deg"),
+        (lambda e: e["bands"][1]["theta_split"]["chebyshev"][0][0].__setitem__(
+            0, e["bands"][1]["theta_split"]["chebyshev"][0][0][0] - 10.0),  # ridge - 10 deg
+         r"band 1 piece 1: upper_past_ridge end 70.5 \+ theta2\* - theta1 = .* deg at \(w, "
+         r"a, b1\) = .*; allowed: above 70 deg and above the ridge everywhere"),
+        (lambda e: e["bands"][2].update(theta_sphere_deg=[36.0, 70.0]),
+         r"band 2: theta_sphere_deg = \[36.0, 70.0\] \(after 35 deg\)"),
+    ]
+    for change, says in cases:
+        with pytest.raises(InputError, match="synthetic-pairs.json: sphere-sphere-two-angles"
+                           ".*" + says):
+            _capillary_part(PAIR_FILE, cc.PAIR_TWO_ANGLES, broken(change))
+    # a wall's upper_past_ridge: only pairs move their upper end
+    wall = json.loads(json.dumps(_onset_entry_from(table)))
+    with pytest.raises(InputError, match="upper_past_ridge = True"):
+        _capillary_part(PAIR_FILE, cc.WALL_TWO_ANGLES, wall)
+
+
+def _onset_entry_from(table: dict) -> dict:
+    """The shipped wall two-angle entry with its last piece flagged ``upper_past_ridge``."""
+    shipped = cc.capillary_table()
+    if shipped is None or cc.WALL_TWO_ANGLES not in shipped:
+        pytest.skip("the package data has no two-angle wall table")
+    e = json.loads(json.dumps(shipped[cc.WALL_TWO_ANGLES], default=lambda x: x.tolist()))
+    e["bands"][0]["pieces"][-1][cc.UPPER_PAST_RIDGE] = True
+    return e
+
+
+def test_pair_json_document(pair2):
+    """``export json`` of a table with the pair table: its parts (two per piece) carry
+    axes (w, a, b1, b2), the radius ratio, the small sphere's band and the large sphere's
+    range, the 3-D ridge series first where a piece ends at it, the 2-D onset series where
+    a band ends at the onset, the moving upper end in name and form; the document is
+    valid, and the schema refuses such a part without its angle ranges or ratio."""
+    from wetcontact.export.calibration_json import capillary_document
+
+    _, src = pair2
+    doc = json.loads(json.dumps(capillary_document(src.table), allow_nan=False))
+    _validator().validate(doc)
+    part = src.table.parts[cc.PAIR_TWO_ANGLES]
+    pairs = [p for p in doc["parts"] if p["geometry"] == cc.PAIR_TWO_ANGLES]
+    assert len(pairs) == 2 * len(part.all_pieces)
+    it = iter(pairs)
+    for band in part.bands:
+        for piece in band.pieces:
+            for arr in (piece.rupture, piece.force):
+                p = next(it)
+                assert f"shape ({', '.join(map(str, arr.shape))}), axes (w, a, b1, b2" in \
+                    p["coefficient_layout"]
+                coef = np.asarray(p["coefficients"])
+                if None in (piece.theta_lo, piece.theta_hi):
+                    assert np.array_equal(coef[:band.split.size].reshape(band.split.shape),
+                                          band.split)
+                    coef = coef[band.split.size:]
+                assert np.array_equal(coef.reshape(arr.shape), arr)
+                dom = p["domain"]
+                assert dom["radius_ratio"] == [1.0, 10.0] and dom["v"] == [1e-4, 0.1]
+                assert dom["theta_sphere_deg"] == [band.theta_sphere_lo, band.theta_sphere_hi]
+                assert dom["theta_large_sphere_deg"] == [piece.theta_lo or 0.0, min(
+                    piece.theta_hi or 70.0, 70.0)]
+                assert ("theta_sphere_split" in p) == (None in dom["theta_sphere_deg"])
+                if "theta_sphere_split" in p:
+                    assert p["theta_sphere_split"]["chebyshev"] == part.onset.tolist()
+                assert ("+ ridge - theta_1" in p["name"]) == piece.upper_past_ridge
+                assert "rho (cos theta_1 + cos theta_2)" in p["form"] or "rupture" in p["name"]
+    doc["parts"] = pairs  # the refusals below on the pair's parts alone (validation is slow)
+    _validator().validate(doc)
+    i = next(i for i, p in enumerate(doc["parts"]) if "theta_sphere_split" in p)
+    for key in ("theta_large_sphere_deg", "theta_sphere_deg", "radius_ratio"):
+        bad = json.loads(json.dumps(doc))
+        bad["parts"][i]["domain"].pop(key)
+        with pytest.raises(jsonschema.ValidationError):
+            _validator().validate(bad)
+    bad = json.loads(json.dumps(doc))
+    bad["parts"][i]["theta_sphere_split"]["chebyshev"][0][0] = "22"
+    with pytest.raises(jsonschema.ValidationError):
+        _validator().validate(bad)

@@ -16,6 +16,7 @@ from typing import Any
 from wetcontact import __version__
 from wetcontact.export.closures import (
     ONSET_TEXT,
+    PAIR_TWO_ANGLES,
     TWO_ANGLES,
     CapillaryPart,
     CapillarySource,
@@ -108,6 +109,14 @@ CAP_COMMENT = """\
  *   (quadratic toward the ridge where the piece says so: wc__cap_b); the pieces meet at
  *   the ridge of S_c, a plane angle theta2* = sum s_ij T_i(a) T_j(b1) (deg, the band's
  *   own series).{onset}
+ *   Two spheres with TWO contact angles have their own table likewise (geometry
+ *   WC__CAP_SPHERES2, sphere-sphere-two-angles), theta1 there the SMALLER sphere's angle
+ *   (sphere 1's at equal radii) and theta2 the larger one's, whichever argument each is:
+ *   axes (w, a, b1, b2[, c]), prefactor rho (cos theta1 + cos theta2), bands of theta1
+ *   (an end theta_on is sum_ij o_ij T_i(w) T_j(a): wc__cap_onset2):
+ *   {bands_ss};
+ *   the ridge theta2* = sum s_ijk T_i(w) T_j(a) T_k(b1), and the piece above it ends at
+ *   its hi + theta2* - theta1 (past 70 deg and the ridge).
  *   C_F is stored in its low-rank form (the package's own layout),
  *   C_F = sum_q L[..][q] R[q][..] with L over the leading axes and R over the others, and
  *   evaluated as such: the left rows contracted with L (rank numbers), the right rows with
@@ -115,23 +124,23 @@ CAP_COMMENT = """\
  *   For a DEM contact whose volume, radii, surface tension and angle stay fixed while the
  *   gap changes: wc_capillary_contact_init(&c, r1, r2, volume, surface_tension, theta1_deg,
  *   theta2_deg) contracts all but the gap axis once (0 outside the domain; one angle or
- *   two on a plane), and
+ *   two), and
  *   wc_capillary_force_at(&c, gap) is then wc_capillary_force at that gap, bit for bit,
  *   for a few multiply-adds, log1p, sqrt and exp.
  *   Held-out max relative error against `meniscus`:
  *     {cap_held_out}
  *   Domain: a plane or two spheres with r in [{q_lo:.6g}, {q_hi:.6g}], v in
  *   [{cv_lo:.6g}, {cv_hi:.6g}], ONE contact angle: theta1 = theta2 (within {angle_tol:.0e} rad) in
- *   [{ct_lo:.6g}, {ct_hi:.6g}] deg, or, on a plane only, two angles theta1, theta2 each in
- *   [{ct_lo:.6g}, {ct_hi:.6g}] deg (two different angles between two spheres return NAN: use
- *   the *_refit pair);
+ *   [{ct_lo:.6g}, {ct_hi:.6g}] deg, or two angles theta1, theta2 each in
+ *   [{ct_lo:.6g}, {ct_hi:.6g}] deg (between two spheres only where the table
+ *   sphere-sphere-two-angles was generated, NAN otherwise: use the *_refit pair);
  *   the force also gap >= 0 (gap = 0 is the value at contact; an overlap returns NAN) and
  *   surface_tension > 0. The force is exactly 0 at and past the rupture distance.
  *   Tables: {cap_src}, sha256 {cap_sha}.
  *
  * !!! wc_capillary_force_refit, wc_rupture_distance_refit: REFITTED families, NOT A
  * !!! SHIPPED CALIBRATED CLOSURE, kept for two different contact angles between two
- * !!! spheres:
+ * !!! spheres where the shipped table has none for them:
  * !!!   {label}.
  *   wc_rupture_distance_refit: S_c = R ((a + b theta) V*^(1/3) + c V*^(2/3)), V* = V/R^3
  *     (Lian et al. 1993 form, refitted against the meniscus solver;
@@ -255,6 +264,7 @@ static inline double wc_viscous_force_bridge(double r1, double r2, double viscos
 #define WC__CAP_PLANE 0   /* one contact angle on a plane: axes (1, a, b, c) */
 #define WC__CAP_SPHERES 1 /* one contact angle between two spheres: (w, a, b, c) */
 #define WC__CAP_PLANE2 2  /* two contact angles on a plane: (a, b1, b2, c) */
+#define WC__CAP_SPHERES2 3 /* two contact angles between two spheres: (w, a, b1, b2, c) */
 
 /* One theta piece of one geometry: its ends (deg, or the split angle), the sizes of its
  * three leading axes (nw, na, nb: (w, a, b), or (a, b1, b2) for a plane with two angles)
@@ -262,12 +272,15 @@ static inline double wc_viscous_force_bridge(double r1, double r2, double viscos
  * plane with one angle has nw = 1. The force table is stored in low-rank form,
  * C_F[..][..][..][c] = sum_q left[..][q] right[q][..]: `left` carries the first nleft of
  * the three leading axes and the rank q < rank, `right` the rank and the other axes (c
- * last). */
+ * last). Two spheres with two angles have four leading axes (w, a, b1, b2): nb is b1's
+ * size and nd b2's (0 for the other geometries, whose arithmetic does not read it); past:
+ * the upper end is hi plus the ridge's offset from theta1, hi + theta2* - theta1. */
 struct wc__cap_piece {{
     int lo_split, hi_split, quadratic;
     double lo, hi;
     int nw, na, nb, nc, nleft, rank;
     const double *rupture, *left, *right;
+    int nd, past;
 }};
 
 /* One table of a geometry: its pieces (a point belongs to the first whose upper end is at
@@ -278,9 +291,11 @@ struct wc__cap_piece {{
  * sphere's angle, [ts_lo, ts_hi] (deg; b1 mapped from it; a point belongs to the first
  * band whose ts_hi is at or above its sphere angle), an end flagged ts_lo_onset /
  * ts_hi_onset being the onset angle wc__cap_onset(a) at the point (wc__cap_select sets
- * it); the one-angle geometries have one. */
+ * it); the one-angle geometries have one. Two spheres with two angles likewise, theta1
+ * the smaller sphere's angle, the onset angle wc__cap_onset2(w, a) and the ridge a series
+ * in (w, a, b1), nsplit x nsplit_b x nsplit_c (nsplit_c = 0 for the other geometries). */
 struct wc__cap_table {{
-    int npieces, nsplit, nsplit_b, ts_lo_onset, ts_hi_onset;
+    int npieces, nsplit, nsplit_b, nsplit_c, ts_lo_onset, ts_hi_onset;
     double ts_lo, ts_hi;
     const double *split;
     struct wc__cap_piece piece[WC__CAP_PIECES];
@@ -305,11 +320,21 @@ static inline void wc__cap_set(struct wc__cap_piece *p, int lo_split, double lo,
     p->rupture = rupture;
     p->left = left;
     p->right = right;
+    p->nd = 0;
+    p->past = 0;
+}}
+
+/* A piece of two spheres with two angles: the size nd of its b2 axis (after wc__cap_set,
+ * whose nb is then b1's) and whether its upper end moves with the ridge (past). */
+static inline void wc__cap_set4(struct wc__cap_piece *p, int nd, int past)
+{{
+    p->nd = nd;
+    p->past = past;
 }}
 
 /* Table `band` of one geometry (WC__CAP_PLANE, WC__CAP_SPHERES: band 0 only;
- * WC__CAP_PLANE2: its bands of the sphere's angle, 0, 1, ...); 0 when there is none (or
- * the geometry's table was not generated). */
+ * WC__CAP_PLANE2, WC__CAP_SPHERES2: its bands of the (small) sphere's angle, 0, 1, ...); 0
+ * when there is none (or the geometry's table was not generated). */
 static inline int wc__cap_table(int geometry, int band, struct wc__cap_table *t)
 {{
 {cap_tables}
@@ -334,14 +359,23 @@ static inline double wc__cap_onset(double a)
 {cap_onset}
 }}
 
-/* The table of a geometry that holds the sphere angle ts (deg) at the volume coordinate a:
- * for a plane with two angles the first band whose upper end (the onset angle at a where
- * it is flagged so, set in the table) is at or above ts, else the geometry's one table; 0
- * when none does (or it was not generated). */
-static inline int wc__cap_select(int geometry, double ts, double a, struct wc__cap_table *t)
+/* The same between two spheres with two angles: the small sphere's angle (deg) where the
+ * jump appears, theta_on = sum_ij o[i][j] T_i(w) T_j(a) (row-major); NAN without one. */
+static inline double wc__cap_onset2(double w, double a)
 {{
-    int h;
-    double on = geometry == WC__CAP_PLANE2 ? wc__cap_onset(a) : 0.0;
+{cap_onset2}
+}}
+
+/* The table of a geometry that holds the (small) sphere angle ts (deg) at the ratio and
+ * volume coordinates w, a: with two angles the first band whose upper end (the onset
+ * angle at the point where it is flagged so, set in the table) is at or above ts, else
+ * the geometry's one table; 0 when none does (or it was not generated). */
+static inline int wc__cap_select(int geometry, double ts, double w, double a,
+                                 struct wc__cap_table *t)
+{{
+    int h, bands = geometry == WC__CAP_PLANE2 || geometry == WC__CAP_SPHERES2;
+    double on = geometry == WC__CAP_PLANE2 ? wc__cap_onset(a)
+                : geometry == WC__CAP_SPHERES2 ? wc__cap_onset2(w, a) : 0.0;
     for (h = 0; h < WC__CAP_BANDS; ++h) {{
         if (!wc__cap_table(geometry, h, t))
             return 0;
@@ -349,7 +383,7 @@ static inline int wc__cap_select(int geometry, double ts, double a, struct wc__c
             t->ts_lo = on;
         if (t->ts_hi_onset)
             t->ts_hi = on;
-        if (geometry != WC__CAP_PLANE2 || ts <= t->ts_hi)
+        if (!bands || ts <= t->ts_hi)
             return 1;
     }}
     return 0;
@@ -411,26 +445,57 @@ static inline double wc__cap_rupture(const struct wc__cap_piece *pc, int axpy, d
     return cbrt(v) * exp(sum);
 }}
 
+/* The same for a piece of two spheres with two angles, four leading axes (w, a, b1, b2):
+ * the rows at w, a, b1 and the angle theta mapped from [lo, hi] (b2), the table
+ * contracted over (w, a, b1) into a row over b2 (an axpy per (i, j, k)), dotted with b2's
+ * rows. */
+static inline double wc__cap_rupture4(const struct wc__cap_piece *pc, double w, double a,
+                                      double b1, double theta, double lo, double hi,
+                                      double v, double *tw, double *ta, double *tb,
+                                      double *td)
+{{
+    int i, j, k, m;
+    double sum = 0.0, weight, acc[WC__CAP_NMAX];
+    const double *coef = pc->rupture;
+    wc__cheb_rows(w, tw, pc->nw);
+    wc__cheb_rows(a, ta, pc->na);
+    wc__cheb_rows(b1, tb, pc->nb);
+    wc__cheb_rows(wc__cap_b(pc, theta, lo, hi), td, pc->nd);
+    for (m = 0; m < pc->nd; ++m)
+        acc[m] = 0.0;
+    for (i = 0; i < pc->nw; ++i)
+        for (j = 0; j < pc->na; ++j)
+            for (k = 0; k < pc->nb; ++k) {{
+                weight = tw[i] * ta[j] * tb[k];
+                for (m = 0; m < pc->nd; ++m)
+                    acc[m] += coef[m] * weight;
+                coef += pc->nd;
+            }}
+    for (m = 0; m < pc->nd; ++m)
+        sum += acc[m] * td[m];
+    return cbrt(v) * exp(sum);
+}}
+
 /* Shared by the two capillary functions: the domain test (0 outside), the piece, whether
- * the two angles differ (*two: a plane with the sphere's angle theta1 and its own theta2),
- * R_s, v = V / R_s^3, rho = R* / R_s, the Chebyshev rows of the three leading axes (w, a,
- * b; or a, b1, b2 with two angles) and s_c = S_c / R_s. */
+ * the two angles differ (*two: a plane with the sphere's angle theta1 and its own theta2,
+ * or two spheres with theirs), R_s, v = V / R_s^3, rho = R* / R_s, the Chebyshev rows of
+ * the leading axes (w, a, b; a, b1, b2 on a plane with two angles; w, a, b1 and b2 in td
+ * between spheres with two angles) and s_c = S_c / R_s. */
 static inline int wc__cap_bridge(double r1, double r2, double volume, double theta1_deg,
                                  double theta2_deg, struct wc__cap_table *tab,
                                  const struct wc__cap_piece **piece, int *two, double *rs,
                                  double *v, double *rho, double *tw, double *ta, double *tb,
-                                 double *sc)
+                                 double *td, double *sc)
 {{
-    int plane = isinf(r2) && r2 > 0, i, j, k, p;
-    double ratio, a, x0, x1, theta, ts, split = 0.0, row, lo, hi = 0.0;
+    int plane = isinf(r2) && r2 > 0, i, j, k, p, geometry;
+    double ratio, a, w, x0, x1, xb = 0.0, theta, ts, small, other, split = 0.0, row, lo;
+    double hi = 0.0;
     const struct wc__cap_piece *pc;
     if (!(r1 > 0) || !isfinite(r1) || !(r2 > 0) || !(volume > 0) || !isfinite(volume))
         return 0;
     if (!(theta1_deg >= 0 && theta1_deg < 180 && theta2_deg >= 0 && theta2_deg < 180))
         return 0;
     *two = !(fabs(theta1_deg * (WC_PI / 180.0) - theta2_deg * (WC_PI / 180.0)) <= {angle_tol_r});
-    if (*two && !plane)  /* two angles: calibrated on a plane only */
-        return 0;
     if (!(theta1_deg >= {ct_lo_r} && theta1_deg <= {ct_hi_r} * (1 + 1e-12)))
         return 0;
     if (!(theta2_deg >= {ct_lo_r} && theta2_deg <= {ct_hi_r} * (1 + 1e-12)))
@@ -444,21 +509,45 @@ static inline int wc__cap_bridge(double r1, double r2, double volume, double the
         return 0;
     *rho = plane ? 1.0 : ratio / (1.0 + ratio);
     a = wc__map(log(*v), {lnv_lo_r}, {lnv_hi_r});
+    w = plane ? 0.0 : wc__map(cbrt(log(ratio)), 0.0, {w_max_r});
+    geometry = plane ? (*two ? WC__CAP_PLANE2 : WC__CAP_PLANE)
+                     : (*two ? WC__CAP_SPHERES2 : WC__CAP_SPHERES);
+    small = theta1_deg;  /* theta1: the sphere's, or the smaller sphere's (sphere 1's at */
+    other = theta2_deg;  /* equal radii) between spheres with two angles */
+    if (geometry == WC__CAP_SPHERES2 && r2 < r1) {{
+        small = theta2_deg;
+        other = theta1_deg;
+    }}
     /* the sphere's angle as the package holds it (radians and back): it picks the band */
-    ts = theta1_deg * (WC_PI / 180.0) * (180.0 / WC_PI);
-    if (!wc__cap_select(plane ? (*two ? WC__CAP_PLANE2 : WC__CAP_PLANE) : WC__CAP_SPHERES, ts,
-                        a, tab))
+    ts = small * (WC_PI / 180.0) * (180.0 / WC_PI);
+    if (!wc__cap_select(geometry, ts, w, a, tab))
         return 0;
-    if (*two) {{  /* axes (a, b1, b2): b1 within the band; the pieces divide theta2 */
+    if (geometry == WC__CAP_SPHERES2) {{  /* axes (w, a, b1, b2): b1 within the band */
+        x0 = w;
+        x1 = a;
+        xb = wc__map(ts, tab->ts_lo, tab->ts_hi);
+        theta = other * (WC_PI / 180.0) * (180.0 / WC_PI);  /* as the package holds it */
+    }} else if (*two) {{  /* axes (a, b1, b2): b1 within the band; the pieces divide theta2 */
         x0 = a;
         x1 = wc__map(ts, tab->ts_lo, tab->ts_hi);
         theta = theta2_deg;
     }} else {{  /* axes (w, a, b) */
-        x0 = plane ? 0.0 : wc__map(cbrt(log(ratio)), 0.0, {w_max_r});
+        x0 = w;
         x1 = a;
         theta = theta1_deg;
     }}
-    if (tab->nsplit > 0 && tab->nsplit_b == 0) {{
+    if (tab->nsplit > 0 && tab->nsplit_c > 0) {{  /* the pairs' ridge: a series in (w, a, b1) */
+        wc__cheb_rows(w, tw, tab->nsplit);
+        wc__cheb_rows(a, ta, tab->nsplit_b);
+        wc__cheb_rows(xb, tb, tab->nsplit_c);
+        for (i = 0; i < tab->nsplit; ++i)
+            for (j = 0; j < tab->nsplit_b; ++j) {{
+                row = 0.0;
+                for (k = 0; k < tab->nsplit_c; ++k)
+                    row += tab->split[(i * tab->nsplit_b + j) * tab->nsplit_c + k] * tb[k];
+                split += row * (tw[i] * ta[j]);
+            }}
+    }} else if (tab->nsplit > 0 && tab->nsplit_b == 0) {{
         wc__cheb_rows(a, tb, tab->nsplit);
         for (k = 0; k < tab->nsplit; ++k)
             split += tab->split[k] * tb[k];
@@ -474,6 +563,8 @@ static inline int wc__cap_bridge(double r1, double r2, double volume, double the
     }}
     for (p = 0; p < tab->npieces; ++p) {{
         hi = tab->piece[p].hi_split ? split : tab->piece[p].hi;
+        if (tab->piece[p].past)  /* the upper end moves with the ridge and theta1 */
+            hi = hi + (split - ts);
         if (theta <= hi)
             break;
     }}
@@ -481,7 +572,10 @@ static inline int wc__cap_bridge(double r1, double r2, double volume, double the
         return 0;
     pc = &tab->piece[p];
     lo = pc->lo_split ? split : pc->lo;
-    *sc = wc__cap_rupture(pc, *two, x0, x1, theta, lo, hi, *v, tw, ta, tb);
+    if (geometry == WC__CAP_SPHERES2)
+        *sc = wc__cap_rupture4(pc, x0, x1, xb, theta, lo, hi, *v, tw, ta, tb, td);
+    else
+        *sc = wc__cap_rupture(pc, *two, x0, x1, theta, lo, hi, *v, tw, ta, tb);
     *piece = pc;
     return 1;
 }}
@@ -491,11 +585,11 @@ static inline double wc_rupture_distance(double r1, double r2, double volume,
 {{
     struct wc__cap_table tab;
     const struct wc__cap_piece *pc;
-    double tw[WC__CAP_NMAX], ta[WC__CAP_NMAX], tb[WC__CAP_NMAX];
+    double tw[WC__CAP_NMAX], ta[WC__CAP_NMAX], tb[WC__CAP_NMAX], td[WC__CAP_NMAX];
     double rs = 0.0, v = 0.0, rho = 0.0, sc = 0.0;
     int two = 0;
     if (!wc__cap_bridge(r1, r2, volume, theta1_deg, theta2_deg, &tab, &pc, &two, &rs, &v,
-                        &rho, tw, ta, tb, &sc))
+                        &rho, tw, ta, tb, td, &sc))
         return NAN;
     return sc * rs;
 }}
@@ -549,6 +643,58 @@ static inline void wc__cap_gap_series(const struct wc__cap_piece *pc, const doub
                 }}
 }}
 
+/* The same for a piece with four leading axes (two spheres with two angles: w, a, b1, b2
+ * in tw, ta, tb, td): the left factor over the first nleft of them, the right over the
+ * others and c. */
+static inline void wc__cap_gap_series4(const struct wc__cap_piece *pc, const double *tw,
+                                       const double *ta, const double *tb, const double *td,
+                                       double *g)
+{{
+    static const double one[1] = {{1.0}};
+    const double *rows[4], *lrow[4], *rrow[4], *coef;
+    double u[WC__CAP_RMAX], weight;
+    int n[4], ln[4], rn[4], d, i, j, k, m, q, l;
+    rows[0] = tw;
+    rows[1] = ta;
+    rows[2] = tb;
+    rows[3] = td;
+    n[0] = pc->nw;
+    n[1] = pc->na;
+    n[2] = pc->nb;
+    n[3] = pc->nd;
+    for (d = 0; d < 4; ++d) {{
+        lrow[d] = d < pc->nleft ? rows[d] : one;
+        ln[d] = d < pc->nleft ? n[d] : 1;
+        rrow[d] = d < pc->nleft ? one : rows[d];
+        rn[d] = d < pc->nleft ? 1 : n[d];
+    }}
+    for (q = 0; q < pc->rank; ++q)
+        u[q] = 0.0;
+    coef = pc->left;
+    for (i = 0; i < ln[0]; ++i)
+        for (j = 0; j < ln[1]; ++j)
+            for (k = 0; k < ln[2]; ++k)
+                for (m = 0; m < ln[3]; ++m) {{
+                    weight = lrow[0][i] * lrow[1][j] * lrow[2][k] * lrow[3][m];
+                    for (q = 0; q < pc->rank; ++q)
+                        u[q] += coef[q] * weight;
+                    coef += pc->rank;
+                }}
+    for (l = 0; l < pc->nc; ++l)
+        g[l] = 0.0;
+    coef = pc->right;
+    for (q = 0; q < pc->rank; ++q)
+        for (i = 0; i < rn[0]; ++i)
+            for (j = 0; j < rn[1]; ++j)
+                for (k = 0; k < rn[2]; ++k)
+                    for (m = 0; m < rn[3]; ++m) {{
+                        weight = u[q] * (rrow[0][i] * rrow[1][j] * rrow[2][k] * rrow[3][m]);
+                        for (l = 0; l < pc->nc; ++l)
+                            g[l] += coef[l] * weight;
+                        coef += pc->nc;
+                    }}
+}}
+
 /* One liquid bridge whose volume, radii, surface tension and contact angles are fixed and
  * whose gap changes (a DEM contact): wc_capillary_contact_init contracts the force table
  * over every axis but the gap's once, wc_capillary_force_at then costs nc multiply-adds,
@@ -572,7 +718,7 @@ static inline int wc__cap_contact(struct wc_capillary_contact *c, double r1, dou
 {{
     struct wc__cap_table tab;
     const struct wc__cap_piece *pc;
-    double tw[WC__CAP_NMAX], ta[WC__CAP_NMAX], tb[WC__CAP_NMAX];
+    double tw[WC__CAP_NMAX], ta[WC__CAP_NMAX], tb[WC__CAP_NMAX], td[WC__CAP_NMAX];
     double rs = 0.0, v = 0.0, rho = 0.0, sc = 0.0;
     int two = 0;
     c->ok = 0;
@@ -580,18 +726,21 @@ static inline int wc__cap_contact(struct wc_capillary_contact *c, double r1, dou
     if (!(surface_tension > 0) || !isfinite(surface_tension))
         return 0;
     if (!wc__cap_bridge(r1, r2, volume, theta1_deg, theta2_deg, &tab, &pc, &two, &rs, &v,
-                        &rho, tw, ta, tb, &sc))
+                        &rho, tw, ta, tb, td, &sc))
         return 0;
     c->rs = rs;
     c->sc = sc;
     c->eps = sqrt(v / (WC_PI * rho));
-    if (two)  /* a plane with two angles: rho = 1, cos theta1 + cos theta2 */
+    if (two)  /* two angles: rho (1 on a plane) times cos theta1 + cos theta2 */
         c->factor = rho * (cos(theta1_deg * (WC_PI / 180.0)) + cos(theta2_deg * (WC_PI / 180.0)));
     else
         c->factor = rho * 2.0 * cos(theta1_deg * (WC_PI / 180.0));
     c->scale = 2.0 * WC_PI * surface_tension * rs;
     if (gap / rs < sc) {{
-        wc__cap_gap_series(pc, tw, ta, tb, c->g);
+        if (pc->nd > 0)  /* two spheres with two angles: four leading axes */
+            wc__cap_gap_series4(pc, tw, ta, tb, td, c->g);
+        else
+            wc__cap_gap_series(pc, tw, ta, tb, c->g);
         c->nc = pc->nc;
     }}
     c->ok = 1;
@@ -743,6 +892,7 @@ def header_text(source: CapillarySource) -> str:
             **capillary_fields(source),
             cap_held_out="\n *     ".join(held_out_lines(source)),
             bands=bands_text(source.table.parts.get(TWO_ANGLES)),
+            bands_ss=bands_text(source.table.parts.get(PAIR_TWO_ANGLES)),
             onset=onset_text(source.table.parts.get(TWO_ANGLES), " *   "),
             cap_src=Path(source.table.source).name, cap_sha=source.table.sha256[:16],
             label=_wrap(source.refit_label), rup_src=Path(rup.source).name,
@@ -760,6 +910,7 @@ def header_text(source: CapillarySource) -> str:
         cap_bands=max(len(p.sections) for p in source.table.parts.values()),
         cap_rmax=max(pc.rank for p in source.table.parts.values() for pc in p.all_pieces),
         cap_tables=_cap_tables(source), cap_onset=_cap_onset(source),
+        cap_onset2=_cap_onset2(source),
         n_wall=len(w["chebyshev"]), cheb_wall=c_array(w["chebyshev"]),
         n_ss=len(ss["chebyshev"]), cheb_ss=c_array(ss["chebyshev"]), log_lo=repr(lo),
         log_hi=repr(hi), s_lo=repr(math.exp(lo)), s_hi=repr(math.exp(hi)),
@@ -770,8 +921,8 @@ def header_text(source: CapillarySource) -> str:
 
 
 def bands_text(part: CapillaryPart | None) -> str:
-    """The bands' sphere-angle ranges of a plane with two angles, for the comments (an end
-    at the onset angle as ``theta_on(V)``, then that angle's series)."""
+    """The bands' sphere-angle ranges of a two-angle geometry, for the comments (an end at
+    the onset angle as ``theta_on(V)``, then that angle's series)."""
     if part is None:
         return "not generated"
     return ", ".join(h.range_text for h in part.bands)
@@ -801,6 +952,22 @@ def _cap_onset(source: CapillarySource) -> str:
             f"    for (k = 0; k < {n}; ++k)\n        sum += o[k] * t[k];\n    return sum;")
 
 
+def _cap_onset2(source: CapillarySource) -> str:
+    """The body of ``wc__cap_onset2``: the two-angle pair table's onset series over (w, a),
+    row-major, or NAN without one."""
+    part = source.table.parts.get(PAIR_TWO_ANGLES)
+    if part is None or part.onset is None:
+        return "    (void)w;\n    (void)a;\n    return NAN;"
+    nw, na = part.onset.shape
+    return (f"    static const double o[{part.onset.size}] = "
+            f"{c_array(part.onset.ravel())};\n"
+            f"    double tw[{nw}], ta[{na}], sum = 0.0, row;\n    int i, j;\n"
+            f"    wc__cheb_rows(w, tw, {nw});\n    wc__cheb_rows(a, ta, {na});\n"
+            f"    for (i = 0; i < {nw}; ++i) {{\n        row = 0.0;\n"
+            f"        for (j = 0; j < {na}; ++j)\n            row += o[i * {na} + j] * ta[j];\n"
+            f"        sum += row * tw[i];\n    }}\n    return sum;")
+
+
 def capillary_fields(source: CapillarySource) -> dict[str, Any]:
     """Domain limits and held-out errors of the shipped capillary table, for the templates
     (``{x}`` for comments, ``{x_r}`` at full precision for code)."""
@@ -816,10 +983,10 @@ def capillary_fields(source: CapillarySource) -> dict[str, Any]:
 
 
 GEOMETRY_NAMES = {"sphere-wall": "plane", "sphere-sphere": "sphere pairs",
-                  TWO_ANGLES: "plane, two angles"}
+                  TWO_ANGLES: "plane, two angles", PAIR_TWO_ANGLES: "sphere pairs, two angles"}
 """How the exports' comments name each ``calibrated-capillary`` geometry."""
 GEOMETRY_CODES = {"sphere-wall": "WC__CAP_PLANE", "sphere-sphere": "WC__CAP_SPHERES",
-                  TWO_ANGLES: "WC__CAP_PLANE2"}
+                  TWO_ANGLES: "WC__CAP_PLANE2", PAIR_TWO_ANGLES: "WC__CAP_SPHERES2"}
 """The header's code of each geometry (``wc__cap_table``)."""
 
 
@@ -860,11 +1027,13 @@ def _cap_tables(source: CapillarySource) -> str:
                              f"{c_array(p.force_left.ravel(), indent=12)};")
                 lines.append(f"        static const double right{n}[{p.force_right.size}] = "
                              f"{c_array(p.force_right.ravel(), indent=12)};")
-            nsplit = (0, 0) if sec.split is None else (
-                (sec.split.shape[0], 0) if sec.split.ndim == 1 else sec.split.shape)
+            # the split series' sizes, 0 for an axis it has not: (n,) in a, (n_a, n_b1) on a
+            # plane with two angles, (n_w, n_a, n_b1) between spheres with two angles
+            nsplit = (*(() if sec.split is None else sec.split.shape), 0, 0, 0)[:3]
             lines.append(f"        t->npieces = {len(sec.pieces)};")
             lines.append(f"        t->nsplit = {nsplit[0]};")
             lines.append(f"        t->nsplit_b = {nsplit[1]};")
+            lines.append(f"        t->nsplit_c = {nsplit[2]};")
             for end, x in zip(("lo", "hi"), ts, strict=True):  # None: the onset angle
                 lines.append(f"        t->ts_{end} = {0.0 if x is None else float(x)!r};")
                 lines.append(f"        t->ts_{end}_onset = {int(x is None)};")
@@ -872,12 +1041,16 @@ def _cap_tables(source: CapillarySource) -> str:
             for n, p in enumerate(sec.pieces):
                 plane = kind == "sphere-wall"  # no w axis: one entry in the header's layout
                 shape = (1, *p.force_shape) if plane else p.force_shape
+                four = len(shape) == 5  # (w, a, b1, b2, c): b2's size set by wc__cap_set4
                 ends = ["1, 0.0" if e is None else f"0, {e!r}" for e in (p.theta_lo, p.theta_hi)]
                 lines.append(f"        wc__cap_set(&t->piece[{n}], {ends[0]}, {ends[1]}, "
                              f"{int(p.quadratic)}, "
-                             f"{', '.join(str(x) for x in shape)}, {p.n_left + plane}, "
-                             f"{p.rank},\n"
+                             f"{', '.join(str(x) for x in shape[:3] + shape[-1:])}, "
+                             f"{p.n_left + plane}, {p.rank},\n"
                              f"                    rupture{n}, left{n}, right{n});")
+                if four:
+                    lines.append(f"        wc__cap_set4(&t->piece[{n}], {shape[3]}, "
+                                 f"{int(p.upper_past_ridge)});")
             lines.append("        return 1;\n    }")
             out.append("\n".join(lines))
     return "\n".join(out) + "\n    return 0;"

@@ -106,6 +106,36 @@ FORMS = {
         "stops at the domain's theta_wall_deg) and {b2} within it, where 'ridge' is "
         "the wall angle of the rupture distance's ridge theta_w* = sum_ij s_ij T_i(a) "
         "T_j(b1) (deg, the band's own series), where S_c peaks and the parts meet"),
+    "capillary-rupture-pair-two-angles": (
+        "S_c = R_s v^(1/3) exp(sum C[i, j, k, l] T_i(w) T_j(a) T_k(b1) T_l(b2)), two spheres of "
+        "radii R_s <= R_l with their own contact angles theta_1 (the smaller sphere's) and "
+        "theta_2 (the larger one's), v = V/R_s^3, r = R_l/R_s; T_n Chebyshev polynomials of "
+        "the first kind; each coordinate mapped to [-1, 1] as m(x; lo, hi) = (2 x - lo - hi)/"
+        "(hi - lo): w = m((ln r)^(1/3); 0, (ln r1)^(1/3)), a = m(ln v; ln v0, ln v1), b1 = "
+        "m(theta_1_deg; t0, t1), b2 from theta_2_deg within the part's range [lo, hi] of "
+        "theta_2 (below), [1, r1], [v0, v1] the domain's radius_ratio and v, [t0, t1] its "
+        "theta_sphere_deg: the table is split in the small sphere's angle into bands, each "
+        "with its own parts and ridge, and a point belongs to the first band whose upper "
+        "theta_sphere_deg end is at or above theta_1; an end null is the onset angle "
+        "theta_on(r, V) = sum_ij o_ij T_i(w) T_j(a) (deg, the part's theta_sphere_split, o_ij "
+        "its 'chebyshev'; the small sphere's angle where the ridge's jump appears) at the "
+        "point's own (w, a), so that t0, t1 and b1's map differ from point to point"),
+    "capillary-force-pair-two-angles": (
+        "F = -2 pi sigma R_s rho (cos theta_1 + cos theta_2) exp(sum C[i, j, k, l, m] T_i(w) "
+        "T_j(a) T_k(b1) T_l(b2) T_m(c)) for S < S_c, exactly 0 at and past S_c; rho = R*/R_s "
+        "= r/(1 + r), c = 2 z - 1, z = sqrt(1 - ln(1 + s/eps)/ln(1 + s_c/eps)), s = S/R_s, "
+        "s_c = S_c/R_s from the rupture part, eps = sqrt(v/(pi rho)); w, a, b1, b2 as in the "
+        "rupture part (Derjaguin's force at contact times a smooth correction)"),
+    "capillary-piece-pair-two-angles": (
+        "; this part covers the larger sphere's angle theta_2 from {lo} to {hi} deg (a point "
+        "belongs to the first part of its band whose upper end is at or above theta_2; the "
+        "domain stops at the domain's theta_large_sphere_deg) and {b2} within it, where "
+        "'ridge' is the larger sphere's angle of the rupture distance's ridge theta_2* = "
+        "sum_ijk s_ijk T_i(w) T_j(a) T_k(b1) (deg, the band's own series), where S_c peaks "
+        "and the parts meet{past}"),
+    "capillary-past-ridge": (
+        ", and an upper end 'N + ridge - theta_1' is N plus the ridge's offset from the small "
+        "sphere's angle, theta_2* - theta_1 (past the domain's 70 deg and the ridge)"),
     "capillary-b2-linear": "b2 = m(theta_w_deg; lo, hi)",
     "capillary-b2-quadratic": (
         "b2 quadratic toward the ridge: b2 = 1 - 2 sqrt((hi - theta_w_deg)/(hi - lo)) when "
@@ -116,6 +146,11 @@ ONSET_DESCRIPTION = (
     "the sphere angle theta_on (deg) where the jump of S_c at the ridge's top appears, "
     "theta_on(V) = sum_k o_k T_k(a), o_k = 'chebyshev', a = m(ln v; ln v0, ln v1): the value "
     "of each null end of this part's theta_sphere_deg, at the point's own a")
+ONSET_DESCRIPTION_PAIR = (
+    "the small sphere's angle theta_on (deg) where the jump of S_c at the ridge's top "
+    "appears, theta_on(r, V) = sum_ij o_ij T_i(w) T_j(a), o_ij = 'chebyshev' (rows in w), w "
+    "and a the ratio and volume coordinates of the form: the value of each null end of this "
+    "part's theta_sphere_deg, at the point's own (w, a)")
 LAYOUT = {"willett": "k[i, j, m] flattened in C order, shape (4, 4, 3)",
           "finite-liquid": "(p, c0, ..., c8)", "lian-rupture": "(a, b, c)"}
 
@@ -213,7 +248,10 @@ def capillary_document(table: CapillaryTable | None = None) -> dict[str, Any]:
     with two contact angles (geometry ``sphere-wall-two-angles``) has axes (a, b1, b2) and
     a 2-D ridge series, per band of the sphere's angle (its parts' ``theta_sphere_deg``:
     the band's range, over which b1 is mapped; an end ``null`` is the onset angle, whose
-    1-D series in ``a`` the part carries as ``theta_sphere_split``).
+    1-D series in ``a`` the part carries as ``theta_sphere_split``); two spheres with two
+    contact angles (geometry ``sphere-sphere-two-angles``) likewise with axes (w, a, b1,
+    b2), a 3-D ridge series, a 2-D onset series over (w, a) and the domain's
+    ``theta_large_sphere_deg`` where the wall's has ``theta_wall_deg``.
 
     ``table``: the capillary table to write (default the shipped one,
     :func:`~wetcontact.export.closures.shipped_capillary`)."""
@@ -227,11 +265,13 @@ def capillary_document(table: CapillaryTable | None = None) -> dict[str, Any]:
             raise InputError(f"{t.source}: {kind} has no held-out table; allowed: a table "
                              "written by `python -m wetcontact.calibrate capillary`")
         two = part.two_angles
-        axes = "(a, b1, b2)" if two else "(w, a, b)" if kind == "sphere-sphere" else "(a, b)"
-        angle = "theta_wall_deg" if two else "theta_deg"
+        axes = ("(w, a, b1, b2)" if two and part.pair else "(a, b1, b2)" if two
+                else "(w, a, b)" if part.pair else "(a, b)")
+        angle = ("theta_large_sphere_deg" if two and part.pair else "theta_wall_deg" if two
+                 else "theta_deg")
         for sec in part.sections:
             domain = {"v": list(t.v_range)}
-            if kind == "sphere-sphere":
+            if part.pair:
                 domain["radius_ratio"] = list(t.ratio_range)
             band = ""
             if two:  # an end None (JSON null): the onset angle, its series in the part
@@ -248,9 +288,10 @@ def capillary_document(table: CapillaryTable | None = None) -> dict[str, Any]:
             "description": "calibrated capillary closure: tensor Chebyshev interpolants of the "
                            "meniscus solver's rupture distance and force of a pendular "
                            "bridge, sphere-wall and two spheres (radius ratio 1-10) with one "
-                           "contact angle on both solids, and sphere-wall-two-angles (a "
-                           "sphere and a wall with their own contact angles), any gap (0 at "
-                           "and past rupture)"
+                           "contact angle on both solids, sphere-wall-two-angles (a "
+                           "sphere and a wall with their own contact angles) and "
+                           "sphere-sphere-two-angles (two spheres with theirs), any gap (0 "
+                           "at and past rupture)"
                            + "".join(f"; {k}: not generated" for k in KINDS
                                      if k not in t.parts),
             "units": UNITS, "sign_convention": SIGN, "outside_domain": OUTSIDE,
@@ -267,11 +308,14 @@ def _capillary_piece_parts(t: CapillaryTable, kind: str, part: CapillaryPart,
     band of a wall with two angles, named by ``band``)."""
     ho = part.held_out
     two = part.two_angles
+    pair2 = two and part.pair
     out = []
     split_name = "ridge" if two else "split"
     ends = [split_name if e is None else f"{e:g}" for e in (piece.theta_lo, piece.theta_hi)]
-    where = [] if len(sec.pieces) == 1 else [
-        f"{'wall angle' if two else 'theta'} {ends[0]} to {ends[1]} deg"]
+    if piece.upper_past_ridge:
+        ends[1] = f"{ends[1]} + ridge - theta_1"
+    other = "large sphere's angle" if pair2 else "wall angle" if two else "theta"
+    where = [] if len(sec.pieces) == 1 else [f"{other} {ends[0]} to {ends[1]} deg"]
     where = f" ({', '.join(([band] if band else []) + where)})" if band or where else ""
     lo = t.theta_range_deg[0] if piece.theta_lo is None else piece.theta_lo
     hi = t.theta_range_deg[1] if piece.theta_hi is None else min(
@@ -283,13 +327,20 @@ def _capillary_piece_parts(t: CapillaryTable, kind: str, part: CapillaryPart,
         layout = (f"C flattened in C order, shape ({shape}), axes "
                   + (axes if held != "force" else axes[:-1] + ", c)"))
         coef = [float(c) for c in arr.ravel()]
-        text = FORMS[form + ("-two-angles" if two else "")]
+        suffix = "-pair-two-angles" if pair2 else "-two-angles" if two else ""
+        text = FORMS[form + suffix]
         if len(sec.pieces) > 1:
-            text += FORMS["capillary-piece" + ("-two-angles" if two else "")].format(
-                lo=ends[0], hi=ends[1],
-                b2=FORMS["capillary-b2-" + ("quadratic" if piece.quadratic else "linear")])
+            b2 = FORMS["capillary-b2-" + ("quadratic" if piece.quadratic else "linear")]
+            if pair2:
+                b2 = b2.replace("theta_w_deg", "theta_2_deg")
+            text += FORMS["capillary-piece" + suffix].format(
+                lo=ends[0], hi=ends[1], b2=b2,
+                past=FORMS["capillary-past-ridge"] if piece.upper_past_ridge else "")
         if split_name in ends:  # the split (ridge) series first, then the tensor
-            what = (f"first the ridge angle's Chebyshev coefficients s_ij flattened "
+            what = (f"first the ridge angle's Chebyshev coefficients s_ijk flattened "
+                    f"in C order, shape ({', '.join(map(str, sec.split.shape))}), "
+                    "axes (w, a, b1)" if pair2 else
+                    f"first the ridge angle's Chebyshev coefficients s_ij flattened "
                     f"in C order, shape ({', '.join(map(str, sec.split.shape))}), "
                     "axes (a, b1)" if two else
                     f"first the split angle's {sec.split.size} Chebyshev coefficients s_k")
@@ -308,8 +359,8 @@ def _capillary_piece_parts(t: CapillaryTable, kind: str, part: CapillaryPart,
         if None in domain.get("theta_sphere_deg", ()):
             assert part.onset is not None  # the reader refuses a null end without it
             out[-1]["theta_sphere_split"] = {
-                "chebyshev": [float(c) for c in part.onset],
-                "description": ONSET_DESCRIPTION}
+                "chebyshev": part.onset.astype(float).tolist(),
+                "description": ONSET_DESCRIPTION_PAIR if pair2 else ONSET_DESCRIPTION}
     return out
 
 

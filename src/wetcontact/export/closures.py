@@ -26,7 +26,12 @@ for a plane:
     its band, b2 from theta2 within its piece, the pieces meeting at the band's ridge
     theta2*(a, b1); a band's end may be the onset angle theta_on(V) = sum_k o_k T_k(a) where
     the ridge's jump appears, so that e.g. [0, theta_on], [theta_on, 35] and [35, 70] deg
-    split the lower range along that curve, b1 then mapped over the point's own range).
+    split the lower range along that curve, b1 then mapped over the point's own range);
+    or two spheres with TWO angles where the package data has their table
+    (``sphere-sphere-two-angles``): theta1 the smaller sphere's angle, the same bands with
+    lead coordinates (w, a) instead of (a): the onset a series in (w, a), the ridge
+    theta2*(w, a, b1), tables over (w, a, b1, b2), the piece above the ridge ending at its
+    number plus theta2* - theta1).
 ``capillary_force(r1, r2, volume, gap, surface_tension, theta1_deg, theta2_deg)``
     The shipped ``calibrated-capillary`` closure: ``F = -2 pi sigma R* (2 cos theta)
     exp(sum C T_i(w) T_j(a) T_k(b) T_l(c))`` (two angles on a plane: ``-2 pi sigma R
@@ -40,19 +45,21 @@ for a plane:
     equal spheres only, V* = V/R^3 in [1e-4, 0.1], the cosine mean of two contact angles in
     [0, 50] deg, the force also S/S_c(Willett) in the fitted range; 0 at and past the
     refitted Lian rupture distance. Kept for contacts with two different contact angles
-    between two spheres, which ``calibrated-capillary`` does not cover (it refuses and
-    names ``meniscus``).
+    between two spheres, which ``calibrated-capillary`` covers only where its package data
+    has the ``sphere-sphere-two-angles`` table (elsewhere it refuses and names
+    ``meniscus``).
 
 :class:`CapillarySource` is the one place that names the capillary tables the exports
 carry: the shipped ``calibrated-capillary`` table (whatever geometries, theta pieces, split
 angle and node counts its package data holds: ``pieces`` in theta, with a ``theta_split``
 series where a piece ends at the split angle; a plane with two angles in ``bands`` of the
 sphere's angle, each with such pieces and its ridge series, a band's end possibly the onset
-angle of the series ``theta_sphere_split``) and the two refits.
+angle of the series ``theta_sphere_split``; two spheres with two angles likewise over
+(w, a)) and the two refits.
 
 Outside the calibrated domain (or for inputs no closure covers: unequal spheres for the
-immersed part, two contact angles between spheres for ``calibrated-capillary``, a geometry
-whose table is not generated, a non-finite number) every function returns NaN: this is the
+immersed part, a geometry whose table is not generated, e.g. two contact angles between
+spheres without their table, a non-finite number) every function returns NaN: this is the
 documented contract of the exported C and Python code, where an exception is not available; the
 package itself (:func:`package_evaluation`) reports the same points as refusals
 (:class:`~wetcontact.errors.ValidityError`) and maps them to NaN only here, for comparison.
@@ -82,7 +89,12 @@ REFIT_FILES = {"willett": "refit_willett.json", "lian-rupture": "refit_lian-rupt
 
 TWO_ANGLES = "sphere-wall-two-angles"
 """The table key of a wall with two contact angles (the model's ``WALL_TWO_ANGLES``)."""
-KINDS = ("sphere-wall", "sphere-sphere", TWO_ANGLES)
+PAIR_TWO_ANGLES = "sphere-sphere-two-angles"
+"""The table key of two spheres with two contact angles (the model's ``PAIR_TWO_ANGLES``):
+theta1 the smaller sphere's angle, theta2 the larger one's."""
+TWO_ANGLE_KINDS = (TWO_ANGLES, PAIR_TWO_ANGLES)
+"""The geometries whose table is in bands of the (small) sphere's angle."""
+KINDS = ("sphere-wall", "sphere-sphere", TWO_ANGLES, PAIR_TWO_ANGLES)
 """The ``calibrated-capillary`` geometries the exports carry, in their order."""
 
 
@@ -105,14 +117,17 @@ class CapillaryPiece:
     package's low-rank form, ``C^F = tensordot(force_left, force_right, 1)`` (the force
     table has the axes of ``rupture`` plus the gap axis c; ``force_left`` carries its first
     axes and the rank, ``force_right`` the rank and the others). A sphere pair's axes are
-    (w, a, b[, c]), a wall's (a, b[, c]), a wall's with two angles (a, b1, b2[, c]).
+    (w, a, b[, c]), a wall's (a, b[, c]), a wall's with two angles (a, b1, b2[, c]), a sphere
+    pair's with two angles (w, a, b1, b2[, c]).
     ``theta_lo``/``theta_hi`` (deg) bound the piece in the angle that the pieces divide
     (the one angle, or the wall's); ``None`` is the geometry's split angle (b, or b2, is
     mapped from that angle within the piece: linearly, or, if ``quadratic``, quadratically
     toward its end at the ridge, ``b = 1 - 2 sqrt((hi - theta)/(hi - lo))`` when the ridge
     is its upper end and ``b = 2 sqrt((theta - lo)/(hi - lo)) - 1`` when it is its lower
     end, the square roots' arguments clipped at 0; the package's ``theta_map`` =
-    ``ridge-quadratic``)."""
+    ``ridge-quadratic``). ``upper_past_ridge`` (a sphere pair's piece above the ridge, the
+    package's ``upper_past_ridge``): its upper end is ``theta_hi + theta2* - theta1`` (deg),
+    moving with the ridge theta2* and the small sphere's angle theta1."""
 
     theta_lo: float | None
     theta_hi: float | None
@@ -120,6 +135,7 @@ class CapillaryPiece:
     force_left: np.ndarray
     force_right: np.ndarray
     quadratic: bool = False
+    upper_past_ridge: bool = False
 
     @property
     def rank(self) -> int:
@@ -145,14 +161,15 @@ class CapillaryPiece:
 
 @dataclass(frozen=True, eq=False)
 class CapillaryBand:
-    """One band of the table of a wall with two contact angles: the sphere angles
-    ``theta_sphere_lo`` ... ``theta_sphere_hi`` (deg) it covers (b1 is the sphere's angle
-    mapped linearly from that range to [-1, 1]: ``b1 = (2 theta_s - lo - hi)/(hi - lo)``),
-    its ridge series ``split`` (the wall angle of the rupture distance's ridge, a tensor
-    Chebyshev series in ``a`` and b1, shape (n_a, n_b1)) and its pieces, which divide the
-    wall's angle at that ridge. An end ``None`` is the onset angle theta_on(V) of the
-    part's ``onset`` series at the point's own volume coordinate ``a`` (the range, and b1's
-    map, then differ from point to point)."""
+    """One band of a two-angle table (a wall, or a sphere pair): the (small) sphere angles
+    ``theta_sphere_lo`` ... ``theta_sphere_hi`` (deg) it covers (b1 is that angle mapped
+    linearly from the range to [-1, 1]: ``b1 = (2 theta_s - lo - hi)/(hi - lo)``), its ridge
+    series ``split`` (the other solid's angle of the rupture distance's ridge, a tensor
+    Chebyshev series in the lead coordinates and b1: shape (n_a, n_b1) on a wall,
+    (n_w, n_a, n_b1) for a pair) and its pieces, which divide the other solid's angle at
+    that ridge. An end ``None`` is the onset angle theta_on of the part's ``onset`` series
+    at the point's own lead coordinates (``a``, or (w, a)): the range, and b1's map, then
+    differ from point to point."""
 
     theta_sphere_lo: float | None
     theta_sphere_hi: float | None
@@ -185,14 +202,16 @@ class CapillaryPart:
     split angle, that angle (deg) as a Chebyshev series (``split``) in the volume
     coordinate ``a``; ``bands`` is empty.
 
-    A wall with two angles (``two_angles``): ``bands``, the table split in the sphere's
-    angle (a point belongs to the first band whose upper ``theta_sphere_hi``, evaluated at
-    the point, is at or above its sphere angle), each a complete table with its own b1
-    range, ridge series and pieces (:class:`CapillaryBand`); ``pieces`` is empty and
-    ``split`` ``None``. ``onset``: the package data's ``theta_sphere_split``, the sphere
-    angle theta_on (deg) where the ridge's jump appears as a 1-D Chebyshev series in ``a``,
-    ``theta_on = sum_k o_k T_k(a)``, the value of a band's end ``None``; ``None`` when the
-    table has no such series (then no band ends there).
+    Two angles (``two_angles``: a wall, ``sphere-wall-two-angles``, or a sphere pair,
+    ``sphere-sphere-two-angles``, theta1 the small sphere's angle): ``bands``, the table
+    split in the (small) sphere's angle (a point belongs to the first band whose upper
+    ``theta_sphere_hi``, evaluated at the point, is at or above that angle), each a
+    complete table with its own b1 range, ridge series and pieces (:class:`CapillaryBand`);
+    ``pieces`` is empty and ``split`` ``None``. ``onset``: the package data's
+    ``theta_sphere_split``, the sphere angle theta_on (deg) where the ridge's jump appears
+    as a Chebyshev series in the lead coordinates, ``theta_on = sum_k o_k T_k(a)`` on a
+    wall (1-D), ``sum_ij o_ij T_i(w) T_j(a)`` for a pair (2-D), the value of a band's end
+    ``None``; ``None`` when the table has no such series (then no band ends there).
 
     ``held_out``: the error table of the geometry; ``held_out_strata``: those of its
     stress strata (e.g. ``near_ridge``), by name."""
@@ -207,8 +226,13 @@ class CapillaryPart:
 
     @property
     def two_angles(self) -> bool:
-        """A wall with the sphere's and the wall's own contact angles."""
-        return self.kind == TWO_ANGLES
+        """Two contact angles: a wall with the sphere's and its own, or two spheres."""
+        return self.kind in TWO_ANGLE_KINDS
+
+    @property
+    def pair(self) -> bool:
+        """A sphere pair: the lead coordinates are (w, a), not a alone."""
+        return self.kind in ("sphere-sphere", PAIR_TWO_ANGLES)
 
     @property
     def sections(self) -> tuple[CapillaryBand | CapillaryPart, ...]:
@@ -267,7 +291,14 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
     2-D ridge series over (a, b1) and pieces of rupture tables 3-D (a, b1, b2), contiguous
     from 0 deg to an end at or above 70 deg (past the domain: the ridge may lie above 70
     deg). An entry with the former top-level ``pieces``/``theta_split`` (one table over the
-    whole sphere range) is refused: the model no longer evaluates it."""
+    whole sphere range) is refused: the model no longer evaluates it.
+
+    Two angles between spheres (``sphere-sphere-two-angles``): the same with the lead
+    coordinates (w, a) where the wall's are (a): the onset series 2-D over (w, a) (the
+    bands' ends compared on a grid of both), ridge series 3-D over (w, a, b1), rupture
+    tables 4-D (w, a, b1, b2); the last piece of a band may carry ``upper_past_ridge``
+    (its lower end the ridge, its upper end a number plus the ridge's offset from theta1:
+    :func:`_moving_top`, at or above 70 deg on a grid of (w, a, b1))."""
     from wetcontact.reduced_models.calibrated_capillary import (
         ONSET_KEY,
         THETA_RANGE_DEG,
@@ -276,15 +307,18 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
 
     strata = {k.removeprefix("held_out_"): v for k, v in e.items()
               if k.startswith("held_out_") and isinstance(v, dict)}
-    if kind != TWO_ANGLES:
+    if kind not in TWO_ANGLE_KINDS:
         pieces, split = _sections(path, kind, kind, e)
         return CapillaryPart(kind, pieces, split, e.get("held_out", {}), strata)
+    pair = kind == PAIR_TWO_ANGLES
     raw = e.get("bands")
     allowed = ("allowed: 'bands', a list of tables each with 'theta_sphere_deg' [lo, hi] "
                f"(finite, or null for the onset angle of the field {ONSET_KEY!r}; "
                f"increasing, contiguous from {THETA_RANGE_DEG[0]:g} to "
-               f"{THETA_RANGE_DEG[1]:g} deg), 'theta_split' (a 2-D Chebyshev series in (a, "
-               "b1)) and 'pieces' (" + LAYOUT_HINT + ")")
+               f"{THETA_RANGE_DEG[1]:g} deg), 'theta_split' (a "
+               + ("3-D Chebyshev series in (w, a, b1)" if pair else
+                  "2-D Chebyshev series in (a, b1)")
+               + ") and 'pieces' (" + LAYOUT_HINT + ")")
     if "pieces" in e or "theta_split" in e:
         raise InputError(f"{path}: {kind}: top-level fields 'pieces'/'theta_split' (one "
                          "table over the whole sphere angle range, a layout the model no "
@@ -293,10 +327,13 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
         raise InputError(f"{path}: {kind}: field 'bands' = {raw!r}; {allowed}")
     _no_ridge_margin(path, kind, e)
     onset = _onset_series(path, kind, e.get(ONSET_KEY))
-    # the onset angle at Chebyshev-Lobatto points of a, summed as the model and the exports
-    # sum it: where the bands' ends are compared
-    on = None if onset is None else chebyshev_tensor(
-        onset, [np.cos(np.linspace(0.0, math.pi, 513))])
+    # the onset angle at Chebyshev-Lobatto points of a (a pair: of w and a), summed as the
+    # model sums it: where the bands' ends are compared
+    grid = [np.cos(np.linspace(0.0, math.pi, 513))]
+    if pair:
+        w, a = np.meshgrid(*[np.cos(np.linspace(0.0, math.pi, 65))] * 2, indexing="ij")
+        grid = [w.ravel(), a.ravel()]
+    on = None if onset is None else chebyshev_tensor(onset, grid)
     bands: list[CapillaryBand] = []
     top: float | None = THETA_RANGE_DEG[0]
     for i, h in enumerate(raw):
@@ -324,7 +361,10 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
         pieces, split = _sections(path, kind, where, h)
         if split is None:
             raise InputError(f"{path}: {where}: field 'theta_split' missing; {allowed}")
-        bands.append(CapillaryBand(lo, hi, pieces, split))
+        band = CapillaryBand(lo, hi, pieces, split)
+        if pair and pieces[-1].upper_past_ridge:
+            _moving_top(path, where, band, onset)
+        bands.append(band)
     if top != THETA_RANGE_DEG[1]:
         ends = [[hv.theta_sphere_lo, hv.theta_sphere_hi] for hv in bands]
         raise InputError(f"{path}: {kind}: bands' theta_sphere_deg {ends} end at "
@@ -334,34 +374,85 @@ def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
 
 def _onset_series(path: Path, kind: str, raw: Any) -> np.ndarray | None:
     """The two-angle entry's onset series (``theta_sphere_split``: ``{"chebyshev": [o_0,
-    ...]}``, deg), validated; ``None`` when absent."""
+    ...]}`` on a wall, ``{"chebyshev": [[o_00, ...], ...]}`` (rows in w) for a pair, deg),
+    validated; ``None`` when absent."""
     from wetcontact.reduced_models.calibrated_capillary import ONSET_KEY
 
     if raw is None:
         return None
     coef = raw.get("chebyshev") if isinstance(raw, dict) else None
-    if not (isinstance(coef, list) and coef and all(
+    pair = kind == PAIR_TWO_ANGLES
+
+    def numbers(x: Any) -> bool:
+        return isinstance(x, list) and bool(x) and all(
             isinstance(c, int | float) and not isinstance(c, bool) and math.isfinite(c)
-            for c in coef)):
-        raise InputError(f"{path}: {kind}: field {ONSET_KEY!r} = {raw!r}; allowed: "
-                         "{'chebyshev': [o_0, ..., o_n]}, a non-empty list of finite numbers "
-                         "(the onset angle theta_on = sum_k o_k T_k(a), deg, a 1-D Chebyshev "
-                         "series in the volume coordinate a)")
+            for c in x)
+
+    good = (isinstance(coef, list) and bool(coef) and all(numbers(row) for row in coef)
+            and len({len(row) for row in coef}) == 1) if pair else numbers(coef)
+    if not good:
+        raise InputError(
+            f"{path}: {kind}: field {ONSET_KEY!r} = {raw!r}; allowed: "
+            + ("{'chebyshev': [[o_00, ..., o_0n], ...]}, a non-empty rectangular list of "
+               "lists of finite numbers (the onset angle theta_on = sum_ij o_ij T_i(w) "
+               "T_j(a), deg, a 2-D Chebyshev series in the ratio and volume coordinates)"
+               if pair else
+               "{'chebyshev': [o_0, ..., o_n]}, a non-empty list of finite numbers "
+               "(the onset angle theta_on = sum_k o_k T_k(a), deg, a 1-D Chebyshev "
+               "series in the volume coordinate a)"))
     return np.asarray(coef, dtype=float)
+
+
+MOVING_TOP_GRID = 17
+"""Chebyshev-Lobatto points per lead axis and b1 at which :func:`_moving_top` checks a
+pair band's moving upper end."""
+
+
+def _moving_top(path: Path, where: str, band: CapillaryBand,
+                onset: np.ndarray | None) -> None:
+    """Refuse a pair band whose last piece's moving upper end (``upper_past_ridge``:
+    ``hi + theta2* - theta1``) falls below the domain's 70 deg or to the ridge at some point
+    of a grid of (w, a, b1) (:data:`MOVING_TOP_GRID` per axis): the model would leave large
+    sphere angles there in no piece."""
+    from wetcontact.reduced_models.calibrated_capillary import (
+        THETA_RANGE_DEG,
+        chebyshev_tensor,
+    )
+
+    x = np.cos(np.linspace(0.0, math.pi, MOVING_TOP_GRID))
+    w, a, b1 = (g.ravel() for g in np.meshgrid(x, x, x, indexing="ij"))
+    on = None if onset is None else chebyshev_tensor(onset, [w, a])
+    lo, hi = (on if e is None else np.full(w.shape, e)
+              for e in (band.theta_sphere_lo, band.theta_sphere_hi))
+    t1 = 0.5 * (b1 * (hi - lo) + lo + hi)
+    ridge = chebyshev_tensor(band.split, [w, a, b1])
+    top = band.pieces[-1].theta_hi + (ridge - t1)
+    low = np.minimum(top - THETA_RANGE_DEG[1], top - ridge)
+    if not np.all(low > 0.0):
+        k = int(np.argmin(low))
+        raise InputError(
+            f"{path}: {where} piece {len(band.pieces) - 1}: upper_past_ridge end "
+            f"{band.pieces[-1].theta_hi:g} + theta2* - theta1 = {top[k]:.6g} deg at (w, a, "
+            f"b1) = ({w[k]:.3g}, {a[k]:.3g}, {b1[k]:.3g}), the ridge there {ridge[k]:.6g} "
+            f"deg; allowed: above {THETA_RANGE_DEG[1]:g} deg and above the ridge everywhere")
 
 
 def _sections(path: Path, kind: str, where: str, e: dict[str, Any]
               ) -> tuple[tuple[CapillaryPiece, ...], np.ndarray | None]:
     """The ``pieces`` and ``theta_split`` of one table (a one-angle geometry, or one band
     of a wall with two angles, named ``where`` in the messages), validated."""
-    from wetcontact.reduced_models.calibrated_capillary import THETA_RANGE_DEG
+    from wetcontact.reduced_models.calibrated_capillary import (
+        THETA_RANGE_DEG,
+        UPPER_PAST_RIDGE,
+    )
 
     raw = e.get("pieces")
     if not raw:
         raise InputError(f"{path}: {where}: field 'pieces' missing or empty; allowed: "
                          + LAYOUT_HINT)
-    two = kind == TWO_ANGLES
-    ndim = 2 if kind == "sphere-wall" else 3
+    two = kind in TWO_ANGLE_KINDS
+    pair2 = kind == PAIR_TWO_ANGLES
+    ndim = {"sphere-wall": 2, PAIR_TWO_ANGLES: 4}.get(kind, 3)
     pieces = []
     for i, p in enumerate(raw):
         try:
@@ -390,9 +481,16 @@ def _sections(path: Path, kind: str, where: str, e: dict[str, Any]
             raise InputError(f"{path}: {where} piece {i}: theta_map = {tmap!r}; allowed: "
                              "'linear', or 'ridge-quadratic' for a piece that ends at the "
                              "split angle")
+        past = p.get(UPPER_PAST_RIDGE, False)
+        if past not in (True, False) or (past and not (
+                pair2 and i == len(raw) - 1 and lo is None and hi is not None)):
+            raise InputError(f"{path}: {where} piece {i}: {UPPER_PAST_RIDGE} = {past!r} "
+                             f"(theta_deg {[lo, hi]}); allowed: absent or false, or true on "
+                             "a sphere pair's last piece [null, number] (its upper end the "
+                             "number plus the ridge's offset from theta1)")
         pieces.append(CapillaryPiece(None if lo is None else float(lo),
                                      None if hi is None else float(hi), rup, left, right,
-                                     tmap == "ridge-quadratic"))
+                                     tmap == "ridge-quadratic", bool(past)))
     ts = e.get("theta_split")
     split = None if ts is None else np.asarray(ts["chebyshev"], dtype=float)
     bounds = [x for p in pieces for x in (p.theta_lo, p.theta_hi)]
@@ -404,11 +502,11 @@ def _sections(path: Path, kind: str, where: str, e: dict[str, Any]
         top = f"an end at or above {THETA_RANGE_DEG[1]:g}"
     else:
         spans, top = (lo, hi) == tuple(THETA_RANGE_DEG), f"{THETA_RANGE_DEG[1]:g}"
-    split_ndim = 2 if two else 1
+    split_ndim = 3 if pair2 else 2 if two else 1
     if split is not None and (split.ndim != split_ndim or not np.all(np.isfinite(split))):
         raise InputError(f"{path}: {where} theta_split of shape {split.shape}; allowed: a "
                          f"finite {split_ndim}-D Chebyshev series in "
-                         + ("(a, b1)" if two else "a"))
+                         + ("(w, a, b1)" if pair2 else "(a, b1)" if two else "a"))
     if (None in bounds and split is None) or not contiguous or not spans:
         raise InputError(f"{path}: {where} theta pieces {ends}; allowed: contiguous from "
                          f"{THETA_RANGE_DEG[0]:g} to {top} deg, None (the split angle) only "

@@ -24,6 +24,7 @@ from wetcontact.export.c_header import (
     onset_text,
 )
 from wetcontact.export.closures import (
+    PAIR_TWO_ANGLES,
     TWO_ANGLES,
     CapillaryBand,
     CapillaryPart,
@@ -80,6 +81,12 @@ theta1 over its band's range (at the point's own a where an end is theta_on), b2
 theta2 within its piece: the pieces meet at the
 ridge of S_c, a plane angle theta2*(a, b1) = sum s_ij T_i(a) T_j(b1) (deg, the band's own
 series), and b2 is quadratic toward it (_cap_b), so that the nodes cluster where S_c peaks.{onset}
+Two spheres with TWO contact angles have their own table likewise (table
+sphere-sphere-two-angles), theta1 there the SMALLER sphere's angle (sphere 1's at equal
+radii) and theta2 the larger one's, whichever argument each is: axes (w, a, b1, b2[, c]),
+prefactor rho (cos theta1 + cos theta2), bands of theta1 (an end theta_on is a series in
+(w, a)): {bands_ss}; the ridge theta2*(w, a, b1) a series in (w, a, b1), and the piece above
+it ends at its hi + theta2* - theta1 (past 70 deg and the ridge).
 C_F is carried in its low-rank form C_F = sum_k L[..., k] R[k, ...] (rank r, the package's
 own layout) and evaluated as such: the Chebyshev rows of the left axes ((w, a) for sphere
 pairs, (a, b) on a plane, (a, b1) on a plane with two angles in the shipped data) times L,
@@ -88,10 +95,10 @@ Held-out max relative error against `meniscus`:
 {cap_held_out}
 Domain: a plane or two spheres with r in [{q_lo:.6g}, {q_hi:.6g}], v in [{cv_lo:.6g}, {cv_hi:.6g}],
 ONE contact angle, theta1 = theta2 (within {angle_tol:.0e} rad), in [{ct_lo:.6g}, {ct_hi:.6g}] deg,
-or, on a plane only, two angles theta1, theta2 each in [{ct_lo:.6g}, {ct_hi:.6g}] deg (two
-different angles between two spheres return NaN: use the *_refit pair below); the force
-also gap >= 0 (gap = 0 is the contact value) and surface_tension > 0; the force is exactly
-0 at and past S_c.
+or two angles theta1, theta2 each in [{ct_lo:.6g}, {ct_hi:.6g}] deg (between two spheres only where
+the table sphere-sphere-two-angles was generated, NaN otherwise: use the *_refit pair
+below); the force also gap >= 0 (gap = 0 is the contact value) and surface_tension > 0;
+the force is exactly 0 at and past S_c.
 
 capillary_force_refit, rupture_distance_refit: REFITTED families, not a shipped closure:
 {refit_label}
@@ -206,20 +213,26 @@ _CAP_T_LO, _CAP_T_HI = {ct_lo_r}, {ct_hi_r}
 _CAP_Q_HI, _CAP_W_MAX = {q_hi_r}, {w_max_r}
 _CAP_ANGLE_TOL = {angle_tol_r}  # rad: two angles closer than this count as one
 # per geometry: the theta pieces (lo, hi, rupture table, force_left, force_right,
-# quadratic: the angle's coordinate quadratic toward the split end, _cap_b), lo/hi in
-# deg or None for the split angle ("split": a Chebyshev series in a); a point belongs
-# to the first piece whose upper end is at or above its angle; None where no table was
-# generated. A plane with two angles, "wall2", is a list of bands of the sphere's angle
-# theta1, each such a table with its "theta_sphere" range (lo, hi) (deg, or None for
-# the onset angle theta_on = sum_k o_k T_k(a) of _CAP_ONSET at the point's a; a point
-# belongs to the first band whose hi is at or above theta1) and its "split", the ridge's
-# plane angle, a tensor series in (a, b1). Axes: sphere pair (w, a, b[, c]),
-# plane (a, b[, c]), plane with two angles (a, b1, b2[, c]), b1 from theta1 over its
-# band's range, b2 from theta2 within its piece; the force table is
+# quadratic: the angle's coordinate quadratic toward the split end, _cap_b, past: the
+# upper end is hi plus the ridge's offset from theta1), lo/hi in deg or None for the
+# split angle ("split": a Chebyshev series in a); a point belongs to the first piece
+# whose upper end is at or above its angle; None where no table was generated. Two
+# angles, "wall2" (a plane) and "spheres2" (a sphere pair, theta1 the smaller sphere's
+# angle), are lists of bands of theta1, each such a table with its "theta_sphere" range
+# (lo, hi) (deg, or None for the onset angle theta_on of _CAP_ONSET at the point's lead
+# coordinates: sum_k o_k T_k(a) on a plane, sum_ij o_ij T_i(w) T_j(a) for a pair; a
+# point belongs to the first band whose hi is at or above theta1) and its "split", the
+# ridge's angle of the other solid, a tensor series in (a, b1) (a pair: (w, a, b1)).
+# Axes: sphere pair (w, a, b[, c]), plane (a, b[, c]), plane with two angles
+# (a, b1, b2[, c]), sphere pair with two angles (w, a, b1, b2[, c]), b1 from theta1 over
+# its band's range, b2 from theta2 within its piece; the force table is
 # C_F = tensordot(force_left, force_right, 1) (rank r: left (..., r), right (r, ...)).
 _CAP = {{"wall": {cap_wall}, "spheres": {cap_ss},
-        "wall2": {cap_wall2}}}
-_CAP_ONSET = {cap_onset}  # deg, (o_0, ..., o_n) in a; None: no band ends at theta_on
+        "wall2": {cap_wall2},
+        "spheres2": {cap_ss2}}}
+# deg, per two-angle geometry: the onset series ((o_0, ..., o_n) in a, or (o_ij) in
+# (w, a)); None: no band ends at theta_on
+_CAP_ONSET = {{"wall2": {cap_onset}, "spheres2": {cap_onset2}}}
 _CHUNK = 4096
 
 
@@ -304,15 +317,18 @@ def _cap_star(tables, coords, v, rho, cos_t, s):
     return f, s_c
 
 
-def _cap_pieces(pieces, lead, theta, sp, v, rho, cos_t, s, idx, f, s_c, ok):
+def _cap_pieces(pieces, lead, theta, sp, v, rho, cos_t, s, idx, f, s_c, ok, first=None):
     """One table's pieces at the points idx (of the flat arrays f, s_c, ok, set in place):
     each point in the first piece whose upper end is at or above its angle theta (the one
-    angle, or the plane's of two), b from theta within that piece; sp the split angle (or
-    ridge) per point, None without one; ok False where no piece holds the point."""
+    angle, or the other solid's of two), b from theta within that piece; sp the split
+    angle (or ridge) per point, None without one; first: theta1 (deg) per point, for a
+    piece whose upper end is hi + sp - theta1; ok False where no piece holds the point."""
     todo = np.ones(idx.size, dtype=bool)
     for pc in pieces:
         lo = sp if pc[0] is None else np.full(idx.size, pc[0])
         hi = sp if pc[1] is None else np.full(idx.size, pc[1])
+        if pc[6]:  # the upper end moves with the ridge and theta1
+            hi = hi + (sp - first)
         j = np.flatnonzero(todo & (theta <= hi))
         todo[j] = False
         if j.size == 0:
@@ -326,17 +342,18 @@ def _cap_pieces(pieces, lead, theta, sp, v, rho, cos_t, s, idx, f, s_c, ok):
 def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
     """Shared by the two capillary functions: (F*, S_c*, R_s, ok) on flat arrays. One
     angle (theta1 = theta2 within the tolerance): a plane's or the sphere pairs' table, b
-    from theta. Two angles on a plane: its own table, in bands of the sphere's angle
-    theta1 (the first band whose upper end is at or above theta1, taken as the package
-    holds it, degrees(radians(theta1)); an end None is the onset angle at the point's a),
-    b1 from theta1 over that band's range, b2 from theta2 (the plane's) within its piece,
-    the pieces meeting at the band's ridge, a series in (a, b1)."""
+    from theta. Two angles: a plane's or the sphere pairs' own table, in bands of the
+    (small) sphere's angle (a pair: the angle of the smaller sphere, sphere 1's at equal
+    radii; taken as the package holds it, degrees(radians(theta))): the first band whose
+    upper end is at or above it (an end None is the onset angle at the point's lead
+    coordinates), b1 from it over that band's range, b2 from the other solid's angle
+    within its piece, the pieces meeting at the band's ridge, a series in the lead
+    coordinates and b1."""
     plane = np.isinf(r2) & (r2 > 0)
     ok = ((r1 > 0) & np.isfinite(r1) & (r2 > 0) & (vol > 0) & np.isfinite(vol)
           & (t1 >= 0) & (t1 < 180) & (t2 >= 0) & (t2 < 180))
     with np.errstate(all="ignore"):
         two = ~(np.abs(np.radians(t1) - np.radians(t2)) <= _CAP_ANGLE_TOL)
-        ok &= plane | ~two
         ok &= (t1 >= _CAP_T_LO) & (t1 <= _CAP_T_HI * (1 + 1e-12))
         ok &= (t2 >= _CAP_T_LO) & (t2 <= _CAP_T_HI * (1 + 1e-12))
         rs = np.where(plane, r1, np.minimum(r1, r2))
@@ -345,7 +362,8 @@ def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
         ok &= (v >= _CAP_V_LO * (1 - 1e-9)) & (v <= _CAP_V_HI * (1 + 1e-9))
         ok &= plane | (ratio <= _CAP_Q_HI * (1 + 1e-9))
     f, s_c = np.full(r1.size, np.nan), np.full(r1.size, np.nan)
-    for name, sel in (("wall", plane & ~two), ("spheres", ~plane), ("wall2", plane & two)):
+    for name, sel in (("wall", plane & ~two), ("spheres", ~plane & ~two),
+                      ("wall2", plane & two), ("spheres2", ~plane & two)):
         idx = np.flatnonzero(ok & sel)
         table = _CAP[name]
         if table is None:
@@ -356,11 +374,25 @@ def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
         vi, ti = v[idx], t1[idx]
         a = _cap_map(np.log(vi), _CAP_LNV_LO, _CAP_LNV_HI)
         si = None if s_over_rs is None else s_over_rs[idx]
-        if name == "wall2":  # the band that holds the sphere's angle; in it, b1 and the ridge
-            ts = np.degrees(np.radians(ti))  # the sphere's angle as the package holds it
-            cos_t = np.cos(np.radians(ti)) + np.cos(np.radians(t2[idx]))
+        if name in ("wall2", "spheres2"):  # the band that holds theta1; in it, b1, the ridge
+            if name == "wall2":
+                small, other = ti, t2[idx]  # the plane's angle: as given
+                lead, rho = [a], np.ones(idx.size)
+            else:  # theta1: the smaller sphere's (sphere 1's at equal radii)
+                swap = r2[idx] < r1[idx]
+                small = np.where(swap, t2[idx], ti)
+                other = np.degrees(np.radians(np.where(swap, ti, t2[idx])))
+                q = ratio[idx]
+                lead = [_cap_map(np.cbrt(np.log(q)), 0.0, _CAP_W_MAX), a]
+                rho = q / (1.0 + q)
+            ts = np.degrees(np.radians(small))  # theta1 as the package holds it
+            cos_t = np.cos(np.radians(small)) + np.cos(np.radians(other))
             todo = np.ones(idx.size, dtype=bool)
-            on = None if _CAP_ONSET is None else _cap_series(a, _CAP_ONSET)
+            onset = _CAP_ONSET[name]
+            on = None if onset is None else (
+                _cap_series(a, onset) if onset.ndim == 1 else
+                np.einsum("ij,ij->i", _cap_rows(lead[0], onset.shape[0]) @ onset,
+                          _cap_rows(a, onset.shape[1])))
             for band in table:  # its range per point: a number, or None for theta_on
                 lo, hi = (on if x is None else np.full(idx.size, x)
                           for x in band["theta_sphere"])
@@ -369,12 +401,15 @@ def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
                 if h.size == 0:
                     continue
                 b1 = _cap_map(ts[h], lo[h], hi[h])
-                split = band["split"]
-                sp = np.einsum("ij,ij->i", _cap_rows(a[h], split.shape[0]) @ split,
-                               _cap_rows(b1, split.shape[1]))
-                _cap_pieces(band["pieces"], [a[h], b1], t2[idx[h]], sp, vi[h],
-                            np.ones(h.size), cos_t[h], None if si is None else si[h],
-                            idx[h], f, s_c, ok)
+                split = band["split"]  # over the lead axes and b1
+                lh = [x[h] for x in lead]
+                sp = np.einsum("ij,ij->i",
+                               _cap_outer(lh, split.shape[:-1])
+                               @ split.reshape(-1, split.shape[-1]),
+                               _cap_rows(b1, split.shape[-1]))
+                _cap_pieces(band["pieces"], [*lh, b1], other[h], sp, vi[h], rho[h],
+                            cos_t[h], None if si is None else si[h], idx[h], f, s_c, ok,
+                            ts[h])
             ok[idx[todo]] = False
             continue
         lead, rho = [a], np.ones(idx.size)
@@ -390,8 +425,8 @@ def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
 
 def rupture_distance(r1, r2, volume, theta1_deg, theta2_deg):
     """Rupture distance (m), the surface gap at which the bridge breaks
-    (`calibrated-capillary`; one contact angle, theta1 = theta2, or two on a plane: theta1
-    the sphere's, theta2 the plane's)."""
+    (`calibrated-capillary`; one contact angle, theta1 = theta2, or two: on a plane theta1
+    the sphere's and theta2 the plane's, between spheres sphere 1's and sphere 2's)."""
     args = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in
                                  (r1, r2, volume, theta1_deg, theta2_deg)))
     shape = args[0].shape
@@ -401,8 +436,9 @@ def rupture_distance(r1, r2, volume, theta1_deg, theta2_deg):
 
 def capillary_force(r1, r2, volume, gap, surface_tension, theta1_deg, theta2_deg):
     """Capillary force (N) of a pendular bridge (`calibrated-capillary`; one contact angle,
-    theta1 = theta2, or two on a plane: theta1 the sphere's, theta2 the plane's): negative
-    (attraction), exactly 0 at and past the rupture distance."""
+    theta1 = theta2, or two: on a plane theta1 the sphere's and theta2 the plane's, between
+    spheres sphere 1's and sphere 2's): negative (attraction), exactly 0 at and past the
+    rupture distance."""
     args = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in
                                  (r1, r2, volume, gap, surface_tension, theta1_deg,
                                   theta2_deg)))
@@ -490,7 +526,10 @@ def module_text(source: CapillarySource) -> str:
         cap_held_out=_fill("; ".join(held_out_lines(source)) + "."),
         cap_wall=_tables(parts.get("sphere-wall")), cap_ss=_tables(parts.get("sphere-sphere")),
         cap_wall2=_bands(parts.get(TWO_ANGLES)), bands=bands_text(parts.get(TWO_ANGLES)),
+        cap_ss2=_bands(parts.get(PAIR_TWO_ANGLES)),
+        bands_ss=bands_text(parts.get(PAIR_TWO_ANGLES)),
         cap_onset=_onset(parts.get(TWO_ANGLES)), onset=onset_text(parts.get(TWO_ANGLES), ""),
+        cap_onset2=_onset(parts.get(PAIR_TWO_ANGLES)),
         br_err_wall=bw["held_out"]["after"]["max"], br_err_ss=bs["held_out"]["after"]["max"],
         version=__version__, imm_err_wall=w["held_out"]["max"],
         imm_err_ss=ss["held_out"]["max"], s_lo=math.exp(lo), s_hi=math.exp(hi),
@@ -520,7 +559,7 @@ def _tables(part: CapillaryPart | CapillaryBand | None) -> str:
             f"\n        np.array({_list(p.force_left.ravel(), 4)}).reshape("
             f"{p.force_left.shape}),"
             f"\n        np.array({_list(p.force_right.ravel(), 4)}).reshape("
-            f"{p.force_right.shape}), {p.quadratic!r})")
+            f"{p.force_right.shape}), {p.quadratic!r}, {p.upper_past_ridge!r})")
     split = "None" if part.split is None else (
         f"np.array({_list(part.split.ravel(), 4)}).reshape({part.split.shape})")
     rng = "" if not isinstance(part, CapillaryBand) else (
@@ -530,17 +569,20 @@ def _tables(part: CapillaryPart | CapillaryBand | None) -> str:
 
 
 def _bands(part: CapillaryPart | None) -> str:
-    """A plane with two angles as Python source: the list of its bands, or ``None``."""
+    """A two-angle geometry as Python source: the list of its bands, or ``None``."""
     if part is None:
         return "None"
     return "[\n    " + ",\n    ".join(_tables(h) for h in part.bands) + "]"
 
 
 def _onset(part: CapillaryPart | None) -> str:
-    """The onset series of a plane with two angles as Python source, or ``None``."""
+    """The onset series of a two-angle geometry as Python source (a pair's 2-D over (w,
+    a)), or ``None``."""
     if part is None or part.onset is None:
         return "None"
-    return f"np.array({_list(part.onset)})"
+    if part.onset.ndim == 1:
+        return f"np.array({_list(part.onset)})"
+    return f"np.array({_list(part.onset.ravel(), 4)}).reshape({part.onset.shape})"
 
 
 def _list(values: Any, per_line: int = 3) -> str:
