@@ -1498,14 +1498,18 @@ def _pair_design(entry: dict, seed: int = 47) -> tuple[dict[str, np.ndarray], di
     the large one's within 1e-7 ... 3 deg of the table's ridge, both sides), 40 equal
     spheres (ratio exactly 1: theta1 is sphere 1's), then per band boundary (the onset
     angle at the bridge's own (w, a), and 35 deg) 12 bridges at each of 1e-9 ... 0.1 deg
-    either side (at 35 deg also exactly and 1-2 ulps either side: a fixed number, compared
-    bit for bit by all three; the onset, a 2-D series the package sums by a matrix
-    product, is not reproducible to the ulp), and 60 outside the domain (ratio 10-12,
-    an angle 70-75 deg, v beyond [1e-4, 0.1]); gaps as :func:`_gaps` without overlaps."""
+    either side and exactly at it and 1-2 ulps either side (as the package holds the
+    angle: radians and back; the onset is a 2-D series that the package and both exports
+    add term by term in one order, so that the python module puts such a point in the
+    package's band; C's libm cbrt differs from numpy's by an ulp at about half of all
+    ratios, 987 of 2000 measured, so C may take the other band within an ulp or two of the
+    onset: ``onset_ulps``, which the C comparison leaves out),
+    and 60 outside the domain (ratio 10-12, an angle 70-75 deg, v beyond [1e-4, 0.1]);
+    gaps as :func:`_gaps` without overlaps."""
     rng = np.random.default_rng(seed)
     n_uniform, n_equal, per, n_out = 600, 40, 12, 60
     offsets = [sign * d for d in (1e-9, 1e-6, 1e-3, 0.1) for sign in (1, -1)]
-    n_onset, n_35 = per * len(offsets), per * (len(offsets) + 5)
+    n_onset, n_35 = per * (len(offsets) + 5), per * (len(offsets) + 5)
     n = n_uniform + n_equal + n_onset + n_35 + n_out
     ratio = np.exp(rng.uniform(0.0, np.log(10.0), n))
     ratio[n_uniform:n_uniform + n_equal] = 1.0
@@ -1513,10 +1517,19 @@ def _pair_design(entry: dict, seed: int = 47) -> tuple[dict[str, np.ndarray], di
     small, large = rng.uniform(0.0, 70.0, n), rng.uniform(0.0, 70.0, n)
     lead = [cc.ratio_coordinate(ratio), cc.volume_coordinate(v)]
     on = cc.onset_deg(entry, lead)
-    where = {k: np.zeros(n, dtype=bool) for k in ("onset", "35", "ridge", "outside")}
+    where = {k: np.zeros(n, dtype=bool)
+             for k in ("onset", "onset_ulps", "35", "ridge", "outside")}
     lo = n_uniform + n_equal
     where["onset"][lo:lo + n_onset] = True
-    small[lo:lo + n_onset] = on[lo:lo + n_onset] + np.repeat(offsets, per)
+    at = on[lo:lo + n_onset]
+    ulps = [at, *(np.nextafter(at, x) for x in (np.inf, -np.inf)),
+            np.nextafter(np.nextafter(at, np.inf), np.inf),
+            np.nextafter(np.nextafter(at, -np.inf), -np.inf)]
+    k = np.arange(n_onset) // per  # each offset (the ulp steps first) for `per` bridges
+    where["onset_ulps"][lo:lo + n_onset] = k < 5
+    small[lo:lo + n_onset] = np.where(
+        k < 5, _held_as(np.choose(np.minimum(k, 4), ulps)),
+        at + np.array([0.0] * 5 + offsets)[k])
     lo += n_onset
     where["35"][lo:lo + n_35] = True
     edge = [35.0, *(np.nextafter(35.0, x) for x in (np.inf, -np.inf)),
@@ -1610,8 +1623,9 @@ def test_pair_two_angles_exports_agree(pair2, pair2_points, tmp_path, language):
            "rupture_distance": {k: cap[k] for k in ARGS["rupture_distance"]}}
     got = _run_capillary(src, pts, tmp_path, language)
     which = _pair_pieces(entry, where)
+    keep = ~where["onset_ulps"] if language == "c" else np.ones(len(cap["r1"]), dtype=bool)
     for name in SHIPPED_CAPILLARY:
-        _compare(name, got[name], ref[name], tol[name])
+        _compare(name, got[name][keep], ref[name][keep], tol[name][keep])
         computed = np.isfinite(ref[name]) & (ref[name] != 0.0)
         assert np.all(np.isnan(ref[name][where["outside"]])), name
         assert np.all(np.isfinite(ref[name][~where["outside"]])), name
@@ -1641,8 +1655,8 @@ def test_pair_two_angles_exports_agree(pair2, pair2_points, tmp_path, language):
         assert run.returncode == 0, run.stderr
         at, direct = np.fromfile(tmp_path / "out.bin", dtype="<f8").reshape(2, 6, -1)
         assert np.array_equal(at, direct, equal_nan=True)
-        _compare("capillary_force (contact)", at[0], ref["capillary_force"],
-                 tol["capillary_force"])
+        _compare("capillary_force (contact)", at[0][keep], ref["capillary_force"][keep],
+                 tol["capillary_force"][keep])
 
 
 def _pair_changed(src, change):
@@ -1686,14 +1700,16 @@ def test_pair_comparison_is_sharp(pair2, pair2_points, tmp_path, language, case)
     pts = {"capillary_force": cap,
            "rupture_distance": {k: cap[k] for k in ARGS["rupture_distance"]}}
     got = _run_capillary(_pair_changed(src, change), pts, tmp_path, language)
-    hit = np.isin(_pair_pieces(entry, where), pieces)
+    keep = ~where["onset_ulps"] if language == "c" else np.ones(len(cap["r1"]), dtype=bool)
+    hit = np.isin(_pair_pieces(entry, where), pieces) & keep
     for name in SHIPPED_CAPILLARY:
         if name == "rupture_distance" and "force" in case:
-            _compare(name, got[name], ref[name], tol[name])
+            _compare(name, got[name][keep], ref[name][keep], tol[name][keep])
             continue
         with pytest.raises(AssertionError, match="relative difference|zeros differ"):
             _compare(name, got[name][hit], ref[name][hit], tol[name][hit])
-        _compare(name, got[name][~hit], ref[name][~hit], tol[name][~hit])
+        rest = ~hit & keep  # C leaves out the points an ulp or two from the onset
+        _compare(name, got[name][rest], ref[name][rest], tol[name][rest])
 
 
 @pytest.mark.parametrize("language", ["python", "c"])

@@ -271,6 +271,19 @@ def _cap_series(t, c):
     return out
 
 
+def _cap_series2(x, y, c):
+    """sum_i (sum_j c_ij T_j(y)) T_i(x), the terms added in the order of j within a row
+    and the rows in the order of i (each point alike, whatever the others)."""
+    rx, ry = _cap_rows(x, c.shape[0]), _cap_rows(y, c.shape[1])
+    out = np.zeros(x.size)
+    for i in range(c.shape[0]):
+        row = np.zeros(x.size)
+        for j in range(c.shape[1]):
+            row = row + c[i, j] * ry[:, j]
+        out = out + row * rx[:, i]
+    return out
+
+
 def _cap_outer(pts, shape):
     """Rows T_i(x_1) T_j(x_2) ... over the given axes, shape (n, prod(shape))."""
     outer = _cap_rows(pts[0], shape[0])
@@ -391,8 +404,7 @@ def _cap_eval(r1, r2, vol, t1, t2, s_over_rs=None):
             onset = _CAP_ONSET[name]
             on = None if onset is None else (
                 _cap_series(a, onset) if onset.ndim == 1 else
-                np.einsum("ij,ij->i", _cap_rows(lead[0], onset.shape[0]) @ onset,
-                          _cap_rows(a, onset.shape[1])))
+                _cap_series2(lead[0], a, onset))
             for band in table:  # its range per point: a number, or None for theta_on
                 lo, hi = (on if x is None else np.full(idx.size, x)
                           for x in band["theta_sphere"])

@@ -247,7 +247,24 @@ def onset_deg(entry: dict[str, Any], a: Lead) -> np.ndarray:
         raise ValueError("calibrated-capillary: a band bounded by the onset angle in a "
                          f"table without {ONSET_KEY!r}")
     coef = np.asarray(series["chebyshev"])
+    if coef.ndim == 2:
+        return _series_2d(coef, *lead_list(a)[-2:])
     return chebyshev_tensor(coef, lead_list(a)[-coef.ndim:])
+
+
+def _series_2d(coef: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """``sum_i (sum_j C_ij T_j(y)) T_i(x)``, the terms added in the order of j within a
+    row and the rows in the order of i: each point alike, whatever the batch (a BLAS
+    product's last bit depends on it, and a point exactly at the onset angle must fall in
+    the same band in every call and in the exports, which add in this order)."""
+    rx, ry = _cheb_rows(x.ravel(), coef.shape[0]), _cheb_rows(y.ravel(), coef.shape[1])
+    out = np.zeros(x.size)
+    for i in range(coef.shape[0]):
+        row = np.zeros(x.size)
+        for j in range(coef.shape[1]):
+            row = row + coef[i, j] * ry[j]
+        out = out + row * rx[i]
+    return out.reshape(x.shape)
 
 
 def sphere_range(entry: dict[str, Any], band: dict[str, Any], a: Lead
