@@ -184,8 +184,8 @@ of 9: nested), b2 on Chebyshev-Gauss points below and above the ridge (5 and 3 o
 every third of 15 and 9: nested). Every node of a stage is a node of the next, with the
 same floats (:func:`ratio_nodes`, :func:`~wetcontact.calibrate_capillary._volume_nodes`,
 and the band ends and ridge taken at their own nodes, not from a series), so that the
-node cache keeps what a coarser stage solved. The gap axis has
-:data:`~wetcontact.calibrate_capillary` 's 19 Lobatto nodes at every stage."""
+node cache keeps what a coarser stage solved. The gap axis has :data:`GAP_NODES` Lobatto
+nodes at every stage, as every shipped table."""
 GAP_NODES = 19
 PAIR_BANDS_DEG = gen.TWO_ANGLE_BANDS_DEG
 """The small sphere's angle ranges (deg), as on the wall: [0, theta_on(r, V)],
@@ -199,8 +199,9 @@ maximum (S_c flat across it, the series' own error there is larger); above it S_
 (by up to 9e-4 at r = 10, v = 0.1) and the pieces must meet at the top."""
 PAIR_ONSET_TOL_DEG = 0.05
 """The onset's bisection tolerance (deg). The ridge's locus has a kink of its curvature
-there (on a wall about 0.012 per deg), so a band end this far off leaves about 3e-5 deg in
-a ridge series, where the jump is still about (0.05 deg)^2 times 1e-5 (the wall's growth)."""
+there; on a wall (0.012 per deg at v = 0.08) a band end 0.05 deg off leaves about 1.5e-5
+deg in the ridge series, and the jump that far above the onset is about 3e-8 of S_c (the
+wall's growth, 1.1e-5 (theta - theta_on)^1.93)."""
 PAIR_ONSET_PROBE_TOL_DEG = 1e-5
 """The ridge's tolerance in the onset's searches (the kind probes sit 1e-5 deg short of
 its bracket)."""
