@@ -541,6 +541,27 @@ int main(int argc, char **argv)
 """
 
 
+def _contact_run(d: Path, cap: dict[str, np.ndarray], out: Path) -> np.ndarray:
+    """The contact driver (:data:`C_CONTACT_DRIVER`, compiled in ``d`` beside the header
+    there) at the bridges ``cap``: its 6 x n outputs, the contact API's and the direct
+    function's (``at``, ``direct``), checked bit for bit equal."""
+    (d / "contact.c").write_text(C_CONTACT_DRIVER)
+    exe = d / "contact"
+    run = subprocess.run([shutil.which("cc"), "-std=c99", "-Wall", "-Wextra", "-pedantic",
+                          "-Werror", "-O2", "-o", str(exe), str(d / "contact.c"), "-lm"],
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    n = cap["r1"].size
+    x = np.ascontiguousarray(np.stack([cap[k] for k in ARGS["capillary_force"]]), dtype="<f8")
+    x.tofile(out / "in.bin")
+    run = subprocess.run([str(exe), str(n), str(out / "in.bin"), str(out / "out.bin")],
+                         capture_output=True, timeout=60)
+    assert run.returncode == 0, run.stderr
+    at, direct = np.fromfile(out / "out.bin", dtype="<f8").reshape(2, 6, n)
+    assert np.array_equal(at, direct, equal_nan=True)
+    return at
+
+
 def test_c_contact_api_is_the_force(points, c_program, tmp_path, tol, source):
     """``wc_capillary_contact_init`` once per bridge, then ``wc_capillary_force_at`` at
     gaps that move inside, to contact, past rupture and back (and to an overlap): bit for
@@ -548,22 +569,9 @@ def test_c_contact_api_is_the_force(points, c_program, tmp_path, tol, source):
     the point's own gap within the comparison's tolerance of the package; for every
     geometry, planes with two angles among them."""
     pts, ref = points
-    d = c_program.parent
-    (d / "contact.c").write_text(C_CONTACT_DRIVER)
-    exe = d / "contact"
-    run = subprocess.run([shutil.which("cc"), "-std=c99", "-Wall", "-Wextra", "-pedantic",
-                          "-Werror", "-O2", "-o", str(exe), str(d / "contact.c"), "-lm"],
-                         capture_output=True, text=True, timeout=300)
-    assert run.returncode == 0, run.stderr
     cap = pts["capillary_force"]
     n = cap["r1"].size
-    x = np.ascontiguousarray(np.stack([cap[k] for k in ARGS["capillary_force"]]), dtype="<f8")
-    x.tofile(tmp_path / "in.bin")
-    run = subprocess.run([str(exe), str(n), str(tmp_path / "in.bin"),
-                          str(tmp_path / "out.bin")], capture_output=True, timeout=60)
-    assert run.returncode == 0, run.stderr
-    at, direct = np.fromfile(tmp_path / "out.bin", dtype="<f8").reshape(2, 6, n)
-    assert np.array_equal(at, direct, equal_nan=True)
+    at = _contact_run(c_program.parent, cap, tmp_path)
     inside = np.isfinite(at[0]) & (at[0] != 0)
     assert np.sum(inside) > n // 3
     for kind, sel in geometries(cap).items():
@@ -1271,21 +1279,7 @@ def test_onset_bands_exports_agree(onset, onset_points, tmp_path, language):
                       "wetcontact_closures.h")
     assert "[0, theta_on(V)] deg, [theta_on(V), 35] deg, [35, 70] deg" in out.read_text()
     if language == "c":
-        (tmp_path / "contact.c").write_text(C_CONTACT_DRIVER)
-        exe = tmp_path / "contact"
-        run = subprocess.run([shutil.which("cc"), "-std=c99", "-Wall", "-Wextra",
-                              "-pedantic", "-Werror", "-O2", "-o", str(exe),
-                              str(tmp_path / "contact.c"), "-lm"],
-                             capture_output=True, text=True, timeout=300)
-        assert run.returncode == 0, run.stderr
-        x = np.ascontiguousarray(np.stack([cap[k] for k in ARGS["capillary_force"]]),
-                                 dtype="<f8")
-        x.tofile(tmp_path / "in.bin")
-        run = subprocess.run([str(exe), str(x.shape[1]), str(tmp_path / "in.bin"),
-                              str(tmp_path / "out.bin")], capture_output=True, timeout=60)
-        assert run.returncode == 0, run.stderr
-        at, direct = np.fromfile(tmp_path / "out.bin", dtype="<f8").reshape(2, 6, -1)
-        assert np.array_equal(at, direct, equal_nan=True)
+        at = _contact_run(tmp_path, cap, tmp_path)
         _compare("capillary_force (contact)", at[0], ref["capillary_force"],
                  tol["capillary_force"])
 
@@ -1640,21 +1634,7 @@ def test_pair_two_angles_exports_agree(pair2, pair2_points, tmp_path, language):
                       "wetcontact_closures.h")
     assert "[0, theta_on(V)] deg, [theta_on(V), 35] deg, [35, 70] deg" in out.read_text()
     if language == "c":
-        (tmp_path / "contact.c").write_text(C_CONTACT_DRIVER)
-        exe = tmp_path / "contact"
-        run = subprocess.run([shutil.which("cc"), "-std=c99", "-Wall", "-Wextra",
-                              "-pedantic", "-Werror", "-O2", "-o", str(exe),
-                              str(tmp_path / "contact.c"), "-lm"],
-                             capture_output=True, text=True, timeout=300)
-        assert run.returncode == 0, run.stderr
-        x = np.ascontiguousarray(np.stack([cap[k] for k in ARGS["capillary_force"]]),
-                                 dtype="<f8")
-        x.tofile(tmp_path / "in.bin")
-        run = subprocess.run([str(exe), str(x.shape[1]), str(tmp_path / "in.bin"),
-                              str(tmp_path / "out.bin")], capture_output=True, timeout=60)
-        assert run.returncode == 0, run.stderr
-        at, direct = np.fromfile(tmp_path / "out.bin", dtype="<f8").reshape(2, 6, -1)
-        assert np.array_equal(at, direct, equal_nan=True)
+        at = _contact_run(tmp_path, cap, tmp_path)
         _compare("capillary_force (contact)", at[0][keep], ref["capillary_force"][keep],
                  tol["capillary_force"][keep])
 

@@ -597,58 +597,14 @@ static inline double wc_rupture_distance(double r1, double r2, double volume,
 /* The force table contracted over every axis but the gap's, g[l] (a series in c), from the
  * low-rank form: u[q] = sum over the left axes of left[..][q] T(..) (the left contraction),
  * then g[l] = sum_q u[q] sum over the right axes but c of right[q][..][l] T(..) (the right
- * contraction with the dot product over q). An axis not in a factor enters it with one
- * entry, T_0 = 1. Cost: rank (size of left + size of right) multiply-adds. */
+ * contraction with the dot product over q). The leading axes are w, a, b (tw, ta, tb) and,
+ * for two spheres with two angles (nd > 0), b2 (td; with nd = 0 it enters as one entry,
+ * T_0 = 1, whose products are exact: the three-axis tables' arithmetic, bit for bit). An
+ * axis not in a factor enters it with one entry, T_0 = 1. Cost: rank (size of left + size
+ * of right) multiply-adds. */
 static inline void wc__cap_gap_series(const struct wc__cap_piece *pc, const double *tw,
-                                      const double *ta, const double *tb, double *g)
-{{
-    static const double one[1] = {{1.0}};
-    const double *rows[3], *lrow[3], *rrow[3], *coef;
-    double u[WC__CAP_RMAX], weight;
-    int n[3], ln[3], rn[3], d, i, j, k, q, l;
-    rows[0] = tw;
-    rows[1] = ta;
-    rows[2] = tb;
-    n[0] = pc->nw;
-    n[1] = pc->na;
-    n[2] = pc->nb;
-    for (d = 0; d < 3; ++d) {{
-        lrow[d] = d < pc->nleft ? rows[d] : one;
-        ln[d] = d < pc->nleft ? n[d] : 1;
-        rrow[d] = d < pc->nleft ? one : rows[d];
-        rn[d] = d < pc->nleft ? 1 : n[d];
-    }}
-    for (q = 0; q < pc->rank; ++q)
-        u[q] = 0.0;
-    coef = pc->left;
-    for (i = 0; i < ln[0]; ++i)  /* axpy over the rank: vectorisable without -ffast-math */
-        for (j = 0; j < ln[1]; ++j)
-            for (k = 0; k < ln[2]; ++k) {{
-                weight = lrow[0][i] * lrow[1][j] * lrow[2][k];
-                for (q = 0; q < pc->rank; ++q)
-                    u[q] += coef[q] * weight;
-                coef += pc->rank;
-            }}
-    for (l = 0; l < pc->nc; ++l)
-        g[l] = 0.0;
-    coef = pc->right;
-    for (q = 0; q < pc->rank; ++q)  /* axpy over the gap axis */
-        for (i = 0; i < rn[0]; ++i)
-            for (j = 0; j < rn[1]; ++j)
-                for (k = 0; k < rn[2]; ++k) {{
-                    weight = u[q] * (rrow[0][i] * rrow[1][j] * rrow[2][k]);
-                    for (l = 0; l < pc->nc; ++l)
-                        g[l] += coef[l] * weight;
-                    coef += pc->nc;
-                }}
-}}
-
-/* The same for a piece with four leading axes (two spheres with two angles: w, a, b1, b2
- * in tw, ta, tb, td): the left factor over the first nleft of them, the right over the
- * others and c. */
-static inline void wc__cap_gap_series4(const struct wc__cap_piece *pc, const double *tw,
-                                       const double *ta, const double *tb, const double *td,
-                                       double *g)
+                                      const double *ta, const double *tb, const double *td,
+                                      double *g)
 {{
     static const double one[1] = {{1.0}};
     const double *rows[4], *lrow[4], *rrow[4], *coef;
@@ -657,11 +613,11 @@ static inline void wc__cap_gap_series4(const struct wc__cap_piece *pc, const dou
     rows[0] = tw;
     rows[1] = ta;
     rows[2] = tb;
-    rows[3] = td;
+    rows[3] = pc->nd > 0 ? td : one;
     n[0] = pc->nw;
     n[1] = pc->na;
     n[2] = pc->nb;
-    n[3] = pc->nd;
+    n[3] = pc->nd > 0 ? pc->nd : 1;
     for (d = 0; d < 4; ++d) {{
         lrow[d] = d < pc->nleft ? rows[d] : one;
         ln[d] = d < pc->nleft ? n[d] : 1;
@@ -737,10 +693,7 @@ static inline int wc__cap_contact(struct wc_capillary_contact *c, double r1, dou
         c->factor = rho * 2.0 * cos(theta1_deg * (WC_PI / 180.0));
     c->scale = 2.0 * WC_PI * surface_tension * rs;
     if (gap / rs < sc) {{
-        if (pc->nd > 0)  /* two spheres with two angles: four leading axes */
-            wc__cap_gap_series4(pc, tw, ta, tb, td, c->g);
-        else
-            wc__cap_gap_series(pc, tw, ta, tb, c->g);
+        wc__cap_gap_series(pc, tw, ta, tb, td, c->g);
         c->nc = pc->nc;
     }}
     c->ok = 1;
