@@ -310,14 +310,18 @@ def capillary_tables(rng: np.random.Generator, n_scenes: int = 90,
 
 def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
                                 progress: bool = False,
-                                rng_two: np.random.Generator | None = None
+                                rng_two: np.random.Generator | None = None,
+                                rng_pair_two: np.random.Generator | None = None
                                 ) -> list[dict[str, Any]]:
     """``calibrated-capillary`` against ``meniscus`` on its own domain, binned like the
     other capillary closures: ``n_scenes`` per geometry with one contact angle on both
     solids (which the independent-angle scenes of :func:`capillary_tables` never draw)
     and, from ``rng_two`` (its own stream, so that adding them left the one-angle points
     unchanged), as many on a wall with two independent angles, measured into the wall's
-    table (its angle coordinate is the larger angle, as for every closure)."""
+    table (its angle coordinate is the larger angle, as for every closure); from
+    ``rng_pair_two`` (again its own stream) as many sphere pairs with two angles, into the
+    pair table, where the model has a two-angle pair table (a scene it refuses is skipped,
+    as every scene outside its domain is)."""
     men = get_model("meniscus")
     model = get_model("calibrated-capillary")
     se = np.asarray(S_OVER_SC_EDGES)
@@ -325,6 +329,8 @@ def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
     draws = [("sphere-wall", rng, False), ("sphere-sphere", rng, False)]
     if rng_two is not None:
         draws.insert(1, ("sphere-wall", rng_two, True))
+    if rng_pair_two is not None:
+        draws.append(("sphere-sphere", rng_pair_two, True))
     found: dict[str, tuple[list, list]] = {}
     for kind, stream, two in draws:
         errs, coords = found.setdefault(kind, ([], []))
@@ -381,7 +387,8 @@ def measure_bounds(seed: int = 20261123, out: Path = DATA_PATH, quick: bool = Fa
     # its own stream, so that adding it left the other tables' points unchanged
     tabs += calibrated_capillary_tables(np.random.default_rng([seed, 11]),
                                         n_scenes=8 if quick else 40, progress=progress,
-                                        rng_two=np.random.default_rng([seed, 12]))
+                                        rng_two=np.random.default_rng([seed, 12]),
+                                        rng_pair_two=np.random.default_rng([seed, 13]))
     data = {"generated_by": "python -m wetcontact.calibrate bounds", "seed": seed,
             "margin": MARGIN, "spurious": SPURIOUS, "quick": quick,
             "wall_time_s": round(time.perf_counter() - t0, 1), "tables": tabs}

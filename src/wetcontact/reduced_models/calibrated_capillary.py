@@ -267,27 +267,40 @@ def _series_2d(coef: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return out.reshape(x.shape)
 
 
-def sphere_range(entry: dict[str, Any], band: dict[str, Any], a: Lead
-                 ) -> tuple[np.ndarray, np.ndarray]:
+def sphere_range(entry: dict[str, Any], band: dict[str, Any], a: Lead,
+                 onset: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """A band's range of the (small) sphere's angle (deg) at lead coordinates ``a``
-    (:data:`Lead`): its ends, a number, or ``None`` for the onset angle
-    (:func:`onset_deg`)."""
+    (:data:`Lead`): its ends, a number, or ``None`` for the onset angle (``onset``, the
+    points' own, or else :func:`onset_deg`)."""
     shape = lead_list(a)[0].shape
-    lo, hi = (onset_deg(entry, a) if x is None else np.full(shape, float(x))
+    if onset is None and None in band["theta_sphere_deg"]:
+        onset = onset_deg(entry, a)
+    lo, hi = (onset if x is None else np.full(shape, float(x))
               for x in band["theta_sphere_deg"])
     return lo, hi
 
 
+def _band_onset(entry: dict[str, Any], a: Lead | None) -> np.ndarray | None:
+    """The onset angle (deg) at lead coordinates ``a`` where a band of the table ends
+    there, else ``None``."""
+    if any(None in band["theta_sphere_deg"] for band in entry["bands"]):
+        return onset_deg(entry, a)
+    return None
+
+
 def band_index(entry: dict[str, Any], theta_sphere_deg: np.ndarray,
-               a: Lead | None = None) -> np.ndarray:
+               a: Lead | None = None, onset: np.ndarray | None = None) -> np.ndarray:
     """Which band of a two-angle table (``entry["bands"]``) each (small) sphere angle (deg)
     falls in: the first whose upper end (at the lead coordinates ``a``, needed where an end
-    is the onset angle) is at or above it (-1 past the last)."""
+    is the onset angle, unless given its values there, ``onset``) is at or above it (-1
+    past the last)."""
     t = np.asarray(theta_sphere_deg, dtype=float)
+    if onset is None:
+        onset = _band_onset(entry, a)
     out = np.full(t.shape, -1)
     for k, band in reversed(list(enumerate(entry["bands"]))):
         hi = band["theta_sphere_deg"][1]
-        out[t <= (onset_deg(entry, a) if hi is None else hi)] = k
+        out[t <= (onset if hi is None else hi)] = k
     return out
 
 
@@ -323,13 +336,16 @@ def _by_band(entry: dict[str, Any], theta_sphere_deg: np.ndarray, a: Lead
              ) -> Iterator[tuple[dict[str, Any], np.ndarray, np.ndarray]]:
     """Per band of a two-angle table that holds some of the (flat) sphere angles (deg; at
     lead coordinates ``a``, :data:`Lead`): the band, the indices of its points
-    (:func:`band_index`) and their b1 (:func:`sphere_coordinate`)."""
-    which = band_index(entry, theta_sphere_deg, a)
+    (:func:`band_index`) and their b1 (:func:`sphere_coordinate`). The onset angle is
+    evaluated once, and the same values bound the bands and map b1."""
+    onset = _band_onset(entry, a)
+    which = band_index(entry, theta_sphere_deg, a, onset)
     for k, band in enumerate(entry["bands"]):
         m = np.flatnonzero(which == k)
         if m.size:
-            yield band, m, sphere_coordinate(band, theta_sphere_deg[m],
-                                             *sphere_range(entry, band, _take(a, m)))
+            yield band, m, sphere_coordinate(
+                band, theta_sphere_deg[m],
+                *sphere_range(entry, band, _take(a, m), None if onset is None else onset[m]))
 
 
 UPPER_PAST_RIDGE = "upper_past_ridge"
