@@ -409,70 +409,48 @@ static inline double wc__cap_b(const struct wc__cap_piece *pc, double theta, dou
     return pc->hi_split ? 1.0 - u : u - 1.0;
 }}
 
-/* One piece at a point: the Chebyshev rows of its three leading axes (at x0, x1 and the
- * angle theta mapped from [lo, hi]) and s_c = S_c / R_s = v^(1/3) exp(sum). With two angles
- * (axpy) the table is contracted over its first two axes into a row over the third, an
- * axpy per (i, j) that the compiler vectorises (a sum in another order than the one-angle
- * tables', which keep theirs). */
+/* One piece at a point: s_c = S_c / R_s = v^(1/3) exp(sum), the sum over the Chebyshev
+ * rows of its leading axes (at x0, x1 and, for two spheres with two angles, xb: tw, ta,
+ * tb) and of the angle theta mapped from [lo, hi] (its last axis: tb, or td when the table
+ * has four). With two angles (axpy) the table is contracted over the axes before the
+ * angle's into a row over it, an axpy per (i, j, k) that the compiler vectorises (a sum in
+ * another order than the one-angle tables', which keep theirs; a three-axis table enters
+ * the loop over k with one entry, T_0 = 1, whose products are exact). */
 static inline double wc__cap_rupture(const struct wc__cap_piece *pc, int axpy, double x0,
-                                     double x1, double theta, double lo, double hi, double v,
-                                     double *tw, double *ta, double *tb)
+                                     double x1, double xb, double theta, double lo,
+                                     double hi, double v, double *tw, double *ta, double *tb,
+                                     double *td)
 {{
-    int i, j, k;
+    static const double one[1] = {{1.0}};
+    int i, j, k, m, four = pc->nd > 0;
+    int nk = four ? pc->nb : 1, nm = four ? pc->nd : pc->nb;
     double sum = 0.0, weight, acc[WC__CAP_NMAX];
-    const double *coef = pc->rupture;
+    double *tm = four ? td : tb;
+    const double *coef = pc->rupture, *rk = four ? tb : one;
     wc__cheb_rows(x0, tw, pc->nw);
     wc__cheb_rows(x1, ta, pc->na);
-    wc__cheb_rows(wc__cap_b(pc, theta, lo, hi), tb, pc->nb);
+    if (four)
+        wc__cheb_rows(xb, tb, pc->nb);
+    wc__cheb_rows(wc__cap_b(pc, theta, lo, hi), tm, nm);
     if (axpy) {{
-        for (k = 0; k < pc->nb; ++k)
-            acc[k] = 0.0;
+        for (m = 0; m < nm; ++m)
+            acc[m] = 0.0;
         for (i = 0; i < pc->nw; ++i)
-            for (j = 0; j < pc->na; ++j) {{
-                weight = tw[i] * ta[j];
-                for (k = 0; k < pc->nb; ++k)
-                    acc[k] += coef[k] * weight;
-                coef += pc->nb;
-            }}
-        for (k = 0; k < pc->nb; ++k)
-            sum += acc[k] * tb[k];
+            for (j = 0; j < pc->na; ++j)
+                for (k = 0; k < nk; ++k) {{
+                    weight = tw[i] * ta[j] * rk[k];
+                    for (m = 0; m < nm; ++m)
+                        acc[m] += coef[m] * weight;
+                    coef += nm;
+                }}
+        for (m = 0; m < nm; ++m)
+            sum += acc[m] * tm[m];
         return cbrt(v) * exp(sum);
     }}
     for (i = 0; i < pc->nw; ++i)
         for (j = 0; j < pc->na; ++j)
             for (k = 0; k < pc->nb; ++k)
                 sum += pc->rupture[(i * pc->na + j) * pc->nb + k] * (tw[i] * ta[j] * tb[k]);
-    return cbrt(v) * exp(sum);
-}}
-
-/* The same for a piece of two spheres with two angles, four leading axes (w, a, b1, b2):
- * the rows at w, a, b1 and the angle theta mapped from [lo, hi] (b2), the table
- * contracted over (w, a, b1) into a row over b2 (an axpy per (i, j, k)), dotted with b2's
- * rows. */
-static inline double wc__cap_rupture4(const struct wc__cap_piece *pc, double w, double a,
-                                      double b1, double theta, double lo, double hi,
-                                      double v, double *tw, double *ta, double *tb,
-                                      double *td)
-{{
-    int i, j, k, m;
-    double sum = 0.0, weight, acc[WC__CAP_NMAX];
-    const double *coef = pc->rupture;
-    wc__cheb_rows(w, tw, pc->nw);
-    wc__cheb_rows(a, ta, pc->na);
-    wc__cheb_rows(b1, tb, pc->nb);
-    wc__cheb_rows(wc__cap_b(pc, theta, lo, hi), td, pc->nd);
-    for (m = 0; m < pc->nd; ++m)
-        acc[m] = 0.0;
-    for (i = 0; i < pc->nw; ++i)
-        for (j = 0; j < pc->na; ++j)
-            for (k = 0; k < pc->nb; ++k) {{
-                weight = tw[i] * ta[j] * tb[k];
-                for (m = 0; m < pc->nd; ++m)
-                    acc[m] += coef[m] * weight;
-                coef += pc->nd;
-            }}
-    for (m = 0; m < pc->nd; ++m)
-        sum += acc[m] * td[m];
     return cbrt(v) * exp(sum);
 }}
 
@@ -572,10 +550,7 @@ static inline int wc__cap_bridge(double r1, double r2, double volume, double the
         return 0;
     pc = &tab->piece[p];
     lo = pc->lo_split ? split : pc->lo;
-    if (geometry == WC__CAP_SPHERES2)
-        *sc = wc__cap_rupture4(pc, x0, x1, xb, theta, lo, hi, *v, tw, ta, tb, td);
-    else
-        *sc = wc__cap_rupture(pc, *two, x0, x1, theta, lo, hi, *v, tw, ta, tb);
+    *sc = wc__cap_rupture(pc, *two, x0, x1, xb, theta, lo, hi, *v, tw, ta, tb, td);
     *piece = pc;
     return 1;
 }}
