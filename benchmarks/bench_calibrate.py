@@ -89,13 +89,21 @@ def costs() -> dict[str, float]:
             t, _ = median_time(lambda gap=gap: ccap.force_star(
                 "sphere-wall", v, th, gap, theta_wall=th_w), repeats=7, warmup=1)
             per_point["calibrated-capillary sphere-wall, two angles (force and S_c)"] = t / N
+        if ccap.PAIR_TWO_ANGLES in cap:  # two spheres, each with its own angle
+            th_2 = np.radians(rng.uniform(0, 70, N))
+            _, sc = ccap.force_star("sphere-sphere", v, th, np.zeros(N), ratio,
+                                    theta_wall=th_2)
+            gap = rng.uniform(0, 1.0, N) * sc
+            t, _ = median_time(lambda gap=gap: ccap.force_star(
+                "sphere-sphere", v, th, gap, ratio, theta_wall=th_2), repeats=7, warmup=1)
+            per_point["calibrated-capillary sphere-sphere, two angles (force and S_c)"] = t / N
     s_small = s[:1000]
     t, _ = median_time(lambda: brenner_lambda(s_small), repeats=3, warmup=1)
     per_point["brenner (exact series, 1e3 points)"] = t / s_small.size
     return per_point
 
 
-CAP_KINDS = ("sphere-wall", "sphere-sphere", ccap.WALL_TWO_ANGLES)
+CAP_KINDS = ("sphere-wall", "sphere-sphere", ccap.WALL_TWO_ANGLES, ccap.PAIR_TWO_ANGLES)
 
 
 def one_thread_costs() -> dict[str, float]:

@@ -126,7 +126,13 @@ def viscous_rows(path: str, data: dict[str, Any]) -> list[dict[str, Any]]:
 TWO_ANGLES = "sphere-wall-two-angles"
 """The wall table with two contact angles (``calibrated_capillary.WALL_TWO_ANGLES``; the
 report reads data, not the model)."""
-CAPILLARY_KINDS = ("sphere-wall", TWO_ANGLES, "sphere-sphere")
+PAIR_TWO_ANGLES = "sphere-sphere-two-angles"
+"""The sphere-pair table with two contact angles (``calibrated_capillary.PAIR_TWO_ANGLES``)."""
+CAPILLARY_KINDS = ("sphere-wall", TWO_ANGLES, "sphere-sphere", PAIR_TWO_ANGLES)
+ANGLES_TEXT = {TWO_ANGLES: ", the sphere's and the wall's angle each in the theta range",
+               PAIR_TWO_ANGLES: ", the small sphere's and the large sphere's angle each in "
+                                "the theta range"}
+"""The domain's angle clause per table (default: one contact angle on both solids)."""
 
 
 def capillary_rows(path: str, data: dict[str, Any]) -> list[dict[str, Any]]:
@@ -147,9 +153,8 @@ def capillary_rows(path: str, data: dict[str, Any]) -> list[dict[str, Any]]:
                 continue
             ho = data[kind][key]
             d = {k: v for k, v in {**dom, **ho.get("stratum", {})}.items()
-                 if kind == "sphere-sphere" or k != "radius_ratio"}
-            angles = (", the sphere's and the wall's angle each in the theta range"
-                      if kind == TWO_ANGLES else ", one contact angle on both solids")
+                 if kind.startswith("sphere-sphere") or k != "radius_ratio"}
+            angles = ANGLES_TEXT.get(kind, ", one contact angle on both solids")
             parts = [(p, p) for p in ("rupture_distance", "force")]
             if "force_attached" in ho and ho["force_attached"]["max"] != ho["force"]["max"]:
                 # the force's jump to 0 short of the true S_c dominates "force"
@@ -218,7 +223,11 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
         md += ["Tensor Chebyshev interpolation of `meniscus` (force and rupture distance): "
                "one contact angle on both solids, and on a wall also two independent angles "
                f"(`{TWO_ANGLES}`: the sphere's angle, and the wall's in two pieces that meet "
-               "at the ridge where the rupture distance peaks); held-out bridges are seeded "
+               "at the ridge where the rupture distance peaks)"
+               + (f", and between spheres (`{PAIR_TWO_ANGLES}`: the small sphere's angle, "
+                  "and the large one's in two pieces that meet at the ridge)"
+                  if PAIR_TWO_ANGLES in ccap else "")
+               + "; held-out bridges are seeded "
                "and off the nodes, gaps uniform in [0, 0.999] S_c.", "",
                "| part | reference | held-out points | max / mean / p95 | goal (max) | max at "
                "| domain |", "|---|---|---|---|---|---|---|"]
