@@ -303,3 +303,26 @@ def test_rupture_at_symmetry_breaking_bifurcation():
     assert rupture_distance(_bridge(1.0, 50.0, 50.0), V) == pytest.approx(br.S_fold, rel=1e-12)
     sol = solve_volume(_bridge(1.0, 50.0, 50.0), 1.001 * br.S_fold, V)
     assert sol.exists is False
+
+
+def test_stability_bisection_may_land_on_a_singular_jacobian():
+    """A branch whose stability bisection lands on a bridge where SuperLU finds the
+    Jacobian exactly singular (the stability boundary itself; met by the two-angle pair
+    table's generator at radius ratio 10, V = 0.0769 R^3, contact angles 14.0 and 91.0
+    deg): the point counts as not stable and the bisection goes on, instead of SuperLU's
+    RuntimeError ending the branch. Its rupture distance is the shooting solution's
+    turning point (1e-4, as above), and its forces those of ``solve_volume`` (1e-6)."""
+    from wetcontact.calibrate_capillary import lobatto, solve_branch
+
+    ratio, V = 10.000000000000007, 0.07688104870871841
+    th1, th2 = 0.24410425148815793, 1.5881520564395548  # rad, as the generator had them
+    s_c, q = solve_branch("sphere-sphere", ratio, V, th1, lobatto(19), th2)
+    br = Bridge(radius=1.0, radius2=ratio, contact_angle1=th1, contact_angle2=th2,
+                surface_tension=1.0)
+    near = solve_volume(br, 0.999 * s_c, V)
+    phi = near.filling_angle1
+    ref = shoot_rupture(V, th1, th2, ratio, (0.8 * phi, 1.2 * phi),
+                        (0.999 * s_c, near.laplace_pressure))
+    assert ref.residual < 1e-10
+    assert s_c == pytest.approx(ref.gap, rel=1e-4)
+    assert np.all(np.isfinite(q)) and np.all(q > 0)

@@ -339,9 +339,14 @@ def _parity(p: np.ndarray) -> int:
 
 
 def _det_sign(d: _Disc, g: _Geo, x: np.ndarray) -> int:
-    """Sign of det J of the volume- and gap-controlled system at x."""
+    """Sign of det J of the volume- and gap-controlled system at x: 0 where the LU
+    factorisation finds J exactly singular (x on the stability boundary itself, which the
+    stability bisection may land on: it then counts as not stable)."""
     V = _volume(d, g, x)
     J = jacobian(d, g, x, (VolumeIs(V), Fixed(d.iS, float(x[d.iS]))))
-    lu = splu(J)
+    try:
+        lu = splu(J)
+    except RuntimeError:  # SuperLU: "Factor is exactly singular"
+        return 0
     return int(np.prod(np.sign(lu.U.diagonal()))) * _parity(lu.perm_r) * _parity(lu.perm_c)
 
