@@ -11,13 +11,13 @@ import math
 
 import numpy as np
 import pytest
+from test_calibrated_capillary import _errors_against_meniscus  # fresh meniscus errors
 
 from wetcontact.bounds_gen import MARGIN
 from wetcontact.calibrate_pairs2 import pair_ridge, pair_rupture
 from wetcontact.models import get_model
 from wetcontact.reduced_models import calibrated_capillary as cc
 from wetcontact.scene import Scene, scene_from_dict
-from wetcontact.solver.meniscus import Bridge, force_separation_curve, solve_volume
 
 R = 1.0e-3
 GOAL_FORCE, GOAL_RUPTURE = 1e-3, 5e-4  # issue 11
@@ -70,20 +70,6 @@ def _scene(ratio: float, v: float, t1: float, t2: float, swap: bool = False) -> 
         "motion": {"velocity": 0.1, "gaps": [R * 1e-3]}})
 
 
-def _errors(model, scene, v: float, x: float) -> tuple[float, float]:
-    """Relative errors of the closure's rupture distance (the volume-controlled branch's)
-    and of its force at ``x S_c`` (``solve_volume`` at that gap: a toroidal start and
-    Newton, not the generator's branch walk); ``v = V/R_s^3``."""
-    br = Bridge.from_scene(scene)
-    sc_ref = force_separation_curve(br, v * R**3, fractions=np.array([0.0, 1.0])
-                                    ).rupture_distance
-    gap = x * sc_ref
-    ref = solve_volume(br, gap, v * R**3)
-    got = model.force(scene, gaps=[gap])
-    return (abs(float(got.extras["rupture_distance"][0]) / sc_ref - 1),
-            abs(float(got.force_capillary[0]) / ref.force - 1))
-
-
 def test_two_angle_pairs_against_meniscus() -> None:
     """Two spheres with their own angles: uniformly (radius ratio 1-10, both angles
     0-70 deg, the large sphere first at one bridge), within 2 deg of the rupture distance's
@@ -105,7 +91,7 @@ def test_two_angle_pairs_against_meniscus() -> None:
                 "near" if dist > cc.RIDGE_TOP_ZONE_DEG else "top")
         window = cc.NEAR_RIDGE_MARGIN * max(ho["rupture_distance"]["max"]
                                             for ho in sum(model.held_out_tables(scene), []))
-        e_r, e_f = _errors(model, scene, v, x)
+        e_r, e_f = _errors_against_meniscus(model, scene, v, x)
         assert e_r < window, (ratio, v, t1, t2, e_r, window)
         zones[zone].append((e_r, e_f, float(model.bound_floor(scene)[0])))
     assert sum(len(z) for z in zones.values()) == 16 and zones["top"], zones
