@@ -133,13 +133,25 @@ def test_capillary_rows_flag_each_goal_and_the_near_equal_stratum():
             "sphere-wall": {"held_out": ho(2e-3, 1e-5)},
             "sphere-sphere": {"held_out": ho(1e-4, 6e-4),
                               "held_out_near_equal": ho(1e-5, 1e-5, stratum={
-                                  "radius_ratio": [1, 1.1]})}}
+                                  "radius_ratio": [1, 1.1]})},
+            "sphere-sphere-two-angles": {"held_out": ho(1e-4, 1e-4),
+                                         "held_out_near_ridge": ho(2e-3, 1e-4, stratum={
+                                             "theta2_deg_from_ridge": [-3, 3]})}}
     rows = table.capillary_rows("x.json", data)
     got = {r["part"]: r["goal_met"] for r in rows}
     assert got == {"sphere-wall rupture_distance": True, "sphere-wall force": False,
                    "sphere-sphere rupture_distance": False, "sphere-sphere force": True,
                    "sphere-sphere (nearly equal) rupture_distance": True,
-                   "sphere-sphere (nearly equal) force": True}
+                   "sphere-sphere (nearly equal) force": True,
+                   "sphere-sphere-two-angles rupture_distance": True,
+                   "sphere-sphere-two-angles force": True,
+                   "sphere-sphere-two-angles (near the ridge) rupture_distance": True,
+                   "sphere-sphere-two-angles (near the ridge) force": False}
     near = [r for r in rows if "nearly" in r["part"]][0]
     assert "radius_ratio [1, 1.1]" in near["domain"]
     assert "radius_ratio" not in rows[0]["domain"]  # a wall has no ratio
+    pair = [r for r in rows if "(near the ridge)" in r["part"]][0]  # two angles, spheres
+    assert "radius_ratio [1, 10]" in pair["domain"]
+    assert "theta2_deg_from_ridge [-3, 3]" in pair["domain"]
+    assert pair["domain"].endswith("the small sphere's and the large sphere's angle each "
+                                   "in the theta range")
