@@ -73,30 +73,20 @@ def costs() -> dict[str, float]:
         v = np.exp(rng.uniform(np.log(1e-4), np.log(0.1), N))
         th = np.radians(rng.uniform(0, 70, N))
         ratio = np.exp(rng.uniform(0, np.log(10), N))
-        for kind in ("sphere-wall", "sphere-sphere"):
-            if kind not in cap:
+        # one angle on both solids, then each solid with its own (a wall's, two spheres')
+        for kind, table in (("sphere-wall", "sphere-wall"), ("sphere-sphere", "sphere-sphere"),
+                            ("sphere-wall", ccap.WALL_TWO_ANGLES),
+                            ("sphere-sphere", ccap.PAIR_TWO_ANGLES)):
+            if table not in cap:
                 continue
             rr = ratio if kind == "sphere-sphere" else None
-            _, sc = ccap.force_star(kind, v, th, np.zeros(N), rr)
+            t2 = None if table == kind else np.radians(rng.uniform(0, 70, N))
+            _, sc = ccap.force_star(kind, v, th, np.zeros(N), rr, theta_wall=t2)
             gap = rng.uniform(0, 1.0, N) * sc
-            t, _ = median_time(lambda kind=kind, rr=rr, gap=gap: ccap.force_star(
-                kind, v, th, gap, rr), repeats=7, warmup=1)
-            per_point[f"calibrated-capillary {kind} (force and S_c)"] = t / N
-        if ccap.WALL_TWO_ANGLES in cap:  # a wall with its own angle
-            th_w = np.radians(rng.uniform(0, 70, N))
-            _, sc = ccap.force_star("sphere-wall", v, th, np.zeros(N), theta_wall=th_w)
-            gap = rng.uniform(0, 1.0, N) * sc
-            t, _ = median_time(lambda gap=gap: ccap.force_star(
-                "sphere-wall", v, th, gap, theta_wall=th_w), repeats=7, warmup=1)
-            per_point["calibrated-capillary sphere-wall, two angles (force and S_c)"] = t / N
-        if ccap.PAIR_TWO_ANGLES in cap:  # two spheres, each with its own angle
-            th_2 = np.radians(rng.uniform(0, 70, N))
-            _, sc = ccap.force_star("sphere-sphere", v, th, np.zeros(N), ratio,
-                                    theta_wall=th_2)
-            gap = rng.uniform(0, 1.0, N) * sc
-            t, _ = median_time(lambda gap=gap: ccap.force_star(
-                "sphere-sphere", v, th, gap, ratio, theta_wall=th_2), repeats=7, warmup=1)
-            per_point["calibrated-capillary sphere-sphere, two angles (force and S_c)"] = t / N
+            t, _ = median_time(lambda kind=kind, rr=rr, gap=gap, t2=t2: ccap.force_star(
+                kind, v, th, gap, rr, theta_wall=t2), repeats=7, warmup=1)
+            label = kind if t2 is None else f"{kind}, two angles"
+            per_point[f"calibrated-capillary {label} (force and S_c)"] = t / N
     s_small = s[:1000]
     t, _ = median_time(lambda: brenner_lambda(s_small), repeats=3, warmup=1)
     per_point["brenner (exact series, 1e3 points)"] = t / s_small.size
