@@ -14,7 +14,7 @@ import pytest
 from test_calibrated_capillary import _errors_against_meniscus  # fresh meniscus errors
 
 from wetcontact.bounds_gen import MARGIN
-from wetcontact.calibrate_pairs2 import pair_ridge, pair_rupture
+from wetcontact.calibrate_pairs2 import PAIR_RIDGE_BRACKET_DEG, pair_ridge, pair_rupture
 from wetcontact.models import get_model
 from wetcontact.reduced_models import calibrated_capillary as cc
 from wetcontact.scene import Scene, scene_from_dict
@@ -170,7 +170,7 @@ def test_pair_ridge_is_where_the_rupture_distance_peaks() -> None:
     falls on both sides of it."""
     for ratio, v, t1 in ((2.7, 4.2e-4, 12.3), (1.6, 0.031, 51.7)):
         ridge = float(cc.ridge_deg(v, t1, ratio=ratio))
-        top, bracket = pair_ridge(ratio, v, t1, bracket=(-2.0, 45.0), tol=1e-5)
+        top, bracket = pair_ridge(ratio, v, t1, bracket=PAIR_RIDGE_BRACKET_DEG, tol=1e-5)
         assert bracket < 2e-5
         assert ridge == pytest.approx(top, abs=0.01)
         s_top = pair_rupture(ratio, v, t1, ridge)

@@ -311,7 +311,7 @@ def test_stability_bisection_may_land_on_a_singular_jacobian():
     table's generator at radius ratio 10, V = 0.0769 R^3, contact angles 14.0 and 91.0
     deg): the point counts as not stable and the bisection goes on, instead of SuperLU's
     RuntimeError ending the branch. Its rupture distance is the shooting solution's
-    turning point (1e-4, as above), and its forces those of ``solve_volume`` (1e-6)."""
+    turning point (1e-4, as above), and its force at the gap nodes finite and attractive."""
     from wetcontact.calibrate_capillary import lobatto, solve_branch
 
     ratio, V = 10.000000000000007, 0.07688104870871841
