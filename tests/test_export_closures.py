@@ -60,7 +60,8 @@ FOLD = 1e-15
 #: (measured: 5.9e-12 at d = 3.5e-7 deg, 0.35 of the term)
 RIDGE = 1e-14
 N = 1500  # points per function (9000 in all)
-N_TWO = 600  # added to calibrated-capillary's: planes with two angles, half near the ridge
+N_TWO = 600  # added to calibrated-capillary's: planes with two angles, half near the ridge,
+# and as many sphere pairs with two angles, half near their ridge
 N_RUPTURE = 400  # of the capillary_force points, moved to within 1e-3 of the rupture distance
 
 ARGS = {
@@ -119,10 +120,10 @@ def design(seed: int = 20261123) -> dict[str, dict[str, np.ndarray]]:
 def shipped_design(rng: np.random.Generator) -> tuple[dict[str, np.ndarray], ...]:
     """``calibrated-capillary`` points: planes and sphere pairs (ratio up to 12, beyond the
     domain's 10), v from 5e-5 to 0.15 (beyond [1e-4, 0.1]), theta up to 80 deg (beyond 70),
-    mostly one angle, some two (NaN between spheres, the two-angle table on a plane) or two
-    within the model's tolerance (one angle); gaps from 1e-12 R_s (near contact), exactly 0
-    and negative to past rupture; a few non-finite arguments; then ``N_TWO`` planes with
-    two angles (:func:`two_angle_design`). The points near rupture are added by
+    mostly one angle, some two (the two-angle tables) or two within the model's tolerance
+    (one angle); gaps from 1e-12 R_s (near contact), exactly 0 and negative to past
+    rupture; a few non-finite arguments; then ``N_TWO`` planes and ``N_TWO`` sphere pairs
+    with two angles (:func:`two_angle_design`). The points near rupture are added by
     :func:`near_rupture`."""
     r1 = np.exp(rng.uniform(np.log(1e-5), np.log(1e-2), N))
     r2 = np.where(rng.uniform(size=N) < 0.4, np.inf,
@@ -160,21 +161,42 @@ def _gaps(rng: np.random.Generator, rs: np.ndarray, theta_deg: np.ndarray,
     return gap
 
 
-def ridge_deg(v: np.ndarray, theta_sphere_deg: np.ndarray) -> np.ndarray:
-    """The plane angle (deg) of the two-angle table's ridge, where its pieces meet (NaN
-    without that table), from the package's own series."""
+def ridge_deg(v: np.ndarray, theta_sphere_deg: np.ndarray,
+              ratio: np.ndarray | None = None) -> np.ndarray:
+    """The other solid's angle (deg) at the two-angle table's ridge, where its pieces meet
+    (NaN without that table), from the package's own series: the plane's, or given the
+    radius ratio, the large sphere's (``theta_sphere_deg`` the small one's)."""
     table = cc.capillary_table()
-    if table is None or cc.WALL_TWO_ANGLES not in table:
+    kind = cc.WALL_TWO_ANGLES if ratio is None else cc.PAIR_TWO_ANGLES
+    if table is None or kind not in table:
         return np.full(np.shape(v), np.nan)
     with np.errstate(all="ignore"):  # the design's non-finite arguments
-        return cc.ridge_deg(v, theta_sphere_deg)
+        return cc.ridge_deg(v, theta_sphere_deg, ratio=ratio)
+
+
+def ridge_offset(a: dict[str, np.ndarray]) -> np.ndarray:
+    """Per point of a capillary design ``a``: the other solid's angle (the plane's, or the
+    large sphere's) minus its ridge angle (deg), on planes and sphere pairs with two angles;
+    NaN elsewhere and without the table."""
+    plane = np.isposinf(a["r2"])
+    small = plane | (a["r1"] <= a["r2"])  # sphere 1 is the small one (as the model: ties)
+    rs, rl = np.where(small, a["r1"], a["r2"]), np.where(small, a["r2"], a["r1"])
+    th_s = np.where(small, a["theta1_deg"], a["theta2_deg"])
+    th_o = np.where(small, a["theta2_deg"], a["theta1_deg"])
+    with np.errstate(all="ignore"):
+        v = a["volume"] / rs**3
+        ridge = np.where(plane, ridge_deg(v, th_s), ridge_deg(v, th_s, np.where(
+            plane, 1.0, rl / rs)))
+    geo = geometries(a)
+    return np.where(geo[cc.WALL_TWO_ANGLES] | geo[cc.PAIR_TWO_ANGLES], th_o - ridge, np.nan)
 
 
 def two_angle_design(rng: np.random.Generator, n: int) -> tuple[dict[str, np.ndarray], ...]:
     """Planes with two contact angles: v from 5e-5 to 0.15, the sphere's angle theta1 up
     to 75 deg, the plane's theta2 up to 75 deg (beyond 70: NaN), uniform at even indices
     and at odd ones within 1e-7 ... 3 deg of the table's ridge (log-uniform, both sides;
-    uniform when the table is not generated); gaps as :func:`_gaps`."""
+    uniform when the table is not generated); gaps as :func:`_gaps`. Then ``n`` sphere
+    pairs alike (:func:`pair_two_angle_design`)."""
     r1 = np.exp(rng.uniform(np.log(1e-5), np.log(1e-2), n))
     v = np.exp(rng.uniform(np.log(5e-5), np.log(0.15), n))
     th1, th2 = rng.uniform(0.0, 75.0, n), rng.uniform(0.0, 75.0, n)
@@ -185,6 +207,31 @@ def two_angle_design(rng: np.random.Generator, n: int) -> tuple[dict[str, np.nda
     rup = {"r1": r1, "r2": np.full(n, np.inf), "volume": v * r1**3, "theta1_deg": th1,
            "theta2_deg": th2}
     cap = {**rup, "gap": _gaps(rng, r1, th1, v), "surface_tension": rng.uniform(0.02, 0.08, n)}
+    rup2, cap2 = pair_two_angle_design(rng, n)
+    return ({k: np.concatenate([rup[k], rup2[k]]) for k in rup},
+            {k: np.concatenate([cap[k], cap2[k]]) for k in cap})
+
+
+def pair_two_angle_design(rng: np.random.Generator, n: int
+                          ) -> tuple[dict[str, np.ndarray], ...]:
+    """Sphere pairs with two contact angles: radius ratio up to 12 (beyond 10: NaN),
+    either sphere the smaller, v from 5e-5 to 0.15, both angles up to 75 deg, uniform at
+    even indices and at odd ones the large sphere's within 1e-7 ... 3 deg of the pair
+    table's ridge (as :func:`two_angle_design`); gaps as :func:`_gaps`."""
+    r1 = np.exp(rng.uniform(np.log(1e-5), np.log(1e-2), n))
+    r2 = r1 * np.exp(rng.uniform(np.log(1 / 12.0), np.log(12.0), n))
+    rs, ratio = np.minimum(r1, r2), np.maximum(r1, r2) / np.minimum(r1, r2)
+    v = np.exp(rng.uniform(np.log(5e-5), np.log(0.15), n))
+    small, large = rng.uniform(0.0, 75.0, n), rng.uniform(0.0, 75.0, n)
+    dist = 10.0 ** rng.uniform(-7.0, np.log10(3.0), n) * rng.choice([-1.0, 1.0], n)
+    ridge = ridge_deg(v, small, ratio)
+    near = (np.arange(n) % 2 == 1) & np.isfinite(ridge)
+    large = np.where(near, np.abs(ridge + dist), large)
+    one = r1 <= r2
+    rup = {"r1": r1, "r2": r2, "volume": v * rs**3,
+           "theta1_deg": np.where(one, small, large), "theta2_deg": np.where(one, large, small)}
+    cap = {**rup, "gap": _gaps(rng, rs, small, v),
+           "surface_tension": rng.uniform(0.02, 0.08, n)}
     return rup, cap
 
 
@@ -221,8 +268,15 @@ def points(source):
     """The design and the package's evaluation at every point."""
     pts = design()
     cap = pts["capillary_force"]
-    near_rupture(cap, package_evaluation_many(
-        "rupture_distance", source, **{k: cap[k] for k in ARGS["rupture_distance"]}))
+    sc = package_evaluation_many("rupture_distance", source,
+                                 **{k: cap[k] for k in ARGS["rupture_distance"]})
+    # near rupture: not the sphere pairs near their ridge, where the two implementations'
+    # S_c differ by up to RIDGE/sqrt(d) and the fold's square root compounds that beyond
+    # the tolerance's two terms (as in :func:`onset_points`; measured on the pairs' 3-D
+    # ridge series: 2.4e-10 at d = 2.3e-7 deg, 1 - S/S_c = 3.1e-8)
+    with np.errstate(invalid="ignore"):
+        ridge = geometries(cap)[cc.PAIR_TWO_ANGLES] & (np.abs(ridge_offset(cap)) <= 3.0)
+    near_rupture(cap, np.where(ridge, np.nan, sc))
     ref = {f: package_evaluation_many(f, source, **a) for f, a in pts.items()}
     return pts, ref
 
@@ -240,13 +294,9 @@ def tol(points, source):
         fold = FOLD / np.sqrt(1.0 - cap["gap"] / sc)
     out["capillary_force"] += np.where(np.isfinite(fold), fold, 0.0)
     for name in ("capillary_force", "rupture_distance"):
-        a = pts[name]
         with np.errstate(invalid="ignore", divide="ignore"):
-            d = np.abs(a["theta2_deg"] - ridge_deg(a["volume"] / a["r1"]**3,
-                                                   a["theta1_deg"]))
-            near = RIDGE / np.sqrt(d)
-        out[name] += np.where(geometries(a)[cc.WALL_TWO_ANGLES] & np.isfinite(near), near,
-                              0.0)
+            near = RIDGE / np.sqrt(np.abs(ridge_offset(pts[name])))
+        out[name] += np.where(np.isfinite(near), near, 0.0)
     return out
 
 
@@ -293,22 +343,25 @@ def test_design_covers_domain_refusals_and_rupture(points, source):
                 assert np.sum(sel & computed) > 200, (name, kind, np.sum(sel & computed))
             else:  # no table: the package refuses every such point, so must the exports
                 assert np.sum(sel & computed) == 0, (name, kind)
-        if cc.WALL_TWO_ANGLES in source.table.parts:  # both pieces, also near the ridge
-            with np.errstate(invalid="ignore"):
-                off = a["theta2_deg"] - ridge_deg(a["volume"] / a["r1"]**3, a["theta1_deg"])
-            two = geometries(a)[cc.WALL_TWO_ANGLES] & computed
+        off = ridge_offset(a)
+        for kind in (cc.WALL_TWO_ANGLES, cc.PAIR_TWO_ANGLES):  # both pieces, near the ridge
+            if kind not in source.table.parts:
+                continue
+            two = geometries(a)[kind] & computed
             for within, least in ((np.inf, 50), (3.0, 40), (1e-2, 15), (1e-5, 5)):
-                near = two & (np.abs(off) < within)
-                assert np.sum(near & (off <= 0)) > least, (name, within, "below")
-                assert np.sum(near & (off > 0)) > least, (name, within, "above")
+                with np.errstate(invalid="ignore"):
+                    near = two & (np.abs(off) < within)
+                    assert np.sum(near & (off <= 0)) > least, (name, kind, within, "below")
+                    assert np.sum(near & (off > 0)) > least, (name, kind, within, "above")
         rs = np.minimum(a["r1"], a["r2"])
         with np.errstate(invalid="ignore"):
             two_angles = np.abs(np.radians(a["theta1_deg"] - a["theta2_deg"])) > 1e-9
-            refusals = {"two angles, spheres": ~plane & two_angles,
-                        "theta1 > 70": a["theta1_deg"] > 70.0,
-                        "theta2 > 70, plane": plane & two_angles & (a["theta2_deg"] > 70.0),
+            refusals = {"theta1 > 70": a["theta1_deg"] > 70.0,
+                        "theta2 > 70, two angles": two_angles & (a["theta2_deg"] > 70.0),
                         "v outside": (a["volume"] / rs**3 < 1e-4) | (a["volume"] / rs**3 > 0.1),
                         "ratio > 10": ~plane & (np.maximum(a["r1"], a["r2"]) / rs > 10.0)}
+            if cc.PAIR_TWO_ANGLES not in source.table.parts:  # refused without their table
+                refusals["two angles, spheres"] = ~plane & two_angles
         for why, sel in refusals.items():
             assert np.sum(sel) > 20 and np.all(np.isnan(y[sel])), (name, why)
         assert np.sum(~np.isfinite(np.stack(list(a.values()))).all(axis=0)) > 0
@@ -326,14 +379,14 @@ def test_design_covers_domain_refusals_and_rupture(points, source):
 
 
 def geometries(a: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-    """Which table each point's geometry calls for: a plane with one angle (within the
-    model's tolerance), sphere pairs, a plane with two angles."""
+    """Which table each point's geometry calls for: a plane or sphere pairs with one angle
+    (within the model's tolerance), a plane or sphere pairs with two angles."""
     plane = np.isposinf(a["r2"])
     with np.errstate(invalid="ignore"):
         two = ~(np.abs(np.radians(a["theta1_deg"]) - np.radians(a["theta2_deg"]))
                 <= cc.ANGLE_TOL)
-    return {"sphere-wall": plane & ~two, "sphere-sphere": ~plane,
-            cc.WALL_TWO_ANGLES: plane & two}
+    return {"sphere-wall": plane & ~two, "sphere-sphere": ~plane & ~two,
+            cc.WALL_TWO_ANGLES: plane & two, cc.PAIR_TWO_ANGLES: ~plane & two}
 
 
 def _run_python_module(source, pts, d: Path, names=tuple(ARGS)) -> dict[str, np.ndarray]:
@@ -969,8 +1022,13 @@ def test_json_calibrated_capillary_matches_table_and_schema(tmp_path, source):
             assert np.array_equal(coef.reshape(shape), arr)
             assert p["held_out"]["relative_error"]["max"] == part.held_out[held]["max"]
             assert p["domain"]["v"] == [1e-4, 0.1]
-            assert ("radius_ratio" in p["domain"]) == (kind == "sphere-sphere")
-            two = kind == cc.WALL_TWO_ANGLES
+            assert ("radius_ratio" in p["domain"]) == kind.startswith("sphere-sphere")
+            two, pair = kind == cc.WALL_TWO_ANGLES, kind == cc.PAIR_TWO_ANGLES
+            if pair:  # the small sphere's angle over its band, the large one's in the piece
+                assert p["domain"]["theta_sphere_deg"] == [sec.theta_sphere_lo,
+                                                           sec.theta_sphere_hi]
+                assert p["domain"]["theta_large_sphere_deg"] == [
+                    piece.theta_lo or 0.0, min(piece.theta_hi or 70.0, 70.0)]
             if two:  # the sphere's angle over its band, the wall's within the piece
                 assert p["domain"]["theta_sphere_deg"] == [sec.theta_sphere_lo,
                                                            sec.theta_sphere_hi]
@@ -987,7 +1045,7 @@ def test_json_calibrated_capillary_matches_table_and_schema(tmp_path, source):
                     got = p["held_out"]["strata"][stratum]
                     assert got["relative_error"]["max"] == \
                         part.held_out_strata[stratum][held]["max"]
-            assert ("theta_deg" in p["domain"]) == (not two)
+            assert ("theta_deg" in p["domain"]) == (not (two or pair))
 
 
 def test_schema_rejects_a_two_angle_part_without_its_angles(source):
@@ -1376,9 +1434,11 @@ def test_onset_json_document(onset):
         [h.theta_sphere_lo, h.theta_sphere_hi] for h in part.bands for _ in h.pieces
         for _ in range(2)]
     nulls = [i for i, p in enumerate(doc["parts"]) if None in p["domain"].get(
-        "theta_sphere_deg", ())]
+        "theta_sphere_deg", ()) and p["geometry"] == cc.WALL_TWO_ANGLES]
     assert len(nulls) == 2 * sum(len(h.pieces) for h in part.bands[:2])
     for i, p in enumerate(doc["parts"]):
+        if p["geometry"] != cc.WALL_TWO_ANGLES:  # (the pair table's: test_pair_json_document)
+            continue
         assert ("theta_sphere_split" in p) == (i in nulls)
         assert ("theta_on(V)" in p["name"]) == (i in nulls), p["name"]
         if i in nulls:
