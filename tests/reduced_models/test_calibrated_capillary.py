@@ -346,8 +346,7 @@ def test_zero_beyond_rupture_and_attractive_inside() -> None:
 
 
 @pytest.mark.parametrize(("changes", "why", "instead"), [
-    # two angles between spheres: refused while their table is not generated
-    ({"theta": (20, 30), "ratio": 2.0}, "no sphere-sphere-two-angles", "meniscus"),
+    ({"theta": (20, 75), "ratio": 2.0}, "contact angle 75 deg \\(sphere 2\\)", "meniscus"),
     ({"theta": (75, 75)}, "contact angle", "meniscus"),
     ({"theta": (20, 75)}, "contact angle 75 deg \\(wall\\)", "meniscus"),
     ({"volume": 5e-5}, "V/R_small", "meniscus"),
@@ -449,7 +448,7 @@ def test_shipped_factors_are_the_declared_rank_and_change() -> None:
     latter within its tolerance."""
     from wetcontact.calibrate_capillary import FACTOR_TOL
 
-    for kind in ("sphere-wall", "sphere-sphere", cc.WALL_TWO_ANGLES):
+    for kind in ("sphere-wall", "sphere-sphere", cc.WALL_TWO_ANGLES, cc.PAIR_TWO_ANGLES):
         for piece in cc.table_pieces(cc.capillary_table()[kind]):
             left, right = piece["force_left"], piece["force_right"]
             assert left.shape[-1] == right.shape[0] == piece["force_rank"]

@@ -1,9 +1,8 @@
 """``calibrated-capillary`` between two spheres with their own contact angles (the
 ``sphere-sphere-two-angles`` table) against ``meniscus``, at its joins and its ridge.
 
-Skipped until the table is in the package data; run against a candidate table with a
-conftest whose ``pytest_configure`` patches
-``calibrated_capillary.capillary_table`` (the skip is decided at import)."""
+To check a candidate table before shipping it, run this module with a conftest whose
+``pytest_configure`` patches ``calibrated_capillary.capillary_table``."""
 
 from __future__ import annotations
 
@@ -22,11 +21,6 @@ from wetcontact.scene import Scene, scene_from_dict
 R = 1.0e-3
 GOAL_FORCE, GOAL_RUPTURE = 1e-3, 5e-4  # issue 11
 PAIR = cc.PAIR_TWO_ANGLES
-pytestmark = pytest.mark.skipif(
-    PAIR not in (cc.capillary_table() or {}),
-    reason="the sphere-sphere-two-angles table is not in the package data yet (its full "
-           "stage is being generated: docs/notes/sphere_pair_two_angles.md, section 5; "
-           "these tests failed on the coarse stage's accuracy, as they should)")
 
 
 def _lead(ratio: np.ndarray, v: np.ndarray) -> list[np.ndarray]:

@@ -1,15 +1,16 @@
 r"""Calibrated capillary closure (level 0, ``calibrated-capillary``): tensor Chebyshev
 interpolants of the ``meniscus`` force and rupture distance, one contact angle per pair, or
-two on a wall.
+two (a sphere's and a wall's, or each sphere's).
 
 Scope
 -----
 A pendular bridge of volume V between a sphere and a wall, or two spheres of radii
 ``R_s <= R_l`` (radius ratio ``r = R_l/R_s`` in [1, 10]), with ``v = V/R_s^3`` in
 [1e-4, 0.1] and **the same** contact angle theta in [0, 70 deg] on both solids (what Yade's
-capillary law and Willett's fit assume), or, on a wall, the sphere's angle theta_s and the
-wall's theta_w each in [0, 70 deg]; no gravity, any gap up to rupture. Outside (two angles
-between spheres among it), the model refuses and names ``meniscus``.
+capillary law and Willett's fit assume), or two: on a wall, the sphere's angle theta_s and
+the wall's theta_w, between spheres, the small sphere's theta1 and the large one's theta2,
+each in [0, 70 deg]; no gravity, any gap up to rupture. Outside, the model refuses and
+names ``meniscus``.
 
 Form
 ----
@@ -85,6 +86,17 @@ series); the closure's :meth:`CalibratedCapillary.bound_floor` still claims no l
 its held-out maxima near the ridge. Below the onset the ridge series converges slowly in b1
 (last coefficients about 5e-4 deg), harmless where every top is a smooth maximum: S_c is
 flat across it.
+
+Two angles between spheres (table ``sphere-sphere-two-angles``, :data:`PAIR_TWO_ANGLES`;
+:mod:`wetcontact.calibrate_pairs2`): the same structure with lead coordinates (w, a) for
+(a,): theta1 the small sphere's angle, theta2 the large one's, prefactor ``2 pi sigma R*
+(cos theta1 + cos theta2)``; three bands of theta1 whose onset end is a 2-D series in (w,
+a), a 3-D ridge series theta2*(w, a, b1) per band, and the piece above the ridge ending at
+``70.5 + theta2* - theta1`` deg (:data:`UPPER_PAST_RIDGE`). Held-out maxima (rupture
+distance / force): 2.5e-4 / 2.6e-4 uniformly, 7.2e-5 / 6.6e-5 within
+:data:`RIDGE_ZONE_DEG` of the ridge, 1.4e-4 / 1.2e-4 at its top, 1.9e-4 / 1.06e-3 where
+the jump appears (one force point of 1920 above the 1e-3 goal, at S = 0.9986 S_c; the
+bound floor there claims 1.3e-3) and 1.1e-4 / 2.2e-4 between nearly equal spheres.
 
 The force table is stored in low-rank form: its unfolding over the first two axes
 ((a, b) on a wall, (w, a) for sphere pairs) against the rest is a truncated SVD,
@@ -655,15 +667,15 @@ def piece_chunk(dims: tuple[int, ...], k: int) -> int:
 @register
 class CalibratedCapillary(Model):
     """Calibrated capillary closure: ``meniscus`` interpolated to about 1e-4 (held-out
-    tables in the package data), one contact angle per pair or two on a wall."""
+    tables in the package data), one contact angle per pair or two."""
 
     name = "calibrated-capillary"
     component = "capillary"
     level = 0
     validity = ("pendular bridge on a wall or between spheres of radius ratio 1-10, "
                 "V/R_small^3 in [1e-4, 0.1], one contact angle in [0, 70] deg on both "
-                "solids, or two, each in [0, 70] deg (between spheres where the two-angle "
-                "table is generated), no gravity; any gap (0 beyond its rupture distance)")
+                "solids, or two, each in [0, 70] deg, no gravity; any gap (0 beyond its "
+                "rupture distance)")
     reference = "calibrated here: tensor Chebyshev interpolation of meniscus"
     cost = 1e-6
 
@@ -720,8 +732,8 @@ class CalibratedCapillary(Model):
                         ) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
         """The package data's held-out tables that describe ``scene``: the geometry's (its
         uniform one and its stress strata that hold the scene's sphere angle, e.g. nearly
-        equal spheres, or near the ridge of a wall with two angles), and the ridge zone's:
-        on a wall with two angles within :data:`RIDGE_ZONE_DEG` of the ridge, the strata
+        equal spheres, or near the ridge with two angles), and the ridge zone's: with two
+        angles (a wall, or sphere pairs) within :data:`RIDGE_ZONE_DEG` of the ridge, the strata
         of the narrowest zone of :data:`RIDGE_STRATA` that contains it and hold its sphere
         angle (within :data:`RIDGE_TOP_ZONE_DEG`: the ridge's top, and at 17.5-35 deg where
         its jump appears); empty elsewhere."""
@@ -757,9 +769,10 @@ class CalibratedCapillary(Model):
           :data:`NEAR_RIDGE_MARGIN`, the bridge may or may not exist: below S_c the
           closure's force may be spurious (:data:`SPURIOUS`), above it the closure's 0 may
           miss a force (relative error 1, times the margin).
-        - On a wall with two angles within :data:`RIDGE_ZONE_DEG` of the ridge, where the
-          table is coarser: at the gaps below the window, the largest held-out force error
-          of the zone's strata among points where the closure's bridge exists
+        - With two angles (a wall or sphere pairs) within :data:`RIDGE_ZONE_DEG` of the
+          ridge, where the table is coarser: at the gaps below the window, the largest
+          held-out force error of the zone's strata among points where the closure's
+          bridge exists
           (``force_attached``), and its rupture distance's maximum, times the margin.
         """
         gap = scene.gap_array
