@@ -1045,9 +1045,9 @@ def main(argv: list[str] | None = None) -> int:
                         "is the first three")
     c.add_argument("--workers", type=int, default=2)
     c.add_argument("--held-out", type=int, default=120, help="held-out bridges per kind")
-    c.add_argument("--stage", choices=["coarse", "full"], default="full",
-                   help="sphere-sphere-two-angles only: the node counts (nested: the full "
-                        "stage reuses what the coarse one solved)")
+    c.add_argument("--stage", choices=["coarse", "medium", "full"], default="full",
+                   help="sphere-sphere-two-angles only: the node counts (nested: each "
+                        "stage reuses what the ones before it solved; full is shipped)")
     c.add_argument("--out", type=Path, default=None,
                    help="sphere-sphere-two-angles only: write into this copy of the table "
                         "file (default: the package data)")
