@@ -93,10 +93,10 @@ Two angles between spheres (table ``sphere-sphere-two-angles``, :data:`PAIR_TWO_
 (cos theta1 + cos theta2)``; three bands of theta1 whose onset end is a 2-D series in (w,
 a), a 3-D ridge series theta2*(w, a, b1) per band, and the piece above the ridge ending at
 ``70.5 + theta2* - theta1`` deg (:data:`UPPER_PAST_RIDGE`). Held-out maxima (rupture
-distance / force): 2.5e-4 / 2.6e-4 uniformly, 7.2e-5 / 6.6e-5 within
-:data:`RIDGE_ZONE_DEG` of the ridge, 1.4e-4 / 1.2e-4 at its top, 1.9e-4 / 1.06e-3 where
-the jump appears (one force point of 1920 above the 1e-3 goal, at S = 0.9986 S_c; the
-bound floor there claims 1.3e-3) and 1.1e-4 / 2.2e-4 between nearly equal spheres.
+distance / force): 2.5e-4 / 2.6e-4 uniformly, 7.4e-5 / 1.0e-4 within
+:data:`RIDGE_ZONE_DEG` of the ridge, 1.1e-4 / 1.2e-4 at its top, 2.5e-4 / 4.2e-4 where
+the jump appears and 1.1e-4 / 5.3e-5 between nearly equal spheres (the full stage of
+:data:`~wetcontact.calibrate_pairs2.STAGES`: 27 b2 nodes above the ridge).
 
 The force table is stored in low-rank form: its unfolding over the first two axes
 ((a, b) on a wall, (w, a) for sphere pairs) against the rest is a truncated SVD,
