@@ -1038,6 +1038,7 @@ def main(argv: list[str] | None = None) -> int:
     f.add_argument("--reuse", action="store_true", help="refit from the saved points")
     sub.add_parser("viscous", help="regenerate the calibrated-viscous closure")
     c = sub.add_parser("capillary", help="regenerate the calibrated-capillary closure")
+    PAIR_KIND = "sphere-sphere-two-angles"  # noqa: N806
     c.add_argument("--kind", choices=["sphere-wall", "sphere-sphere", "sphere-wall-two-angles",
                                       "sphere-sphere-two-angles", "all"], default="all",
                    help="one table (two contact angles: sphere-wall-two-angles, "
@@ -1051,8 +1052,14 @@ def main(argv: list[str] | None = None) -> int:
     c.add_argument("--out", type=Path, default=None,
                    help="sphere-sphere-two-angles only: write into this copy of the table "
                         "file (default: the package data)")
+    c.add_argument("--retrain", action="store_true",
+                   help="sphere-sphere-two-angles only: keep the fit the file holds, build "
+                        "its tensor trains again and measure its held-out tables again "
+                        "(no node solved; --stage is ignored)")
     args = p.parse_args(argv)
-    if args.command == "capillary" and args.kind == "sphere-sphere-two-angles":
+    if args.command == "capillary" and args.retrain and args.kind != PAIR_KIND:
+        p.error(f"--retrain: only with --kind {PAIR_KIND} (given: --kind {args.kind})")
+    if args.command == "capillary" and args.kind == PAIR_KIND:
         from wetcontact.calibrate_pairs2 import generate_pair_table
 
         out = args.out
@@ -1062,12 +1069,13 @@ def main(argv: list[str] | None = None) -> int:
             from wetcontact.reduced_models import calibrated_capillary as cc
 
             shutil.copy(Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE, out)
-        entry = generate_pair_table(args.stage, out, args.workers, args.held_out)
+        entry = generate_pair_table(args.stage, out, args.workers, args.held_out,
+                                    retrain=args.retrain)
         for key in sorted(k for k in entry if k.startswith("held_out")):
             ho = entry[key]
             print(f"{args.kind} {key}: max rupture {ho['rupture_distance']['max']:.3g}, "
                   f"force {ho['force']['max']:.3g} ({ho['force']['points']} points)")
-        print(f"{entry['wall_time_s']} s")
+        print(f"{entry['retrain_wall_time_s' if args.retrain else 'wall_time_s']} s")
         return 0
     if args.command == "capillary":
         from wetcontact.calibrate_capillary import KINDS, generate_calibrated_capillary

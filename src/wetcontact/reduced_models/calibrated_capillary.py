@@ -176,6 +176,10 @@ def capillary_table() -> dict[str, Any] | None:
 
 TABLE_FIELDS = ("rupture", "force_left", "force_right")
 """A piece's coefficient arrays (the force as the two factors of its low-rank form)."""
+TRAIN_FIELDS = ("rupture_train", "force_train")
+"""A piece's tensor trains of its rupture and force tables, where it has them (the
+two-angle pair table): what is evaluated; the arrays above are the fit they were built
+from (:func:`wetcontact.calibrate_pairs2.train_piece`)."""
 
 
 def as_arrays(table: dict[str, Any]) -> dict[str, Any]:
@@ -187,7 +191,10 @@ def as_arrays(table: dict[str, Any]) -> dict[str, Any]:
         if not isinstance(e, dict) or "pieces" not in e:
             return e
         return {**e, "pieces": [{**p, **{n: np.asarray(p[n], dtype=float)
-                                        for n in TABLE_FIELDS if n in p}}
+                                        for n in TABLE_FIELDS if n in p},
+                                 **{n: {**p[n], "cores": [np.asarray(c, dtype=float)
+                                                          for c in p[n]["cores"]]}
+                                    for n in TRAIN_FIELDS if n in p}}
                                 for p in e["pieces"]]}
     return {k: entry(e) for k, e in table.items()}
 
@@ -515,6 +522,27 @@ def chebyshev_tensor(coef: np.ndarray, coords: list[np.ndarray], chunk: int = 81
     return out.reshape(np.shape(coords[0]))
 
 
+def train_sum(train: dict[str, Any], rows: list[np.ndarray]) -> np.ndarray:
+    r"""A tensor Chebyshev sum in tensor-train form at points, from the points'
+    coefficient-major Chebyshev rows over the table's axes (:func:`_cheb_rows`):
+
+    .. math::
+        \sum_{i_1..i_d} C_{i_1..i_d} T_{i_1}(x_1) \cdots T_{i_d}(x_d), \qquad
+        C_{i_{o_1} .. i_{o_d}} = G_1[i_{o_1}] \, G_2[i_{o_2}] \cdots G_d[i_{o_d}],
+
+    each core ``G_k`` of shape (r_{k-1}, n_{o_k}, r_k) (r_0 = r_d = 1) carrying the table
+    axis ``o_k = order[k]`` (Oseledets 2011, SIAM J. Sci. Comput. 33, 2295). Evaluated core
+    by core over the batch: ``V <- sum_m (V G_k)[:, m, :] T_m(x_{o_k})``, one matrix
+    product and one sum over the axis's rows a core (cost ``sum_k r_{k-1} n_k r_k``
+    multiply-adds a point)."""
+    cores, order = train["cores"], train["order"]
+    v = rows[order[0]].T @ cores[0][0]
+    for g, ax in zip(cores[1:], order[1:], strict=True):
+        w = (v @ g.reshape(g.shape[0], -1)).reshape(v.shape[0], g.shape[1], g.shape[2])
+        v = np.einsum("nmr,mn->nr", w, rows[ax])
+    return v[:, 0]
+
+
 def _entry(kind: str) -> dict[str, Any]:
     table = capillary_table()
     if table is None or kind not in table:
@@ -624,32 +652,44 @@ def _piece(piece: dict[str, Any], lo: np.ndarray, hi: np.ndarray, idx: np.ndarra
            rho: np.ndarray, eps: np.ndarray, chunk: int | None
            ) -> tuple[np.ndarray, np.ndarray]:
     """``rho q`` and ``S_c/R_s`` of the points ``idx`` from one piece's tables, ``chunk``
-    points at a time (default :func:`piece_chunk`)."""
+    points at a time (default :func:`piece_chunk`); by its tensor trains
+    (:data:`TRAIN_FIELDS`, :func:`train_sum`) where it has them."""
     f, s_c = np.empty(idx.size), np.empty(idx.size)
+    rup_train, force_train = (piece.get(n) for n in TRAIN_FIELDS)
     rup = np.asarray(piece["rupture"])
     left, right = np.asarray(piece["force_left"]), np.asarray(piece["force_right"])
     dims = (*left.shape[:-1], *right.shape[1:])  # the force table's axes
     k = left.ndim - 1
     rup2 = rup.reshape(-1, rup.shape[-1]).T
-    chunk = piece_chunk(dims, k) if chunk is None else chunk
+    if chunk is None:
+        chunk = TRAIN_CHUNK if force_train is not None else piece_chunk(dims, k)
     for j in range(0, idx.size, chunk):
         sl = idx[j:j + chunk]
         out = slice(j, j + sl.size)
         rows = [_cheb_rows(x[sl], m) for x, m in zip(lead, dims, strict=False)]
         rows.append(_cheb_rows(piece_coordinate(piece, piece_deg[sl], lo[sl], hi[sl]),
                                dims[len(lead)]))
-        r_lead = _outer(rows[:len(lead)])
-        sc = np.cbrt(v[sl]) * np.exp(np.einsum("ij,ij->j", rup2 @ r_lead, rows[-1]))
+        if rup_train is None:
+            r_lead = _outer(rows[:len(lead)])
+            sc = np.cbrt(v[sl]) * np.exp(np.einsum("ij,ij->j", rup2 @ r_lead, rows[-1]))
+        else:
+            sc = np.cbrt(v[sl]) * np.exp(train_sum(rup_train, rows))
         inside = s[sl] < sc
         c = gap_coordinate(np.where(inside, s[sl], 0.0), sc, eps[sl])
         rows.append(_cheb_rows(c, dims[-1]))
-        r_left = r_lead if k == len(lead) else _outer(rows[:k])
-        q = np.exp(low_rank_rows(left, right, r_left, _outer(rows[k:])))
+        if force_train is None:
+            r_left = r_lead if k == len(lead) and rup_train is None else _outer(rows[:k])
+            q = np.exp(low_rank_rows(left, right, r_left, _outer(rows[k:])))
+        else:
+            q = np.exp(train_sum(force_train, rows))
         f[out] = np.where(inside, rho[sl] * q, 0.0)
         s_c[out] = sc
     return f, s_c
 
 
+TRAIN_CHUNK = 512
+"""Points per chunk for a piece evaluated by its tensor trains (its cores' products over
+the batch stay within the L2 cache: at most about 500 numbers a point)."""
 CHUNK_FLOATS = 2**18
 """The largest outer product of Chebyshev rows a chunk of points may build (floats, 2 MiB):
 about the L2 cache of the machine the costs were measured on (AMD EPYC, 2 MiB for 2
