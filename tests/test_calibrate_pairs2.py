@@ -251,3 +251,84 @@ def test_pair_onset_job_widens_a_bracket_that_does_not_hold(monkeypatch) -> None
     assert p2._pair_onset_job((3.0, v)) == 22.0
     assert seen == [(t_on - 1.5, t_s + 0.5), (8.0, 36.0)]
     assert t_on - 1.5 < t_s + 0.5  # the first bracket is not empty
+
+
+# ---- tensor trains: the form the two-angle pair table is evaluated in ------------------
+
+
+def test_tt_svd_reconstructs_and_bounds_its_truncation() -> None:
+    """TT-SVD (Oseledets 2011, theorem 2.2): with tol 0 the train is the tensor to rounding;
+    truncated, its Frobenius error is at most sqrt(d - 1) tol, and it keeps the ranks of a
+    tensor of known TT ranks (a sum of 3 separable terms plus noise below tol)."""
+    rng = np.random.default_rng(11)
+    dense = rng.standard_normal((4, 5, 6, 3))
+    full = p2.tt_svd(dense, 0.0)
+    assert [g.shape[0] for g in full] == [1, 4, 18, 3]  # min(left, right) unfolding sizes
+    np.testing.assert_allclose(_tt_dense(full), dense, rtol=0, atol=1e-12)
+    terms = [np.einsum("i,j,k,l->ijkl", *(rng.standard_normal(n) for n in (9, 8, 7, 6)))
+             for _ in range(3)]
+    noise = 1e-7 * rng.standard_normal((9, 8, 7, 6))
+    tol = 1e-4
+    cores = p2.tt_svd(sum(terms) + noise, tol)
+    assert [g.shape[2] for g in cores[:-1]] == [3, 3, 3]
+    err = np.linalg.norm(_tt_dense(cores) - (sum(terms) + noise))
+    assert err <= math.sqrt(3) * tol
+    assert err >= np.linalg.norm(noise) / 10  # the noise is what was dropped
+
+
+def _tt_dense(cores: list[np.ndarray]) -> np.ndarray:
+    out = cores[0][0]
+    for g in cores[1:]:
+        out = np.tensordot(out, g, axes=1)
+    return out[..., 0]
+
+
+def test_train_sum_is_the_dense_chebyshev_sum_in_any_axis_order() -> None:
+    """train_sum over a train stored in a permuted axis order equals the dense tensor
+    Chebyshev sum (chebyshev_tensor, an independent contraction) to rounding."""
+    from wetcontact.reduced_models import calibrated_capillary as cc
+
+    rng = np.random.default_rng(12)
+    dense = rng.standard_normal((5, 4, 6, 3, 7)) / np.arange(1, 8)  # decaying along c
+    train = p2.train_of(dense, 0.0)
+    assert sorted(train["order"]) == [0, 1, 2, 3, 4]
+    train = cc.as_arrays({"e": {"pieces": [{"force_train": train}]}})["e"]["pieces"][0][
+        "force_train"]
+    x = [rng.uniform(-1.0, 1.0, 300) for _ in dense.shape]
+    rows = [cc._cheb_rows(xi, n) for xi, n in zip(x, dense.shape, strict=True)]
+    np.testing.assert_allclose(cc.train_sum(train, rows), cc.chebyshev_tensor(dense, x),
+                               rtol=0, atol=1e-12)
+
+
+def test_shipped_pair_pieces_are_trains_of_their_fit_within_their_tolerance() -> None:
+    """Every piece of the shipped two-angle pair table carries both trains, each within
+    sqrt(d - 1) tol (Frobenius) of the fit it was built from (its rupture table, the
+    product of its force factors), at the declared TRAIN_TOL, and cheaper to evaluate
+    than that fit (multiply-adds a point)."""
+    from wetcontact.reduced_models import calibrated_capillary as cc
+
+    table = cc.capillary_table()
+    if table is None or cc.PAIR_TWO_ANGLES not in table:
+        pytest.skip("the package data has no two-angle pair table")
+    for band in table[cc.PAIR_TWO_ANGLES]["bands"]:
+        for piece in band["pieces"]:
+            left, right = piece["force_left"], piece["force_right"]
+            fits = {"rupture_train": piece["rupture"],
+                    "force_train": np.tensordot(left, right, axes=1)}
+            for name, fit in fits.items():
+                train = piece[name]
+                assert train["tol"] == p2.TRAIN_TOL[name]
+                dense = _tt_dense(train["cores"]).transpose(np.argsort(train["order"]))
+                assert dense.shape == fit.shape
+                assert np.linalg.norm(dense - fit) <= math.sqrt(fit.ndim - 1) * train["tol"]
+            cost = sum(g.size for g in piece["force_train"]["cores"])
+            assert cost < left.shape[-1] * (left[..., 0].size + right[0].size) / 2
+
+
+def test_retrain_is_refused_for_other_kinds(capsys) -> None:
+    from wetcontact import calibrate
+
+    with pytest.raises(SystemExit) as exc:
+        calibrate.main(["capillary", "--kind", "sphere-wall", "--retrain"])
+    assert exc.value.code == 2
+    assert "--retrain: only with --kind sphere-sphere-two-angles" in capsys.readouterr().err
