@@ -644,6 +644,23 @@ def test_c_contact_api_is_the_force(points, c_program, tmp_path, tol, source):
 PERTURBED_ARRAY = {"force": "force_left", "rupture": "rupture"}
 
 
+def _bumped(piece, table: str):
+    """``piece`` with one coefficient of its ``table`` (``force`` or ``rupture``) moved by
+    1e-9, in what the package evaluates: the leading entry of :data:`PERTURBED_ARRAY`, or,
+    where the piece has the table's tensor train, its first core's G_1[0, 0, 0] (the
+    coefficient on T_0 of the first axis: it multiplies the rest of the train's first rank
+    component at every point, the train's largest)."""
+    train = getattr(piece, f"{table}_train")
+    if train is None:
+        field = PERTURBED_ARRAY[table]
+        arr = getattr(piece, field).copy()
+        arr.flat[0] += 1e-9
+        return replace(piece, **{field: arr})
+    first = train.cores[0].copy()
+    first[0, 0, 0] += 1e-9
+    return replace(piece, **{f"{table}_train": replace(train, cores=(first, *train.cores[1:]))})
+
+
 def _with_sections(source, kind: str, change):
     """``source`` with each table of one geometry (the geometry's own, or each band of a
     plane with two angles) replaced by ``change(index, table)``."""
@@ -659,16 +676,13 @@ def _with_sections(source, kind: str, change):
 def _perturbed(source, kind: str, table: str):
     """``source`` with the leading coefficient of one shipped table (the first theta piece
     of one geometry, of its first band for a plane with two angles; for the force, the
-    leading entry of its left factor) moved by 1e-9 (a relative change of up to 1e-9 in
+    leading entry of its left factor; of a tensor train, :func:`_bumped`) moved by 1e-9
+    (a relative change of up to 1e-9 in
     the force or the rupture distance, 1000x the comparison's 1e-12)."""
-    field = PERTURBED_ARRAY[table]
-
     def change(i, sec):
         if i > 0:
             return sec
-        arr = getattr(sec.pieces[0], field).copy()
-        arr.flat[0] += 1e-9
-        return replace(sec, pieces=(replace(sec.pieces[0], **{field: arr}), *sec.pieces[1:]))
+        return replace(sec, pieces=(_bumped(sec.pieces[0], table), *sec.pieces[1:]))
 
     return _with_sections(source, kind, change)
 
@@ -813,8 +827,15 @@ def test_c_header_names_shipped_and_refit(source, tmp_path):
         ho = part.held_out
         assert f"force max {ho['force']['max']:.2g}" in text, kind
         for n, piece in (x for sec in part.sections for x in enumerate(sec.pieces)):
-            assert f"static const double left{n}[{piece.force_left.size}]" in text, kind
-            assert f"static const double right{n}[{piece.force_right.size}]" in text, kind
+            train = piece.force_train
+            if train is None:
+                assert f"static const double left{n}[{piece.force_left.size}]" in text, kind
+                assert f"static const double right{n}[{piece.force_right.size}]" in text, \
+                    kind
+            else:  # only what is evaluated: the trains' cores, not the fit
+                assert f"static const double force_cores{n}[{train.size}]" in text, kind
+                assert f"static const double rupture_cores{n}[" \
+                       f"{piece.rupture_train.size}]" in text, kind
             assert f"static const double force{n}[" not in text  # the dense table: not carried
     assert "#include <math.h>" in text and text.count("#include") == 1
     assert "malloc" not in text and "calloc" not in text
@@ -1007,7 +1028,8 @@ def test_json_calibrated_capillary_matches_table_and_schema(tmp_path, source):
     tables = [(k, p, t, pc) for k, p in source.table.parts.items() for t in p.sections
               for pc in t.pieces]
     for kind, part, sec, piece in tables:
-        for name, arr, held in (("rupture distance", piece.rupture, "rupture_distance"),
+        for name, arr, held in (("rupture distance", piece.rupture_table,
+                                 "rupture_distance"),
                                 ("force", piece.force, "force")):
             p = next(parts)
             assert p["name"].startswith(f"{name} {kind}") and p["geometry"] == kind
@@ -1488,6 +1510,13 @@ def test_onset_comparison_sees_a_moved_onset(onset, onset_points, tmp_path, lang
 PAIR_NOISE = {"rupture": 0.02, "force_left": 0.02, "force_right": 0.02, "theta_split": 0.2,
               cc.ONSET_KEY: 0.3}
 PAIR_FILE = Path("synthetic-pairs.json")
+#: the axis orders of the synthetic pair table's tensor trains (rupture, force), piece by
+#: piece, band after band: the gap axis c (4) first, inside and last, each order another
+#: permutation, so that every transpose and both ends of the C header's gap series are
+#: exercised (the generator would pick the cheapest order; here it need not be)
+PAIR_TRAIN_ORDERS = [((3, 1, 0, 2), (4, 3, 2, 1, 0)), ((0, 1, 2, 3), (0, 1, 2, 3, 4)),
+                     ((2, 0, 3, 1), (3, 2, 4, 1, 0)), ((1, 3, 2, 0), (1, 4, 0, 3, 2)),
+                     ((0, 2, 1, 3), (2, 0, 1, 4, 3)), ((3, 2, 1, 0), (0, 3, 1, 2, 4))]
 
 
 def _noisy(coef, scale: float, rng: np.random.Generator) -> list:
@@ -1499,9 +1528,15 @@ def _noisy(coef, scale: float, rng: np.random.Generator) -> list:
 
 def _pair_table(cache_dir: Path) -> dict:
     """The synthetic pair table (:func:`conftest.synthetic_pair_table`, the generator's
-    coarse stage on a polynomial bridge) with :data:`PAIR_NOISE` on every coefficient and a
-    stand-in held-out table (the model's bound floor and the json document read one)."""
+    coarse stage on a polynomial bridge) with :data:`PAIR_NOISE` on every coefficient, its
+    pieces' tensor trains built again from the noisy fit (as the generator builds them,
+    :func:`~wetcontact.calibrate_pairs2.train_piece`, over the axis orders
+    :data:`PAIR_TRAIN_ORDERS`; the trains are what the package and the exports evaluate)
+    and a stand-in held-out table (the model's bound floor and the
+    json document read one)."""
     from conftest import synthetic_pair_table
+
+    from wetcontact.calibrate_pairs2 import train_piece
 
     table = synthetic_pair_table(cache_dir)
     rng = np.random.default_rng(2611)
@@ -1513,6 +1548,11 @@ def _pair_table(cache_dir: Path) -> dict:
         for piece in band["pieces"]:
             for key in ("rupture", "force_left", "force_right"):
                 piece[key] = _noisy(piece[key], PAIR_NOISE[key], rng)
+    orders = iter(PAIR_TRAIN_ORDERS)
+    for band in table["bands"]:
+        band["pieces"] = [train_piece(p, dict(zip(("rupture_train", "force_train"),
+                                                  next(orders), strict=True)))
+                          for p in band["pieces"]]
     errors = {"max": 1e-4, "mean": 1e-5, "p95": 5e-5, "points": 100}
     table["held_out"] = {"force": errors, "rupture_distance": errors, "seed": 1,
                          "reference": "synthetic (the exports' test)"}
@@ -1708,20 +1748,14 @@ def _pair_changed(src, change):
                                                         cc.PAIR_TWO_ANGLES: part}))
 
 
-def _bump(arr: np.ndarray) -> np.ndarray:
-    out = arr.copy()
-    out.flat[0] += 1e-9
-    return out
-
-
 PAIR_BREAKS = {
     # the piece above the ridge ending at its fixed 70.5 deg instead of 70.5 + theta2* -
     # theta1: its b2 moves at every point above the ridge (the pieces 1, 3, 5)
     "fixed upper end": ((1, 3, 5), lambda k, i, p: replace(p, upper_past_ridge=False)),
     # one coefficient of band 1's upper piece moved by 1e-9 (1000 x the tolerance)
-    "band 1 upper rupture": ((3,), lambda k, i, p: replace(p, rupture=_bump(p.rupture))
+    "band 1 upper rupture": ((3,), lambda k, i, p: _bumped(p, "rupture")
                              if (k, i) == (1, 1) else p),
-    "band 2 lower force": ((4,), lambda k, i, p: replace(p, force_left=_bump(p.force_left))
+    "band 2 lower force": ((4,), lambda k, i, p: _bumped(p, "force")
                            if (k, i) == (2, 0) else p),
 }
 
@@ -1873,7 +1907,7 @@ def test_pair_json_document(pair2):
     it = iter(pairs)
     for band in part.bands:
         for piece in band.pieces:
-            for arr in (piece.rupture, piece.force):
+            for arr in (piece.rupture_table, piece.force):
                 p = next(it)
                 assert f"shape ({', '.join(map(str, arr.shape))}), axes (w, a, b1, b2" in \
                     p["coefficient_layout"]
