@@ -1880,6 +1880,106 @@ def test_pair_layout_is_validated(pair2):
         _capillary_part(PAIR_FILE, cc.WALL_TWO_ANGLES, wall)
 
 
+def _train_pieces(pair2) -> list[tuple[object, dict]]:
+    """Every piece with tensor trains, read by the exports' reader, beside the package's
+    own arrays of it (:func:`~wetcontact.reduced_models.calibrated_capillary.as_arrays`):
+    the synthetic pair table's, and the shipped table's where its package data has them."""
+    from wetcontact.export.closures import _capillary_part
+
+    table, _ = pair2
+    entries = [(table, PAIR_FILE)]
+    shipped = cc.capillary_table() or {}
+    if cc.PAIR_TWO_ANGLES in shipped:
+        entries.append((shipped[cc.PAIR_TWO_ANGLES], Path(cc.CAPILLARY_FILE)))
+    out = []
+    for e, path in entries:
+        part = _capillary_part(path, cc.PAIR_TWO_ANGLES, e)
+        raw = cc.as_arrays({"e": e})["e"]
+        out += [(p, q) for h, g in zip(part.bands, raw["bands"], strict=True)
+                for p, q in zip(h.pieces, g["pieces"], strict=True)
+                if p.force_train is not None]
+    return out
+
+
+def test_train_dense_tensor_is_the_package_sum(pair2):
+    """A piece's dense tables from its tensor trains (``rupture_table``, ``force``: the
+    cores contracted, then transposed from the train's axis order back to the table's, what
+    the json export writes) sum, at 200 random points of [-1, 1]^d, to the package's own
+    train sum (:func:`~wetcontact.reduced_models.calibrated_capillary.train_sum`) within
+    1e-12 of exp(sum) (the rupture distance and force are exp of these sums, so the
+    difference of the sums is their relative difference; measured up to 5e-14, the dense
+    sum adding its 10^5 terms in another order). The force's sum differs from that of the
+    fit the train was built from (the low-rank force) by far more where the truncation
+    dropped anything (measured up to 1.7e-5), so a table taken from the fit would fail."""
+    pieces = _train_pieces(pair2)
+    assert len(pieces) >= 6
+    rng = np.random.default_rng(53)
+    fit_gap = []
+    for piece, raw in pieces:
+        for dense, train, fit in (
+                (piece.rupture_table, raw["rupture_train"], piece.rupture),
+                (piece.force, raw["force_train"],
+                 np.tensordot(piece.force_left, piece.force_right, 1))):
+            assert dense.shape == fit.shape
+            x = [rng.uniform(-1.0, 1.0, 200) for _ in dense.shape]
+            want = cc.train_sum(train, [cc._cheb_rows(t, n) for t, n in zip(x, dense.shape,
+                                                                          strict=True)])
+            np.testing.assert_allclose(np.exp(cc.chebyshev_tensor(dense, x)), np.exp(want),
+                                       rtol=1e-12, atol=0.0)
+            if dense.ndim == 5:  # the force: its train truncated at 1e-5
+                fit_gap.append(np.max(np.abs(cc.chebyshev_tensor(fit, x) - want)))
+    assert max(fit_gap) > 1e-7
+
+
+def test_train_layout_is_validated(pair2):
+    """The reader refuses a malformed tensor train, naming the file, the piece, the field,
+    its value and the allowed layout: a core of the wrong shape (ranks not chained, or the
+    wrong axis size), too few cores, an order that is not a permutation of the table's
+    axes, stated ranks that are not the cores', a non-finite core, a train that is not a
+    dict."""
+    from wetcontact.errors import InputError
+    from wetcontact.export.closures import _capillary_part
+
+    table, _ = pair2
+    where = r"synthetic-pairs.json: sphere-sphere-two-angles band 1 piece 0: field "
+
+    def piece(e):
+        return e["bands"][1]["pieces"][0]
+
+    def core(name, k, change):
+        def apply(e):
+            train = piece(e)[name]
+            train["cores"][k] = change(np.asarray(train["cores"][k])).tolist()
+        return apply
+
+    cases = [
+        (core("force_train", 1, lambda g: g[:, :, :-1]),
+         r"'force_train' cores of shapes \[.*\] \(order \[3, 2, 4, 1, 0\]\); want "
+         r"\[.*\]; allowed: \{'order'.*"
+         r"G_k a finite array of shape \(r_\(k-1\), n_\(o_k\), r_k\).*with table shape "
+         r"\(5, 5, 5, 5, 19\)"),
+        (core("rupture_train", 0, lambda g: g[:, :-1, :]),
+         r"'rupture_train' cores of shapes .*with table shape \(5, 5, 5, 5\)"),
+        (core("force_train", 2, lambda g: g.transpose(2, 1, 0)),
+         r"'force_train' cores of shapes"),
+        (lambda e: piece(e)["force_train"]["cores"].pop(),
+         r"'force_train' has 4 cores of shapes .*; want 5, one per axis"),
+        (lambda e: piece(e)["rupture_train"].update(order=[0, 1, 2, 2]),
+         r"'rupture_train' order = \[0, 1, 2, 2\] \(the table has 4 axes\)"),
+        (lambda e: piece(e)["force_train"].update(ranks=[1, 2, 3, 4]),
+         r"'force_train' ranks = \[1, 2, 3, 4\], the cores' \[5, "),
+        (core("force_train", 0, lambda g: np.where(g == g.flat[0], np.inf, g)),
+         r"'force_train' cores not finite"),
+        (lambda e: piece(e).update(rupture_train=[1.0, 2.0]),
+         r"'rupture_train' = 'list' \(not a dict with 'order' and 'cores'\)"),
+    ]
+    for change, says in cases:
+        e = json.loads(json.dumps(table))
+        change(e)
+        with pytest.raises(InputError, match=where + says):
+            _capillary_part(PAIR_FILE, cc.PAIR_TWO_ANGLES, e)
+
+
 def _onset_entry_from(table: dict) -> dict:
     """The shipped wall two-angle entry with its last piece flagged ``upper_past_ridge``."""
     shipped = cc.capillary_table()
