@@ -55,7 +55,9 @@ angle and node counts its package data holds: ``pieces`` in theta, with a ``thet
 series where a piece ends at the split angle; a plane with two angles in ``bands`` of the
 sphere's angle, each with such pieces and its ridge series, a band's end possibly the onset
 angle of the series ``theta_sphere_split``; two spheres with two angles likewise over
-(w, a)) and the two refits.
+(w, a)) and the two refits. Where a piece carries its tables' tensor trains
+(:class:`TensorTrain`, the two-angle pair table's), the package evaluates the trains, and
+so do the exports (the json export writes their dense tensors).
 
 Outside the calibrated domain (or for inputs no closure covers: unequal spheres for the
 immersed part, a geometry whose table is not generated, e.g. two contact angles between
