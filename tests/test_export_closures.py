@@ -644,6 +644,23 @@ def test_c_contact_api_is_the_force(points, c_program, tmp_path, tol, source):
 PERTURBED_ARRAY = {"force": "force_left", "rupture": "rupture"}
 
 
+def _bumped(piece, table: str):
+    """``piece`` with one coefficient of its ``table`` (``force`` or ``rupture``) moved by
+    1e-9, in what the package evaluates: the leading entry of :data:`PERTURBED_ARRAY`, or,
+    where the piece has the table's tensor train, its first core's G_1[0, 0, 0] (the
+    coefficient on T_0 of the first axis: it multiplies the rest of the train's first rank
+    component at every point, the train's largest)."""
+    train = getattr(piece, f"{table}_train")
+    if train is None:
+        field = PERTURBED_ARRAY[table]
+        arr = getattr(piece, field).copy()
+        arr.flat[0] += 1e-9
+        return replace(piece, **{field: arr})
+    first = train.cores[0].copy()
+    first[0, 0, 0] += 1e-9
+    return replace(piece, **{f"{table}_train": replace(train, cores=(first, *train.cores[1:]))})
+
+
 def _with_sections(source, kind: str, change):
     """``source`` with each table of one geometry (the geometry's own, or each band of a
     plane with two angles) replaced by ``change(index, table)``."""
@@ -659,16 +676,13 @@ def _with_sections(source, kind: str, change):
 def _perturbed(source, kind: str, table: str):
     """``source`` with the leading coefficient of one shipped table (the first theta piece
     of one geometry, of its first band for a plane with two angles; for the force, the
-    leading entry of its left factor) moved by 1e-9 (a relative change of up to 1e-9 in
+    leading entry of its left factor; of a tensor train, :func:`_bumped`) moved by 1e-9
+    (a relative change of up to 1e-9 in
     the force or the rupture distance, 1000x the comparison's 1e-12)."""
-    field = PERTURBED_ARRAY[table]
-
     def change(i, sec):
         if i > 0:
             return sec
-        arr = getattr(sec.pieces[0], field).copy()
-        arr.flat[0] += 1e-9
-        return replace(sec, pieces=(replace(sec.pieces[0], **{field: arr}), *sec.pieces[1:]))
+        return replace(sec, pieces=(_bumped(sec.pieces[0], table), *sec.pieces[1:]))
 
     return _with_sections(source, kind, change)
 
@@ -813,8 +827,15 @@ def test_c_header_names_shipped_and_refit(source, tmp_path):
         ho = part.held_out
         assert f"force max {ho['force']['max']:.2g}" in text, kind
         for n, piece in (x for sec in part.sections for x in enumerate(sec.pieces)):
-            assert f"static const double left{n}[{piece.force_left.size}]" in text, kind
-            assert f"static const double right{n}[{piece.force_right.size}]" in text, kind
+            train = piece.force_train
+            if train is None:
+                assert f"static const double left{n}[{piece.force_left.size}]" in text, kind
+                assert f"static const double right{n}[{piece.force_right.size}]" in text, \
+                    kind
+            else:  # only what is evaluated: the trains' cores, not the fit
+                assert f"static const double force_cores{n}[{train.size}]" in text, kind
+                assert f"static const double rupture_cores{n}[" \
+                       f"{piece.rupture_train.size}]" in text, kind
             assert f"static const double force{n}[" not in text  # the dense table: not carried
     assert "#include <math.h>" in text and text.count("#include") == 1
     assert "malloc" not in text and "calloc" not in text
@@ -1007,7 +1028,8 @@ def test_json_calibrated_capillary_matches_table_and_schema(tmp_path, source):
     tables = [(k, p, t, pc) for k, p in source.table.parts.items() for t in p.sections
               for pc in t.pieces]
     for kind, part, sec, piece in tables:
-        for name, arr, held in (("rupture distance", piece.rupture, "rupture_distance"),
+        for name, arr, held in (("rupture distance", piece.rupture_table,
+                                 "rupture_distance"),
                                 ("force", piece.force, "force")):
             p = next(parts)
             assert p["name"].startswith(f"{name} {kind}") and p["geometry"] == kind
@@ -1488,6 +1510,13 @@ def test_onset_comparison_sees_a_moved_onset(onset, onset_points, tmp_path, lang
 PAIR_NOISE = {"rupture": 0.02, "force_left": 0.02, "force_right": 0.02, "theta_split": 0.2,
               cc.ONSET_KEY: 0.3}
 PAIR_FILE = Path("synthetic-pairs.json")
+#: the axis orders of the synthetic pair table's tensor trains (rupture, force), piece by
+#: piece, band after band: the gap axis c (4) first, inside and last, each order another
+#: permutation, so that every transpose and both ends of the C header's gap series are
+#: exercised (the generator would pick the cheapest order; here it need not be)
+PAIR_TRAIN_ORDERS = [((3, 1, 0, 2), (4, 3, 2, 1, 0)), ((0, 1, 2, 3), (0, 1, 2, 3, 4)),
+                     ((2, 0, 3, 1), (3, 2, 4, 1, 0)), ((1, 3, 2, 0), (1, 4, 0, 3, 2)),
+                     ((0, 2, 1, 3), (2, 0, 1, 4, 3)), ((3, 2, 1, 0), (0, 3, 1, 2, 4))]
 
 
 def _noisy(coef, scale: float, rng: np.random.Generator) -> list:
@@ -1499,9 +1528,15 @@ def _noisy(coef, scale: float, rng: np.random.Generator) -> list:
 
 def _pair_table(cache_dir: Path) -> dict:
     """The synthetic pair table (:func:`conftest.synthetic_pair_table`, the generator's
-    coarse stage on a polynomial bridge) with :data:`PAIR_NOISE` on every coefficient and a
-    stand-in held-out table (the model's bound floor and the json document read one)."""
+    coarse stage on a polynomial bridge) with :data:`PAIR_NOISE` on every coefficient, its
+    pieces' tensor trains built again from the noisy fit (as the generator builds them,
+    :func:`~wetcontact.calibrate_pairs2.train_piece`, over the axis orders
+    :data:`PAIR_TRAIN_ORDERS`; the trains are what the package and the exports evaluate)
+    and a stand-in held-out table (the model's bound floor and the
+    json document read one)."""
     from conftest import synthetic_pair_table
+
+    from wetcontact.calibrate_pairs2 import train_piece
 
     table = synthetic_pair_table(cache_dir)
     rng = np.random.default_rng(2611)
@@ -1513,6 +1548,11 @@ def _pair_table(cache_dir: Path) -> dict:
         for piece in band["pieces"]:
             for key in ("rupture", "force_left", "force_right"):
                 piece[key] = _noisy(piece[key], PAIR_NOISE[key], rng)
+    orders = iter(PAIR_TRAIN_ORDERS)
+    for band in table["bands"]:
+        band["pieces"] = [train_piece(p, dict(zip(("rupture_train", "force_train"),
+                                                  next(orders), strict=True)))
+                          for p in band["pieces"]]
     errors = {"max": 1e-4, "mean": 1e-5, "p95": 5e-5, "points": 100}
     table["held_out"] = {"force": errors, "rupture_distance": errors, "seed": 1,
                          "reference": "synthetic (the exports' test)"}
@@ -1708,20 +1748,14 @@ def _pair_changed(src, change):
                                                         cc.PAIR_TWO_ANGLES: part}))
 
 
-def _bump(arr: np.ndarray) -> np.ndarray:
-    out = arr.copy()
-    out.flat[0] += 1e-9
-    return out
-
-
 PAIR_BREAKS = {
     # the piece above the ridge ending at its fixed 70.5 deg instead of 70.5 + theta2* -
     # theta1: its b2 moves at every point above the ridge (the pieces 1, 3, 5)
     "fixed upper end": ((1, 3, 5), lambda k, i, p: replace(p, upper_past_ridge=False)),
     # one coefficient of band 1's upper piece moved by 1e-9 (1000 x the tolerance)
-    "band 1 upper rupture": ((3,), lambda k, i, p: replace(p, rupture=_bump(p.rupture))
+    "band 1 upper rupture": ((3,), lambda k, i, p: _bumped(p, "rupture")
                              if (k, i) == (1, 1) else p),
-    "band 2 lower force": ((4,), lambda k, i, p: replace(p, force_left=_bump(p.force_left))
+    "band 2 lower force": ((4,), lambda k, i, p: _bumped(p, "force")
                            if (k, i) == (2, 0) else p),
 }
 
@@ -1846,6 +1880,106 @@ def test_pair_layout_is_validated(pair2):
         _capillary_part(PAIR_FILE, cc.WALL_TWO_ANGLES, wall)
 
 
+def _train_pieces(pair2) -> list[tuple[object, dict]]:
+    """Every piece with tensor trains, read by the exports' reader, beside the package's
+    own arrays of it (:func:`~wetcontact.reduced_models.calibrated_capillary.as_arrays`):
+    the synthetic pair table's, and the shipped table's where its package data has them."""
+    from wetcontact.export.closures import _capillary_part
+
+    table, _ = pair2
+    entries = [(table, PAIR_FILE)]
+    shipped = cc.capillary_table() or {}
+    if cc.PAIR_TWO_ANGLES in shipped:
+        entries.append((shipped[cc.PAIR_TWO_ANGLES], Path(cc.CAPILLARY_FILE)))
+    out = []
+    for e, path in entries:
+        part = _capillary_part(path, cc.PAIR_TWO_ANGLES, e)
+        raw = cc.as_arrays({"e": e})["e"]
+        out += [(p, q) for h, g in zip(part.bands, raw["bands"], strict=True)
+                for p, q in zip(h.pieces, g["pieces"], strict=True)
+                if p.force_train is not None]
+    return out
+
+
+def test_train_dense_tensor_is_the_package_sum(pair2):
+    """A piece's dense tables from its tensor trains (``rupture_table``, ``force``: the
+    cores contracted, then transposed from the train's axis order back to the table's, what
+    the json export writes) sum, at 200 random points of [-1, 1]^d, to the package's own
+    train sum (:func:`~wetcontact.reduced_models.calibrated_capillary.train_sum`) within
+    1e-12 of exp(sum) (the rupture distance and force are exp of these sums, so the
+    difference of the sums is their relative difference; measured up to 5e-14, the dense
+    sum adding its 10^5 terms in another order). The force's sum differs from that of the
+    fit the train was built from (the low-rank force) by far more where the truncation
+    dropped anything (measured up to 1.7e-5), so a table taken from the fit would fail."""
+    pieces = _train_pieces(pair2)
+    assert len(pieces) >= 6
+    rng = np.random.default_rng(53)
+    fit_gap = []
+    for piece, raw in pieces:
+        for dense, train, fit in (
+                (piece.rupture_table, raw["rupture_train"], piece.rupture),
+                (piece.force, raw["force_train"],
+                 np.tensordot(piece.force_left, piece.force_right, 1))):
+            assert dense.shape == fit.shape
+            x = [rng.uniform(-1.0, 1.0, 200) for _ in dense.shape]
+            want = cc.train_sum(train, [cc._cheb_rows(t, n) for t, n in zip(x, dense.shape,
+                                                                          strict=True)])
+            np.testing.assert_allclose(np.exp(cc.chebyshev_tensor(dense, x)), np.exp(want),
+                                       rtol=1e-12, atol=0.0)
+            if dense.ndim == 5:  # the force: its train truncated at 1e-5
+                fit_gap.append(np.max(np.abs(cc.chebyshev_tensor(fit, x) - want)))
+    assert max(fit_gap) > 1e-7
+
+
+def test_train_layout_is_validated(pair2):
+    """The reader refuses a malformed tensor train, naming the file, the piece, the field,
+    its value and the allowed layout: a core of the wrong shape (ranks not chained, or the
+    wrong axis size), too few cores, an order that is not a permutation of the table's
+    axes, stated ranks that are not the cores', a non-finite core, a train that is not a
+    dict."""
+    from wetcontact.errors import InputError
+    from wetcontact.export.closures import _capillary_part
+
+    table, _ = pair2
+    where = r"synthetic-pairs.json: sphere-sphere-two-angles band 1 piece 0: field "
+
+    def piece(e):
+        return e["bands"][1]["pieces"][0]
+
+    def core(name, k, change):
+        def apply(e):
+            train = piece(e)[name]
+            train["cores"][k] = change(np.asarray(train["cores"][k])).tolist()
+        return apply
+
+    cases = [
+        (core("force_train", 1, lambda g: g[:, :, :-1]),
+         r"'force_train' cores of shapes \[.*\] \(order \[3, 2, 4, 1, 0\]\); want "
+         r"\[.*\]; allowed: \{'order'.*"
+         r"G_k a finite array of shape \(r_\(k-1\), n_\(o_k\), r_k\).*with table shape "
+         r"\(5, 5, 5, 5, 19\)"),
+        (core("rupture_train", 0, lambda g: g[:, :-1, :]),
+         r"'rupture_train' cores of shapes .*with table shape \(5, 5, 5, 5\)"),
+        (core("force_train", 2, lambda g: g.transpose(2, 1, 0)),
+         r"'force_train' cores of shapes"),
+        (lambda e: piece(e)["force_train"]["cores"].pop(),
+         r"'force_train' has 4 cores of shapes .*; want 5, one per axis"),
+        (lambda e: piece(e)["rupture_train"].update(order=[0, 1, 2, 2]),
+         r"'rupture_train' order = \[0, 1, 2, 2\] \(the table has 4 axes\)"),
+        (lambda e: piece(e)["force_train"].update(ranks=[1, 2, 3, 4]),
+         r"'force_train' ranks = \[1, 2, 3, 4\], the cores' \[5, "),
+        (core("force_train", 0, lambda g: np.where(g == g.flat[0], np.inf, g)),
+         r"'force_train' cores not finite"),
+        (lambda e: piece(e).update(rupture_train=[1.0, 2.0]),
+         r"'rupture_train' = 'list' \(not a dict with 'order' and 'cores'\)"),
+    ]
+    for change, says in cases:
+        e = json.loads(json.dumps(table))
+        change(e)
+        with pytest.raises(InputError, match=where + says):
+            _capillary_part(PAIR_FILE, cc.PAIR_TWO_ANGLES, e)
+
+
 def _onset_entry_from(table: dict) -> dict:
     """The shipped wall two-angle entry with its last piece flagged ``upper_past_ridge``."""
     shipped = cc.capillary_table()
@@ -1873,7 +2007,7 @@ def test_pair_json_document(pair2):
     it = iter(pairs)
     for band in part.bands:
         for piece in band.pieces:
-            for arr in (piece.rupture, piece.force):
+            for arr in (piece.rupture_table, piece.force):
                 p = next(it)
                 assert f"shape ({', '.join(map(str, arr.shape))}), axes (w, a, b1, b2" in \
                     p["coefficient_layout"]

@@ -391,26 +391,31 @@ def tt_svd(coef: np.ndarray, tol: float) -> list[np.ndarray]:
     return cores
 
 
-def train_of(coef: np.ndarray, tol: float) -> dict[str, Any]:
+def train_of(coef: np.ndarray, tol: float,
+             order: tuple[int, ...] | None = None) -> dict[str, Any]:
     """The tensor train of ``coef`` over the axis order with the fewest multiply-adds a
-    point (all orders tried), as a piece stores it (:func:`~wetcontact.reduced_models.
-    calibrated_capillary.train_sum`)."""
+    point (all orders tried; or over ``order``), as a piece stores it
+    (:func:`~wetcontact.reduced_models.calibrated_capillary.train_sum`)."""
     def cost(order: tuple[int, ...]) -> int:
         return sum(g.size for g in tt_svd(coef.transpose(order), tol))
 
-    order = min(itertools.permutations(range(coef.ndim)), key=cost)
+    if order is None:
+        order = min(itertools.permutations(range(coef.ndim)), key=cost)
     cores = tt_svd(coef.transpose(order), tol)
     return {"order": list(order), "tol": tol, "ranks": [g.shape[2] for g in cores[:-1]],
             "cores": [g.tolist() for g in cores]}
 
 
-def train_piece(piece: dict[str, Any]) -> dict[str, Any]:
+def train_piece(piece: dict[str, Any],
+                orders: dict[str, tuple[int, ...]] | None = None) -> dict[str, Any]:
     """A piece with its rupture and force tables' tensor trains (:data:`TRAIN_TOL`) beside
-    the fit they are built from (its rupture table and low-rank force factors)."""
+    the fit they are built from (its rupture table and low-rank force factors), each over
+    the cheapest axis order (:func:`train_of`) or the one ``orders`` gives it (by field)."""
     coef = {"rupture_train": np.asarray(piece["rupture"], dtype=float),
             "force_train": np.tensordot(np.asarray(piece["force_left"], dtype=float),
                                         np.asarray(piece["force_right"], dtype=float), 1)}
-    return {**piece, **{k: train_of(c, TRAIN_TOL[k]) for k, c in coef.items()}}
+    return {**piece, **{k: train_of(c, TRAIN_TOL[k], (orders or {}).get(k))
+                        for k, c in coef.items()}}
 
 
 def fit_pair_table(stage: str = "coarse", workers: int = 2,

@@ -13,6 +13,8 @@ import math
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from wetcontact import __version__
 from wetcontact.export.closures import (
     ONSET_TEXT,
@@ -20,6 +22,7 @@ from wetcontact.export.closures import (
     TWO_ANGLES,
     CapillaryPart,
     CapillarySource,
+    TensorTrain,
     immersed_tables,
     sphere_end_text,
 )
@@ -121,6 +124,11 @@ CAP_COMMENT = """\
  *   C_F = sum_q L[..][q] R[q][..] with L over the leading axes and R over the others, and
  *   evaluated as such: the left rows contracted with L (rank numbers), the right rows with
  *   R, their dot product (rank (size of L + size of R) multiply-adds, not the table's size).
+ *   Where the package holds a piece's table as a tensor train (Oseledets 2011, SIAM J. Sci.
+ *   Comput. 33, 2295), C[i_o1]..[i_od] = G_1[:][i_o1][:] G_2[:][i_o2][:] ... G_d[:][i_od][:]
+ *   (core G_k of shape (r_(k-1), n, r_k), r_0 = r_d = 1, carrying the axis o_k), only the
+ *   cores are stored, and the sum is the product of the matrices sum_m G_k[:][m][:] T_m
+ *   (sum_k r_(k-1) n r_k multiply-adds): wc__cap_train_left, wc__cap_train_gap.
  *   For a DEM contact whose volume, radii, surface tension and angle stay fixed while the
  *   gap changes: wc_capillary_contact_init(&c, r1, r2, volume, surface_tension, theta1_deg,
  *   theta2_deg) contracts all but the gap axis once (0 outside the domain; one angle or
@@ -265,6 +273,24 @@ static inline double wc_viscous_force_bridge(double r1, double r2, double viscos
 #define WC__CAP_SPHERES 1 /* one contact angle between two spheres: (w, a, b, c) */
 #define WC__CAP_PLANE2 2  /* two contact angles on a plane: (a, b1, b2, c) */
 #define WC__CAP_SPHERES2 3 /* two contact angles between two spheres: (w, a, b1, b2, c) */
+/* The axes a tensor train's core may carry, the slots of the Chebyshev rows tw, ta, tb, td
+ * and of the gap axis (a plane with one angle has no w: its a and b are slots 1 and 2; a
+ * plane with two angles has (a, b1, b2) in slots 0, 1 and 2, as its nw, na and nb). */
+#define WC__CAP_AXIS_W 0
+#define WC__CAP_AXIS_A 1
+#define WC__CAP_AXIS_B 2
+#define WC__CAP_AXIS_D 3
+#define WC__CAP_AXIS_C 4
+
+/* A table in tensor-train form (Oseledets 2011): d cores (0: no train), core k of shape
+ * (info[4k + 1], info[4k + 2], info[4k + 3]) = (r_(k-1), n, r_k), r_0 = r_d = 1, carrying
+ * the axis info[4k] (WC__CAP_AXIS_W ... WC__CAP_AXIS_C), stored row-major one after the
+ * other in `core`: C[i_o1]..[i_od] = G_1[:][i_o1][:] ... G_d[:][i_od][:]. */
+struct wc__cap_train {{
+    int d;
+    const int *info;
+    const double *core;
+}};
 
 /* One theta piece of one geometry: its ends (deg, or the split angle), the sizes of its
  * three leading axes (nw, na, nb: (w, a, b), or (a, b1, b2) for a plane with two angles)
@@ -274,13 +300,16 @@ static inline double wc_viscous_force_bridge(double r1, double r2, double viscos
  * the three leading axes and the rank q < rank, `right` the rank and the other axes (c
  * last). Two spheres with two angles have four leading axes (w, a, b1, b2): nb is b1's
  * size and nd b2's (0 for the other geometries, whose arithmetic does not read it); past:
- * the upper end is hi plus the ridge's offset from theta1, hi + theta2* - theta1. */
+ * the upper end is hi plus the ridge's offset from theta1, hi + theta2* - theta1. A table
+ * whose tensor train is set (rupture_train, force_train: d > 0) is evaluated by it; its
+ * arrays above are then null (not stored). */
 struct wc__cap_piece {{
     int lo_split, hi_split, quadratic;
     double lo, hi;
     int nw, na, nb, nc, nleft, rank;
     const double *rupture, *left, *right;
     int nd, past;
+    struct wc__cap_train rupture_train, force_train;
 }};
 
 /* One table of a geometry: its pieces (a point belongs to the first whose upper end is at
@@ -322,6 +351,18 @@ static inline void wc__cap_set(struct wc__cap_piece *p, int lo_split, double lo,
     p->right = right;
     p->nd = 0;
     p->past = 0;
+    p->rupture_train.d = 0;
+    p->force_train.d = 0;
+}}
+
+/* Set a piece's tensor train (after wc__cap_set): d cores laid out as struct wc__cap_train
+ * says. */
+static inline void wc__cap_set_train(struct wc__cap_train *t, int d, const int *info,
+                                     const double *core)
+{{
+    t->d = d;
+    t->info = info;
+    t->core = core;
 }}
 
 /* A piece of two spheres with two angles: the size nd of its b2 axis (after wc__cap_set,
@@ -349,6 +390,103 @@ static inline void wc__cheb_rows(double t, double *out, int n)
         out[1] = t;
     for (k = 2; k < n; ++k)
         out[k] = 2.0 * t * out[k - 1] - out[k - 2];
+}}
+
+/* The cores 0 .. end-1 of a tensor train contracted with the Chebyshev rows of their axes
+ * (rows[axis], the slots WC__CAP_AXIS_*) from the left: v = (1), then core by core
+ * v[s] <- sum_r sum_m v[r] T_m G_k[r][m][s], an axpy over s per (r, m); v then holds
+ * r_end numbers (end = d: the tensor's Chebyshev sum, v[0]). Returns r_end; *next points
+ * to core `end`. */
+static inline int wc__cap_train_left(const struct wc__cap_train *tt, int end,
+                                     const double *const *rows, double *v,
+                                     const double **next)
+{{
+    double nxt[WC__CAP_RMAX], weight;
+    const double *g = tt->core, *row;
+    const int *in;
+    int k, r, m, s, rl = 1, n, rr;
+    v[0] = 1.0;
+    for (k = 0; k < end; ++k) {{
+        in = tt->info + 4 * k;
+        row = rows[in[0]];
+        n = in[2];
+        rr = in[3];
+        for (s = 0; s < rr; ++s)
+            nxt[s] = 0.0;
+        for (r = 0; r < rl; ++r)
+            for (m = 0; m < n; ++m) {{
+                weight = v[r] * row[m];
+                for (s = 0; s < rr; ++s)
+                    nxt[s] += g[s] * weight;
+                g += rr;
+            }}
+        for (s = 0; s < rr; ++s)
+            v[s] = nxt[s];
+        rl = rr;
+    }}
+    *next = g;
+    return rl;
+}}
+
+/* The cores start+1 .. d-1 of a tensor train contracted with the Chebyshev rows of their
+ * axes from the right: u = (1), then core by core u[r] <- sum_m T_m sum_s G_k[r][m][s] u[s];
+ * u then holds r_(start+1) numbers. */
+static inline void wc__cap_train_right(const struct wc__cap_train *tt, int start,
+                                       const double *const *rows, double *u)
+{{
+    double nxt[WC__CAP_RMAX], acc, part;
+    const double *g = tt->core, *row;
+    const int *in;
+    int k, r, m, s, rr = 1, n, rl;
+    for (k = 0; k < tt->d; ++k)  /* g: the end of the last core */
+        g += tt->info[4 * k + 1] * tt->info[4 * k + 2] * tt->info[4 * k + 3];
+    u[0] = 1.0;
+    for (k = tt->d - 1; k > start; --k) {{
+        in = tt->info + 4 * k;
+        row = rows[in[0]];
+        rl = in[1];
+        n = in[2];
+        g -= rl * n * rr;
+        for (r = 0; r < rl; ++r) {{
+            acc = 0.0;
+            for (m = 0; m < n; ++m) {{
+                part = 0.0;
+                for (s = 0; s < rr; ++s)
+                    part += g[(r * n + m) * rr + s] * u[s];
+                acc += part * row[m];
+            }}
+            nxt[r] = acc;
+        }}
+        for (r = 0; r < rl; ++r)
+            u[r] = nxt[r];
+        rr = rl;
+    }}
+}}
+
+/* A force table's tensor train contracted over every axis but the gap's (the gap series
+ * g[l], a series in c): the cores before the gap axis's core k from the left (L), those
+ * after it from the right (R), g[l] = sum_r L[r] sum_s G_k[r][l][s] R[s]. */
+static inline void wc__cap_train_gap(const struct wc__cap_train *tt,
+                                     const double *const *rows, double *g)
+{{
+    double left[WC__CAP_RMAX], right[WC__CAP_RMAX], acc;
+    const double *core;
+    int k = 0, rl, n, rr, r, l, s;
+    while (tt->info[4 * k] != WC__CAP_AXIS_C)
+        ++k;
+    rl = wc__cap_train_left(tt, k, rows, left, &core);
+    wc__cap_train_right(tt, k, rows, right);
+    n = tt->info[4 * k + 2];
+    rr = tt->info[4 * k + 3];
+    for (l = 0; l < n; ++l)
+        g[l] = 0.0;
+    for (r = 0; r < rl; ++r)
+        for (l = 0; l < n; ++l) {{
+            acc = 0.0;
+            for (s = 0; s < rr; ++s)
+                acc += core[(r * n + l) * rr + s] * right[s];
+            g[l] += left[r] * acc;
+        }}
 }}
 
 /* The sphere angle (deg) where the ridge's jump appears on a plane with two angles, at the
@@ -415,7 +553,8 @@ static inline double wc__cap_b(const struct wc__cap_piece *pc, double theta, dou
  * has four). With two angles (axpy) the table is contracted over the axes before the
  * angle's into a row over it, an axpy per (i, j, k) that the compiler vectorises (a sum in
  * another order than the one-angle tables', which keep theirs; a three-axis table enters
- * the loop over k with one entry, T_0 = 1, whose products are exact). */
+ * the loop over k with one entry, T_0 = 1, whose products are exact). A piece with a
+ * rupture train: the train's sum over the same rows (wc__cap_train_left over every core). */
 static inline double wc__cap_rupture(const struct wc__cap_piece *pc, int axpy, double x0,
                                      double x1, double xb, double theta, double lo,
                                      double hi, double v, double *tw, double *ta, double *tb,
@@ -432,6 +571,16 @@ static inline double wc__cap_rupture(const struct wc__cap_piece *pc, int axpy, d
     if (four)
         wc__cheb_rows(xb, tb, pc->nb);
     wc__cheb_rows(wc__cap_b(pc, theta, lo, hi), tm, nm);
+    if (pc->rupture_train.d > 0) {{  /* its tensor train: the rows in their slots */
+        const double *rows[4], *end;
+        double prod[WC__CAP_RMAX];
+        rows[WC__CAP_AXIS_W] = tw;
+        rows[WC__CAP_AXIS_A] = ta;
+        rows[WC__CAP_AXIS_B] = tb;
+        rows[WC__CAP_AXIS_D] = td;
+        wc__cap_train_left(&pc->rupture_train, pc->rupture_train.d, rows, prod, &end);
+        return cbrt(v) * exp(prod[0]);
+    }}
     if (axpy) {{
         for (m = 0; m < nm; ++m)
             acc[m] = 0.0;
@@ -576,7 +725,8 @@ static inline double wc_rupture_distance(double r1, double r2, double volume,
  * for two spheres with two angles (nd > 0), b2 (td; with nd = 0 it enters as one entry,
  * T_0 = 1, whose products are exact: the three-axis tables' arithmetic, bit for bit). An
  * axis not in a factor enters it with one entry, T_0 = 1. Cost: rank (size of left + size
- * of right) multiply-adds. */
+ * of right) multiply-adds. A piece with a force train: every core but the gap axis's
+ * contracted from both ends (wc__cap_train_gap). */
 static inline void wc__cap_gap_series(const struct wc__cap_piece *pc, const double *tw,
                                       const double *ta, const double *tb, const double *td,
                                       double *g)
@@ -585,6 +735,16 @@ static inline void wc__cap_gap_series(const struct wc__cap_piece *pc, const doub
     const double *rows[4], *lrow[4], *rrow[4], *coef;
     double u[WC__CAP_RMAX], weight;
     int n[4], ln[4], rn[4], d, i, j, k, m, q, l;
+    if (pc->force_train.d > 0) {{  /* its tensor train: the rows in their slots, c open */
+        const double *slots[5];
+        slots[WC__CAP_AXIS_W] = tw;
+        slots[WC__CAP_AXIS_A] = ta;
+        slots[WC__CAP_AXIS_B] = tb;
+        slots[WC__CAP_AXIS_D] = td;
+        slots[WC__CAP_AXIS_C] = (const double *)0;  /* never read: the open axis */
+        wc__cap_train_gap(&pc->force_train, slots, g);
+        return;
+    }}
     rows[0] = tw;
     rows[1] = ta;
     rows[2] = tb;
@@ -836,7 +996,11 @@ def header_text(source: CapillarySource) -> str:
         cap_pieces=max(len(sec.pieces) for p in source.table.parts.values()
                        for sec in p.sections),
         cap_bands=max(len(p.sections) for p in source.table.parts.values()),
-        cap_rmax=max(pc.rank for p in source.table.parts.values() for pc in p.all_pieces),
+        cap_rmax=max([pc.rank for p in source.table.parts.values() for pc in p.all_pieces
+                      if pc.force_train is None]
+                     + [r for p in source.table.parts.values() for pc in p.all_pieces
+                        for t in (pc.rupture_train, pc.force_train) if t is not None
+                        for r in t.ranks] + [1]),
         cap_tables=_cap_tables(source), cap_onset=_cap_onset(source),
         cap_onset2=_cap_onset2(source),
         n_wall=len(w["chebyshev"]), cheb_wall=c_array(w["chebyshev"]),
@@ -948,13 +1112,17 @@ def _cap_tables(source: CapillarySource) -> str:
                 lines.append(f"        static const double split[{sec.split.size}] = "
                              f"{c_array(sec.split.ravel(), indent=12)};")
                 split = "split"
-            for n, p in enumerate(sec.pieces):
-                lines.append(f"        static const double rupture{n}[{p.rupture.size}] = "
-                             f"{c_array(p.rupture.ravel(), indent=12)};")
-                lines.append(f"        static const double left{n}[{p.force_left.size}] = "
-                             f"{c_array(p.force_left.ravel(), indent=12)};")
-                lines.append(f"        static const double right{n}[{p.force_right.size}] = "
-                             f"{c_array(p.force_right.ravel(), indent=12)};")
+            plane = kind == "sphere-wall"  # no w axis: one entry in the header's layout
+            for n, p in enumerate(sec.pieces):  # only the arrays that are evaluated
+                arrays = ([("rupture", p.rupture)] if p.rupture_train is None else []) + (
+                    [("left", p.force_left), ("right", p.force_right)]
+                    if p.force_train is None else [])
+                for name, arr in arrays:
+                    lines.append(f"        static const double {name}{n}[{arr.size}] = "
+                                 f"{c_array(arr.ravel(), indent=12)};")
+                for name, train in (("rupture", p.rupture_train), ("force", p.force_train)):
+                    if train is not None:
+                        lines.extend(_train_arrays(name, n, train, plane))
             # the split series' sizes, 0 for an axis it has not: (n,) in a, (n_a, n_b1) on a
             # plane with two angles, (n_w, n_a, n_b1) between spheres with two angles
             nsplit = (*(() if sec.split is None else sec.split.shape), 0, 0, 0)[:3]
@@ -966,22 +1134,53 @@ def _cap_tables(source: CapillarySource) -> str:
                 lines.append(f"        t->ts_{end} = {0.0 if x is None else float(x)!r};")
                 lines.append(f"        t->ts_{end}_onset = {int(x is None)};")
             lines.append(f"        t->split = {split};")
+            null = "(const double *)0"  # a table evaluated by its train: no array
             for n, p in enumerate(sec.pieces):
-                plane = kind == "sphere-wall"  # no w axis: one entry in the header's layout
                 shape = (1, *p.force_shape) if plane else p.force_shape
                 four = len(shape) == 5  # (w, a, b1, b2, c): b2's size set by wc__cap_set4
                 ends = ["1, 0.0" if e is None else f"0, {e!r}" for e in (p.theta_lo, p.theta_hi)]
+                low_rank = p.force_train is None
+                factors = (f"{p.n_left + plane}, {p.rank}" if low_rank else "0, 0")
+                arrays = (null if p.rupture_train else f"rupture{n}",
+                          f"left{n}" if low_rank else null, f"right{n}" if low_rank else null)
                 lines.append(f"        wc__cap_set(&t->piece[{n}], {ends[0]}, {ends[1]}, "
                              f"{int(p.quadratic)}, "
                              f"{', '.join(str(x) for x in shape[:3] + shape[-1:])}, "
-                             f"{p.n_left + plane}, {p.rank},\n"
-                             f"                    rupture{n}, left{n}, right{n});")
+                             f"{factors},\n                    {', '.join(arrays)});")
                 if four:
                     lines.append(f"        wc__cap_set4(&t->piece[{n}], {shape[3]}, "
                                  f"{int(p.upper_past_ridge)});")
+                for name, train in (("rupture", p.rupture_train), ("force", p.force_train)):
+                    if train is not None:
+                        lines.append(f"        wc__cap_set_train(&t->piece[{n}].{name}_train, "
+                                     f"{len(train.cores)}, {name}_info{n}, {name}_cores{n});")
             lines.append("        return 1;\n    }")
             out.append("\n".join(lines))
     return "\n".join(out) + "\n    return 0;"
+
+
+GAP_SLOT = 4
+"""The header's slot of the gap axis c (``WC__CAP_AXIS_C``); a table's other axes are its
+slots 0, 1, ... (``WC__CAP_AXIS_W`` ...), a plane with one angle's shifted by one (it has
+no w)."""
+
+
+def _train_arrays(table: str, n: int, train: TensorTrain, plane: bool) -> list[str]:
+    """The two static arrays of piece ``n``'s tensor train of ``table`` (``rupture`` or
+    ``force``), ``{table}_info{n}`` and ``{table}_cores{n}``: per core the slot of its axis
+    and its shape (r_(k-1), n, r_k), and the cores row-major one after the other (``struct
+    wc__cap_train``). The table's axes map to the slots of their Chebyshev rows (a plane
+    with one angle's shifted past w), the force table's last, the gap axis, to
+    ``WC__CAP_AXIS_C``."""
+    last = len(train.order) - 1
+    slots = [GAP_SLOT if table == "force" and ax == last else ax + plane
+             for ax in train.order]
+    info = [x for slot, g in zip(slots, train.cores, strict=True) for x in (slot, *g.shape)]
+    data = np.concatenate([g.ravel() for g in train.cores])
+    return [f"        static const int {table}_info{n}[{len(info)}] = "
+            f"{{{', '.join(map(str, info))}}};",
+            f"        static const double {table}_cores{n}[{data.size}] = "
+            f"{c_array(data, indent=12)};"]
 
 
 def _bridge_fields(bw: dict[str, Any], bs: dict[str, Any]) -> dict[str, Any]:

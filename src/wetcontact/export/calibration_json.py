@@ -151,6 +151,12 @@ ONSET_DESCRIPTION_PAIR = (
     "appears, theta_on(r, V) = sum_ij o_ij T_i(w) T_j(a), o_ij = 'chebyshev' (rows in w), w "
     "and a the ratio and volume coordinates of the form: the value of each null end of this "
     "part's theta_sphere_deg, at the point's own (w, a)")
+TRAIN_NOTE = (
+    "; C is the dense tensor of the piece's tensor train, the table the package evaluates "
+    "(C[i_o1, ..., i_od] = G_1[:, i_o1, :] G_2[:, i_o2, :] ... G_d[:, i_od, :], Oseledets "
+    "2011, over the axis order ({order}), ranks ({ranks}))")
+"""Added to a capillary part's layout where its table is a tensor train's (the package
+data's ``rupture_train``/``force_train``): the dense tensor written is that train's."""
 LAYOUT = {"willett": "k[i, j, m] flattened in C order, shape (4, 4, 3)",
           "finite-liquid": "(p, c0, ..., c8)", "lian-rupture": "(a, b, c)"}
 
@@ -244,7 +250,9 @@ def shipped_document(closure: str) -> dict[str, Any]:
 
 def capillary_document(table: CapillaryTable | None = None) -> dict[str, Any]:
     """The shipped ``calibrated-capillary`` closure: per generated geometry a rupture part
-    and a force part, each tensor flattened in C order (its shape in the layout); a wall
+    and a force part, each tensor flattened in C order (its shape in the layout; where the
+    piece carries tensor trains, the package evaluates them and the tensor written is the
+    train's dense tensor, :attr:`~wetcontact.export.closures.CapillaryPiece.force`); a wall
     with two contact angles (geometry ``sphere-wall-two-angles``) has axes (a, b1, b2) and
     a 2-D ridge series, per band of the sphere's angle (its parts' ``theta_sphere_deg``:
     the band's range, over which b1 is mapped; an end ``null`` is the onset angle, whose
@@ -320,12 +328,17 @@ def _capillary_piece_parts(t: CapillaryTable, kind: str, part: CapillaryPart,
     lo = t.theta_range_deg[0] if piece.theta_lo is None else piece.theta_lo
     hi = t.theta_range_deg[1] if piece.theta_hi is None else min(
         piece.theta_hi, t.theta_range_deg[1])  # a piece may reach past the domain
-    for name, form, arr, held, extra in (
-            ("rupture distance", "capillary-rupture", piece.rupture, "rupture_distance", {}),
-            ("force", "capillary-force", piece.force, "force", {"s_over_sc": [0.0, 1.0]})):
+    for name, form, arr, train, held, extra in (
+            ("rupture distance", "capillary-rupture", piece.rupture_table,
+             piece.rupture_train, "rupture_distance", {}),
+            ("force", "capillary-force", piece.force, piece.force_train, "force",
+             {"s_over_sc": [0.0, 1.0]})):
         shape = ", ".join(str(n) for n in arr.shape)
         layout = (f"C flattened in C order, shape ({shape}), axes "
                   + (axes if held != "force" else axes[:-1] + ", c)"))
+        if train is not None:  # the table the package evaluates: its train's
+            layout += TRAIN_NOTE.format(order=", ".join(map(str, train.order)),
+                                        ranks=", ".join(map(str, train.ranks)))
         coef = [float(c) for c in arr.ravel()]
         suffix = "-pair-two-angles" if pair2 else "-two-angles" if two else ""
         text = FORMS[form + suffix]

@@ -55,7 +55,9 @@ angle and node counts its package data holds: ``pieces`` in theta, with a ``thet
 series where a piece ends at the split angle; a plane with two angles in ``bands`` of the
 sphere's angle, each with such pieces and its ridge series, a band's end possibly the onset
 angle of the series ``theta_sphere_split``; two spheres with two angles likewise over
-(w, a)) and the two refits.
+(w, a)) and the two refits. Where a piece carries its tables' tensor trains
+(:class:`TensorTrain`, the two-angle pair table's), the package evaluates the trains, and
+so do the exports (the json export writes their dense tensors).
 
 Outside the calibrated domain (or for inputs no closure covers: unequal spheres for the
 immersed part, a geometry whose table is not generated, e.g. two contact angles between
@@ -112,6 +114,55 @@ class RefitTable:
 
 
 @dataclass(frozen=True, eq=False)
+class TensorTrain:
+    r"""A coefficient tensor in tensor-train form (Oseledets 2011, SIAM J. Sci. Comput. 33,
+    2295), as a piece of the package data stores it (``rupture_train``, ``force_train``):
+
+    .. math::
+        C_{i_{o_1} \ldots i_{o_d}} = G_1[:, i_{o_1}, :] \, G_2[:, i_{o_2}, :] \cdots
+        G_d[:, i_{o_d}, :],
+
+    core ``G_k`` of shape (r_{k-1}, n_{o_k}, r_k) with r_0 = r_d = 1, carrying the table
+    axis ``o_k = order[k]``. The Chebyshev sum of such a tensor at a point is the product
+    of the matrices ``sum_m G_k[:, m, :] T_m(x_{o_k})`` (``sum_k r_{k-1} n_k r_k``
+    multiply-adds), the package's
+    :func:`~wetcontact.reduced_models.calibrated_capillary.train_sum`. ``tol``: the
+    truncation the train was built with (the 2-norm of the singular values dropped at each
+    unfolding), ``None`` when the file does not say."""
+
+    order: tuple[int, ...]
+    cores: tuple[np.ndarray, ...]
+    tol: float | None = None
+
+    @property
+    def ranks(self) -> tuple[int, ...]:
+        """The inner ranks r_1, ..., r_{d-1}."""
+        return tuple(int(g.shape[2]) for g in self.cores[:-1])
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """The dense tensor's shape, in the table's axis order."""
+        n = [0] * len(self.order)
+        for g, ax in zip(self.cores, self.order, strict=True):
+            n[ax] = int(g.shape[1])
+        return tuple(n)
+
+    @property
+    def size(self) -> int:
+        """How many numbers the cores hold."""
+        return sum(int(g.size) for g in self.cores)
+
+    @property
+    def dense(self) -> np.ndarray:
+        """The dense tensor C in the table's axis order: the cores contracted over their
+        ranks, ``G_1 G_2 ... G_d`` (axes in ``order``), then transposed back."""
+        out = self.cores[0][0]
+        for g in self.cores[1:]:
+            out = np.tensordot(out, g, axes=1)
+        return out[..., 0].transpose(np.argsort(self.order))
+
+
+@dataclass(frozen=True, eq=False)
 class CapillaryPiece:
     """The tables of one theta piece of one geometry: ``rupture`` and the force table in the
     package's low-rank form, ``C^F = tensordot(force_left, force_right, 1)`` (the force
@@ -119,6 +170,10 @@ class CapillaryPiece:
     axes and the rank, ``force_right`` the rank and the others). A sphere pair's axes are
     (w, a, b[, c]), a wall's (a, b[, c]), a wall's with two angles (a, b1, b2[, c]), a sphere
     pair's with two angles (w, a, b1, b2[, c]).
+    ``rupture_train``/``force_train``: the tensor trains of these two tables
+    (:class:`TensorTrain`) where the package data has them (the two-angle pair table); the
+    package then evaluates them, and the arrays above are the fit they were built from, so
+    that :attr:`rupture_table` and :attr:`force` (what the exports carry) are the trains'.
     ``theta_lo``/``theta_hi`` (deg) bound the piece in the angle that the pieces divide
     (the one angle, or the wall's); ``None`` is the geometry's split angle (b, or b2, is
     mapped from that angle within the piece: linearly, or, if ``quadratic``, quadratically
@@ -136,10 +191,12 @@ class CapillaryPiece:
     force_right: np.ndarray
     quadratic: bool = False
     upper_past_ridge: bool = False
+    rupture_train: TensorTrain | None = None
+    force_train: TensorTrain | None = None
 
     @property
     def rank(self) -> int:
-        """The rank r of the force table's factorisation."""
+        """The rank r of the force table's low-rank factorisation."""
         return int(self.force_left.shape[-1])
 
     @property
@@ -153,9 +210,18 @@ class CapillaryPiece:
         return (*self.force_left.shape[:-1], *self.force_right.shape[1:])
 
     @property
+    def rupture_table(self) -> np.ndarray:
+        """The rupture table the package evaluates: its train's dense tensor
+        (:attr:`TensorTrain.dense`) where it has one, else ``rupture``."""
+        return self.rupture if self.rupture_train is None else self.rupture_train.dense
+
+    @property
     def force(self) -> np.ndarray:
-        """The dense force table ``sum_k L[..., k] R[k, ...]`` (the json export writes it;
-        the python and C exports evaluate the factors)."""
+        """The force table the package evaluates, dense: its train's dense tensor where it
+        has one, else ``sum_k L[..., k] R[k, ...]`` (the json export writes it; the python
+        and C exports evaluate the train, or the factors)."""
+        if self.force_train is not None:
+            return self.force_train.dense
         return np.tensordot(self.force_left, self.force_right, axes=1)
 
 
@@ -488,9 +554,12 @@ def _sections(path: Path, kind: str, where: str, e: dict[str, Any]
                              f"(theta_deg {[lo, hi]}); allowed: absent or false, or true on "
                              "a sphere pair's last piece [null, number] (its upper end the "
                              "number plus the ridge's offset from theta1)")
+        trains = {name: _train(path, f"{where} piece {i}", name, p[name], axes)
+                  for name, axes in (("rupture_train", rup.shape), ("force_train", shape))
+                  if name in p}
         pieces.append(CapillaryPiece(None if lo is None else float(lo),
                                      None if hi is None else float(hi), rup, left, right,
-                                     tmap == "ridge-quadratic", bool(past)))
+                                     tmap == "ridge-quadratic", bool(past), **trains))
     ts = e.get("theta_split")
     split = None if ts is None else np.asarray(ts["chebyshev"], dtype=float)
     bounds = [x for p in pieces for x in (p.theta_lo, p.theta_hi)]
@@ -513,6 +582,54 @@ def _sections(path: Path, kind: str, where: str, e: dict[str, Any]
                          "with a theta_split series")
     _no_ridge_margin(path, where, e)
     return tuple(pieces), split
+
+
+TRAIN_LAYOUT = ("{'order': [o_1, ..., o_d] (a permutation of the table's axes 0..d-1), "
+                "'tol': a finite number >= 0 (optional), 'ranks': [r_1, ..., r_(d-1)] "
+                "(optional), 'cores': [G_1, ..., G_d], G_k a finite array of shape "
+                "(r_(k-1), n_(o_k), r_k), r_0 = r_d = 1, n the table's shape}")
+"""How a piece's tensor train is laid out (:class:`TensorTrain`), for the messages."""
+
+
+def _train(path: Path, where: str, name: str, raw: Any, shape: tuple[int, ...]
+           ) -> TensorTrain:
+    """A piece's tensor train ``name`` (``rupture_train`` or ``force_train``) of the table
+    of shape ``shape``, validated: :data:`TRAIN_LAYOUT`, each core's shape chained to its
+    neighbours' ranks and to the table axis it carries; an :class:`InputError` naming the
+    file, the piece, the field and its value otherwise."""
+    def refuse(what: str) -> InputError:
+        return InputError(f"{path}: {where}: field {name!r} {what}; allowed: "
+                          f"{TRAIN_LAYOUT} with table shape {shape}")
+
+    if not isinstance(raw, dict) or not {"order", "cores"} <= set(raw):
+        keys = sorted(raw) if isinstance(raw, dict) else type(raw).__name__
+        raise refuse(f"= {keys!r} (not a dict with 'order' and 'cores')")
+    order, d = raw["order"], len(shape)
+    if not (isinstance(order, list | tuple) and all(
+            isinstance(o, int) and not isinstance(o, bool) for o in order)
+            and sorted(order) == list(range(d))):
+        raise refuse(f"order = {order!r} (the table has {d} axes)")
+    try:
+        cores = tuple(np.asarray(g, dtype=float) for g in raw["cores"])
+    except (TypeError, ValueError) as exc:
+        raise refuse(f"cores not numeric arrays ({exc})") from None
+    shapes = [g.shape for g in cores]
+    if len(cores) != d:
+        raise refuse(f"has {len(cores)} cores of shapes {shapes}; want {d}, one per axis")
+    ranks = [1] + [g.shape[-1] if g.ndim == 3 else -1 for g in cores[:-1]] + [1]
+    want = [(ranks[k], shape[o], ranks[k + 1]) for k, o in enumerate(order)]
+    if shapes != want:
+        raise refuse(f"cores of shapes {shapes} (order {list(order)}); want {want}")
+    if not all(np.all(np.isfinite(g)) for g in cores):
+        raise refuse("cores not finite")
+    if "ranks" in raw and not (isinstance(raw["ranks"], list | tuple)
+                               and list(raw["ranks"]) == ranks[1:-1]):
+        raise refuse(f"ranks = {raw['ranks']!r}, the cores' {ranks[1:-1]}")
+    tol = raw.get("tol")
+    if tol is not None and not (isinstance(tol, int | float) and not isinstance(tol, bool)
+                                and math.isfinite(tol) and tol >= 0):
+        raise refuse(f"tol = {tol!r}")
+    return TensorTrain(tuple(order), cores, None if tol is None else float(tol))
 
 
 def _no_ridge_margin(path: Path, where: str, e: dict[str, Any]) -> None:

@@ -14,6 +14,8 @@ import textwrap
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from wetcontact import __version__
 from wetcontact.export.c_header import (
     FUNCTIONS,
@@ -29,6 +31,7 @@ from wetcontact.export.closures import (
     CapillaryBand,
     CapillaryPart,
     CapillarySource,
+    TensorTrain,
     immersed_tables,
 )
 from wetcontact.fileio import atomic_write_text
@@ -90,7 +93,11 @@ it ends at its hi + theta2* - theta1 (past 70 deg and the ridge).
 C_F is carried in its low-rank form C_F = sum_k L[..., k] R[k, ...] (rank r, the package's
 own layout) and evaluated as such: the Chebyshev rows of the left axes ((w, a) for sphere
 pairs, (a, b) on a plane, (a, b1) on a plane with two angles in the shipped data) times L,
-of the other axes times R, the dot product of the two.
+of the other axes times R, the dot product of the two. Where the package holds a piece's
+table as a tensor train (Oseledets 2011, SIAM J. Sci. Comput. 33, 2295), C[i_o1, ..., i_od]
+= G_1[:, i_o1, :] G_2[:, i_o2, :] ... G_d[:, i_od, :] (core G_k of shape (r_(k-1), n, r_k),
+r_0 = r_d = 1, carrying the axis o_k), it is carried and evaluated as that train: the
+product of the matrices sum_m G_k[:, m, :] T_m(x_ok), core by core (_cap_train).
 Held-out max relative error against `meniscus`:
 {cap_held_out}
 Domain: a plane or two spheres with r in [{q_lo:.6g}, {q_hi:.6g}], v in [{cv_lo:.6g}, {cv_hi:.6g}],
@@ -212,9 +219,11 @@ _CAP_LNV_LO, _CAP_LNV_HI = {lnv_lo_r}, {lnv_hi_r}
 _CAP_T_LO, _CAP_T_HI = {ct_lo_r}, {ct_hi_r}
 _CAP_Q_HI, _CAP_W_MAX = {q_hi_r}, {w_max_r}
 _CAP_ANGLE_TOL = {angle_tol_r}  # rad: two angles closer than this count as one
-# per geometry: the theta pieces (lo, hi, rupture table, force_left, force_right,
-# quadratic: the angle's coordinate quadratic toward the split end, _cap_b, past: the
-# upper end is hi plus the ridge's offset from theta1), lo/hi in deg or None for the
+# per geometry: the theta pieces (lo, hi, rupture table, force table, quadratic: the
+# angle's coordinate quadratic toward the split end, _cap_b, past: the upper end is hi
+# plus the ridge's offset from theta1; a table dense (rupture), the low-rank pair
+# (force_left, force_right) (force), or a tensor train {{"order", "cores"}}, _cap_train),
+# lo/hi in deg or None for the
 # split angle ("split": a Chebyshev series in a); a point belongs to the first piece
 # whose upper end is at or above its angle; None where no table was generated. Two
 # angles, "wall2" (a plane) and "spheres2" (a sphere pair, theta1 the smaller sphere's
@@ -243,7 +252,7 @@ def _cap_map(x, lo, hi):
 def _cap_b(x, lo, hi, piece):
     """The angle's coordinate within a piece: linear, or, if the piece's last entry says
     so, quadratic toward its end at the split angle (its upper end when its hi is None)."""
-    if not piece[5]:
+    if not piece[4]:
         return _cap_map(x, lo, hi)
     if piece[1] is None:
         return 1.0 - 2.0 * np.sqrt(np.clip((hi - x) / (hi - lo), 0.0, None))
@@ -293,25 +302,57 @@ def _cap_outer(pts, shape):
     return outer
 
 
+def _cap_train(train, pts):
+    """sum C T(x_1) ... T(x_d) at the points pts (one array per table axis) with C a tensor
+    train: v = sum_m G_1[0, m, :] T_m(x_o1), then core by core
+    v <- sum_m (v G_k)[:, m, :] T_m(x_ok) (r_(k-1) n r_k multiply-adds a point)."""
+    cores, order = train["cores"], train["order"]
+    v = _cap_rows(pts[order[0]], cores[0].shape[1]) @ cores[0][0]
+    for g, ax in zip(cores[1:], order[1:]):
+        w = (v @ g.reshape(g.shape[0], -1)).reshape(v.shape[0], g.shape[1], g.shape[2])
+        v = np.einsum("nmr,nm->nr", w, _cap_rows(pts[ax], g.shape[1]))
+    return v[:, 0]
+
+
+def _cap_low_rank(left, right, pts, lead, tb):
+    """The force exponent from the low-rank form at pts (all the table's axes, c last): the
+    Chebyshev rows of the left axes times left (r numbers), of the right axes times right
+    (r numbers), their dot product; lead, tb: the rupture's rows over the axes before b and
+    of b (None: built here)."""
+    k = left.ndim - 1  # the force table's axes carried by force_left
+    nr = len(pts) - 1  # the rupture table's axes
+    if lead is None:
+        lead = _cap_outer(pts[:nr - 1], left.shape[:nr - 1])
+        tb = _cap_rows(pts[nr - 1], (*left.shape[:-1], *right.shape[1:])[nr - 1])
+    if k == nr:  # left over every axis of rupture: b contracted last
+        m = lead @ left.reshape(lead.shape[1], -1)
+        u = np.einsum("ibr,ib->ir", m.reshape(m.shape[0], tb.shape[1], -1), tb)
+    else:
+        u = (lead if k == nr - 1 else _cap_outer(pts[:k], left.shape[:-1])) @ \
+            left.reshape(-1, left.shape[-1])
+    w = _cap_outer(pts[k:], right.shape[1:]) @ right.reshape(right.shape[0], -1).T
+    return np.einsum("ij,ij->i", u, w)
+
+
 def _cap_star(tables, coords, v, rho, cos_t, s):
     """(F/(2 pi sigma R_s), S_c/R_s) at s = S/R_s (F 0 at and past S_c; s None: S_c only);
     cos_t: the Derjaguin factor, 2 cos theta (one angle) or cos theta1 + cos theta2.
     The rupture exponent: the Chebyshev rows of the axes before b times the table, dotted
-    with the rows of b. The force exponent in the table's low-rank form: the Chebyshev rows
-    of the left axes times force_left (r numbers), of the right axes times force_right (r
-    numbers), their dot product."""
-    rup, left, right = tables
-    k = left.ndim - 1  # the force table's axes carried by force_left
-    lf = left.reshape(-1, left.shape[-1])
-    rf = right.reshape(right.shape[0], -1).T
-    rup2 = rup.reshape(-1, rup.shape[-1])
+    with the rows of b, or its tensor train (_cap_train). The force exponent in the
+    table's low-rank form (_cap_low_rank), or its tensor train."""
+    rup, force = tables
     f, s_c = np.empty(v.size), np.empty(v.size)
     for lo in range(0, v.size, _CHUNK):
         sl = slice(lo, min(v.size, lo + _CHUNK))
         pts = [x[sl] for x in coords]
-        lead = _cap_outer(pts[:-1], rup.shape[:-1])  # rows over all axes but b
-        tb = _cap_rows(pts[-1], rup.shape[-1])
-        sc = np.cbrt(v[sl]) * np.exp(np.einsum("ij,ij->i", lead @ rup2, tb))
+        lead = tb = None
+        if isinstance(rup, dict):
+            sc = np.cbrt(v[sl]) * np.exp(_cap_train(rup, pts))
+        else:
+            lead = _cap_outer(pts[:-1], rup.shape[:-1])  # rows over all axes but b
+            tb = _cap_rows(pts[-1], rup.shape[-1])
+            sc = np.cbrt(v[sl]) * np.exp(np.einsum("ij,ij->i",
+                                                   lead @ rup.reshape(-1, rup.shape[-1]), tb))
         s_c[sl] = sc
         if s is None:
             continue
@@ -319,13 +360,8 @@ def _cap_star(tables, coords, v, rho, cos_t, s):
         eps = np.sqrt(v[sl] / (np.pi * rho[sl]))
         ratio = np.log1p(np.where(inside, s[sl], 0.0) / eps) / np.log1p(sc / eps)
         pts.append(2.0 * np.sqrt(np.clip(1.0 - ratio, 0.0, 1.0)) - 1.0)
-        if k == rup.ndim:  # left over every axis of rupture: b contracted last
-            m = lead @ left.reshape(lead.shape[1], -1)
-            u = np.einsum("ibr,ib->ir", m.reshape(m.shape[0], tb.shape[1], -1), tb)
-        else:
-            u = (lead if k == rup.ndim - 1 else _cap_outer(pts[:k], left.shape[:-1])) @ lf
-        w = _cap_outer(pts[k:], right.shape[1:]) @ rf
-        q = np.exp(np.einsum("ij,ij->i", u, w))
+        q = np.exp(_cap_train(force, pts) if isinstance(force, dict) else
+                   _cap_low_rank(*force, pts, lead, tb))
         f[sl] = np.where(inside, rho[sl] * cos_t[sl] * q, 0.0)
     return f, s_c
 
@@ -340,14 +376,14 @@ def _cap_pieces(pieces, lead, theta, sp, v, rho, cos_t, s, idx, f, s_c, ok, firs
     for pc in pieces:
         lo = sp if pc[0] is None else np.full(idx.size, pc[0])
         hi = sp if pc[1] is None else np.full(idx.size, pc[1])
-        if pc[6]:  # the upper end moves with the ridge and theta1
+        if pc[5]:  # the upper end moves with the ridge and theta1
             hi = hi + (sp - first)
         j = np.flatnonzero(todo & (theta <= hi))
         todo[j] = False
         if j.size == 0:
             continue
         coords = [x[j] for x in lead] + [_cap_b(theta[j], lo[j], hi[j], pc)]
-        f[idx[j]], s_c[idx[j]] = _cap_star(pc[2:5], coords, v[j], rho[j], cos_t[j],
+        f[idx[j]], s_c[idx[j]] = _cap_star(pc[2:4], coords, v[j], rho[j], cos_t[j],
                                            None if s is None else s[j])
     ok[idx[todo]] = False
 
@@ -560,24 +596,34 @@ def _fill(text: str) -> str:
 
 
 def _tables(part: CapillaryPart | CapillaryBand | None) -> str:
-    """One table's pieces and split series as Python source, or ``None``."""
+    """One table's pieces and split series as Python source, or ``None``: per piece only
+    what the package evaluates (a table's tensor train where it has one)."""
     if part is None:
         return "None"
     pieces = []
     for p in part.pieces:
-        pieces.append(
-            f"(\n        {p.theta_lo!r}, {p.theta_hi!r},"
-            f"\n        np.array({_list(p.rupture.ravel(), 4)}).reshape({p.rupture.shape}),"
-            f"\n        np.array({_list(p.force_left.ravel(), 4)}).reshape("
-            f"{p.force_left.shape}),"
-            f"\n        np.array({_list(p.force_right.ravel(), 4)}).reshape("
-            f"{p.force_right.shape}), {p.quadratic!r}, {p.upper_past_ridge!r})")
-    split = "None" if part.split is None else (
-        f"np.array({_list(part.split.ravel(), 4)}).reshape({part.split.shape})")
+        rup = _array(p.rupture) if p.rupture_train is None else _train(p.rupture_train)
+        force = (f"(\n        {_array(p.force_left)},\n        {_array(p.force_right)})"
+                 if p.force_train is None else _train(p.force_train))
+        pieces.append(f"(\n        {p.theta_lo!r}, {p.theta_hi!r},\n        {rup},"
+                      f"\n        {force}, {p.quadratic!r}, {p.upper_past_ridge!r})")
+    split = "None" if part.split is None else _array(part.split)
     rng = "" if not isinstance(part, CapillaryBand) else (
         f'"theta_sphere": ({part.theta_sphere_lo!r}, {part.theta_sphere_hi!r}),\n    ')
     return (f'{{{rng}"split": {split},\n    "pieces": ['
             + ",\n    ".join(pieces) + "]}")
+
+
+def _array(arr: np.ndarray) -> str:
+    """An array as Python source, ``np.array([...]).reshape(shape)``."""
+    return f"np.array({_list(arr.ravel(), 4)}).reshape({arr.shape})"
+
+
+def _train(train: TensorTrain) -> str:
+    """A tensor train as Python source, ``{"order": (...), "cores": [...]}`` (the module's
+    ``_cap_train``)."""
+    cores = ",\n        ".join(_array(g) for g in train.cores)
+    return f'{{"order": {train.order!r}, "cores": [\n        {cores}]}}'
 
 
 def _bands(part: CapillaryPart | None) -> str:
@@ -594,7 +640,7 @@ def _onset(part: CapillaryPart | None) -> str:
         return "None"
     if part.onset.ndim == 1:
         return f"np.array({_list(part.onset)})"
-    return f"np.array({_list(part.onset.ravel(), 4)}).reshape({part.onset.shape})"
+    return _array(part.onset)
 
 
 def _list(values: Any, per_line: int = 3) -> str:
