@@ -369,10 +369,10 @@ def fit_pair_piece(piece: dict[str, Any], nb2: int, onset: dict[str, Any],
 
 TRAIN_TOL = {"rupture_train": 1e-6, "force_train": 1e-5}
 """Truncation of each piece's tensor trains (:func:`tt_svd`): the 2-norm of the singular
-values dropped at each unfolding of the Chebyshev coefficient tensor. Measured
-(``benchmarks/bench_pair_tt.py``, before they shipped): the force moves by at most 1.1e-4
-on the cost benchmark's points, the held-out maxima by at most 1.3e-5, and a point costs
-about 1.5 us instead of 3.8."""
+values dropped at each unfolding of the Chebyshev coefficient tensor. Measured against
+the fit (``benchmarks/bench_pair_tt.py``): the force moves by at most 1.1e-4 on the cost
+benchmark's points, the held-out maxima by at most 1.3e-5, and a point costs 1.6 us
+instead of 4.0."""
 
 
 def tt_svd(coef: np.ndarray, tol: float) -> list[np.ndarray]:
