@@ -328,6 +328,7 @@ def test_shipped_pair_pieces_are_trains_of_their_fit_within_their_tolerance() ->
 def test_retrain_is_refused_for_other_kinds(capsys) -> None:
     from wetcontact import calibrate
 
+    assert calibrate.PAIR_KIND == p2.PAIR_TWO_ANGLES  # the CLI's copy of the name
     with pytest.raises(SystemExit) as exc:
         calibrate.main(["capillary", "--kind", "sphere-wall", "--retrain"])
     assert exc.value.code == 2

@@ -583,7 +583,8 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
     symmetry-breaking bifurcation (theta about 30-31 deg, moving with V), so sphere pairs
     carry two tables, below and above that angle (``theta_split``). The force exponent is
     the rank-r sum :func:`low_rank_rows` (cost ``r (P_left + P_right)`` multiply-adds a
-    point). ``entry``: one kind's table (default: the shipped one).
+    point), or, for a piece that carries them (the two-angle pair table's), its tensor
+    trains (:func:`train_sum`). ``entry``: one kind's table (default: the shipped one).
 
     On a wall, ``theta_wall`` (rad) gives the wall its own angle (``theta`` is then the
     sphere's): points whose two angles differ by more than :data:`ANGLE_TOL` are evaluated
