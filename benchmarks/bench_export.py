@@ -10,8 +10,9 @@ read them as orders of magnitude.
 - evaluation: seconds per point of the exported numpy module (1e5 points, vectorised, one
   BLAS thread) and of the C header (1e6 calls in a loop, 1e5 for calibrated-capillary,
   ``cc -O2``, CPU time by ``clock()``; ``wc_capillary_force_at``: 1e6 gaps of one contact
-  set up once by ``wc_capillary_contact_init``), and the compile time of a program
-  including the header.
+  set up once by ``wc_capillary_contact_init``; two spheres with two contact angles, 20 and
+  30 deg, the volume varying over 50 values), and the compile time of a program including
+  the header.
 """
 
 from __future__ import annotations
@@ -52,7 +53,7 @@ C_BENCH = r"""
 int main(void)
 {
     const int n = 1000000, m = 100000;
-    double acc = 0.0, t[10];
+    double acc = 0.0, t[12];
     struct wc_capillary_contact plane, spheres;
     clock_t c0;
     int i, k;
@@ -71,7 +72,11 @@ int main(void)
     wc_capillary_contact_init(&spheres, 1e-3, 2e-3, 1e-11, 0.072, 20.0, 20.0);
     TIME(8, n, wc_capillary_force_at(&plane, 1e-7 * (1 + i % 1000)));
     TIME(9, n, wc_capillary_force_at(&spheres, 1e-7 * (1 + i % 1000)));
-    for (k = 0; k < 10; ++k)
+    /* two spheres with two contact angles (the table evaluated by its tensor trains) */
+    TIME(10, m, wc_rupture_distance(1e-3, 2e-3, 1e-11 * (1 + i % 50), 20.0, 30.0));
+    TIME(11, m, wc_capillary_force(1e-3, 2e-3, 1e-11 * (1 + i % 50), 1e-7 * (1 + i % 1000),
+                                   0.072, 20.0, 30.0));
+    for (k = 0; k < 12; ++k)
         printf("%.6g ", t[k]);
     printf("%.17g\n", acc);
     return 0;
@@ -81,7 +86,9 @@ C_NAMES = ("viscous_force_immersed", "viscous_force_bridge", "rupture_distance (
            "capillary_force (plane)", "rupture_distance (spheres, r = 2)",
            "capillary_force (spheres, r = 2)", "rupture_distance_refit", "capillary_force_refit",
            "capillary_force_at (plane, contact set up once)",
-           "capillary_force_at (spheres, r = 2, contact set up once)")
+           "capillary_force_at (spheres, r = 2, contact set up once)",
+           "rupture_distance (spheres, r = 2, 20 and 30 deg)",
+           "capillary_force (spheres, r = 2, 20 and 30 deg)")
 
 N_PY = 100_000
 
@@ -130,13 +137,15 @@ def main() -> None:
         "viscous_force_bridge": per_point(lambda: mod.viscous_force_bridge(
             1e-3, 2e-3, 1e-3, vol, 0.1, gap * 1e-2)),
     }
-    for label, r2 in (("plane", np.inf), ("spheres, r = 2", 2e-3)):
-        sc = mod.rupture_distance(1e-3, r2, vol, 20.0, 20.0)
+    for label, r2, t2 in (("plane", np.inf, 20.0), ("spheres, r = 2", 2e-3, 20.0),
+                          ("spheres, r = 2, 20 and 30 deg", 2e-3, 30.0)):
+        sc = mod.rupture_distance(1e-3, r2, vol, 20.0, t2)
         cgap = sc * rng.uniform(0.0, 1.0, N_PY)
-        py_eval[f"rupture_distance ({label})"] = per_point(lambda r2=r2: mod.rupture_distance(
-            1e-3, r2, vol, 20.0, 20.0))
+        py_eval[f"rupture_distance ({label})"] = per_point(
+            lambda r2=r2, t2=t2: mod.rupture_distance(1e-3, r2, vol, 20.0, t2))
         py_eval[f"capillary_force ({label})"] = per_point(
-            lambda r2=r2, cgap=cgap: mod.capillary_force(1e-3, r2, vol, cgap, 0.072, 20.0, 20.0))
+            lambda r2=r2, t2=t2, cgap=cgap: mod.capillary_force(1e-3, r2, vol, cgap, 0.072,
+                                                                20.0, t2))
     sc = mod.rupture_distance_refit(1e-3, 1e-3, vol, 10.0, 30.0)
     cgap = sc * rng.uniform(0.02, 1.0, N_PY)
     py_eval["rupture_distance_refit"] = per_point(lambda: mod.rupture_distance_refit(
@@ -199,10 +208,10 @@ def chart(writer_s: dict[str, float], command_s: dict[str, float],
     bx.set_yticks(y, funcs, fontsize=8)
     bx.set_xscale("log")
     bx.set_xlabel("us (median)")
-    bx.set_title("evaluating the exports\n(capillary: V = 1e-11 m^3, r1 = 1 mm, theta = 20 deg)",
-                 fontsize=10)
+    bx.set_title("evaluating the exports\n(capillary: V = 1e-11 m^3, r1 = 1 mm, theta = 20 deg;"
+                 "\ntwo angles: 20 and 30 deg)", fontsize=10)
     bx.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=1)
-    fig.suptitle("wetcontact exports on a shared 2-core machine (loaded: other jobs ran)",
+    fig.suptitle("wetcontact exports on a shared 2-core machine (medians; other jobs may run)",
                  fontsize=10)
     fig.tight_layout()
     fig.savefig(RESULTS / "export.png", dpi=110)
