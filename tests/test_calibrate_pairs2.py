@@ -277,10 +277,10 @@ def test_tt_svd_reconstructs_and_bounds_its_truncation() -> None:
 
 
 def _tt_dense(cores: list[np.ndarray]) -> np.ndarray:
-    out = cores[0][0]
-    for g in cores[1:]:
-        out = np.tensordot(out, g, axes=1)
-    return out[..., 0]
+    """A train's dense tensor, its cores in the table's own axis order."""
+    from wetcontact.reduced_models.calibrated_capillary import train_dense
+
+    return train_dense(cores, range(len(cores)))
 
 
 def test_train_sum_is_the_dense_chebyshev_sum_in_any_axis_order() -> None:
@@ -318,7 +318,7 @@ def test_shipped_pair_pieces_are_trains_of_their_fit_within_their_tolerance() ->
             for name, fit in fits.items():
                 train = piece[name]
                 assert train["tol"] == p2.TRAIN_TOL[name]
-                dense = _tt_dense(train["cores"]).transpose(np.argsort(train["order"]))
+                dense = cc.train_dense(train["cores"], train["order"])
                 assert dense.shape == fit.shape
                 assert np.linalg.norm(dense - fit) <= math.sqrt(fit.ndim - 1) * train["tol"]
             cost = sum(g.size for g in piece["force_train"]["cores"])

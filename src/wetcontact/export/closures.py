@@ -154,12 +154,11 @@ class TensorTrain:
 
     @property
     def dense(self) -> np.ndarray:
-        """The dense tensor C in the table's axis order: the cores contracted over their
-        ranks, ``G_1 G_2 ... G_d`` (axes in ``order``), then transposed back."""
-        out = self.cores[0][0]
-        for g in self.cores[1:]:
-            out = np.tensordot(out, g, axes=1)
-        return out[..., 0].transpose(np.argsort(self.order))
+        """The dense tensor C in the table's axis order (the package's
+        :func:`~wetcontact.reduced_models.calibrated_capillary.train_dense`)."""
+        from wetcontact.reduced_models.calibrated_capillary import train_dense
+
+        return train_dense(list(self.cores), self.order)
 
 
 @dataclass(frozen=True, eq=False)

@@ -548,6 +548,16 @@ def train_sum(train: dict[str, Any], rows: list[np.ndarray]) -> np.ndarray:
     return out
 
 
+def train_dense(cores: list[np.ndarray], order: Any) -> np.ndarray:
+    """The dense coefficient tensor of a tensor train (:func:`train_sum`), in the table's
+    axis order: the cores contracted over their ranks, ``G_1 G_2 ... G_d`` (axes in
+    ``order``), then transposed back."""
+    out = cores[0][0]
+    for g in cores[1:]:
+        out = np.tensordot(out, g, axes=1)
+    return out[..., 0].transpose(np.argsort(order))
+
+
 def _entry(kind: str) -> dict[str, Any]:
     table = capillary_table()
     if table is None or kind not in table:
