@@ -1042,7 +1042,7 @@ def main(argv: list[str] | None = None) -> int:
     sub.add_parser("viscous", help="regenerate the calibrated-viscous closure")
     c = sub.add_parser("capillary", help="regenerate the calibrated-capillary closure")
     c.add_argument("--kind", choices=["sphere-wall", "sphere-sphere", "sphere-wall-two-angles",
-                                      "sphere-sphere-two-angles", "all"], default="all",
+                                      PAIR_KIND, "all"], default="all",
                    help="one table (two contact angles: sphere-wall-two-angles, "
                         "sphere-sphere-two-angles); the others are kept as they are; 'all' "
                         "is the first three")
