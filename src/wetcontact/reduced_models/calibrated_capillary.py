@@ -271,18 +271,25 @@ def onset_deg(entry: dict[str, Any], a: Lead) -> np.ndarray:
     return chebyshev_tensor(coef, lead_list(a)[-coef.ndim:])
 
 
-def _series_2d(coef: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+def _series_2d(coef: np.ndarray, x: np.ndarray, y: np.ndarray, chunk: int = 8192
+               ) -> np.ndarray:
     """``sum_i (sum_j C_ij T_j(y)) T_i(x)``, the terms added in the order of j within a
     row and the rows in the order of i: each point alike, whatever the batch (a BLAS
     product's last bit depends on it, and a point exactly at the onset angle must fall in
-    the same band in every call and in the exports, which add in this order)."""
-    rx, ry = _cheb_rows(x.ravel(), coef.shape[0]), _cheb_rows(y.ravel(), coef.shape[1])
-    out = np.zeros(x.size)
-    for i in range(coef.shape[0]):
-        row = np.zeros(x.size)
-        for j in range(coef.shape[1]):
-            row = row + coef[i, j] * ry[j]
-        out = out + row * rx[i]
+    the same band in every call and in the exports, which add in this order). ``chunk``
+    points at a time, in place (the same operations, so the same values)."""
+    xf, yf = x.ravel(), y.ravel()
+    out = np.empty(xf.size)
+    for lo in range(0, xf.size, chunk):
+        sl = slice(lo, min(xf.size, lo + chunk))
+        rx, ry = _cheb_rows(xf[sl], coef.shape[0]), _cheb_rows(yf[sl], coef.shape[1])
+        acc, row, term = np.zeros(rx.shape[1]), np.empty(rx.shape[1]), np.empty(rx.shape[1])
+        for i in range(coef.shape[0]):
+            row[:] = 0.0
+            for j in range(coef.shape[1]):
+                np.add(row, np.multiply(coef[i, j], ry[j], out=term), out=row)
+            np.add(acc, np.multiply(row, rx[i], out=term), out=acc)
+        out[sl] = acc
     return out.reshape(x.shape)
 
 
@@ -494,12 +501,14 @@ def low_rank_rows(left: np.ndarray, right: np.ndarray, rows_left: np.ndarray,
     return np.einsum("kj,kj->j", lf.T @ rows_left, rf @ rows_right)
 
 
-def chebyshev_tensor(coef: np.ndarray, coords: list[np.ndarray], chunk: int = 8192
+def chebyshev_tensor(coef: np.ndarray, coords: list[np.ndarray], chunk: int = 1024
                      ) -> np.ndarray:
     """``sum C_{i..k} T_i(x_1) ... T_k(x_d)`` at points (x_1..x_d)[n], vectorised.
 
-    The last axis is contracted by one matrix product, the others by a running outer
-    product of the points' Chebyshev rows (cost ``prod(shape)`` multiply-adds a point).
+    The last axis is contracted by one matrix product, ``A[i..j, p] = sum_k C_{i..jk}
+    T_k(x_{d,p})``, the others in turn from the last by an elementwise sum over the axis's
+    Chebyshev rows, points last (cost ``prod(shape)`` multiply-adds a point, and
+    ``prod(shape[:-1]) + prod(shape[:-2]) + ...`` elementwise), ``chunk`` points at a time.
     """
     coef = np.asarray(coef, dtype=float)
     pts = [np.ravel(np.asarray(x, dtype=float)) for x in coords]
@@ -513,12 +522,14 @@ def chebyshev_tensor(coef: np.ndarray, coords: list[np.ndarray], chunk: int = 81
         for c, row in zip(coef, rows, strict=True):
             out = out + c * row
         return out.reshape(np.shape(coords[0]))
-    head = coef.reshape(-1, coef.shape[-1]).T  # (n_last, prod(others))
+    head = coef.reshape(-1, coef.shape[-1])  # (prod(others), n_last)
     for lo in range(0, n, chunk):
         sl = slice(lo, min(n, lo + chunk))
-        acc = _cheb_matrix(pts[-1][sl], coef.shape[-1]) @ head
-        out[sl] = np.einsum("ij,ij->i", acc, _outer_rows([p[sl] for p in pts[:-1]],
-                                                         coef.shape[:-1]))
+        acc = head @ _cheb_rows(pts[-1][sl], coef.shape[-1])
+        for x, m in zip(pts[-2::-1], coef.shape[-2::-1], strict=True):
+            acc = np.einsum("imp,mp->ip", acc.reshape(-1, m, acc.shape[-1]),
+                            _cheb_rows(x[sl], m))
+        out[sl] = acc[0]
     return out.reshape(np.shape(coords[0]))
 
 
@@ -532,19 +543,29 @@ def train_sum(train: dict[str, Any], rows: list[np.ndarray]) -> np.ndarray:
 
     each core ``G_k`` of shape (r_{k-1}, n_{o_k}, r_k) (r_0 = r_d = 1) carrying the table
     axis ``o_k = order[k]`` (Oseledets 2011, SIAM J. Sci. Comput. 33, 2295). Evaluated core
-    by core over the batch: ``V <- sum_m (V G_k)[:, m, :] T_m(x_{o_k})``, one matrix
-    product and one sum over the axis's rows a core (cost ``sum_k r_{k-1} n_k r_k``
-    multiply-adds a point), :data:`TRAIN_CHUNK` points at a time."""
+    by core over the batch, points last (each step's arrays contiguous along the points):
+    ``V_k[r_k, p] = sum_{r, m} G_k[r, m, r_k] V_{k-1}[r, p] T_m(x_{o_k, p})``, as one
+    matrix product and one elementwise sum over the axis's rows. The product comes first
+    (``(G V)[m, r_k, p]``, then the sum over m) where r_k <= r_{k-1}, last (the rows'
+    outer product with ``V``, ``[r, m, p]``, then the product) where r_k > r_{k-1}: the
+    elementwise work a point is ``n_k min(r_{k-1}, r_k)``, the multiply-adds
+    ``sum_k r_{k-1} n_k r_k`` either way. :data:`TRAIN_CHUNK` points at a time."""
     cores, order = train["cores"], train["order"]
     n = rows[0].shape[1]
     out = np.empty(n)
     for lo in range(0, n, TRAIN_CHUNK):
         sl = slice(lo, min(n, lo + TRAIN_CHUNK))
-        v = rows[order[0]][:, sl].T @ cores[0][0]
+        v = cores[0][0].T @ rows[order[0]][:, sl]  # (r_1, p)
         for g, ax in zip(cores[1:], order[1:], strict=True):
-            w = (v @ g.reshape(g.shape[0], -1)).reshape(v.shape[0], g.shape[1], g.shape[2])
-            v = np.einsum("nmr,mn->nr", w, rows[ax][:, sl])
-        out[sl] = v[:, 0]
+            r0, m, r1 = g.shape
+            t = rows[ax][:, sl]
+            if r1 <= r0:
+                w = (g.reshape(r0, m * r1).T @ v).reshape(m, r1, -1)
+                v = np.einsum("mrp,mp->rp", w, t)
+            else:
+                z = (v[:, None, :] * t[None, :, :]).reshape(r0 * m, -1)
+                v = g.reshape(r0 * m, r1).T @ z
+        out[sl] = v[0]
     return out
 
 
@@ -678,7 +699,7 @@ def _piece(piece: dict[str, Any], lo: np.ndarray, hi: np.ndarray, idx: np.ndarra
     k = left.ndim - 1
     rup2 = rup.reshape(-1, rup.shape[-1]).T
     if chunk is None:
-        chunk = 8 * TRAIN_CHUNK if force_train is not None else piece_chunk(dims, k)
+        chunk = 16 * TRAIN_CHUNK if force_train is not None else piece_chunk(dims, k)
     for j in range(0, idx.size, chunk):
         sl = idx[j:j + chunk]
         out = slice(j, j + sl.size)
@@ -703,10 +724,10 @@ def _piece(piece: dict[str, Any], lo: np.ndarray, hi: np.ndarray, idx: np.ndarra
     return f, s_c
 
 
-TRAIN_CHUNK = 512
+TRAIN_CHUNK = 256
 """Points per product in :func:`train_sum` (its cores' products over the batch stay within
 the L2 cache: at most about 500 numbers a point); a piece evaluated by its trains takes
-its points eight such batches at a time (the per-chunk work outside the sums is then
+its points sixteen such batches at a time (the per-chunk work outside the sums is then
 spread over more points)."""
 CHUNK_FLOATS = 2**18
 """The largest outer product of Chebyshev rows a chunk of points may build (floats, 2 MiB):
