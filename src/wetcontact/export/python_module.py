@@ -260,13 +260,21 @@ def _cap_b(x, lo, hi, piece):
 
 
 def _cap_rows(t, n):
-    """T_k(t) for k < n, shape (len(t), n), by the three-term recurrence."""
-    out = np.empty((t.size, n))
-    out[:, 0] = 1.0
+    """T_k(t) for k < n, shape (len(t), n): the transpose of _cap_rows_t."""
+    return _cap_rows_t(t, n).T
+
+
+def _cap_rows_t(t, n):
+    """T_k(t) for k < n, shape (n, len(t)) (each row contiguous), by the three-term
+    recurrence T_k = 2 t T_(k-1) - T_(k-2)."""
+    out = np.empty((n, t.size))
+    out[0] = 1.0
     if n > 1:
-        out[:, 1] = t
+        out[1] = t
+    t2 = 2.0 * t
     for k in range(2, n):
-        out[:, k] = 2.0 * t * out[:, k - 1] - out[:, k - 2]
+        np.multiply(t2, out[k - 1], out=out[k])
+        out[k] -= out[k - 2]
     return out
 
 
@@ -282,14 +290,20 @@ def _cap_series(t, c):
 
 def _cap_series2(x, y, c):
     """sum_i (sum_j c_ij T_j(y)) T_i(x), the terms added in the order of j within a row
-    and the rows in the order of i (each point alike, whatever the others)."""
-    rx, ry = _cap_rows(x, c.shape[0]), _cap_rows(y, c.shape[1])
-    out = np.zeros(x.size)
-    for i in range(c.shape[0]):
-        row = np.zeros(x.size)
-        for j in range(c.shape[1]):
-            row = row + c[i, j] * ry[:, j]
-        out = out + row * rx[:, i]
+    and the rows in the order of i (each point alike, whatever the others), 8192 points at
+    a time."""
+    out = np.empty(x.size)
+    for lo in range(0, x.size, 8192):
+        sl = slice(lo, min(x.size, lo + 8192))
+        rx, ry = _cap_rows_t(x[sl], c.shape[0]), _cap_rows_t(y[sl], c.shape[1])
+        acc, row, term = (np.zeros(rx.shape[1]), np.empty(rx.shape[1]),
+                          np.empty(rx.shape[1]))
+        for i in range(c.shape[0]):
+            row[:] = 0.0
+            for j in range(c.shape[1]):
+                np.add(row, np.multiply(c[i, j], ry[j], out=term), out=row)
+            np.add(acc, np.multiply(row, rx[i], out=term), out=acc)
+        out[sl] = acc
     return out
 
 
@@ -304,14 +318,27 @@ def _cap_outer(pts, shape):
 
 def _cap_train(train, pts):
     """sum C T(x_1) ... T(x_d) at the points pts (one array per table axis) with C a tensor
-    train: v = sum_m G_1[0, m, :] T_m(x_o1), then core by core
-    v <- sum_m (v G_k)[:, m, :] T_m(x_ok) (r_(k-1) n r_k multiply-adds a point)."""
+    train, core by core over 256 points at a time, points last:
+    v[r_k, p] = sum_(r, m) G_k[r, m, r_k] v[r, p] T_m(x_ok[p]) (r_(k-1) n r_k multiply-adds
+    a point): the product with the core first, then the sum over m, where r_k <= r_(k-1);
+    else the rows' outer product with v first, then the product."""
     cores, order = train["cores"], train["order"]
-    v = _cap_rows(pts[order[0]], cores[0].shape[1]) @ cores[0][0]
-    for g, ax in zip(cores[1:], order[1:]):
-        w = (v @ g.reshape(g.shape[0], -1)).reshape(v.shape[0], g.shape[1], g.shape[2])
-        v = np.einsum("nmr,nm->nr", w, _cap_rows(pts[ax], g.shape[1]))
-    return v[:, 0]
+    rows = [_cap_rows_t(pts[ax], g.shape[1]) for g, ax in zip(cores, order)]
+    n = pts[0].size
+    out = np.empty(n)
+    for lo in range(0, n, 256):
+        sl = slice(lo, min(n, lo + 256))
+        v = cores[0][0].T @ rows[0][:, sl]
+        for g, t in zip(cores[1:], rows[1:]):
+            r0, m, r1 = g.shape
+            if r1 <= r0:
+                w = (g.reshape(r0, m * r1).T @ v).reshape(m, r1, -1)
+                v = np.einsum("mrp,mp->rp", w, t[:, sl])
+            else:
+                z = (v[:, None, :] * t[None, :, sl]).reshape(r0 * m, -1)
+                v = g.reshape(r0 * m, r1).T @ z
+        out[sl] = v[0]
+    return out
 
 
 def _cap_low_rank(left, right, pts, lead, tb):
