@@ -67,7 +67,6 @@ _NUMERIC_SOURCES = ("models.py", "scene.py", "solver", "reduced_models", "meshes
 
 
 @lru_cache(maxsize=1)
-@lru_cache(maxsize=1)
 def code_version() -> str:
     """``<package version>+<hash>``: the version and a SHA-256 of the numeric sources.
 
