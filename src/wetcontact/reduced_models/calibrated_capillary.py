@@ -470,11 +470,6 @@ def _cheb_rows(t: np.ndarray, n: int) -> np.ndarray:
     return out
 
 
-def _cheb_matrix(t: np.ndarray, n: int) -> np.ndarray:
-    """``T_k(t)`` for k < n, shape (len(t), n) (a view of :func:`_cheb_rows`)."""
-    return _cheb_rows(t, n).T
-
-
 def _outer(rows: list[np.ndarray]) -> np.ndarray:
     """Outer product of coefficient-major Chebyshev rows per point, shape
     (prod of their lengths, n points)."""
