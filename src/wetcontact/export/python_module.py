@@ -316,14 +316,19 @@ def _cap_outer(pts, shape):
     return outer
 
 
-def _cap_train(train, pts):
+def _cap_train(train, pts, rows):
     """sum C T(x_1) ... T(x_d) at the points pts (one array per table axis) with C a tensor
     train, core by core over 256 points at a time, points last:
     v[r_k, p] = sum_(r, m) G_k[r, m, r_k] v[r, p] T_m(x_ok[p]) (r_(k-1) n r_k multiply-adds
     a point): the product with the core first, then the sum over m, where r_k <= r_(k-1);
-    else the rows' outer product with v first, then the product."""
+    else the rows' outer product with v first, then the product. rows: the Chebyshev rows
+    built so far, by (axis, count), shared by the trains of one set of points (built here
+    where missing)."""
     cores, order = train["cores"], train["order"]
-    rows = [_cap_rows_t(pts[ax], g.shape[1]) for g, ax in zip(cores, order)]
+    for g, ax in zip(cores, order):
+        if (ax, g.shape[1]) not in rows:
+            rows[ax, g.shape[1]] = _cap_rows_t(pts[ax], g.shape[1])
+    rows = [rows[ax, g.shape[1]] for g, ax in zip(cores, order)]
     n = pts[0].size
     out = np.empty(n)
     for lo in range(0, n, 256):
@@ -373,8 +378,9 @@ def _cap_star(tables, coords, v, rho, cos_t, s):
         sl = slice(lo, min(v.size, lo + _CHUNK))
         pts = [x[sl] for x in coords]
         lead = tb = None
+        rows = {{}}  # the trains' Chebyshev rows, the rupture's shared with the force's
         if isinstance(rup, dict):
-            sc = np.cbrt(v[sl]) * np.exp(_cap_train(rup, pts))
+            sc = np.cbrt(v[sl]) * np.exp(_cap_train(rup, pts, rows))
         else:
             lead = _cap_outer(pts[:-1], rup.shape[:-1])  # rows over all axes but b
             tb = _cap_rows(pts[-1], rup.shape[-1])
@@ -387,7 +393,7 @@ def _cap_star(tables, coords, v, rho, cos_t, s):
         eps = np.sqrt(v[sl] / (np.pi * rho[sl]))
         ratio = np.log1p(np.where(inside, s[sl], 0.0) / eps) / np.log1p(sc / eps)
         pts.append(2.0 * np.sqrt(np.clip(1.0 - ratio, 0.0, 1.0)) - 1.0)
-        q = np.exp(_cap_train(force, pts) if isinstance(force, dict) else
+        q = np.exp(_cap_train(force, pts, rows) if isinstance(force, dict) else
                    _cap_low_rank(*force, pts, lead, tb))
         f[sl] = np.where(inside, rho[sl] * cos_t[sl] * q, 0.0)
     return f, s_c
