@@ -53,6 +53,7 @@ import numpy as np
 
 from wetcontact.errors import InputError, SolverError, ValidityError
 from wetcontact.models import ForceCurve, Model, get_model
+from wetcontact.reduced_models import calibrated_capillary as cc
 from wetcontact.reduced_models import capillary as cap
 from wetcontact.reduced_models import rupture as rup
 from wetcontact.reduced_models import viscous as visc
@@ -894,9 +895,9 @@ def load_coefficients(path: Path | str, family: str | None = None) -> Calibrated
 # ---- shipped calibrated closures ------------------------------------------------------------
 
 DATA_DIR = Path(__file__).resolve().parent / "reduced_models" / "data"
-PAIR_KIND = "sphere-sphere-two-angles"
-"""The two-angle sphere-pair table's kind (``calibrate_pairs2.PAIR_TWO_ANGLES``, named here
-so that the command line does not import that module to parse its arguments)."""
+PAIR_KIND = cc.PAIR_TWO_ANGLES
+"""The two-angle sphere-pair table's kind (the model's name for it; the command line needs
+it to parse its arguments, before it imports ``calibrate_pairs2``)."""
 
 
 def fit_immersed(kind: str, degree: int = 48, s_range: tuple[float, float] = (1e-5, 100.0),
@@ -1041,7 +1042,7 @@ def main(argv: list[str] | None = None) -> int:
     f.add_argument("--reuse", action="store_true", help="refit from the saved points")
     sub.add_parser("viscous", help="regenerate the calibrated-viscous closure")
     c = sub.add_parser("capillary", help="regenerate the calibrated-capillary closure")
-    c.add_argument("--kind", choices=["sphere-wall", "sphere-sphere", "sphere-wall-two-angles",
+    c.add_argument("--kind", choices=["sphere-wall", "sphere-sphere", cc.WALL_TWO_ANGLES,
                                       PAIR_KIND, "all"], default="all",
                    help="one table (two contact angles: sphere-wall-two-angles, "
                         "sphere-sphere-two-angles); the others are kept as they are; 'all' "
@@ -1067,8 +1068,6 @@ def main(argv: list[str] | None = None) -> int:
         out = args.out
         if out is not None and not out.is_file():
             import shutil
-
-            from wetcontact.reduced_models import calibrated_capillary as cc
 
             shutil.copy(Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE, out)
         entry = generate_pair_table(args.stage, out, args.workers, args.held_out,

@@ -175,8 +175,8 @@ def pair_onset(ratio: float, v: float, lo: float, hi: float,
 
 # ---- the table: onset, ridge and pieces on nested Chebyshev grids ---------------------------
 
-PAIR_TWO_ANGLES = "sphere-sphere-two-angles"
-"""Table key of two spheres with two different contact angles."""
+PAIR_TWO_ANGLES = cc.PAIR_TWO_ANGLES
+"""Table key of two spheres with two different contact angles (the model's)."""
 STAGES: dict[str, dict[str, Any]] = {
     "coarse": {"w": 5, "a": 5, "b1": 5, "b2": (5, 3)},
     "medium": {"w": 9, "a": 9, "b1": 9, "b2": (15, 9)},
