@@ -9,7 +9,7 @@ one batched matrix product per core (``calibrated_capillary.train_sum``). This b
 compares, in one run, the fit itself (the pieces without their trains), the shipped
 trains and trains at a finer and a coarser truncation:
 
-- cost: ``force_star`` per point on ``bench_calibrate``'s 1e5 two-angle pair points (one
+- cost: ``force_star`` per point on 1e5 two-angle pair points drawn as ``bench_calibrate``'s (one
   BLAS thread, median of 5), and each piece's multiply-adds a point;
 - change: the largest relative change of the force (where both forms give a bridge) and
   of the rupture distance on those points, against the fit;
@@ -62,7 +62,8 @@ def variant(entry: dict[str, Any], tols: tuple[float, float] | None) -> dict[str
 
 
 def points() -> tuple[np.ndarray, ...]:
-    """bench_calibrate's two-angle pair points (its draws, in its order)."""
+    """1e5 two-angle pair points drawn as ``bench_calibrate`` draws its own (the same
+    distributions and seed, not the same draws: that benchmark draws other inputs first)."""
     rng = np.random.default_rng(1)
     v = np.exp(rng.uniform(np.log(1e-4), np.log(0.1), N))
     th = np.radians(rng.uniform(0, 70, N))
