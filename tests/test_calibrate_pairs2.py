@@ -276,6 +276,26 @@ def test_tt_svd_reconstructs_and_bounds_its_truncation() -> None:
     assert err >= np.linalg.norm(noise) / 10  # the noise is what was dropped
 
 
+def test_tt_svd_caps_its_ranks_at_the_best_fixed_rank_truncation() -> None:
+    """With ``max_ranks`` each unfolding keeps at most that many singular values: the ranks
+    are the caps, and a tensor of TT ranks (3, 3, 3) capped at (3, 2, 3) loses what the
+    best rank-2 approximation of its middle unfolding loses, at least (Eckart-Young:
+    the 2-norm of the dropped singular values of that unfolding)."""
+    rng = np.random.default_rng(13)
+    terms = [np.einsum("i,j,k,l->ijkl", *(rng.standard_normal(n) for n in (9, 8, 7, 6)))
+             for _ in range(3)]
+    dense = sum(terms)
+    cores = p2.tt_svd(dense, 1e-10, [3, 2, 3])
+    assert [g.shape[2] for g in cores[:-1]] == [3, 2, 3]
+    sv = np.linalg.svd(dense.reshape(9 * 8, -1), compute_uv=False)
+    err = np.linalg.norm(_tt_dense(cores) - dense)
+    assert err >= np.linalg.norm(sv[2:]) * (1 - 1e-9)
+    assert err <= math.sqrt(3) * np.linalg.norm(sv[2:])
+    uncapped = p2.tt_svd(dense, 1e-10, [50, 50, 50])  # caps above the ranks: no change
+    assert [g.shape[2] for g in uncapped[:-1]] == [3, 3, 3]
+    np.testing.assert_allclose(_tt_dense(uncapped), dense, rtol=0, atol=1e-12)
+
+
 def _tt_dense(cores: list[np.ndarray]) -> np.ndarray:
     """A train's dense tensor, its cores in the table's own axis order."""
     from wetcontact.reduced_models.calibrated_capillary import train_dense

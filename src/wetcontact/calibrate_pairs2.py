@@ -375,16 +375,19 @@ benchmark's points, the held-out maxima by at most 1.3e-5, and a point costs 1.6
 instead of 4.0."""
 
 
-def tt_svd(coef: np.ndarray, tol: float) -> list[np.ndarray]:
+def tt_svd(coef: np.ndarray, tol: float,
+           max_ranks: list[int] | None = None) -> list[np.ndarray]:
     """Tensor-train cores ``G_k`` (r_{k-1}, n_k, r_k) of ``coef`` by sequential truncated
     SVDs of its unfoldings (Oseledets 2011, SIAM J. Sci. Comput. 33, 2295, algorithm 1),
-    each dropping the trailing singular values whose 2-norm is at most ``tol``; the last
-    core carries the singular values."""
+    each dropping the trailing singular values whose 2-norm is at most ``tol`` (and those
+    beyond ``max_ranks[k]``, if given); the last core carries the singular values."""
     cores, rank, rest = [], 1, np.asarray(coef, dtype=float)
-    for n_k in coef.shape[:-1]:
+    for k, n_k in enumerate(coef.shape[:-1]):
         u, sv, vt = np.linalg.svd(rest.reshape(rank * n_k, -1), full_matrices=False)
         tail = np.sqrt(np.cumsum(sv[::-1] ** 2))[::-1]  # 2-norm of sv[j:]
         keep = max(1, int(np.sum(tail > tol)))
+        if max_ranks is not None:
+            keep = max(1, min(keep, max_ranks[k]))
         cores.append(u[:, :keep].reshape(rank, n_k, keep))
         rest, rank = sv[:keep, None] * vt[:keep], keep
     cores.append(rest.reshape(rank, coef.shape[-1], 1))
