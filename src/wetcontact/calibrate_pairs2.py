@@ -371,8 +371,12 @@ TRAIN_TOL = {"rupture_train": 1e-6, "force_train": 1e-5}
 """Truncation of each piece's tensor trains (:func:`tt_svd`): the 2-norm of the singular
 values dropped at each unfolding of the Chebyshev coefficient tensor. Measured against
 the fit (``benchmarks/bench_pair_tt.py``): the force moves by at most 1.1e-4 on the cost
-benchmark's points, the held-out maxima by at most 1.3e-5, and a point costs 1.6 us
-instead of 4.0."""
+benchmark's points, the held-out maxima by at most 1.3e-5, and a point costs 1.34 us
+instead of 4.05. On the probe the force factors' rank was chosen on
+(:func:`~wetcontact.calibrate_capillary.factor_table`: the Lobatto grid and 20 000 uniform
+points) the force sum changes by up to 1.6e-4 short of the rupture distance, and 9.4e-4
+at it (c = -1, where no held-out point goes); the rupture sum by up to 1.1e-5. Trains
+held to 5e-5 / 5e-6 there cost 1.56 us a point, with the same held-out maxima."""
 
 
 def tt_svd(coef: np.ndarray, tol: float,
