@@ -325,15 +325,17 @@ def test_train_sum_is_the_dense_chebyshev_sum_in_any_axis_order() -> None:
                                rtol=0, atol=1e-12)
 
 
-@pytest.mark.parametrize(("kind", "share"), [("sphere-wall-two-angles", 0.8),
-                                           ("sphere-sphere-two-angles", 0.5)])
+@pytest.mark.parametrize(("kind", "share", "trains"), [
+    ("sphere-wall-two-angles", 0.8, gen.WALL_TRAINS),
+    ("sphere-sphere-two-angles", 0.5, ("rupture_train", "force_train"))])
 def test_shipped_two_angle_pieces_are_trains_of_their_fit_within_their_tolerance(
-        kind, share) -> None:
-    """Every piece of the shipped two-angle tables (a wall's, sphere pairs') carries both
-    trains, each within sqrt(d - 1) tol (Frobenius) of the fit it was built from (its
-    rupture table, the product of its force factors), at the declared TRAIN_TOL, and
-    cheaper to evaluate than that fit: its force train at most ``share`` of the low-rank
-    force's multiply-adds a point (measured: 0.56-0.74 on the wall, 0.23-0.40 for pairs)."""
+        kind, share, trains) -> None:
+    """Every piece of the shipped two-angle tables carries its trains (sphere pairs: both;
+    a wall: the force's, its rupture table stays dense), each within sqrt(d - 1) tol
+    (Frobenius) of the fit it was built from (its rupture table, the product of its force
+    factors), at the declared TRAIN_TOL, and cheaper to evaluate than that fit: its force
+    train at most ``share`` of the low-rank force's multiply-adds a point (measured:
+    0.56-0.74 on the wall, 0.23-0.40 for pairs)."""
     from wetcontact.reduced_models import calibrated_capillary as cc
 
     table = cc.capillary_table()
@@ -344,8 +346,9 @@ def test_shipped_two_angle_pieces_are_trains_of_their_fit_within_their_tolerance
             left, right = piece["force_left"], piece["force_right"]
             fits = {"rupture_train": piece["rupture"],
                     "force_train": np.tensordot(left, right, axes=1)}
-            for name, fit in fits.items():
-                train = piece[name]
+            assert [name for name in fits if name in piece] == list(trains)
+            for name in trains:
+                fit, train = fits[name], piece[name]
                 assert train["tol"] == p2.TRAIN_TOL[name]
                 dense = cc.train_dense(train["cores"], train["order"])
                 assert dense.shape == fit.shape
@@ -357,9 +360,9 @@ def test_shipped_two_angle_pieces_are_trains_of_their_fit_within_their_tolerance
 def test_wall_retrain_keeps_the_fit_and_rebuilds_its_trains(tmp_path) -> None:
     """The two-angle wall table's retrain (``calibrate capillary --kind
     sphere-wall-two-angles --retrain``) keeps the shipped fit as it is, builds each
-    piece's trains from it again (the shipped ones: the same dense tensors to rounding,
-    the same ranks and axis orders) and drops the held-out tables, which the caller
-    measures again; a file without that table is refused by name."""
+    piece's force train from it again (the shipped one: the same dense tensor to rounding,
+    the same ranks and axis order; no rupture train) and drops the held-out tables, which
+    the caller measures again; a file without that table is refused by name."""
     from wetcontact.errors import InputError
     from wetcontact.reduced_models import calibrated_capillary as cc
 
@@ -375,7 +378,8 @@ def test_wall_retrain_keeps_the_fit_and_rebuilds_its_trains(tmp_path) -> None:
         for piece, before in zip(band["pieces"], was["pieces"], strict=True):
             for name in ("rupture", "force_left", "force_right"):
                 assert piece[name] == before[name]
-            for name in cc.TRAIN_FIELDS:
+            assert [n for n in cc.TRAIN_FIELDS if n in piece] == list(gen.WALL_TRAINS)
+            for name in gen.WALL_TRAINS:
                 a, b = piece[name], before[name]
                 assert (a["order"], a["ranks"]) == (b["order"], b["ranks"])
                 dense = [cc.train_dense([np.asarray(g) for g in t["cores"]], t["order"])

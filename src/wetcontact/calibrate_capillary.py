@@ -573,11 +573,19 @@ def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
             "force_rank": int(left.shape[-1]), "force_factor_change": err}
 
 
+WALL_TRAINS = ("force_train",)
+"""The tensor trains a two-angle wall piece carries (:func:`~wetcontact.calibrate_pairs2
+.train_piece`): its force table's, 0.56-0.74 of the low-rank form's multiply-adds. Its
+rupture table stays dense: a train would save nothing measurable (0.70 against 0.71 us a
+point) and would break the bands' join, where both tables interpolate the same nodes and
+S_c is continuous to round-off (a train moved it by up to 1.5e-6 there)."""
+
+
 def fit_kind(kind: str, workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
     """Every theta piece of one kind (and the split angle for sphere pairs); a wall with two
     angles: per band of the sphere's angle (:data:`TWO_ANGLE_BANDS_DEG`) its ridge and
-    pieces, b1 over the band, each piece with its tables' tensor trains (what the model
-    evaluates, :func:`~wetcontact.calibrate_pairs2.train_piece`)."""
+    pieces, b1 over the band, each piece with its force table's tensor train (what the
+    model evaluates, :data:`WALL_TRAINS`)."""
     if kind == cc.WALL_TWO_ANGLES:
         from wetcontact.calibrate_pairs2 import train_piece
 
@@ -588,7 +596,8 @@ def fit_kind(kind: str, workers: int = 2, cache_dir: Path | None = None) -> dict
             ridge = fit_ridge(workers, cache_dir, rng, onset)
             bands.append({"theta_sphere_deg": list(rng), "theta_split": ridge,
                            "pieces": [train_piece(fit_piece(kind, p, ridge, workers,
-                                                            cache_dir, rng, onset))
+                                                            cache_dir, rng, onset),
+                                                  fields=WALL_TRAINS)
                                       for p in PIECES[kind]]})
         return {**({cc.ONSET_KEY: onset} if onset else {}), "bands": bands}
     split = None
@@ -800,14 +809,17 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = KIND
 
 
 def _retrained(out: Path, old: dict[str, Any], kind: str) -> dict[str, Any]:
-    """The two-angle wall table ``old`` holds, its pieces' tensor trains built again
-    (:func:`~wetcontact.calibrate_pairs2.train_piece`) beside its fit, without its held-out
-    tables (measured again by the caller)."""
+    """The two-angle wall table ``old`` holds, its pieces' tensor trains (:data:`WALL_TRAINS`)
+    built again beside its fit, without its held-out tables (measured again by the
+    caller)."""
     from wetcontact.calibrate_pairs2 import train_piece
 
     if kind != cc.WALL_TWO_ANGLES or kind not in old:
         raise InputError(f"{out}: field {kind!r} missing or not retrainable; allowed: a "
                          f"table file that holds the {cc.WALL_TWO_ANGLES} table")
     e = {k: v for k, v in old[kind].items() if not k.startswith("held_out")}
-    e["bands"] = [{**b, "pieces": [train_piece(p) for p in b["pieces"]]} for b in e["bands"]]
+    e["bands"] = [{**b, "pieces": [train_piece({k: v for k, v in p.items()
+                                                if k not in cc.TRAIN_FIELDS},
+                                               fields=WALL_TRAINS) for p in b["pieces"]]}
+                  for b in e["bands"]]
     return e

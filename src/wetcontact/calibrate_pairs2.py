@@ -414,15 +414,18 @@ def train_of(coef: np.ndarray, tol: float,
 
 
 def train_piece(piece: dict[str, Any],
-                orders: dict[str, tuple[int, ...]] | None = None) -> dict[str, Any]:
-    """A piece with its rupture and force tables' tensor trains (:data:`TRAIN_TOL`) beside
-    the fit they are built from (its rupture table and low-rank force factors), each over
-    the cheapest axis order (:func:`train_of`) or the one ``orders`` gives it (by field)."""
-    coef = {"rupture_train": np.asarray(piece["rupture"], dtype=float),
-            "force_train": np.tensordot(np.asarray(piece["force_left"], dtype=float),
-                                        np.asarray(piece["force_right"], dtype=float), 1)}
-    return {**piece, **{k: train_of(c, TRAIN_TOL[k], (orders or {}).get(k))
-                        for k, c in coef.items()}}
+                orders: dict[str, tuple[int, ...]] | None = None,
+                fields: tuple[str, ...] = ("rupture_train", "force_train")) -> dict[str, Any]:
+    """A piece with its rupture and force tables' tensor trains (:data:`TRAIN_TOL`; those
+    of ``fields``) beside the fit they are built from (its rupture table and low-rank force
+    factors), each over the cheapest axis order (:func:`train_of`) or the one ``orders``
+    gives it (by field)."""
+    coef = {"rupture_train": lambda: np.asarray(piece["rupture"], dtype=float),
+            "force_train": lambda: np.tensordot(np.asarray(piece["force_left"], dtype=float),
+                                                np.asarray(piece["force_right"], dtype=float),
+                                                1)}
+    return {**piece, **{k: train_of(coef[k](), TRAIN_TOL[k], (orders or {}).get(k))
+                        for k in fields}}
 
 
 def fit_pair_table(stage: str = "coarse", workers: int = 2,
