@@ -834,6 +834,9 @@ def test_c_header_names_shipped_and_refit(source, tmp_path):
                     kind
             else:  # only what is evaluated: the trains' cores, not the fit
                 assert f"static const double force_cores{n}[{train.size}]" in text, kind
+            if piece.rupture_train is None:  # a rupture table dense or as its train
+                assert f"static const double rupture{n}[{piece.rupture.size}]" in text, kind
+            else:
                 assert f"static const double rupture_cores{n}[" \
                        f"{piece.rupture_train.size}]" in text, kind
             assert f"static const double force{n}[" not in text  # the dense table: not carried
