@@ -376,7 +376,9 @@ instead of 4.05. On the probe the force factors' rank was chosen on
 (:func:`~wetcontact.calibrate_capillary.factor_table`: the Lobatto grid and 20 000 uniform
 points) the force sum changes by up to 1.6e-4 short of the rupture distance, and 9.4e-4
 at it (c = -1, where no held-out point goes); the rupture sum by up to 1.1e-5. Trains
-held to 5e-5 / 5e-6 there cost 1.56 us a point, with the same held-out maxima."""
+held to 5e-5 / 5e-6 there cost 1.56 us a point, with the same held-out maxima. The
+two-angle wall table's force trains are built at the same tolerance
+(:data:`~wetcontact.calibrate_capillary.WALL_TRAINS`)."""
 
 
 def tt_svd(coef: np.ndarray, tol: float,
