@@ -65,12 +65,6 @@ root near S_c (held to 2.5e-5, 5 % of its goal, the rupture trains moved the for
 PROBE_UNIFORM = 20_000
 
 
-def fits(piece: dict[str, Any]) -> dict[str, np.ndarray]:
-    """The Chebyshev coefficient tensors a piece's trains are built from, by train field."""
-    return {"rupture_train": np.asarray(piece["rupture"]),
-            "force_train": np.tensordot(piece["force_left"], piece["force_right"], 1)}
-
-
 def grid_values(coef: np.ndarray) -> np.ndarray:
     """A tensor Chebyshev sum's values on the Chebyshev-Lobatto grid of its shape (one
     matrix ``T_j(x_i)`` applied along each axis)."""
@@ -136,9 +130,9 @@ def variant(entry: dict[str, Any], tols: tuple[float, float] | str | None
         if tols is None:
             return fit
         if tols == "held":
-            return {**fit, **{k: held_train(c, HELD[k]) for k, c in fits(p).items()}}
+            return {**fit, **{k: held_train(c, HELD[k]) for k, c in p2.train_fits(p).items()}}
         return {**fit, **{k: p2.train_of(c, t)
-                          for (k, c), t in zip(fits(p).items(), tols, strict=True)}}
+                          for (k, c), t in zip(p2.train_fits(p).items(), tols, strict=True)}}
     out = {**entry, "bands": [{**b, "pieces": [piece(p) for p in b["pieces"]]}
                               for b in entry["bands"]]}
     return cc.as_arrays({"e": out})["e"]
@@ -166,7 +160,7 @@ def measure(entry: dict[str, Any], pts: tuple[np.ndarray, ...]) -> dict[str, Any
         for i, p in enumerate(band["pieces"]):
             rec = {"band": b, "piece": "upper" if i else "lower"}
             if "force_train" in p:
-                for n, coef in fits(p).items():
+                for n, coef in p2.train_fits(p).items():
                     everywhere, off_end = probe(coef)(p[n])
                     rec[n] = {"order": list(p[n]["order"]), "ranks": list(p[n]["ranks"]),
                               "macs": int(sum(g.size for g in p[n]["cores"])),

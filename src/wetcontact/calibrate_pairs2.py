@@ -415,19 +415,30 @@ def train_of(coef: np.ndarray, tol: float,
             "cores": [g.tolist() for g in cores]}
 
 
-def train_piece(piece: dict[str, Any],
-                orders: dict[str, tuple[int, ...]] | None = None,
-                fields: tuple[str, ...] = ("rupture_train", "force_train")) -> dict[str, Any]:
-    """A piece with its rupture and force tables' tensor trains (:data:`TRAIN_TOL`; those
-    of ``fields``) beside the fit they are built from (its rupture table and low-rank force
-    factors), each over the cheapest axis order (:func:`train_of`) or the one ``orders``
-    gives it (by field)."""
-    coef = {"rupture_train": lambda: np.asarray(piece["rupture"], dtype=float),
+TRAINS = ("rupture_train", "force_train")
+"""The trains a piece may carry, in the order they are built and evaluated."""
+
+
+def train_fits(piece: dict[str, Any], fields: tuple[str, ...] = TRAINS
+               ) -> dict[str, np.ndarray]:
+    """The Chebyshev coefficient tensors a piece's trains (those of ``fields``) are built
+    from, by train field: its rupture table, and the product of its low-rank force
+    factors."""
+    make = {"rupture_train": lambda: np.asarray(piece["rupture"], dtype=float),
             "force_train": lambda: np.tensordot(np.asarray(piece["force_left"], dtype=float),
                                                 np.asarray(piece["force_right"], dtype=float),
                                                 1)}
-    return {**piece, **{k: train_of(coef[k](), TRAIN_TOL[k], (orders or {}).get(k))
-                        for k in fields}}
+    return {k: make[k]() for k in fields}
+
+
+def train_piece(piece: dict[str, Any],
+                orders: dict[str, tuple[int, ...]] | None = None,
+                fields: tuple[str, ...] = TRAINS) -> dict[str, Any]:
+    """A piece with its rupture and force tables' tensor trains (:data:`TRAIN_TOL`; those
+    of ``fields``) beside the fit they are built from (:func:`train_fits`), each over the
+    cheapest axis order (:func:`train_of`) or the one ``orders`` gives it (by field)."""
+    return {**piece, **{k: train_of(c, TRAIN_TOL[k], (orders or {}).get(k))
+                        for k, c in train_fits(piece, fields).items()}}
 
 
 def fit_pair_table(stage: str = "coarse", workers: int = 2,
