@@ -384,8 +384,7 @@ def test_wall_retrain_keeps_the_fit_and_rebuilds_its_trains(tmp_path) -> None:
                 assert (a["order"], a["ranks"]) == (b["order"], b["ranks"])
                 dense = [cc.train_dense([np.asarray(g) for g in t["cores"]], t["order"])
                          for t in (a, b)]
-                np.testing.assert_allclose(*dense,
-                                           rtol=0, atol=1e-12)
+                np.testing.assert_allclose(*dense, rtol=0, atol=1e-12)
     with pytest.raises(InputError, match=r"x\.json: field 'sphere-wall-two-angles' missing"):
         gen._retrained(tmp_path / "x.json", {}, cc.WALL_TWO_ANGLES)
 
