@@ -1,0 +1,282 @@
+"""The two-angle sphere-pair table's cost: where it goes, and what sub-pieces would save.
+
+``calibrated-capillary`` evaluates two spheres with two contact angles at 1.3-1.5 us a
+point (``bench_calibrate``), against the 1 us goal of issue 11. This benchmark measures,
+in one run on the points of ``bench_pair_tt`` (1e5, one BLAS thread, alternating rounds,
+median of 7):
+
+- **shipped**: the package's evaluation (``calibrated_capillary.force_star``);
+- **structure only**: the same pieces, axes and calls with every tensor-train core cut to
+  rank 1: what everything but the ranks costs (Chebyshev rows, ridge and onset series,
+  gap coordinate, the per-batch calls and their elementwise sums);
+- **no train sums**: the trains not evaluated at all (the rest of the pipeline);
+- **b1 sub-pieces (K)**: each piece split along the small sphere's angle coordinate b1
+  into K equal sub-ranges. A piece's fit is a polynomial in b1, so its rupture table and
+  force factors are re-expanded on each sub-range exactly (Chebyshev interpolation at as
+  many nodes as terms, :func:`restrict`), trailing b1 terms whose largest coefficient is
+  below :data:`TRIM` dropped, and the trains rebuilt at the shipped truncation
+  (``calibrate_pairs2.train_piece``). Evaluated by the package's own piece code on the
+  points of each sub-range (:func:`evaluate`); not a format the package or its exports
+  read.
+
+For each form: the cost a point, the multiply-adds a point of its trains weighted by the
+points each piece evaluates, and the largest change against the shipped values (rupture
+distance; force short of 0.999 S_c, where the held-out points stop, and everywhere the
+force is nonzero). For K = 4 it also gives the multiply-adds if the force's gap axis were
+halved too (the package cannot evaluate a gap sub-range: multiply-adds only).
+
+Writes ``benchmarks/results/pair_split.json`` and ``pair_split.png``. Run:
+``python benchmarks/bench_pair_split.py`` (about 10 minutes: the sub-pieces' trains try
+every axis order).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+from typing import Any
+
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import numpy as np  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _common import RESULTS, write_json  # noqa: E402
+from bench_pair_tt import N, points  # noqa: E402
+
+from wetcontact import calibrate_pairs2 as p2  # noqa: E402
+from wetcontact.reduced_models import calibrated_capillary as cc  # noqa: E402
+
+TRIM = 1e-7
+"""Trailing b1 coefficients of a sub-piece's tables dropped while their largest magnitude
+is below this (the force exponent and log S_c are O(1))."""
+SPLITS = (2, 4)
+B1_AXIS, GAP_AXIS = 2, 4
+
+
+def restrict(coef: np.ndarray, axis: int, lo: float, hi: float) -> np.ndarray:
+    """The Chebyshev coefficients along ``axis`` of the same polynomial on the sub-range
+    [lo, hi] of [-1, 1], mapped to [-1, 1]: interpolation at n Chebyshev points of the
+    first kind, exact for the degree n - 1 the table has (to round-off)."""
+    n = coef.shape[axis]
+    x = np.cos(np.pi * (np.arange(n) + 0.5) / n)
+    old = cc._cheb_rows(lo + 0.5 * (hi - lo) * (x + 1.0), n)  # T_j at the nodes, (j, i)
+    new = cc._cheb_rows(x, n)
+    weights = np.full(n, 2.0 / n)
+    weights[0] = 1.0 / n
+    m = old @ (new.T * weights)  # T_j(x(x')) = sum_k m[j, k] T_k(x')
+    return np.moveaxis(np.tensordot(np.moveaxis(coef, axis, -1), m, 1), -1, axis)
+
+
+def kept_terms(coef: np.ndarray, axis: int) -> int:
+    """Terms along ``axis`` up to the last whose largest coefficient reaches :data:`TRIM`."""
+    peak = np.abs(np.moveaxis(coef, axis, 0)).reshape(coef.shape[axis], -1).max(axis=1)
+    big = np.flatnonzero(peak >= TRIM)
+    return int(big[-1]) + 1 if big.size else 1
+
+
+def sub_piece(piece: dict[str, Any], lo: float, hi: float) -> dict[str, Any]:
+    """``piece`` on b1 in [lo, hi]: its fit re-expanded there (:func:`restrict`), trimmed
+    and trained at the shipped truncation."""
+    rup = restrict(np.asarray(piece["rupture"]), B1_AXIS, lo, hi)
+    left = restrict(np.asarray(piece["force_left"]), B1_AXIS, lo, hi)
+    n = max(kept_terms(rup, B1_AXIS), kept_terms(left, B1_AXIS))
+    fit = {k: v for k, v in piece.items() if k not in cc.TRAIN_FIELDS}
+    return p2.train_piece({**fit, "rupture": rup[:, :, :n].tolist(),
+                           "force_left": left[:, :, :n].tolist(),
+                           "force_right": np.asarray(piece["force_right"]).tolist()})
+
+
+def split_table(entry: dict[str, Any], k: int) -> list[list[tuple[float, float, Any]]]:
+    """Per band, its K b1 sub-ranges with their pieces (arrays, as the package reads)."""
+    edges = np.linspace(-1.0, 1.0, k + 1)
+    out = []
+    for band in entry["bands"]:
+        subs = []
+        for lo, hi in zip(edges[:-1], edges[1:], strict=True):
+            sub = {"pieces": [sub_piece(p, float(lo), float(hi)) for p in band["pieces"]]}
+            subs.append((float(lo), float(hi), cc.as_arrays({"s": sub})["s"]))
+        out.append(subs)
+    return out
+
+
+def evaluate(entry: dict[str, Any], subs: list[Any] | None, pts: tuple[np.ndarray, ...]
+             ) -> tuple[np.ndarray, np.ndarray]:
+    """``force_star``'s two-angle pair path (``F/(2 pi sigma R_s)``, S_c/R_s), each band's
+    points in their b1 sub-range's pieces (``subs``; ``None``: the band's own pieces)."""
+    v, th, s, ratio, tw = pts
+    rho = cc.reduced_star("sphere-sphere", ratio)
+    ts = np.degrees(th)
+    lead = [cc.ratio_coordinate(ratio), cc.volume_coordinate(v)]
+    f, s_c = np.full(v.size, np.nan), np.full(v.size, np.nan)
+    for band, m, b1 in cc._by_band(entry, ts, lead):
+        lm = cc._take(lead, m)
+        split = cc.theta_split_deg(band, lm, b1)
+        at = next(i for i, b in enumerate(entry["bands"]) if b is band)
+        parts = [(-1.0, 1.0, band)] if subs is None else subs[at]
+        for j, (lo, hi, table) in enumerate(parts):
+            mm = np.flatnonzero((b1 <= hi) & ((b1 > lo) if j else True))
+            if mm.size:
+                g = m[mm]
+                f[g], s_c[g] = cc._pieces(
+                    table, [*cc.lead_list(cc._take(lm, mm)), cc._map(b1[mm], lo, hi)],
+                    np.degrees(tw[g]), split[mm], v[g], s[g], rho[g], None, ts[g])
+    return f * (np.cos(th) + np.cos(tw)), s_c
+
+
+def rank_one(entry: dict[str, Any]) -> dict[str, Any]:
+    """The table with every train core cut to rank 1 (its first slice)."""
+    def piece(p: dict[str, Any]) -> dict[str, Any]:
+        return {**p, **{k: {**p[k], "cores": [np.asarray(g)[:1, :, :1] for g in p[k]["cores"]]}
+                        for k in cc.TRAIN_FIELDS if k in p}}
+    return {**entry, "bands": [{**b, "pieces": [piece(p) for p in b["pieces"]]}
+                               for b in entry["bands"]]}
+
+
+def train_macs(piece: dict[str, Any]) -> int:
+    """Multiply-adds a point of a piece's trains."""
+    return int(sum(np.asarray(g).size for k in cc.TRAIN_FIELDS if k in piece
+                   for g in piece[k]["cores"]))
+
+
+def piece_points(entry: dict[str, Any], subs: Any, pts: tuple[np.ndarray, ...]
+                 ) -> list[tuple[dict[str, Any], int]]:
+    """Each piece :func:`evaluate` would use, with the number of points it takes."""
+    seen: list[tuple[dict[str, Any], int]] = []
+    inner = cc._piece
+
+    def counting(piece: dict[str, Any], lo: Any, hi: Any, idx: np.ndarray, *a: Any) -> Any:
+        seen.append((piece, idx.size))
+        return np.zeros(idx.size), np.ones(idx.size)
+
+    cc._piece = counting
+    try:
+        evaluate(entry, subs, pts)
+    finally:
+        cc._piece = inner
+    return seen
+
+
+def gap_halved_macs(piece: dict[str, Any]) -> float:
+    """A piece's multiply-adds a point if its force table were also halved along the gap
+    axis (each half re-expanded, trimmed and trained as :func:`sub_piece`; their mean)."""
+    coef = p2.train_fits(piece, ("force_train",))["force_train"]
+    tol = p2.TRAIN_TOL["force_train"]
+    got = []
+    for lo, hi in ((-1.0, 0.0), (0.0, 1.0)):
+        c = restrict(coef, GAP_AXIS, lo, hi)
+        c = c[..., :kept_terms(c, GAP_AXIS)]
+        got.append(sum(np.asarray(g).size for g in p2.train_of(c, tol)["cores"]))
+    return float(np.mean(got)) + sum(np.asarray(g).size
+                                     for g in piece["rupture_train"]["cores"])
+
+
+def timed(fns: dict[str, Any], rounds: int = 7) -> dict[str, float]:
+    """Median seconds of each callable over ``rounds`` alternating rounds (one warm-up)."""
+    import time
+
+    got: dict[str, list[float]] = {k: [] for k in fns}
+    for fn in fns.values():
+        fn()
+    for _ in range(rounds):
+        for k, fn in fns.items():
+            t0 = time.perf_counter()
+            fn()
+            got[k].append(time.perf_counter() - t0)
+    return {k: float(np.median(v)) for k, v in got.items()}
+
+
+def main() -> None:
+    table = cc.capillary_table()
+    if table is None or cc.PAIR_TWO_ANGLES not in table:
+        sys.exit("bench_pair_split: the package data has no two-angle sphere-pair table")
+    entry = table[cc.PAIR_TWO_ANGLES]
+    pts = points()
+    v, th, gap, ratio, tw = pts
+    subs = {k: split_table(entry, k) for k in SPLITS}
+    print("sub-pieces trained", flush=True)
+    flat = rank_one(entry)
+    fns = {"shipped": lambda: cc.force_star("sphere-sphere", v, th, gap, ratio,
+                                            theta_wall=tw),
+           "structure only (rank-1 cores)": lambda: evaluate(flat, None, pts)}
+    fns.update({f"b1 sub-pieces (K = {k})": (lambda k=k: evaluate(entry, subs[k], pts))
+                for k in SPLITS})
+    inner = cc.train_sum
+    cost = timed(fns)
+    cc.train_sum = lambda train, rows: np.zeros(rows[0].shape[1])
+    try:
+        cost["no train sums"] = timed({"x": lambda: evaluate(entry, None, pts)})["x"]
+    finally:
+        cc.train_sum = inner
+    f0, sc0 = cc.force_star("sphere-sphere", v, th, gap, ratio, theta_wall=tw)
+    forms: dict[str, Any] = {}
+    for name, t in cost.items():
+        forms[name] = {"s_per_point": t / N}
+    def weighted(subs_k: Any, macs: Any = train_macs) -> float:
+        return sum(macs(p) * n for p, n in piece_points(entry, subs_k, pts)) / N
+
+    forms["shipped"]["macs_per_point"] = weighted(None)
+    for k in SPLITS:
+        rec = forms[f"b1 sub-pieces (K = {k})"]
+        rec["macs_per_point"] = weighted(subs[k])
+        f, sc = evaluate(entry, subs[k], pts)
+        short = (gap < 0.999 * np.minimum(sc, sc0)) & (f0 > 0)
+        both = (f > 0) & (f0 > 0)
+        rec["max_change_rupture_vs_shipped"] = float(np.max(np.abs(sc / sc0 - 1.0)))
+        rec["max_change_force_vs_shipped_short_of_0.999_sc"] = float(
+            np.max(np.abs(f[short] / f0[short] - 1.0)))
+        rec["max_change_force_vs_shipped"] = float(np.max(np.abs(f[both] / f0[both] - 1.0)))
+        rec["b1_terms"] = sorted({int(np.asarray(p["rupture"]).shape[B1_AXIS])
+                                  for band in subs[k] for _, _, t in band
+                                  for p in t["pieces"]})
+    forms["b1 sub-pieces (K = 4)"]["macs_per_point_gap_halved_too"] = weighted(
+        subs[4], gap_halved_macs)
+    result = {"points": N, "blas_threads": os.environ["OPENBLAS_NUM_THREADS"], "trim": TRIM,
+              "forms": forms}
+    write_json("pair_split", result)
+    chart(result)
+    for name, rec in forms.items():
+        print(f"{name}: {rec['s_per_point'] * 1e6:.2f} us a point, "
+              + ", ".join(f"{k} {v:.3g}" for k, v in rec.items()
+                          if k != "s_per_point" and not isinstance(v, list)), flush=True)
+
+
+def chart(result: dict[str, Any]) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    forms = result["forms"]
+    names = list(forms)
+    cost = [forms[n]["s_per_point"] * 1e6 for n in names]
+    fig, ax = plt.subplots(figsize=(9.5, 3.8))
+    ax.barh(names, cost, color=[f"C{i}" for i in range(len(names))],
+            hatch=["", "//", "..", "\\\\", "xx"][:len(names)], edgecolor="k")
+    for y, (c, n) in enumerate(zip(cost, names, strict=True)):
+        macs = forms[n].get("macs_per_point")
+        halved = forms[n].get("macs_per_point_gap_halved_too")
+        ax.text(c, y, f" {c:.2f} us" + ("" if macs is None else f", {macs:.0f} MACs")
+                + ("" if halved is None else f"\n ({halved:.0f} MACs with the gap halved too)"),
+                va="center", fontsize=9)
+    ax.axvline(1.0, color="k", ls="--", lw=1)
+    ax.text(1.0, len(names) - 0.5, " 1 us goal", fontsize=9)
+    ax.invert_yaxis()
+    ax.set_xlim(0, max(cost) * 1.45)
+    ax.set_xlabel("cost a point (us, one BLAS thread, 1e5 points)")
+    ax.set_title("calibrated-capillary, two spheres with two contact angles: "
+                 "where the cost goes")
+    fig.tight_layout()
+    fig.savefig(RESULTS / "pair_split.png", dpi=120)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    if "--chart" in sys.argv:  # redraw from the results written before
+        import json
+
+        chart(json.loads((RESULTS / "pair_split.json").read_text()))
+    else:
+        main()
