@@ -44,7 +44,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import RESULTS, write_json  # noqa: E402
-from bench_pair_tt import N, points  # noqa: E402
+from bench_pair_tt import N, points, shipped_pair_table  # noqa: E402
 
 from wetcontact import calibrate_pairs2 as p2  # noqa: E402
 from wetcontact.reduced_models import calibrated_capillary as cc  # noqa: E402
@@ -189,10 +189,7 @@ def timed(fns: dict[str, Any], rounds: int = 7) -> dict[str, float]:
 
 
 def main() -> None:
-    table = cc.capillary_table()
-    if table is None or cc.PAIR_TWO_ANGLES not in table:
-        sys.exit("bench_pair_split: the package data has no two-angle sphere-pair table")
-    entry = table[cc.PAIR_TWO_ANGLES]
+    entry = shipped_pair_table("bench_pair_split")
     pts = points()
     v, th, gap, ratio, tw = pts
     subs = {k: split_table(entry, k) for k in SPLITS}

@@ -176,11 +176,16 @@ def measure(entry: dict[str, Any], pts: tuple[np.ndarray, ...]) -> dict[str, Any
     return {"s_per_point": t / N, "held_out_max": held, "pieces": pieces, "_values": (f, sc)}
 
 
-def main() -> None:
+def shipped_pair_table(script: str) -> dict[str, Any]:
+    """The package data's two-angle sphere-pair table (exits naming ``script`` without)."""
     table = cc.capillary_table()
     if table is None or cc.PAIR_TWO_ANGLES not in table:
-        sys.exit("bench_pair_tt: the package data has no two-angle sphere-pair table")
-    shipped = table[cc.PAIR_TWO_ANGLES]
+        sys.exit(f"{script}: the package data has no two-angle sphere-pair table")
+    return table[cc.PAIR_TWO_ANGLES]
+
+
+def main() -> None:
+    shipped = shipped_pair_table("bench_pair_tt")
     pts = points()
     forms = {"fit (no trains)": variant(shipped, None),
              f"finer trains {VARIANTS['finer trains']}": variant(shipped,
