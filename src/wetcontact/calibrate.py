@@ -445,7 +445,9 @@ def rel_errors(family: Family, k: np.ndarray, pts: Points) -> np.ndarray:
 
 def fit(family: Family, train: Points, lawson_iterations: int = 12) -> np.ndarray:
     """Coefficients minimising the relative error on ``train``: least squares from the
-    published values, then Lawson reweighting toward the minimax fit (best max kept)."""
+    published values, then Lawson reweighting toward the minimax fit (best max kept).
+    Each residual is held within +-1e3 (a non-finite one counts as 1e3): a trial step whose
+    form overflows would otherwise square to inf in the solver's cost and Jacobian."""
     from scipy.optimize import least_squares
 
     w = np.ones(len(train))
@@ -453,7 +455,7 @@ def fit(family: Family, train: Points, lawson_iterations: int = 12) -> np.ndarra
     def resid(k: np.ndarray) -> np.ndarray:
         with np.errstate(all="ignore"):
             r = family.form(k, train.inputs) / train.y - 1.0
-        return np.sqrt(w) * np.where(np.isfinite(r), r, 1e3)
+        return np.sqrt(w) * np.where(np.isfinite(r), np.clip(r, -1e3, 1e3), 1e3)
 
     k = family.published.astype(float).copy()
     best, best_max = k, float(rel_errors(family, k, train).max())
