@@ -5,7 +5,10 @@ point (``bench_calibrate``), against the 1 us goal of issue 11. This benchmark m
 in one run on the points of ``bench_pair_tt`` (1e5, one BLAS thread, alternating rounds,
 median of 7):
 
-- **shipped**: the package's evaluation (``calibrated_capillary.force_star``);
+- **shipped**: the package's evaluation of the two-angle pair table, as
+  ``calibrated_capillary.force_star`` does it, through :func:`evaluate` like every form
+  here (checked to reproduce ``force_star`` bit for bit; ``force_star``'s own split of a
+  batch into one- and two-angle points is not timed);
 - **structure only**: the same pieces, axes and calls with every tensor-train core cut to
   rank 1: what everything but the ranks costs (Chebyshev rows, ridge and onset series,
   gap coordinate, the per-batch calls and their elementwise sums);
@@ -114,14 +117,17 @@ def evaluate(entry: dict[str, Any], subs: list[Any] | None, pts: tuple[np.ndarra
     for band, m, b1 in cc._by_band(entry, ts, lead):
         lm = cc._take(lead, m)
         split = cc.theta_split_deg(band, lm, b1)
+        if subs is None:  # the band's own pieces, b1 as it is
+            f[m], s_c[m] = cc._pieces(band, [*lm, b1], np.degrees(tw[m]), split, v[m], s[m],
+                                      rho[m], None, ts[m])
+            continue
         at = next(i for i, b in enumerate(entry["bands"]) if b is band)
-        parts = [(-1.0, 1.0, band)] if subs is None else subs[at]
-        for j, (lo, hi, table) in enumerate(parts):
+        for j, (lo, hi, table) in enumerate(subs[at]):
             mm = np.flatnonzero((b1 <= hi) & ((b1 > lo) if j else True))
             if mm.size:
                 g = m[mm]
                 f[g], s_c[g] = cc._pieces(
-                    table, [*cc.lead_list(cc._take(lm, mm)), cc._map(b1[mm], lo, hi)],
+                    table, [*cc._take(lm, mm), cc._map(b1[mm], lo, hi)],
                     np.degrees(tw[g]), split[mm], v[g], s[g], rho[g], None, ts[g])
     return f * (np.cos(th) + np.cos(tw)), s_c
 
@@ -194,9 +200,13 @@ def main() -> None:
     v, th, gap, ratio, tw = pts
     subs = {k: split_table(entry, k) for k in SPLITS}
     print("sub-pieces trained", flush=True)
+    f0, sc0 = cc.force_star("sphere-sphere", v, th, gap, ratio, theta_wall=tw)
+    mine = evaluate(entry, None, pts)  # every form is timed through evaluate: check it
+    if not (np.array_equal(mine[0], f0) and np.array_equal(mine[1], sc0)):
+        sys.exit("bench_pair_split: evaluate no longer reproduces force_star's two-angle "
+                 "pair path bit for bit")
     flat = rank_one(entry)
-    fns = {"shipped": lambda: cc.force_star("sphere-sphere", v, th, gap, ratio,
-                                            theta_wall=tw),
+    fns = {"shipped": lambda: evaluate(entry, None, pts),
            "structure only (rank-1 cores)": lambda: evaluate(flat, None, pts)}
     fns.update({f"b1 sub-pieces (K = {k})": (lambda k=k: evaluate(entry, subs[k], pts))
                 for k in SPLITS})
@@ -207,10 +217,10 @@ def main() -> None:
         cost["no train sums"] = timed({"x": lambda: evaluate(entry, None, pts)})["x"]
     finally:
         cc.train_sum = inner
-    f0, sc0 = cc.force_star("sphere-sphere", v, th, gap, ratio, theta_wall=tw)
     forms: dict[str, Any] = {}
     for name, t in cost.items():
         forms[name] = {"s_per_point": t / N}
+
     def weighted(subs_k: Any, macs: Any = train_macs) -> float:
         return sum(macs(p) * n for p, n in piece_points(entry, subs_k, pts)) / N
 
