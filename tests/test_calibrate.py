@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -137,8 +139,6 @@ def test_fit_survives_a_start_whose_form_overflows() -> None:
     least-squares solver (its cost and Jacobian became inf). It must now return a fit as
     good as from the published start: the same minimax maximum on the committed training
     points (the form's limit there)."""
-    from pathlib import Path
-
     fam = cal.FAMILIES["willett"]
     where = Path(__file__).resolve().parents[1] / "benchmarks" / "results" / "calibration"
     train, _ = cal.load_points(where / "willett_points.npz")
@@ -148,8 +148,6 @@ def test_fit_survives_a_start_whose_form_overflows() -> None:
         start = refit * (1.0 + 0.3 * rng.standard_normal(refit.size))
     with np.errstate(all="ignore"):
         assert not np.all(np.isfinite(fam.form(start, train.inputs)))
-    from dataclasses import replace
-
     got = cal.rel_errors(fam, cal.fit(replace(fam, published=start), train), train).max()
     ref = cal.rel_errors(fam, cal.fit(fam, train), train).max()
     assert np.isfinite(got) and abs(got - ref) <= 1e-6 * ref
