@@ -21,6 +21,10 @@ median of 7):
   (``calibrate_pairs2.train_piece``). Evaluated by the package's own piece code on the
   points of each sub-range (:func:`evaluate`); not a format the package or its exports
   read.
+- **trains in float32**: the force trains' cores (then every train's) stored in single
+  precision, and the Chebyshev rows cast to it as each train is summed: the products and
+  sums in float32, everything else in float64. Precision is a lever beside the ranks
+  (twice the numbers a SIMD lane and a cache line); not a form the package ships.
 
 For each form: the cost a point, the multiply-adds a point of its trains weighted by the
 points each piece evaluates, and the largest change against the shipped values (rupture
@@ -141,6 +145,33 @@ def rank_one(entry: dict[str, Any]) -> dict[str, Any]:
                                for b in entry["bands"]]}
 
 
+def single(entry: dict[str, Any], fields: tuple[str, ...]) -> dict[str, Any]:
+    """The table with the named trains' cores in float32."""
+    def piece(p: dict[str, Any]) -> dict[str, Any]:
+        return {**p, **{k: {**p[k], "cores": [np.asarray(g, np.float32) for g in p[k]["cores"]]}
+                        for k in fields if k in p}}
+    return {**entry, "bands": [{**b, "pieces": [piece(p) for p in b["pieces"]]}
+                               for b in entry["bands"]]}
+
+
+def in_core_precision(entry: dict[str, Any], pts: tuple[np.ndarray, ...]
+                      ) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`evaluate`, each train summed in its cores' precision: the package's
+    ``train_sum`` on the Chebyshev rows cast to the cores' dtype (without the cast numpy
+    would promote every product back to float64)."""
+    inner = cc.train_sum
+
+    def cast(train: dict[str, Any], rows: list[np.ndarray]) -> np.ndarray:
+        dtype = train["cores"][0].dtype
+        return inner(train, [r.astype(dtype, copy=False) for r in rows])
+
+    cc.train_sum = cast
+    try:
+        return evaluate(entry, None, pts)
+    finally:
+        cc.train_sum = inner
+
+
 def train_macs(piece: dict[str, Any]) -> int:
     """Multiply-adds a point of a piece's trains."""
     return int(sum(np.asarray(g).size for k in cc.TRAIN_FIELDS if k in piece
@@ -206,10 +237,13 @@ def main() -> None:
         sys.exit("bench_pair_split: evaluate no longer reproduces force_star's two-angle "
                  "pair path bit for bit")
     flat = rank_one(entry)
+    low = {"force trains in float32": single(entry, ("force_train",)),
+           "all trains in float32": single(entry, cc.TRAIN_FIELDS)}
     fns = {"shipped": lambda: evaluate(entry, None, pts),
            "structure only (rank-1 cores)": lambda: evaluate(flat, None, pts)}
     fns.update({f"b1 sub-pieces (K = {k})": (lambda k=k: evaluate(entry, subs[k], pts))
                 for k in SPLITS})
+    fns.update({name: (lambda t=t: in_core_precision(t, pts)) for name, t in low.items()})
     inner = cc.train_sum
     cost = timed(fns)
     cc.train_sum = lambda train, rows: np.zeros(rows[0].shape[1])
@@ -224,20 +258,25 @@ def main() -> None:
     def weighted(subs_k: Any, macs: Any = train_macs) -> float:
         return sum(macs(p) * n for p, n in piece_points(entry, subs_k, pts)) / N
 
-    forms["shipped"]["macs_per_point"] = weighted(None)
-    for k in SPLITS:
-        rec = forms[f"b1 sub-pieces (K = {k})"]
-        rec["macs_per_point"] = weighted(subs[k])
-        f, sc = evaluate(entry, subs[k], pts)
+    def changes(rec: dict[str, Any], f: np.ndarray, sc: np.ndarray) -> None:
         short = (gap < 0.999 * np.minimum(sc, sc0)) & (f0 > 0)
         both = (f > 0) & (f0 > 0)
         rec["max_change_rupture_vs_shipped"] = float(np.max(np.abs(sc / sc0 - 1.0)))
         rec["max_change_force_vs_shipped_short_of_0.999_sc"] = float(
             np.max(np.abs(f[short] / f0[short] - 1.0)))
         rec["max_change_force_vs_shipped"] = float(np.max(np.abs(f[both] / f0[both] - 1.0)))
+
+    forms["shipped"]["macs_per_point"] = weighted(None)
+    for k in SPLITS:
+        rec = forms[f"b1 sub-pieces (K = {k})"]
+        rec["macs_per_point"] = weighted(subs[k])
+        changes(rec, *evaluate(entry, subs[k], pts))
         rec["b1_terms"] = sorted({int(np.asarray(p["rupture"]).shape[B1_AXIS])
                                   for band in subs[k] for _, _, t in band
                                   for p in t["pieces"]})
+    for name, t in low.items():
+        forms[name]["macs_per_point"] = forms["shipped"]["macs_per_point"]
+        changes(forms[name], *in_core_precision(t, pts))
     forms["b1 sub-pieces (K = 4)"]["macs_per_point_gap_halved_too"] = weighted(
         subs[4], gap_halved_macs)
     result = {"points": N, "blas_threads": os.environ["OPENBLAS_NUM_THREADS"], "trim": TRIM,
@@ -261,7 +300,7 @@ def chart(result: dict[str, Any]) -> None:
     cost = [forms[n]["s_per_point"] * 1e6 for n in names]
     fig, ax = plt.subplots(figsize=(9.5, 3.8))
     ax.barh(names, cost, color=[f"C{i}" for i in range(len(names))],
-            hatch=["", "//", "..", "\\\\", "xx"][:len(names)], edgecolor="k")
+            hatch=["", "//", "..", "\\\\", "xx", "--", "++"][:len(names)], edgecolor="k")
     for y, (c, n) in enumerate(zip(cost, names, strict=True)):
         macs = forms[n].get("macs_per_point")
         halved = forms[n].get("macs_per_point_gap_halved_too")
