@@ -239,16 +239,21 @@ def _accepts(model: Model, scene: Scene) -> bool:
     return True
 
 
-def model_instead(scene: Scene, component: str, exclude: str = "") -> str | None:
-    """The most faithful registered model that accepts ``scene`` for ``component``.
+def model_instead(scene: Scene, component: str, exclude: str | tuple[str, ...] = ""
+                  ) -> str | None:
+    """The most faithful model that accepts ``scene`` for ``component`` (every model module
+    imported first: a closure may refuse before the solvers are loaded).
 
     Ranked by the model's ``reference_rank`` for the component, then by fidelity level;
-    ``component = "both"`` takes a model of either component. ``None`` if none accepts.
+    ``component = "both"`` takes a model of either component; ``exclude`` names models
+    not to name. ``None`` if none accepts.
     """
+    skip = (exclude,) if isinstance(exclude, str) else exclude
+
     def serves(m: Model) -> bool:
         return component == "both" or m.component in (component, "both")
 
-    cands = [m for m in MODELS.values() if m.name != exclude and serves(m)]
+    cands = [m for m in load_all().values() if m.name not in skip and serves(m)]
     cands.sort(key=lambda m: (-max(m.reference_rank.values(), default=0), -m.level, m.name))
     return next((m.name for m in cands if _accepts(m, scene)), None)
 
@@ -270,6 +275,8 @@ def _consistent_hint(check: Any) -> Any:
                 check(self, scene)
             except ValidityError as exc:
                 alt = exc.use_instead
+                if alt is not None and alt not in MODELS:
+                    load_all()  # a closure refusing before the solvers were imported
                 if alt is None or (alt in MODELS and alt != self.name
                                    and _accepts(MODELS[alt], scene)):
                     raise
@@ -373,8 +380,11 @@ def observed_order(h: Any, err: Any) -> float:
 
 def closure_curve(scene: Scene, model: str, viscous: np.ndarray | None = None,
                   capillary: np.ndarray | None = None, error_estimate: np.ndarray | None = None,
-                  **extras: np.ndarray) -> ForceCurve:
-    """Assemble a :class:`ForceCurve` for a closed-form model (no diagnostics)."""
+                  outside: str = "", **extras: np.ndarray) -> ForceCurve:
+    """Assemble a :class:`ForceCurve` for a closed-form model; ``outside``, if not empty,
+    says why the scene lies outside the closure's stated validity (diagnostics
+    ``outside_stated_validity``, which ``wetcontact solve`` prints as a warning)."""
     return ForceCurve(case=scene.name, model=model, gap=scene.gap_array,
                       force_viscous=viscous, force_capillary=capillary, extras=extras,
-                      error_estimate=error_estimate)
+                      error_estimate=error_estimate,
+                      diagnostics={"outside_stated_validity": outside} if outside else {})
