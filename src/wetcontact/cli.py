@@ -156,7 +156,7 @@ _PATH_ERRORS: dict[int, str] = {
 def error_line(exc: BaseException) -> tuple[int, str]:
     """Exit code and the one line a user sees for ``exc`` (no traceback)."""
     if isinstance(exc, InputError):
-        return 2, f"wetcontact: error: {_one_line(exc)}"
+        return 2, f"wetcontact: error: {_one_line(exc, limit=1200)}"
     if isinstance(exc, SolverError):
         return 1, f"wetcontact: solver failed: {_one_line(exc)}"
     if isinstance(exc, OSError):
@@ -234,8 +234,8 @@ def _models() -> int:
 
 def _solve(args: argparse.Namespace) -> int:
     from wetcontact import select
-    from wetcontact.models import get_model
-    from wetcontact.scene import load_case
+    from wetcontact.models import get_model, model_instead
+    from wetcontact.scene import TOLERANCE_RANGE, load_case
 
     scene = load_case(args.case)
     if args.model and args.tol is not None:
@@ -253,8 +253,13 @@ def _solve(args: argparse.Namespace) -> int:
 
             model = load_coefficients(coefficients, family=name)
             why = f"coefficients from {coefficients}"
-        else:
+        elif args.model:
             model = get_model(name)
+        else:  # the case file's fidelity.model
+            try:
+                model = get_model(name)
+            except InputError as exc:
+                raise InputError(f"{args.case}: field 'fidelity.model': {exc}") from None
         if args.save_fields is not None:
             if not model.saves_fields:
                 raise InputError(f"--save-fields: model '{model.name}' has no fields to "
@@ -265,8 +270,16 @@ def _solve(args: argparse.Namespace) -> int:
         for comp, arr in (("viscous", curve.force_viscous),
                           ("capillary", curve.force_capillary)):
             names[comp] = model.name if arr is not None else None
+        if note := curve.diagnostics.get("outside_stated_validity"):
+            alt = model_instead(scene, model.component, exclude=model.name)
+            sys.stderr.write(f"wetcontact: warning: model '{model.name}' is used outside its "
+                             f"stated validity ({note})"
+                             + (f"; model '{alt}' applies\n" if alt else "\n"))
     else:
         tol = args.tol if args.tol is not None else scene.tolerance
+        lo, hi = TOLERANCE_RANGE
+        if args.tol is not None and not lo < args.tol < hi:
+            raise InputError(f"--tol = {args.tol!r}; allowed: ({lo:g}, {hi:g}) relative")
         if tol is None:
             raise InputError(f"{args.case}: no model: give --model, --tol, or fidelity.model / "
                              "fidelity.tolerance in the case file")

@@ -260,7 +260,11 @@ def scene_from_dict(data: Mapping[str, Any], source: str = "<dict>") -> Scene:
     if "tolerance" in fid and "model" in fid:
         raise CaseError(source, "fidelity", sorted(fid), "one of tolerance or model, not both")
     if "tolerance" in fid:
-        tol = _num(source, "fidelity.tolerance", fid["tolerance"], 1e-12, 1.0, "(relative)")
+        lo, hi = TOLERANCE_RANGE
+        tol = _num(source, "fidelity.tolerance", fid["tolerance"], lo, hi, "(relative)")
+        if tol == hi:
+            raise CaseError(source, "fidelity.tolerance", fid["tolerance"],
+                            f"a number in ({lo:g}, {hi:g}) (relative)")
     if "model" in fid:
         model = fid["model"]
         if not isinstance(model, str) or not model:
@@ -305,6 +309,10 @@ def _check_keys(source: str, data: Mapping[str, Any]) -> None:
         for key, req in keys.items():
             if req and key not in sub:
                 raise CaseError(source, f"{table}.{key}", None, "required")
+
+
+TOLERANCE_RANGE = (1e-12, 1.0)
+"""Open interval of a relative tolerance (case file ``fidelity.tolerance``, ``--tol``)."""
 
 
 def _num(source: str, name: str, value: Any, lo: float, hi: float, unit: str,
