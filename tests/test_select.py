@@ -12,6 +12,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -207,3 +208,45 @@ def test_tables_do_not_cover_slip_or_gravity() -> None:
     bridge = make_scene("sphere-wall", {"bridge_volume": 1e-11}, [1e-6], theta=(10.0, 10.0))
     heavy = dataclasses.replace(bridge, gravity=9.81)
     assert select.choose(heavy, 0.5).choices["capillary"].model.name == "meniscus"
+
+
+def test_every_shipped_case_is_selectable_at_its_own_tolerance() -> None:
+    """``wetcontact solve CASE`` with the case's own ``fidelity.tolerance`` must choose a
+    model for every component the scene needs. The Pitois case (V/R^3 = 0.125) failed:
+    the bridge viscous tables stopped at V* = 0.1; they now run to 1."""
+    from wetcontact.scene import load_case
+
+    cases = sorted((Path(__file__).resolve().parents[1] / "cases").glob("*.toml"))
+    checked = 0
+    for path in cases:
+        scene = load_case(path)
+        if scene.tolerance is None:
+            continue
+        sel = select.choose(scene, scene.tolerance)
+        assert set(sel.choices) == set(select.needed_components(scene)), path.name
+        checked += 1
+    assert checked >= 8
+
+
+def test_no_bound_names_the_coordinate_and_the_model_that_applies() -> None:
+    """Beyond every measured table the error says which coordinate is outside which range
+    and which model to give with --model, listing only models of the missing component
+    (it listed capillary closures for the viscous force, cut off at 300 characters)."""
+    sc = make_scene("sphere-wall", {"bridge_volume": 2.0 * R**3}, [1e-5, 1e-4],
+                    theta=(10.0, 10.0))
+    with pytest.raises(InputError) as err:
+        select.choose(sc, 0.01)
+    msg = str(err.value)
+    assert "viscous force" in msg and "v_star = 2" in msg and "[0.0001, 1]" in msg, msg
+    assert "applies) instead" in msg and "does not model" not in msg, msg
+
+
+def test_film_on_a_non_wetting_sphere_is_not_given_to_thinfilm() -> None:
+    """thinfilm's sharp contact (every preset's) refuses a sphere angle >= 90 deg inside
+    its solve; selection chose it anyway and the run then failed naming lubrication, which
+    has no capillary force."""
+    sc = make_scene("sphere-wall", {"film_thickness": 0.05 * R}, [0.02 * R, 0.04 * R],
+                    theta=(90.0, 20.0))
+    with pytest.raises(InputError, match="sharp contact") as err:
+        select.choose(sc, 0.1)
+    assert "capillary force" in str(err.value) and "applies" not in str(err.value)

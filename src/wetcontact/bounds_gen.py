@@ -157,12 +157,23 @@ def film_reference(scene: Scene) -> np.ndarray:
     return np.stack([ref, unc])
 
 
+LARGE_BRIDGES = (0.1, 1.0)
+"""V/R_small^3 range of the bridge tables' last bin, drawn from its own stream (no closure
+is calibrated there; ``lubrication`` and ``reynolds-finite`` are measured up to the
+capillary closures' hard limit, V* = 1)."""
+
+
 def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
-                         per_bin: int = 4, film_scenes: int = 16) -> list[dict[str, Any]]:
+                         per_bin: int = 4, film_scenes: int = 16,
+                         rng_large: np.random.Generator | None = None,
+                         large_scenes: int = 8) -> list[dict[str, Any]]:
     """``reynolds-finite``, ``calibrated-viscous`` and lubrication's presets: on films
     against :func:`film_reference` (Stokes, its uncertainty added to every error; one gap
     per bin, S/delta up to :data:`FILM_X_MAX`), on bridges against lubrication (accurate,
-    n = 256), the project's best bridge reference that covers their domain."""
+    n = 256), the project's best bridge reference that covers their domain; with
+    ``rng_large``, ``large_scenes`` more bridges of each kind with V/R_small^3 in
+    :data:`LARGE_BRIDGES`, after the others (their own stream leaves the others' points
+    as they were)."""
     h_edges = np.linspace(0.0, 1.0, 11)
     lub = get_model("lubrication")
     out = []
@@ -171,17 +182,20 @@ def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
         rows: dict[str, list[np.ndarray]] = {k: [] for k in ("p", "ratio", "x", "rf", "fast",
                                                             "default", "cv")}
         film = amount == "film"
-        for _ in range(film_scenes if film else n_scenes):
-            x = np.concatenate([rng.uniform(lo, hi, 1 if film else per_bin)
+        draws = [(rng, (1e-3, 0.1) if film else (1e-4, 0.1))] * (film_scenes if film
+                                                                  else n_scenes)
+        if rng_large is not None and not film:
+            draws += [(rng_large, LARGE_BRIDGES)] * large_scenes
+        for g, (p_lo, p_hi) in draws:
+            x = np.concatenate([g.uniform(lo, hi, 1 if film else per_bin)
                                 for lo, hi in zip(h_edges[:-1], h_edges[1:], strict=True)])
             x = np.clip(x, 1e-4, FILM_X_MAX if film else 1 - 1e-4)
-            ratio = 1.0 if kind == "sphere-wall" else float(np.exp(rng.uniform(0, np.log(10))))
+            ratio = 1.0 if kind == "sphere-wall" else float(np.exp(g.uniform(0, np.log(10))))
             r2 = None if kind == "sphere-wall" else R * ratio
+            p = float(np.exp(g.uniform(np.log(p_lo), np.log(p_hi))))
             if amount == "film":
-                p = float(np.exp(rng.uniform(np.log(1e-3), np.log(0.1))))
                 amt, gaps = {"film_thickness": p * R}, x * p * R
             else:
-                p = float(np.exp(rng.uniform(np.log(1e-4), np.log(0.1))))
                 v = p * R**3
                 rstar = R * ratio / (1 + ratio)
                 gaps = x * np.sqrt(v / (math.pi * rstar)) / np.sqrt(1 - x**2)
@@ -214,7 +228,8 @@ def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
                 rows[pr].append(rel_error(got[pr], ref) + unc)
         cat = {k: np.concatenate(v) for k, v in rows.items()}
         pname = "delta_over_r" if amount == "film" else "v_star"
-        p_edges = ([1e-3, 1e-2, 0.1] if amount == "film" else [1e-4, 1e-3, 1e-2, 0.1])
+        p_edges = ([1e-3, 1e-2, 0.1] if film else [1e-4, 1e-3, 1e-2, 0.1]
+                   + ([LARGE_BRIDGES[1]] if rng_large is not None else []))
         axes = [pname, "s_over_h"]
         coords = [cat["p"], cat["x"]]
         edges = [p_edges, h_edges.tolist()]
@@ -382,7 +397,9 @@ def measure_bounds(seed: int = 20261123, out: Path = DATA_PATH, quick: bool = Fa
     t0 = time.perf_counter()
     tabs = immersed_tables(rng, per_bin=6 if quick else 24)
     tabs += finite_liquid_tables(rng, n_scenes=6 if quick else 24,
-                                 film_scenes=4 if quick else 16)
+                                 film_scenes=4 if quick else 16,
+                                 rng_large=np.random.default_rng([seed, 14]),
+                                 large_scenes=2 if quick else 8)
     tabs += capillary_tables(rng, n_scenes=8 if quick else 90, progress=progress)
     # its own stream, so that adding it left the other tables' points unchanged
     tabs += calibrated_capillary_tables(np.random.default_rng([seed, 11]),

@@ -48,9 +48,9 @@ from typing import Any
 import numpy as np
 
 from wetcontact.errors import InputError
-from wetcontact.models import PRESETS, ForceCurve, Model, load_all, provenance
+from wetcontact.models import PRESETS, ForceCurve, Model, load_all, model_instead, provenance
 from wetcontact.reduced_models import bounds
-from wetcontact.scene import Scene
+from wetcontact.scene import TOLERANCE_RANGE, Scene
 
 #: exact series (Brenner 1961): summation accuracy, 1e-15 measured against a 40-digit sum
 EXACT_BOUND = 1e-12
@@ -140,7 +140,7 @@ def component_bound(model: Model, preset: str, component: str,
         if got is None:
             return "no measured error table for this kind of scene"
         if not np.all(np.isfinite(got[0])):
-            return "some gaps lie outside the measured domain"
+            return bounds.domain_reason(model.name, component, scene, sc)
         floor = getattr(model, "bound_floor", None)  # a closure's known-coarse region
         if floor is not None and np.any((f := floor(scene, sc)) > got[0]):
             return np.maximum(got[0], f), (f"{got[1]}; raised to the closure's own floor at "
@@ -149,8 +149,11 @@ def component_bound(model: Model, preset: str, component: str,
         return got
     if model.name == "lubrication":
         got = bounds.measured_bound(f"lubrication:{preset}", component, scene)
-        if got is None or not np.all(np.isfinite(got[0])):
-            return f"preset '{preset}' not measured on this scene"
+        if got is None:
+            return f"preset '{preset}' not measured on this kind of scene"
+        if not np.all(np.isfinite(got[0])):
+            return (f"preset '{preset}': " + bounds.domain_reason(f"lubrication:{preset}",
+                                                                  component, scene))
         return got
     if model.name == "thinfilm":
         if component == "viscous":
@@ -173,6 +176,15 @@ def component_bound(model: Model, preset: str, component: str,
     return f"no error bound at preset '{preset}'"
 
 
+def _refuses_at_defaults(model: Model, scene: Scene) -> str:
+    """Why ``model``, whose check accepts ``scene``, refuses it at every preset, or empty:
+    ``thinfilm``'s sharp contact (every preset's) needs a wetting sphere."""
+    if model.name == "thinfilm" and scene.contact_angle_sphere >= 0.5 * math.pi:
+        return ("its sharp contact (every preset's) needs a wetting sphere, contact angle "
+                f"< 90 deg; the scene's is {math.degrees(scene.contact_angle_sphere):.4g} deg")
+    return ""
+
+
 def choose(scene: Scene, tolerance: float, preset: str | None = None) -> Selection:
     """Per component, the cheapest applicable model whose bound meets ``tolerance``.
 
@@ -185,21 +197,24 @@ def choose(scene: Scene, tolerance: float, preset: str | None = None) -> Selecti
     preset
         Restrict solvers to this preset (closures always run at ``default``).
     """
-    if not (isinstance(tolerance, float | int) and 0.0 < tolerance < 1.0):
-        raise InputError(f"tolerance = {tolerance!r}; allowed: (0, 1) relative")
-    models = sorted((m for m in load_all().values() if m.applicable(scene) is None),
+    lo, hi = TOLERANCE_RANGE
+    if not (isinstance(tolerance, float | int) and lo < tolerance < hi):
+        raise InputError(f"tolerance = {tolerance!r}; allowed: ({lo:g}, {hi:g}) relative")
+    accepted = [m for m in load_all().values() if m.applicable(scene) is None]
+    at_defaults = {m.name: why for m in accepted if (why := _refuses_at_defaults(m, scene))}
+    models = sorted((m for m in accepted if m.name not in at_defaults),
                     key=lambda m: (m.level, m.cost, m.name))
     choices: dict[str, Choice] = {}
     for comp in needed_components(scene):
         best: Choice | None = None
-        why_not = []
+        why_not: list[tuple[str, str]] = []
         for m in models:
             presets = ["default"] if m.level == 0 else [
                 p for p in PRESETS if p in m.presets and (preset is None or p == preset)]
             for p in presets:
                 got = component_bound(m, p, comp, scene)
                 if isinstance(got, str):
-                    why_not.append(f"{m.name}: {got}")
+                    why_not.append((m.name, got))
                     continue
                 b, ref = got
                 worst = float(b.max())
@@ -216,9 +231,18 @@ def choose(scene: Scene, tolerance: float, preset: str | None = None) -> Selecti
                 break
         if comp not in choices:
             if best is None:
+                why: dict[str, str] = {}  # a model's first reason (its first preset's)
+                for name, reason in why_not:
+                    if reason != f"does not model the {comp} force":
+                        why.setdefault(name, reason)
+                why.update({m.name: at_defaults[m.name] for m in accepted
+                            if m.name in at_defaults and m.component in (comp, "both")})
+                instead = model_instead(scene, comp, exclude=tuple(at_defaults))
                 raise InputError(f"scene '{scene.name}': no applicable model computes the "
-                                 f"{comp} force with a measured error bound ("
-                                 + "; ".join(why_not[:4]) + "); give --model instead")
+                                 f"{comp} force with a measured error bound; give --model "
+                                 + (f"(model '{instead}' applies) " if instead else "")
+                                 + "instead. Why not: "
+                                 + "; ".join(f"{n}: {w}" for n, w in why.items()))
             choices[comp] = best
     return Selection(float(tolerance), choices)
 

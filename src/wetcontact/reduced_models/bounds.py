@@ -88,6 +88,21 @@ class Table:
             return False
         return not (self.equal_spheres and not scene.equal_spheres)
 
+    def outside(self, coords: dict[str, np.ndarray]) -> str:
+        """Which coordinate of the gaps lies outside the measured bins and by how much
+        (the first such axis), or that a bin holds no measured point; empty if neither."""
+        for name, e in zip(self.axes, self.edges, strict=True):
+            x = np.asarray(coords[name], dtype=float)
+            tol = 1e-12 * max(abs(e[0]), abs(e[-1]))
+            bad = (x < e[0] - tol) | (x > e[-1] + tol)
+            if bad.any():
+                lo, hi = float(x[bad].min()), float(x[bad].max())
+                at = f"{lo:.3g}" if lo == hi else f"{lo:.3g} to {hi:.3g}"
+                return (f"{name} = {at} at {int(bad.sum())} of {x.size} gaps, outside the "
+                        f"measured [{e[0]:.3g}, {e[-1]:.3g}]")
+        n = int(np.sum(~np.isfinite(self.lookup(coords))))
+        return f"{n} gaps fall in bins without a measured point" if n else ""
+
     def lookup(self, coords: dict[str, np.ndarray]) -> np.ndarray:
         """Bound per gap; ``inf`` where a gap lies outside the measured bins."""
         n = len(next(iter(coords.values())))
@@ -160,6 +175,19 @@ def measured_bound(model: str, component: str, scene: Scene,
                 return None
             return t.lookup(coords), t.reference
     return None
+
+
+def domain_reason(model: str, component: str, scene: Scene,
+                  rupture_distance: float | None = None) -> str:
+    """Why ``model``'s measured bound does not cover every gap of ``scene`` (the
+    coordinate, its values and the measured range), or empty if it does."""
+    for t in tables():
+        if t.model == model and t.component == component and t.covers(scene):
+            coords = scene_coords(scene, rupture_distance)
+            if not all(a in coords for a in t.axes):
+                return "no measured error table for this kind of scene"
+            return t.outside(coords)
+    return "no measured error table for this kind of scene"
 
 
 def estimate_or_none(model: str, component: str, scene: Scene,
