@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import replace
 from pathlib import Path
 
@@ -14,6 +15,8 @@ from wetcontact.bounds_gen import make_scene
 from wetcontact.errors import InputError, ValidityError
 from wetcontact.reduced_models import capillary as cap
 from wetcontact.reduced_models import rupture as rup
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def _bridge_inputs(theta: float = 0.4) -> dict[str, np.ndarray]:
@@ -104,13 +107,64 @@ def test_calibration_files_and_refitted_model(finite_liquid_run, tmp_path, capsy
 def test_bad_coefficient_files_are_input_errors(tmp_path) -> None:
     bad = tmp_path / "bad.json"
     bad.write_text(json.dumps({"family": "willett", "coefficients": [1.0, 2.0], "domain": {}}))
-    with pytest.raises(InputError, match="48 finite numbers"):
+    with pytest.raises(InputError, match="'coefficients' has 2 values; allowed: 48"):
         cal.load_coefficients(bad)
     with pytest.raises(InputError, match="cannot read"):
         cal.load_coefficients(tmp_path / "missing.json")
     bad.write_text(json.dumps({"family": "nope", "coefficients": [], "domain": {}}))
     with pytest.raises(InputError, match="allowed"):
         cal.load_coefficients(bad)
+
+
+WILLETT_JSON = ROOT / "benchmarks" / "results" / "calibration" / "willett.json"
+
+
+def _break(data: dict, how: str) -> str:
+    """Mutate a copy of a calibration JSON; return the field the message must name."""
+    dom, k = data["domain"], data["coefficients"]
+    if how == "domain key missing":
+        del dom["theta_deg"]
+        return "'domain'"
+    if how == "domain key extra":
+        dom["foo"] = [0, 1]
+        return "'domain'"
+    if how in ("NaN bound", "string bound", "null range", "one bound"):
+        dom["theta_deg"] = {"NaN bound": [0, math.nan], "string bound": [0, "50"],
+                            "null range": None, "one bound": [0]}[how]
+        return "'domain.theta_deg"
+    if how == "inverted range":
+        dom["v_star"] = [0.1, 1e-4]
+        return "'domain.v_star'"
+    if how in ("string coefficient", "boolean coefficient", "NaN coefficient",
+               "huge integer coefficient"):
+        k[3] = {"string coefficient": "abc", "boolean coefficient": True,
+                "NaN coefficient": math.nan, "huge integer coefficient": 10**400}[how]
+        return "'coefficients'[3]"
+    if how == "other kind":
+        data["kind"] = "sphere-wall"
+        return "'kind'"
+    if how == "family misspelt":
+        data["family"] = "willet"
+        return "'family'"
+    raise AssertionError(how)
+
+
+@pytest.mark.parametrize("how", [
+    "domain key missing", "domain key extra", "NaN bound", "string bound", "null range",
+    "one bound", "inverted range", "string coefficient", "boolean coefficient",
+    "NaN coefficient", "huge integer coefficient", "other kind", "family misspelt"])
+def test_malformed_coefficient_file_names_file_and_field(tmp_path, how) -> None:
+    """Each malformation found by a new user's audit (2026-11-25) is an InputError naming
+    the file and the field; before, a missing or NaN theta range silently dropped the
+    refusal outside it, and null, short or extra ranges and string coefficients raised
+    TypeError, IndexError, KeyError or ValueError (exit 1, "internal error")."""
+    data = json.loads(WILLETT_JSON.read_text())
+    field = _break(data, how)
+    bad = tmp_path / "broken.json"
+    bad.write_text(json.dumps(data))
+    with pytest.raises(InputError) as err:
+        cal.load_coefficients(bad, family="willett")
+    assert str(bad) in str(err.value) and field in str(err.value), str(err.value)
 
 
 def test_points_from_a_sweep(tmp_path) -> None:

@@ -872,6 +872,29 @@ class CalibratedClosure(Model):
                           force_capillary=-val)
 
 
+def _finite_numbers(path: Path, field: str, value: Any, size: int | None = None
+                    ) -> np.ndarray:
+    """``value`` as an array of finite numbers (JSON numbers, not booleans), or an
+    :class:`InputError` naming the file, the field, the entry and what is allowed."""
+    want = f"a list of {size} finite numbers" if size else "a list of finite numbers"
+    if not isinstance(value, list) or (size is not None and len(value) != size):
+        raise InputError(f"{path}: field '{field}' = {_short(value)}; allowed: {want}")
+    for i, x in enumerate(value):
+        try:
+            ok = not isinstance(x, bool) and isinstance(x, int | float) and math.isfinite(x)
+        except OverflowError:  # an integer beyond the float range
+            ok = False
+        if not ok:
+            raise InputError(f"{path}: field '{field}'[{i}] = {_short(x)}; allowed: a "
+                             "finite number")
+    return np.asarray(value, dtype=float)
+
+
+def _short(value: Any) -> str:
+    text = json.dumps(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
 def load_coefficients(path: Path | str, family: str | None = None) -> CalibratedClosure:
     """A :class:`CalibratedClosure` from a calibration JSON (``family`` must match)."""
     path = Path(path)
@@ -879,18 +902,42 @@ def load_coefficients(path: Path | str, family: str | None = None) -> Calibrated
         data = json.loads(path.read_text())
     except (OSError, json.JSONDecodeError) as exc:
         raise InputError(f"{path}: cannot read the coefficients ({exc})") from None
+    if not isinstance(data, dict):
+        raise InputError(f"{path}: a JSON {type(data).__name__}; allowed: an object written "
+                         "by wetcontact calibrate")
     for key in ("family", "coefficients", "domain"):
         if key not in data:
             raise InputError(f"{path}: field '{key}' missing; allowed: a file written by "
                              "wetcontact calibrate")
-    fam = get_family(str(data["family"]))
+    try:
+        fam = get_family(data["family"] if isinstance(data["family"], str)
+                         else repr(data["family"]))
+    except InputError as exc:
+        raise InputError(f"{path}: field 'family': {exc}") from None
     if family is not None and family != fam.name:
         raise InputError(f"{path}: family = {fam.name!r}, but --model {family!r}")
-    k = np.asarray(data["coefficients"], dtype=float)
-    if k.shape != fam.published.shape or not np.all(np.isfinite(k)):
-        raise InputError(f"{path}: coefficients has {k.size} values; allowed: "
-                         f"{fam.published.size} finite numbers for family {fam.name}")
-    dom = {a: (float(v[0]), float(v[1])) for a, v in data["domain"].items()}
+    for key, want in (("kind", fam.kind), ("amount", fam.amount), ("target", fam.target),
+                      ("equal_spheres", fam.equal)):
+        if key in data and data[key] != want:
+            raise InputError(f"{path}: field '{key}' = {data[key]!r}; allowed: {want!r} "
+                             f"(family {fam.name})")
+    k = _finite_numbers(path, "coefficients", data["coefficients"])
+    if k.shape != fam.published.shape:
+        raise InputError(f"{path}: field 'coefficients' has {k.size} values; allowed: "
+                         f"{fam.published.size} for family {fam.name}")
+    dom_in = data["domain"]
+    want = set(fam.domain_axes)
+    if not isinstance(dom_in, dict) or set(dom_in) != want:
+        got = sorted(dom_in) if isinstance(dom_in, dict) else dom_in
+        raise InputError(f"{path}: field 'domain' = {got!r}; allowed: an object with the "
+                         f"ranges of {', '.join(fam.domain_axes)} (family {fam.name})")
+    dom = {}
+    for a in fam.domain_axes:
+        lo, hi = _finite_numbers(path, f"domain.{a}", dom_in[a], size=2)
+        if not lo <= hi:
+            raise InputError(f"{path}: field 'domain.{a}' = [{lo:g}, {hi:g}]; allowed: "
+                             "[low, high] with low <= high")
+        dom[a] = (float(lo), float(hi))
     return CalibratedClosure(fam, k, dom, str(path))
 
 
