@@ -161,6 +161,17 @@ def scene_coords(scene: Scene, rupture_distance: float | None = None) -> dict[st
     return c
 
 
+def _table_for(model: str, component: str, scene: Scene,
+               rupture_distance: float | None) -> tuple[Table, dict[str, np.ndarray]] | None:
+    """The table of ``model`` covering the scene's class and the scene's coordinates, or
+    ``None`` when there is none (or the scene lacks one of its coordinates)."""
+    for t in tables():
+        if t.model == model and t.component == component and t.covers(scene):
+            coords = scene_coords(scene, rupture_distance)
+            return (t, coords) if all(a in coords for a in t.axes) else None
+    return None
+
+
 def measured_bound(model: str, component: str, scene: Scene,
                    rupture_distance: float | None = None) -> tuple[np.ndarray, str] | None:
     """Measured bound per gap of closure ``model`` on ``scene``, and its reference.
@@ -168,26 +179,17 @@ def measured_bound(model: str, component: str, scene: Scene,
     ``None`` when no table covers the scene's class; the array holds ``inf`` at gaps
     outside the measured domain.
     """
-    for t in tables():
-        if t.model == model and t.component == component and t.covers(scene):
-            coords = scene_coords(scene, rupture_distance)
-            if not all(a in coords for a in t.axes):
-                return None
-            return t.lookup(coords), t.reference
-    return None
+    got = _table_for(model, component, scene, rupture_distance)
+    return None if got is None else (got[0].lookup(got[1]), got[0].reference)
 
 
 def domain_reason(model: str, component: str, scene: Scene,
                   rupture_distance: float | None = None) -> str:
     """Why ``model``'s measured bound does not cover every gap of ``scene`` (the
     coordinate, its values and the measured range), or empty if it does."""
-    for t in tables():
-        if t.model == model and t.component == component and t.covers(scene):
-            coords = scene_coords(scene, rupture_distance)
-            if not all(a in coords for a in t.axes):
-                return "no measured error table for this kind of scene"
-            return t.outside(coords)
-    return "no measured error table for this kind of scene"
+    got = _table_for(model, component, scene, rupture_distance)
+    return ("no measured error table for this kind of scene" if got is None
+            else got[0].outside(got[1]))
 
 
 def estimate_or_none(model: str, component: str, scene: Scene,
