@@ -80,7 +80,7 @@ class ForceCurve:
         )
 
     def _checked(self, name: str, val: Any, n: int) -> np.ndarray:
-        arr = np.asarray(val, dtype=float)
+        arr = np.asarray(val, dtype=float) + 0.0  # a copy, and -0.0 (a negated 0) is 0.0
         if arr.shape != (n,):
             raise SolverError(
                 f"ForceCurve '{self.model}': {name} has shape {arr.shape}, expected ({n},)"
