@@ -459,7 +459,8 @@ class Vinogradova(Model):
     def check(self, scene: Scene) -> None:
         b1, b2 = scene.slip_length_sphere, scene.slip_length_wall
         if b1 == 0 and b2 == 0:
-            raise ValidityError(self.name, "no slip length given (both zero)", "reynolds")
+            raise ValidityError(self.name, "no slip length given (both zero)", "reynolds"
+                                if scene.amount == "immersed" else "reynolds-finite")
         if b1 > 0 and b2 > 0 and not math.isclose(b1, b2, rel_tol=1e-12):
             raise ValidityError(self.name, f"unequal slip lengths {b1:g} m and {b2:g} m have "
                                 "no closed form", "lubrication")
