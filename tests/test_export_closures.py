@@ -1133,7 +1133,7 @@ def test_cli_errors_are_one_line(tmp_path, capsys):
         (["export", "json", "--closure", "calibrated-nothing", "--out",
           str(tmp_path / "a")], "allowed: 'calibrated-viscous', 'calibrated-capillary'"),
         (["export", "json", "--coefficients", str(bad), "--out", str(tmp_path / "a")],
-         "coefficients has 1 values"),
+         "field 'coefficients' has 1 values"),
         (["export", "c", "--out", str(tmp_path / "no" / "x.h")], "does not exist"),
         (["export", "python", "--out", str(tmp_path), "--capillary",
           str(tmp_path / "missing.json")], "missing.json: no such calibration file"),
