@@ -166,6 +166,16 @@ BAD = [
     ('models = ["lubrication"]\n[set]\n"amount.volume_over_radius3" = 0.01\n'
      '"motion.gap_over_edge_gap" = [0.5, 1.0]\n', "set.motion.gap_over_edge_gap = [0.5, 1.0]",
      "[0, 1)"),
+    # two entries for one field: the later silently won (a new user's audit, 2026-11-25)
+    ('models = ["brenner"]\n[axes]\n"amount.film_over_radius" = [0.01]\n'
+     '"amount.immersed" = [true]\n', "axes.amount.immersed", "one entry for amount"),
+    ('models = ["reynolds"]\n[set]\n"motion.gap_over_radius" = [0.1]\n"motion.gaps" = '
+     '[1e-5]\n', "set.motion.gaps", "one entry for motion.gaps (set.motion.gap_over_radius"),
+    # a repeated value was one point, listed once by sweep and three times by export csv
+    ('models = ["reynolds"]\n[axes]\n"liquid.viscosity" = [1e-3, 1e-3, 1e-3]\n',
+     "axes.liquid.viscosity", "distinct values"),
+    ('models = ["reynolds"]\n[axes]\n"liquid.viscosity" = {start=1, stop=1, points=3}\n',
+     "axes.liquid.viscosity", "distinct values"),
 ]
 
 

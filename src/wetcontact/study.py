@@ -227,6 +227,7 @@ def load_study(path: str | Path) -> Study:
     if both:
         raise CaseError(src, f"set.{both[0]}", fixed[both[0]], "a field in [set] or in "
                         "[axes], not both")
+    _one_entry_each(src, fixed, axes)
     fixed = {p: _set_value(src, p, v) for p, v in fixed.items()}
     if "sample" in data:
         designs = _sample(src, data["sample"], axes)
@@ -299,6 +300,22 @@ def _check_path(src: str, p: str, where: str) -> None:
                         + ") or a derived one (" + ", ".join(DERIVED) + ")")
 
 
+def _one_entry_each(src: str, fixed: Mapping[str, Any], axes: Mapping[str, Any]) -> None:
+    """Refuse two entries that set the same case-file field (a derived field counts as the
+    field it sets, e.g. ``motion.gap_over_radius`` as ``motion.gaps``) or two amounts (a
+    case has exactly one of ``[amount]``'s fields): the later one would silently win."""
+    seen: dict[str, str] = {}
+    for p in [*fixed, *axes]:
+        target = DERIVED[p][0] if p in DERIVED else p
+        slot = "amount" if target.startswith("amount.") else target
+        if slot in seen:
+            where = "set" if p in fixed else "axes"
+            first = f"{'set' if seen[slot] in fixed else 'axes'}.{seen[slot]}"
+            raise CaseError(src, f"{where}.{p}", (fixed if p in fixed else axes)[p],
+                            f"one entry for {slot} ({first} sets it already)")
+        seen[slot] = p
+
+
 def _number(src: str, key: str, v: Any) -> float:
     if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
         raise CaseError(src, key, v, "a finite number")
@@ -352,6 +369,11 @@ def _set_value(src: str, p: str, v: Any) -> Any:
 
 def _grid(src: str, axes: Mapping[str, Any]) -> list[dict[str, Any]]:
     values = {p: _values(src, f"axes.{p}", v) for p, v in axes.items()}
+    for p, vals in values.items():  # a repeated value would be one point listed twice
+        twice = [v for i, v in enumerate(vals) if v in vals[:i]]
+        if twice:
+            raise CaseError(src, f"axes.{p}", axes[p], f"distinct values ({twice[0]!r} "
+                            "appears more than once)")
     n = math.prod(len(v) for v in values.values())
     if n > MAX_SCENES:
         raise CaseError(src, "axes", f"{n} grid points", f"at most {MAX_SCENES} scenes")
