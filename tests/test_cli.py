@@ -64,6 +64,20 @@ def test_unknown_model_and_bad_flag_exit_2():
     assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1
 
 
+@pytest.mark.parametrize("argv", [
+    ["sweep", "cases/studies/stokes-immersed-16.toml", "--store", ""],
+    ["export", "csv", "cases/studies/stokes-immersed-16.toml", "--store", "x.h5", "--out", " "],
+    ["export", "python", "--out", ""],
+])
+def test_empty_path_flag_is_exit_2(argv):
+    """An empty --store raised ValueError inside the store (exit 1, "internal error"), an
+    empty --out an OSError on '.', and export python silently wrote into the current
+    folder."""
+    r = wc(*argv)
+    assert r.returncode == 2 and "an empty path" in r.stderr, r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1 and "Traceback" not in r.stderr
+
+
 def test_model_outside_validity_names_the_alternative():
     r = wc("solve", str(ROOT / "cases" / "glass-2mm-water-film.toml"), "--model", "brenner")
     assert r.returncode == 2 and "use model" in r.stderr and "Traceback" not in r.stderr

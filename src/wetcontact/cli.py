@@ -32,6 +32,14 @@ class _Parser(argparse.ArgumentParser):
         raise SystemExit(2)
 
 
+def path_arg(text: str) -> Path:
+    """A path flag's value: any non-empty path (an empty one would mean the current folder
+    or raise deep inside a writer)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("an empty path; give a file or folder name")
+    return Path(text)
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="wetcontact", description="High-fidelity reference forces for wet "
                 "particle contacts, and the error tables of DEM force closures.")
@@ -48,30 +56,30 @@ def build_parser() -> argparse.ArgumentParser:
     mode.add_argument("--quick", action="store_true", help="smoke run: fast presets, fewer "
                       "points (about a minute)")
     mode.add_argument("--full", action="store_true", help="accurate presets and full studies")
-    run.add_argument("--out", type=Path, default=None, help="output folder (default: "
+    run.add_argument("--out", type=path_arg, default=None, help="output folder (default: "
                      "reports/; with --quick: reports-quick/, so a smoke run never "
                      "overwrites the committed report)")
-    run.add_argument("--cases", type=Path, default=Path("cases"), help="case folder "
+    run.add_argument("--cases", type=path_arg, default=Path("cases"), help="case folder "
                      "(default: cases/)")
     run.add_argument("--resume", action="store_true", help="reuse curves already in the store")
-    run.add_argument("--bench", type=Path, default=Path("benchmarks/results/thinfilm.json"),
+    run.add_argument("--bench", type=path_arg, default=Path("benchmarks/results/thinfilm.json"),
                      help="thin-film benchmark JSON for the stability map and the wetting-"
                      "width study (default: benchmarks/results/thinfilm.json; the section "
                      "says so when it is absent)")
 
     solve = sub.add_parser("solve", help="solve one case file", description="Solve one case "
                            "with a named model, or with the cheapest model meeting a tolerance.")
-    solve.add_argument("case", type=Path, help="TOML case file")
+    solve.add_argument("case", type=path_arg, help="TOML case file")
     solve.add_argument("--model", help="model name (see `wetcontact models`)")
     solve.add_argument("--preset", choices=("fast", "default", "accurate"), default=None,
                        help="resolution preset (default: default)")
     solve.add_argument("--tol", type=float, help="relative tolerance: pick, per force "
                        "component, the cheapest model whose measured bound meets it")
-    solve.add_argument("--coefficients", type=Path, default=None, metavar="FILE.json",
+    solve.add_argument("--coefficients", type=path_arg, default=None, metavar="FILE.json",
                        help="refitted coefficients of the closure family given by --model "
                        "(from calibration); outside their domain the model refuses")
     solve.add_argument("--json", action="store_true", help="print one JSON object")
-    solve.add_argument("--save-fields", type=Path, default=None, metavar="DIR",
+    solve.add_argument("--save-fields", type=path_arg, default=None, metavar="DIR",
                        help="write solution fields (VTU) where the model supports it")
 
     _add_calibrate_parser(sub)
@@ -196,7 +204,7 @@ def _add_export_yade(fmt: argparse._SubParsersAction) -> None:
                        "pass the printed suffix to Yade as suffCapFiles.")
     y.add_argument("--contact-angle", type=float, required=True, metavar="DEG",
                    help="contact angle on both spheres (deg, [0, 89))")
-    y.add_argument("--out", type=Path, required=True, help="output folder")
+    y.add_argument("--out", type=path_arg, required=True, help="output folder")
     y.add_argument("--suffix", default=None, help="file name suffix (default: _thetaDEG)")
     y.add_argument("--suctions", type=int, default=350, help="suction values per file "
                    "(default 350, Yade's usual)")
@@ -394,14 +402,14 @@ def _add_sweep_parser(sub: argparse._SubParsersAction) -> None:
                         description="Solve every (scene, model) point of a study file into "
                         "the HDF5 store on a local Dask cluster (default) or an existing one; "
                         "points already stored are reused, failures are recorded.")
-    sw.add_argument("study", type=Path, help="TOML study file (cases/studies/)")
+    sw.add_argument("study", type=path_arg, help="TOML study file (cases/studies/)")
     where = sw.add_mutually_exclusive_group()
     where.add_argument("--workers", type=_non_negative_int, default=None, metavar="N",
                        help="local worker processes (default: one per core; 0 = in this "
                        "process; small sweeps run in this process by default)")
     where.add_argument("--scheduler", metavar="ADDRESS", help="tcp://HOST:PORT of a running "
                        "Dask scheduler (dask scheduler / dask worker, dask-jobqueue)")
-    sw.add_argument("--store", type=Path, default=Path("reference.h5"),
+    sw.add_argument("--store", type=path_arg, default=Path("reference.h5"),
                     help="HDF5 store (default: ./reference.h5)")
     sw.add_argument("--wait", type=float, default=0.0, metavar="SECONDS",
                     help="wait this long for another writer of the store (default: 0, "
@@ -419,9 +427,9 @@ def _add_export_parser(sub: argparse._SubParsersAction) -> None:
     fmt = ex.add_subparsers(dest="format", required=True, parser_class=_Parser)
     c = fmt.add_parser("csv", help="one row per (point, model, gap)", description="One CSV "
                        "row per (point, model, gap) of a study, a column per axis.")
-    c.add_argument("study", type=Path, help="TOML study file")
-    c.add_argument("--store", type=Path, required=True, help="HDF5 store the sweep wrote")
-    c.add_argument("--out", type=Path, required=True, help="CSV file to write")
+    c.add_argument("study", type=path_arg, help="TOML study file")
+    c.add_argument("--store", type=path_arg, required=True, help="HDF5 store the sweep wrote")
+    c.add_argument("--out", type=path_arg, required=True, help="CSV file to write")
     _add_export_yade(fmt)
     _add_export_closure_parsers(fmt)
 
@@ -434,9 +442,9 @@ def _add_export_closure_parsers(fmt: argparse._SubParsersAction) -> None:
     src = j.add_mutually_exclusive_group(required=True)
     src.add_argument("--closure", help="a shipped calibrated closure (calibrated-viscous or "
                      "calibrated-capillary)")
-    src.add_argument("--coefficients", type=Path, metavar="FILE.json",
+    src.add_argument("--coefficients", type=path_arg, metavar="FILE.json",
                      help="a refit written by `python -m wetcontact.calibrate fit`")
-    j.add_argument("--out", type=Path, required=True, help="JSON file to write")
+    j.add_argument("--out", type=path_arg, required=True, help="JSON file to write")
     j.add_argument("--json", action="store_true", help="print one JSON object")
     for name, what, default in (
             ("python", "one numpy-only module with the calibrated closures",
@@ -447,12 +455,12 @@ def _add_export_closure_parsers(fmt: argparse._SubParsersAction) -> None:
                            "calibrated-viscous (immersed and bridge) and calibrated-capillary "
                            "(one contact angle), and the REFITTED willett force and "
                            "lian-rupture distance as *_refit (two contact angles).")
-        q.add_argument("--out", type=Path, required=True,
+        q.add_argument("--out", type=path_arg, required=True,
                        help=f"file to write (or a folder: {default} in it)")
-        q.add_argument("--capillary", type=Path, default=None, metavar="FILE.json",
+        q.add_argument("--capillary", type=path_arg, default=None, metavar="FILE.json",
                        help="willett refit for capillary_force_refit (default: the "
                        "package's copy of benchmarks/results/calibration/willett.json)")
-        q.add_argument("--rupture", type=Path, default=None, metavar="FILE.json",
+        q.add_argument("--rupture", type=path_arg, default=None, metavar="FILE.json",
                        help="lian-rupture refit for rupture_distance_refit (default: the "
                        "package's copy of benchmarks/results/calibration/lian-rupture.json)")
         q.add_argument("--json", action="store_true", help="print one JSON object")
@@ -554,18 +562,18 @@ def _add_calibrate_parser(sub: argparse._SubParsersAction) -> None:
                        "missing), train on the study's grid and report on a seeded held-out "
                        "design the fit never saw. Writes the JSON, a parity plot and an "
                        "error map beside it.")
-    c.add_argument("study", type=Path, help="TOML study file (cases/studies/calibrate-*.toml)")
+    c.add_argument("study", type=path_arg, help="TOML study file (cases/studies/calibrate-*.toml)")
     c.add_argument("--closure", required=True, metavar="FAMILY",
                    help="closure family (an unknown name lists the families)")
-    c.add_argument("--out", type=Path, required=True, metavar="FILE.json",
+    c.add_argument("--out", type=path_arg, required=True, metavar="FILE.json",
                    help="calibration JSON (PNG plots and the held-out study beside it)")
-    c.add_argument("--store", type=Path, default=Path("reference.h5"),
+    c.add_argument("--store", type=path_arg, default=Path("reference.h5"),
                    help="HDF5 store of the reference points (default: ./reference.h5)")
     c.add_argument("--workers", type=_non_negative_int, default=None, metavar="N",
                    help="local Dask workers for the missing points (default: one per core; "
                    "0 = in this process)")
     held = c.add_mutually_exclusive_group()
-    held.add_argument("--held-out", type=Path, default=None, metavar="STUDY2.toml",
+    held.add_argument("--held-out", type=path_arg, default=None, metavar="STUDY2.toml",
                       help="held-out study file (default: a Latin hypercube over the study's "
                       "ranges)")
     held.add_argument("--held-out-points", type=int, default=120, metavar="N",
