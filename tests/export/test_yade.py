@@ -158,6 +158,20 @@ def test_cli_rejects_bad_angle(tmp_path, capsys):
     assert "--contact-angle" in err and "[0, 89)" in err
 
 
+@pytest.mark.parametrize("flags, says", [
+    (["--suffix", "a/b"], "--suffix = 'a/b'"),
+    (["--suctions", "1000000"], "--suctions = 1000000"),
+    (["--distances", "1"], "--distances = 1"),
+])
+def test_cli_rejects_bad_grid_and_suffix_before_solving(tmp_path, capsys, flags, says):
+    """A suffix with a '/' failed only when the first file was written, after every table
+    was computed (minutes at the default grid), and any grid size started running."""
+    out = tmp_path / "yd"
+    assert main(["export", "yade", "--contact-angle", "20", "--out", str(out), *flags]) == 2
+    assert says in capsys.readouterr().err
+    assert not out.exists()  # refused before the folder was made
+
+
 # ---------------------------------------------------------------------------------------
 # The real consumer
 # ---------------------------------------------------------------------------------------

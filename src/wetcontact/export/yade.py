@@ -51,6 +51,7 @@ u* = 0.002), so rows where that factor is below ``POLISH_ELASTICITY`` are re-sol
 from __future__ import annotations
 
 import math
+import re
 import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
@@ -330,6 +331,11 @@ def _one(args: tuple) -> dict:
             "solves": tab.solves, "polished": tab.polished, "wall_time_s": tab.wall_time_s}
 
 
+MAX_SUCTIONS, MAX_DISTANCES = 5000, 2000
+"""Upper limits of the grid per file (rows = suctions x distances; Yade's usual 350 x 80
+takes minutes on 2 cores)."""
+
+
 def export_yade(contact_angle_deg: float, out: Path, n_suctions: int = 350,
                 n_distances: int = 80, workers: int = 2, n_elements: int = DEFAULT_ELEMENTS,
                 suffix: str | None = None, ratios: tuple[float, ...] = RATIOS,
@@ -343,6 +349,14 @@ def export_yade(contact_angle_deg: float, out: Path, n_suctions: int = 350,
         raise InputError(f"--contact-angle = {contact_angle_deg!r} deg; allowed: [0, 89) deg")
     if workers < 1:
         raise InputError(f"--workers = {workers}; allowed: >= 1")
+    for flag, n, lo, hi in (("--suctions", n_suctions, 3, MAX_SUCTIONS),
+                            ("--distances", n_distances, 2, MAX_DISTANCES)):
+        if not lo <= n <= hi:
+            raise InputError(f"{flag} = {n}; allowed: [{lo}, {hi}] (Yade's usual: 350 "
+                             "suctions, 80 distances)")
+    if suffix is not None and not re.fullmatch(r"[A-Za-z0-9._+=-]{0,100}", suffix):
+        raise InputError(f"--suffix = {suffix!r}; allowed: at most 100 of A-Z a-z 0-9 . _ + "
+                         "= - (it ends each file name in the --out folder)")
     suffix = default_suffix(contact_angle_deg) if suffix is None else suffix
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
