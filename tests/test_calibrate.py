@@ -167,6 +167,23 @@ def test_malformed_coefficient_file_names_file_and_field(tmp_path, how) -> None:
     assert str(bad) in str(err.value) and field in str(err.value), str(err.value)
 
 
+def test_coefficients_that_flip_the_force_are_refused(tmp_path) -> None:
+    """A file that passes every field check can still hold coefficients under which the
+    form changes sign (a squeeze force against the motion was printed with exit 0);
+    the model now refuses them, naming the file."""
+    data = json.loads((ROOT / "benchmarks" / "results" / "calibration"
+                       / "finite-liquid.json").read_text())
+    sc = make_scene("sphere-wall", {"film_thickness": 0.01 * 1e-3}, [2e-6, 5e-6, 9e-6])
+    path = tmp_path / "fl.json"
+    path.write_text(json.dumps(data))
+    assert np.all(cal.load_coefficients(path).force(sc).force_viscous > 0)  # as refitted
+    data["coefficients"][1] = -1000.0
+    path.write_text(json.dumps(data))
+    with pytest.raises(InputError, match="against the motion") as err:
+        cal.load_coefficients(path).force(sc)
+    assert str(path) in str(err.value)
+
+
 def test_points_from_a_sweep(tmp_path) -> None:
     """Reference points from the sweep interface (store-backed) equal a direct solve."""
     from wetcontact.store import Store

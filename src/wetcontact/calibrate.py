@@ -861,6 +861,18 @@ class CalibratedClosure(Model):
         x = scene_inputs(self.family, scene)
         val = self.family.form(self.k, x)
         gap = scene.gap_array
+        # the form's sign: a squeeze force along the velocity, an attraction, a positive
+        # rupture distance; coefficients that break it are refused, not printed
+        wrong = (val * math.copysign(1.0, scene.velocity) < 0 if self.family.target == "viscous"
+                 else val < 0 if self.family.target == "capillary" else val <= 0)
+        if np.any(wrong):
+            i = int(np.argmax(wrong))
+            what = {"viscous": "a viscous force against the motion", "capillary":
+                    "a repulsive capillary force", "rupture": "a rupture distance <= 0"}
+            raise InputError(f"{self.source}: the coefficients give {what[self.family.target]}"
+                             f" ({float(val[i]):.4g} at gap {float(gap[i]):.4g} m, case "
+                             f"'{scene.name}'); allowed: coefficients whose {self.family.name} "
+                             "form keeps its sign over the domain")
         if self.family.target == "viscous":
             return ForceCurve(case=scene.name, model=self.name, gap=gap, force_viscous=val,
                               force_capillary=None)
