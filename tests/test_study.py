@@ -111,6 +111,38 @@ def test_gaps_over_rupture_distance_against_the_meniscus_model(tmp_path):
     assert np.all(curve.extras["bridge_exists"] == 1.0)  # 0.99 S_c is still a bridge
 
 
+def test_rupture_distances_are_solved_once_across_loads(tmp_path, monkeypatch):
+    """Every load of a study (sweep, export csv, a rerun) solved its bridges' rupture
+    distances again, about 0.5 s each (108 s for 200 bridges, silently); they are now kept
+    in the user cache as they are solved, so the next load, in any process, solves none."""
+    import wetcontact.solver.meniscus as men
+    from wetcontact import study as study_mod
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    solved = []
+    inner = men.rupture_distance
+
+    def counting(*args, **kwargs):
+        solved.append(args[1])
+        return inner(*args, **kwargs)
+
+    monkeypatch.setattr(men, "rupture_distance", counting)
+    p = write(tmp_path, '''models = ["willett"]
+[axes]
+"amount.volume_over_radius3" = [1e-3, 1e-2]
+"liquid.contact_angle" = [10.0, 30.0]
+[set]
+"motion.gap_over_rupture" = [0.5]
+''', base=BASE_BRIDGE)
+    gaps = []
+    for _ in range(2):  # the second load as a new process would make it: caches emptied
+        study_mod._rupture_distance.cache_clear()
+        study_mod._rupture_cache.cache_clear()
+        gaps.append([sc.gap_array[0] for _, sc in load_study(p).scenes])
+    assert len(solved) == 4 and gaps[0] == gaps[1]
+    assert len(list((tmp_path / "cache" / "wetcontact").glob("study_rupture-*.jsonl"))) == 1
+
+
 def test_latin_hypercube_is_stratified_seeded_and_mapped(tmp_path):
     u = latin_hypercube(50, 3, seed=7)
     for j in range(3):  # one sample in each of the 50 strata of every column

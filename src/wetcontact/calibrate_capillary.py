@@ -426,14 +426,15 @@ class NodeCache:
     that is killed or fails loses nothing already computed: a rerun reuses them. One file
     per version of the sources the branches depend on (:data:`NODE_SOURCES`, hashed by
     :func:`wetcontact.store.source_hash`; editing the closure's own evaluation does not
-    invalidate it) in ``$XDG_CACHE_HOME/wetcontact`` (``~/.cache/wetcontact``)."""
+    invalidate it) in ``$XDG_CACHE_HOME/wetcontact`` (``~/.cache/wetcontact``). ``prefix``
+    names the file (studies keep their bridges' rupture distances in ``study_rupture``)."""
 
-    def __init__(self, folder: Path | None = None):
+    def __init__(self, folder: Path | None = None, prefix: str = "calibrated_capillary"):
         from wetcontact.store import source_hash
 
         base = folder or Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
         self.path = (base if folder else base / "wetcontact") / (
-            "calibrated_capillary-" + source_hash(NODE_SOURCES) + ".jsonl")
+            f"{prefix}-" + source_hash(NODE_SOURCES) + ".jsonl")
         self.rows: dict[str, tuple[float, list[float]]] = {}
         if self.path.is_file():
             for line in self.path.read_text().splitlines():

@@ -481,7 +481,8 @@ def _sweep(args: argparse.Namespace) -> int:
     from wetcontact.study import load_study
     from wetcontact.sweep import sweep
 
-    study = load_study(args.study)
+    with Progress(f"loading {args.study} (its bridges' rupture distances)"):
+        study = load_study(args.study)
     if args.wait < 0 or args.wait != args.wait:
         raise InputError(f"--wait = {args.wait!r}; allowed: seconds >= 0")
     res = sweep(study.points(), Store(args.store), workers=args.workers,
@@ -517,7 +518,8 @@ def _export(args: argparse.Namespace) -> int:
                              "first")
         if not args.out.parent.is_dir():
             raise InputError(f"--out {args.out}: the folder {args.out.parent} does not exist")
-        study = load_study(args.study)
+        with Progress(f"loading {args.study} (its bridges' rupture distances)"):
+            study = load_study(args.study)
         counts = write_csv(study.points(), study.axes, Store(args.store), args.out)
         print(f"{args.out}: {counts['rows']} rows ({counts['ok']} ok, {counts['no-bridge']} "
               f"no-bridge, {counts['failed']} failed, {counts['missing']} missing)")

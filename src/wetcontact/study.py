@@ -93,12 +93,29 @@ def _rupture_gaps(case: dict[str, Any], value: Any) -> Any:
 @lru_cache(maxsize=4096)
 def _rupture_distance(r1: float, r2: float | None, th1: float, th2: float, sigma: float,
                       volume: float) -> float:
+    """The bridge's rupture distance at ``meniscus``'s fast preset, kept in the user cache
+    (:class:`~wetcontact.calibrate_capillary.NodeCache`, file ``study_rupture``): each
+    load of a study (sweep, export csv, calibrate) needs them to build its gaps, and a
+    solve takes about 0.5 s. A load that is interrupted keeps those already solved."""
     from wetcontact.solver.meniscus import Bridge, rupture_distance
 
     n_el = int(get_model("meniscus").presets["fast"]["n_elements"])
+    cache = _rupture_cache()
+    key = f"{r1!r}|{r2!r}|{th1!r}|{th2!r}|{sigma!r}|{volume!r}|{n_el}"
+    if (got := cache.get(key)) is not None:
+        return got[0]
     bridge = Bridge(radius=r1, radius2=r2, contact_angle1=th1, contact_angle2=th2,
                     surface_tension=sigma)
-    return float(rupture_distance(bridge, volume, n_elements=n_el))
+    s_c = float(rupture_distance(bridge, volume, n_elements=n_el))
+    cache.put(key, s_c, [])
+    return s_c
+
+
+@lru_cache(maxsize=1)
+def _rupture_cache() -> Any:
+    from wetcontact.calibrate_capillary import NodeCache
+
+    return NodeCache(prefix="study_rupture")
 
 
 def _film_gaps(case: dict[str, Any], value: Any) -> Any:
