@@ -417,6 +417,35 @@ def _run_python_module(source, pts, d: Path, names=tuple(ARGS)) -> dict[str, np.
     return {name: np.load(d / f"{name}_out.npy") for name in names}
 
 
+#: valid inputs of each function, and the impossible value each argument is set to in turn
+VALID = {"r1": 1e-3, "r2": 1e-3, "viscosity": 1e-3, "approach_speed": 1.0, "gap": 1e-5,
+         "volume": 1e-11, "surface_tension": 0.072, "theta1_deg": 20.0, "theta2_deg": 20.0}
+IMPOSSIBLE = {"r1": (0.0, -1e-3), "r2": (0.0, -1e-3), "viscosity": (0.0, -1e-3),
+              "volume": (0.0, -1e-11), "surface_tension": (0.0, -0.072), "gap": (-1e-6,)}
+
+
+def _impossible_points() -> dict[str, dict[str, np.ndarray]]:
+    """Per function: the valid point first, then one point per impossible argument value."""
+    out = {}
+    for name, args in ARGS.items():
+        rows = [dict(VALID)] + [{**VALID, a: bad} for a in args if a in IMPOSSIBLE
+                                for bad in IMPOSSIBLE[a]]
+        out[name] = {a: np.array([r[a] for r in rows]) for a in args}
+    return out
+
+
+def test_impossible_physical_inputs_are_nan_in_both_exports(source, c_program, tmp_path):
+    """A negative viscosity gave a negative squeeze force, and a negative surface tension a
+    repulsive refitted bridge, in the python module and the C header alike (a new user's
+    audit, 2026-11-25); the package refuses such scenes, so every export returns NaN."""
+    pts = _impossible_points()
+    py = _run_python_module(source, pts, tmp_path)
+    for name in ARGS:
+        for got in (py[name], _run_c(c_program, pts, name, tmp_path)):
+            assert np.isfinite(got[0]) and got[0] != 0.0, name  # the valid point computes
+            assert np.all(np.isnan(got[1:])), (name, got)
+
+
 def test_python_module_numpy_only(points, source, tmp_path, tol):
     pts, ref = points
     got = _run_python_module(source, pts, tmp_path)

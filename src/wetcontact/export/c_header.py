@@ -59,7 +59,9 @@ HEAD = """\
  *
  * NAN OUTSIDE THE CALIBRATED DOMAIN: every function returns NAN (test with isnan) when
  * its inputs lie outside the domain its coefficients were calibrated and tested on, or
- * when no calibration covers the geometry (e.g. unequal spheres). Nothing is extrapolated.
+ * when no calibration covers the geometry (e.g. unequal spheres), or when a physical input
+ * is impossible (a radius, volume, viscosity or surface tension <= 0, a negative gap, a
+ * non-finite value). Nothing is extrapolated.
  * The capillary force is exactly 0 at and past the rupture distance.
  *
  * wc_viscous_force_immersed: the shipped `calibrated-viscous` closure (immersed part).
@@ -199,7 +201,8 @@ static inline double wc_viscous_force_immersed(double r1, double r2, double visc
     const double s_lo = {s_lo}, s_hi = {s_hi};
     double s, t, q;
     int plane = isinf(r2) && r2 > 0;
-    if (!(r1 > 0) || !isfinite(r1) || !isfinite(viscosity) || !isfinite(approach_speed))
+    if (!(r1 > 0) || !isfinite(r1) || !(viscosity > 0) || !isfinite(viscosity)
+        || !isfinite(approach_speed))
         return NAN;
     if (!plane && !wc__equal_radii(r1, r2))
         return NAN;
@@ -245,7 +248,7 @@ static inline double wc_viscous_force_bridge(double r1, double r2, double viscos
     static const double spheres[10] = {br_ss};
     int plane = isinf(r2) && r2 > 0;
     double rstar, kappa, rs, h;
-    if (!(r1 > 0) || !isfinite(r1) || !(r2 > 0) || !isfinite(viscosity)
+    if (!(r1 > 0) || !isfinite(r1) || !(r2 > 0) || !(viscosity > 0) || !isfinite(viscosity)
         || !isfinite(approach_speed) || !(volume > 0) || !(gap > 0) || !isfinite(gap))
         return NAN;
     rstar = plane ? r1 : r1 * r2 / (r1 + r2);
@@ -916,7 +919,7 @@ static inline double wc_capillary_force_refit(double r1, double r2, double volum
     double theta = wc__mean_angle(theta1_deg, theta2_deg);
     double sc, c3, lv, pv[4], pt[3], f[4], splus, ls;
     int i, j, m;
-    if (!isfinite(surface_tension) || !(gap >= 0) || !isfinite(gap))
+    if (!(surface_tension > 0) || !isfinite(surface_tension) || !(gap >= 0) || !isfinite(gap))
         return NAN;
     sc = wc_rupture_distance_refit(r1, r2, volume, theta1_deg, theta2_deg);
     if (isnan(sc))

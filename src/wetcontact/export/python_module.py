@@ -50,9 +50,10 @@ PARTICLES APART. ``r2 = numpy.inf`` for a plane. Arguments broadcast; results ar
 arrays (0-d for scalars).
 
 NaN OUTSIDE THE CALIBRATED DOMAIN: every function returns NaN where its inputs lie outside
-the domain its coefficients were calibrated and tested on, or where no calibration covers
-the geometry (e.g. unequal spheres). Nothing is extrapolated. The capillary force is
-exactly 0 at and past the rupture distance.
+the domain its coefficients were calibrated and tested on, where no calibration covers
+the geometry (e.g. unequal spheres), or where a physical input is impossible (a radius,
+volume, viscosity or surface tension <= 0, a negative gap, a non-finite value). Nothing
+is extrapolated. The capillary force is exactly 0 at and past the rupture distance.
 
 viscous_force_immersed: the shipped `calibrated-viscous` closure (immersed part), held-out
 max relative error {imm_err_wall:.2g} (plane) / {imm_err_ss:.2g} (equal spheres) against the
@@ -159,7 +160,7 @@ def viscous_force_immersed(r1, r2, viscosity, approach_speed, gap):
     r1, r2, eta, v, gap = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in
                                                 (r1, r2, viscosity, approach_speed, gap)))
     plane = np.isinf(r2) & (r2 > 0)
-    ok = (r1 > 0) & np.isfinite(r1) & np.isfinite(eta) & np.isfinite(v)
+    ok = (r1 > 0) & np.isfinite(r1) & (eta > 0) & np.isfinite(eta) & np.isfinite(v)
     ok &= plane | _equal_radii(r1, r2)
     with np.errstate(all="ignore"):
         s = gap / r1
@@ -192,7 +193,7 @@ def viscous_force_bridge(r1, r2, viscosity, volume, approach_speed, gap):
     r1, r2, eta, vol, v, gap = np.broadcast_arrays(*(
         np.asarray(a, dtype=float) for a in (r1, r2, viscosity, volume, approach_speed, gap)))
     plane = np.isinf(r2) & (r2 > 0)
-    ok = ((r1 > 0) & np.isfinite(r1) & (r2 > 0) & np.isfinite(eta) & np.isfinite(v)
+    ok = ((r1 > 0) & np.isfinite(r1) & (r2 > 0) & (eta > 0) & np.isfinite(eta) & np.isfinite(v)
           & (vol > 0) & (gap > 0) & np.isfinite(gap))
     with np.errstate(all="ignore"):
         rstar = np.where(plane, r1, r1 * r2 / (r1 + r2))
@@ -570,7 +571,7 @@ def capillary_force_refit(r1, r2, volume, gap, surface_tension, theta1_deg, thet
         np.asarray(a, dtype=float) for a in (r1, r2, volume, gap, surface_tension,
                                              theta1_deg, theta2_deg)))
     sc = np.asarray(rupture_distance_refit(r1, r2, vol, t1, t2))
-    ok = np.isfinite(sigma) & (gap >= 0) & np.isfinite(gap) & ~np.isnan(sc)
+    ok = (sigma > 0) & np.isfinite(sigma) & (gap >= 0) & np.isfinite(gap) & ~np.isnan(sc)
     broken = ok & (gap >= sc)
     with np.errstate(all="ignore"):
         th = _mean_angle(t1, t2)
