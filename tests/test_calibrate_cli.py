@@ -84,7 +84,7 @@ def test_second_run_reuses_the_store(calibrated, capsys):
 
 
 @pytest.mark.parametrize("case", ["family", "no-reference", "scene-class", "out", "points",
-                                  "missing", "seed"])
+                                  "missing", "seed", "store"])
 def test_bad_input_exits_2_with_one_line(tmp_path, capsys, case):
     study = _study(tmp_path)
     args = ["calibrate", str(study), "--closure", "finite-liquid", "--out",
@@ -92,7 +92,7 @@ def test_bad_input_exits_2_with_one_line(tmp_path, capsys, case):
     expect = {"family": "finite-liquid",  # the message lists the families
               "no-reference": "no reference", "scene-class": "allowed for family willett",
               "out": "--out", "points": "--held-out-points", "missing": "nope.toml",
-              "seed": "--seed"}[case]
+              "seed": "--seed", "store": "not a readable HDF5 store"}[case]
     if case == "family":
         args[3] = "mikami-xx"
     elif case == "no-reference":
@@ -105,13 +105,16 @@ def test_bad_input_exits_2_with_one_line(tmp_path, capsys, case):
         args += ["--held-out-points", "2"]
     elif case == "missing":
         args[1] = str(tmp_path / "nope.toml")
+    elif case == "store":  # it wrote the held-out design beside --out before failing
+        (tmp_path / "r.h5").write_text("not hdf5")
     else:
         args += ["--seed", "-1"]
     assert main(args) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "Traceback" not in err
     assert expect in err
-    assert not (tmp_path / "r.h5").exists()  # nothing was solved
+    assert case == "store" or not (tmp_path / "r.h5").exists()  # nothing was solved
+    assert not list(tmp_path.glob("c_*")) + list(tmp_path.glob("c.*"))  # nothing beside --out
 
 
 @pytest.mark.slow

@@ -800,6 +800,8 @@ def calibrate_study(study_path: Path | str, family_name: str, out: Path | str,
     study = load_study(study_path)
     check_scene_class(fam, [sc for _, sc in study.scenes], str(study_path))
     ref = reference_model(fam, study.models, str(study_path))
+    store = Store(store_path)
+    len(store)  # an unreadable store fails here, before anything is written beside --out
     out.parent.mkdir(parents=True, exist_ok=True)
     if held_out is None:
         held_path = out.with_name(out.stem + "_heldout.toml")
@@ -810,7 +812,6 @@ def calibrate_study(study_path: Path | str, family_name: str, out: Path | str,
         held_path, held_seed = Path(held_out), None
     held_study = load_study(held_path)
     check_scene_class(fam, [sc for _, sc in held_study.scenes], str(held_path))
-    store = Store(store_path)
     train, n_bad = study_points(fam, study, ref, store, workers, str(study_path))
     held, n_bad_held = study_points(fam, held_study, ref, store, workers, str(held_path))
     cal = calibrate(fam, train, held, held_out_seed=held_seed)
