@@ -83,6 +83,18 @@ def test_second_run_reuses_the_store(calibrated, capsys):
     assert a["held_out"]["before"] == b["held_out"]["before"]
 
 
+def test_fewer_training_points_than_coefficients_warns(tmp_path, capsys):
+    """Six training points for finite-liquid's ten coefficients: the fit interpolates them
+    (training error about 1e-15), which only the held-out table shows; it now says so."""
+    study = tmp_path / "one-film.toml"
+    study.write_text(_study(tmp_path).read_text().replace("[0.02, 0.05, 0.1]", "[0.05]"))
+    assert main(["calibrate", str(study), "--closure", "finite-liquid", "--out",
+                 str(tmp_path / "c.json"), "--store", str(tmp_path / "r.h5"), "--workers",
+                 "0", "--held-out-points", "4", "--seed", "1"]) == 0
+    err = capsys.readouterr().err
+    assert "warning: 6 training points for 10 coefficients" in err, err
+
+
 @pytest.mark.parametrize("case", ["family", "no-reference", "scene-class", "out", "points",
                                   "missing", "seed", "store"])
 def test_bad_input_exits_2_with_one_line(tmp_path, capsys, case):

@@ -593,6 +593,11 @@ def _calibrate(args: argparse.Namespace) -> int:
                                  workers=args.workers, held_out=args.held_out,
                                  held_out_points=args.held_out_points, seed=args.seed)
     ho = cal.held_out
+    if cal.train["points"] <= cal.coefficients.size:
+        sys.stderr.write(f"wetcontact: warning: {cal.train['points']} training points for "
+                         f"{cal.coefficients.size} coefficients: the fit can interpolate its "
+                         "training points; judge it by the held-out errors, or widen the "
+                         "study's grid\n")
     print(f"{cal.family}: reference {cal.extra['reference']}, {cal.train['points']} training "
           f"points, {ho['points']} held-out points")
     for tag in ("before", "after"):
