@@ -69,6 +69,13 @@ def test_in_process_sweep_reuses_and_records_failures(tmp_path):
                                "wall_time_s": round(r3.wall_time_s, 3)}
 
 
+def test_local_cluster_has_no_more_workers_than_points(tmp_path):
+    """--workers 64 for 4 points started 64 processes (56 s on 2 cores)."""
+    pts = closure_points(1)[:2]
+    r = sweep(pts, Store(tmp_path / "c.h5"), workers=6, progress=False)
+    assert r.executor == "local-cluster:2", r.executor
+
+
 def test_local_dask_cluster_gives_the_in_process_values(tmp_path):
     pts = closure_points(8)
     a = sweep(pts, Store(tmp_path / "a.h5"), workers=0, progress=False)

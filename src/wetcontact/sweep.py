@@ -352,7 +352,7 @@ def _run_dask(todo: list[Point], workers: int | None, scheduler: str | None,
     """Run ``todo`` on a local cluster or at ``scheduler``; feed each answer to ``record``."""
     from distributed import as_completed
 
-    with _dask_client(workers, scheduler) as (client, label):
+    with _dask_client(workers, scheduler, len(todo)) as (client, label):
         n = max(1, len(client.scheduler_info().get("workers", {})))
         tasks = _batches(todo, n)
         mine = code_version()
@@ -376,8 +376,11 @@ def _run_dask(todo: list[Point], workers: int | None, scheduler: str | None,
 
 
 @contextlib.contextmanager
-def _dask_client(workers: int | None, scheduler: str | None) -> Iterator[tuple[Any, str]]:
-    """A Client on a new LocalCluster (closed on exit) or on an existing scheduler."""
+def _dask_client(workers: int | None, scheduler: str | None, n_points: int = 1 << 30
+                 ) -> Iterator[tuple[Any, str]]:
+    """A Client on a new LocalCluster (closed on exit; no more worker processes than
+    ``n_points``: 64 workers for 4 points took 56 s to start) or on an existing
+    scheduler."""
     from distributed import Client, LocalCluster
 
     if scheduler is not None:
@@ -395,7 +398,7 @@ def _dask_client(workers: int | None, scheduler: str | None) -> Iterator[tuple[A
                                  "start `dask worker " + scheduler + "`") from None
             yield client, scheduler
         return
-    n = workers or os.cpu_count() or 1
+    n = max(1, min(workers or os.cpu_count() or 1, n_points))
     with warnings.catch_warnings():
         # the scheduler's HTTP endpoint moves to a free port when 8787 is taken; say nothing
         warnings.filterwarnings("ignore", message="Port .* is already in use")
