@@ -65,6 +65,10 @@ def test_past_rupture_rows_are_no_bridge(tmp_path):
     men = [r for r in rows(out) if r["model"] == "meniscus"]
     assert [r["status"] for r in men] == ["ok", "no-bridge"]
     assert float(men[0]["force_capillary"]) < 0 and float(men[1]["force_capillary"]) == 0
+    # a closure past its own rupture distance too (it said 'ok' with a force of 0)
+    wil = [r for r in rows(out) if r["model"] == "willett"]
+    assert [r["status"] for r in wil] == ["ok", "no-bridge"]
+    assert float(wil[1]["force_capillary"]) == 0
 
 
 def test_export_bad_paths_exit_2_one_line(tmp_path, capsys):

@@ -5,8 +5,9 @@ One row per (point, model, gap). Columns: one per study axis, named by its field
 (m), ``force_viscous``, ``force_capillary``, ``force_total`` (N, positive = pushing the
 surfaces apart), ``status`` and ``reason``. A component the model does not compute is an
 empty cell, not zero. ``status`` is ``ok``; ``no-bridge`` at a gap past the bridge's
-rupture (force 0 by definition); ``failed`` (the model failed or refused the point:
-``reason`` says why; forces empty); or ``missing`` (not in the store: run
+rupture (force 0 by definition; for a closure, its own rupture distance); ``failed`` (the
+model failed or refused the point: ``reason`` says why; forces empty); or ``missing`` (not
+in the store: run
 ``wetcontact sweep`` first). Numbers are written at full precision (shortest repr that
 reads back to the same double).
 """
@@ -66,8 +67,14 @@ def write_csv(points: Sequence[Point], axes: Sequence[str], store: Store,
 
 
 def _curve_rows(curve: ForceCurve):
-    exists = curve.extras.get("bridge_exists")
+    """Each gap's cells and status: ``no-bridge`` where the model says the bridge does not
+    exist (``meniscus``: ``bridge_exists``) or, for a closure, at and past its own rupture
+    distance, where its capillary force is 0."""
     fv, fc, ft = curve.force_viscous, curve.force_capillary, curve.force_total
+    exists = curve.extras.get("bridge_exists")
+    sc = curve.extras.get("rupture_distance")
+    if exists is None and sc is not None and fc is not None:
+        exists = ~((curve.gap >= sc) & (fc == 0.0))
     for i, g in enumerate(curve.gap):
         status = "no-bridge" if exists is not None and not np.asarray(exists)[i] else "ok"
         yield ([_cell(g), _cell(None if fv is None else fv[i]),
