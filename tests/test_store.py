@@ -99,3 +99,15 @@ def test_sigkill_mid_write_keeps_everything_saved_before(tmp_path):
     # at most the killed write's temporary file, beside the lock file (kept, empty)
     leftovers = [p for p in tmp_path.iterdir() if p.name not in ("ref.h5", "ref.h5.lock")]
     assert len(leftovers) <= 1
+
+
+def test_unreadable_store_paths_are_input_errors(tmp_path):
+    """A folder given as the store was reported with h5py's whole errno dump."""
+    from wetcontact.errors import InputError
+
+    (tmp_path / "folder").mkdir()
+    with pytest.raises(InputError, match="a folder; allowed: an HDF5 store file"):
+        len(Store(tmp_path / "folder"))
+    (tmp_path / "junk.h5").write_text("not hdf5")
+    with pytest.raises(InputError, match="not a readable HDF5 store"):
+        len(Store(tmp_path / "junk.h5"))

@@ -194,6 +194,9 @@ class Store:
         if not self.path.exists():
             yield None
             return
+        if self.path.is_dir():
+            raise InputError(f"{self.path}: a folder; allowed: an HDF5 store file (e.g. "
+                             f"{self.path / 'reference.h5'})")
         try:
             f = h5py.File(self.path, "r")
         except OSError as exc:
