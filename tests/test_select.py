@@ -250,3 +250,21 @@ def test_film_on_a_non_wetting_sphere_is_not_given_to_thinfilm() -> None:
     with pytest.raises(InputError, match="sharp contact") as err:
         select.choose(sc, 0.1)
     assert "capillary force" in str(err.value) and "applies" not in str(err.value)
+
+
+def test_film_gaps_at_or_above_the_film_give_zero_and_keep_the_calibrated_closure() -> None:
+    """The shipped film cases start at S = delta, where the sphere just reaches the flat
+    film top and every film model's viscous force is 0. That one gap lay outside
+    calibrated-viscous's S/delta <= 0.95, so `--tol 0.01` ran reynolds-finite for the whole
+    curve with a 110 % bound; the closure now gives the exact 0 there."""
+    from wetcontact.scene import load_case
+
+    d = 0.05 * R
+    sc = make_scene("sphere-wall", {"film_thickness": d}, [1.5 * d, d, 0.5 * d, 0.1 * d])
+    f = get_model("calibrated-viscous").force(sc).force_viscous
+    assert f[0] == 0.0 and f[1] == 0.0 and np.all(f[2:] > 0)
+    ref = get_model("stokes").force(sc.with_gaps([0.5 * d, 0.1 * d])).force_viscous
+    assert np.all(np.abs(f[2:] / ref - 1) < 1e-3)  # the wetted gaps as before: near Stokes
+    film = load_case(Path(__file__).resolve().parents[1] / "cases" / "glass-2mm-water-film.toml")
+    ch = select.choose(film, 0.01).choices["viscous"]
+    assert ch.model.name == "calibrated-viscous" and ch.met

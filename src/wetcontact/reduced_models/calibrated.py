@@ -99,7 +99,8 @@ class CalibratedViscous(Model):
     validity = ("immersed sphere-wall or equal spheres, S/R in [1e-5, 100]; film on a wall, "
                 "delta/R in [1e-3, 0.1], and bridges (wall, or spheres of radius ratio 1-10), "
                 "V/R_small^3 in [1e-4, 0.1]: S/H in [0.01, 0.95] (films against stokes, "
-                "flat top; bridges against lubrication)")
+                "flat top; bridges against lubrication); a film's gaps S >= delta give 0 "
+                "(the sphere does not reach the liquid)")
     reference = ("calibrated here: Brenner (1961) series; stokes (flat top) for films; "
                  "lubrication for bridges")
     cost = 3e-6  # a 48-term Chebyshev sum: about 3x a one-line closure (bench_calibrate)
@@ -122,8 +123,12 @@ class CalibratedViscous(Model):
             return
         entry = _finite_entry(table, scene)
         coords = _finite_coords(scene)
+        wet = _wetted(scene)
+        if not wet.any():
+            raise ValidityError(self.name, "every gap is >= the film thickness (the sphere "
+                                "does not reach the liquid: no force)", "lubrication")
         for k, (lo, hi) in entry["domain"].items():
-            v = coords[k]
+            v = coords[k][wet]
             if v.min() < lo * (1 - 1e-6) or v.max() > hi * (1 + 1e-6):
                 raise ValidityError(self.name, f"{k} from {v.min():.4g} to {v.max():.4g} "
                                     f"outside the calibrated [{lo:.4g}, {hi:.4g}]",
@@ -149,10 +154,14 @@ class CalibratedViscous(Model):
                  "r_star": np.full(n, scene.reduced_radius), "viscosity": np.full(n, eta),
                  "velocity": np.full(n, v)}
             entry = _finite_entry(table, scene)
-            f = finite_liquid_form(np.asarray(entry["coefficients"]), x)
+            wet = _wetted(scene)
+            f = np.zeros(n)
+            f[wet] = finite_liquid_form(np.asarray(entry["coefficients"]),
+                                        {k: a[wet] for k, a in x.items()})
             if "stokes_correction" in entry:
-                f = f * film_correction(scene.film_thickness / r, s / scene.film_thickness,
-                                        entry["stokes_correction"])
+                f[wet] *= film_correction(scene.film_thickness / r,
+                                          s[wet] / scene.film_thickness,
+                                          entry["stokes_correction"])
         return closure_curve(scene, self.name, viscous=f,
                              error_estimate=estimate_or_none(self.name, "viscous", scene))
 
@@ -164,6 +173,13 @@ def film_correction(delta_over_r: float | np.ndarray, s_over_h: np.ndarray,
     :func:`wetcontact.calibrate.fit_film_stokes`."""
     a, b = film_coords(np.broadcast_to(delta_over_r, np.shape(s_over_h)), s_over_h)
     return np.exp(np.polynomial.chebyshev.chebval2d(a, b, np.asarray(corr["chebyshev_2d"])))
+
+
+def _wetted(scene: Scene) -> np.ndarray:
+    """Gaps at which the sphere reaches the liquid: all of a bridge's; a film's below its
+    thickness (at S >= delta the flat film top has no wetted cap and the force is 0)."""
+    s = scene.gap_array
+    return s < scene.film_thickness if scene.amount == "film" else np.ones(s.shape, bool)
 
 
 def _edge_gap(scene: Scene) -> np.ndarray:
