@@ -157,6 +157,14 @@ def film_reference(scene: Scene) -> np.ndarray:
     return np.stack([ref, unc])
 
 
+FILM_CORNERS = (1e-3, 0.1)
+"""delta/R of the films added at the edges of the film tables' range (no random draw): the
+random films, one gap per S/delta bin, missed the corner delta/R = 0.1, S/delta = 0.01,
+where calibrated-viscous is 1.3e-3 off Stokes against a bound of 2.4e-4 measured without
+it (the shipped water film sits there)."""
+FILM_CORNER_GAPS = tuple(float(x) for x in np.geomspace(0.01, FILM_X_MAX, 14))
+"""S/delta of the corner films: log-spaced, six of them below 0.1."""
+
 LARGE_BRIDGES = (0.1, 1.0)
 """V/R_small^3 range of the bridge tables' last bin, drawn from its own stream (no closure
 is calibrated there; ``lubrication`` and ``reynolds-finite`` are measured up to the
@@ -166,14 +174,16 @@ capillary closures' hard limit, V* = 1)."""
 def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
                          per_bin: int = 4, film_scenes: int = 16,
                          rng_large: np.random.Generator | None = None,
-                         large_scenes: int = 8) -> list[dict[str, Any]]:
+                         large_scenes: int = 8, film_corners: bool = True
+                         ) -> list[dict[str, Any]]:
     """``reynolds-finite``, ``calibrated-viscous`` and lubrication's presets: on films
     against :func:`film_reference` (Stokes, its uncertainty added to every error; one gap
     per bin, S/delta up to :data:`FILM_X_MAX`), on bridges against lubrication (accurate,
     n = 256), the project's best bridge reference that covers their domain; with
     ``rng_large``, ``large_scenes`` more bridges of each kind with V/R_small^3 in
     :data:`LARGE_BRIDGES`, after the others (their own stream leaves the others' points
-    as they were)."""
+    as they were); with ``film_corners``, the films of :data:`FILM_CORNERS` at the gaps
+    :data:`FILM_CORNER_GAPS` after the random ones."""
     h_edges = np.linspace(0.0, 1.0, 11)
     lub = get_model("lubrication")
     out = []
@@ -182,17 +192,24 @@ def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
         rows: dict[str, list[np.ndarray]] = {k: [] for k in ("p", "ratio", "x", "rf", "fast",
                                                             "default", "cv")}
         film = amount == "film"
-        draws = [(rng, (1e-3, 0.1) if film else (1e-4, 0.1))] * (film_scenes if film
-                                                                  else n_scenes)
+        draws: list[Any] = [(rng, (1e-3, 0.1) if film else (1e-4, 0.1))] * (
+            film_scenes if film else n_scenes)
         if rng_large is not None and not film:
             draws += [(rng_large, LARGE_BRIDGES)] * large_scenes
-        for g, (p_lo, p_hi) in draws:
-            x = np.concatenate([g.uniform(lo, hi, 1 if film else per_bin)
-                                for lo, hi in zip(h_edges[:-1], h_edges[1:], strict=True)])
+        if film and film_corners:
+            draws += [(None, p) for p in FILM_CORNERS]
+        for g, p_range in draws:
+            if g is None:  # a corner film: fixed thickness, the gaps of FILM_CORNER_GAPS
+                x, ratio, p = np.asarray(FILM_CORNER_GAPS), 1.0, float(p_range)
+            else:
+                p_lo, p_hi = p_range
+                x = np.concatenate([g.uniform(lo, hi, 1 if film else per_bin) for lo, hi
+                                    in zip(h_edges[:-1], h_edges[1:], strict=True)])
+                ratio = (1.0 if kind == "sphere-wall"
+                         else float(np.exp(g.uniform(0, np.log(10)))))
+                p = float(np.exp(g.uniform(np.log(p_lo), np.log(p_hi))))
             x = np.clip(x, 1e-4, FILM_X_MAX if film else 1 - 1e-4)
-            ratio = 1.0 if kind == "sphere-wall" else float(np.exp(g.uniform(0, np.log(10))))
             r2 = None if kind == "sphere-wall" else R * ratio
-            p = float(np.exp(g.uniform(np.log(p_lo), np.log(p_hi))))
             if amount == "film":
                 amt, gaps = {"film_thickness": p * R}, x * p * R
             else:
