@@ -125,7 +125,7 @@ def main() -> None:
     path = bounds.resources.files("wetcontact.reduced_models") / "data" / bounds.DATA_FILE
     bounds_time = json.loads(path.read_text()).get("wall_time_s") if path.is_file() else None
     held = {f"immersed {k}": v["held_out"]["max"] for k, v in data["immersed"].items()}
-    held["film (vs lubrication)"] = data["film"]["held_out"]["after"]["max"]
+    held["film (vs stokes, flat top)"] = data["film"]["held_out"]["after"]["max"]
     for k, v in data["bridge"].items():
         held[f"bridge {k} (vs lubrication)"] = v["held_out"]["after"]["max"]
     cap_regen = {"recorded_wall_time_s": cap.get("wall_time_s"),
