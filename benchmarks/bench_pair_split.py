@@ -136,22 +136,24 @@ def evaluate(entry: dict[str, Any], subs: list[Any] | None, pts: tuple[np.ndarra
     return f * (np.cos(th) + np.cos(tw)), s_c
 
 
-def rank_one(entry: dict[str, Any]) -> dict[str, Any]:
-    """The table with every train core cut to rank 1 (its first slice)."""
+def with_cores(entry: dict[str, Any], fields: tuple[str, ...], change: Any
+               ) -> dict[str, Any]:
+    """The table with ``change`` applied to every core of the named trains of each piece."""
     def piece(p: dict[str, Any]) -> dict[str, Any]:
-        return {**p, **{k: {**p[k], "cores": [np.asarray(g)[:1, :, :1] for g in p[k]["cores"]]}
-                        for k in cc.TRAIN_FIELDS if k in p}}
+        return {**p, **{k: {**p[k], "cores": [change(np.asarray(g)) for g in p[k]["cores"]]}
+                        for k in fields if k in p}}
     return {**entry, "bands": [{**b, "pieces": [piece(p) for p in b["pieces"]]}
                                for b in entry["bands"]]}
+
+
+def rank_one(entry: dict[str, Any]) -> dict[str, Any]:
+    """The table with every train core cut to rank 1 (its first slice)."""
+    return with_cores(entry, cc.TRAIN_FIELDS, lambda g: g[:1, :, :1])
 
 
 def single(entry: dict[str, Any], fields: tuple[str, ...]) -> dict[str, Any]:
     """The table with the named trains' cores in float32."""
-    def piece(p: dict[str, Any]) -> dict[str, Any]:
-        return {**p, **{k: {**p[k], "cores": [np.asarray(g, np.float32) for g in p[k]["cores"]]}
-                        for k in fields if k in p}}
-    return {**entry, "bands": [{**b, "pieces": [piece(p) for p in b["pieces"]]}
-                               for b in entry["bands"]]}
+    return with_cores(entry, fields, lambda g: g.astype(np.float32))
 
 
 def in_core_precision(entry: dict[str, Any], pts: tuple[np.ndarray, ...]
