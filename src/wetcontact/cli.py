@@ -18,9 +18,13 @@ import time
 import traceback
 import warnings
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from wetcontact import __version__
 from wetcontact.errors import InputError, SolverError, short_repr
+
+if TYPE_CHECKING:  # the CLI imports its subcommands' modules only when they run
+    from wetcontact.study import Study
 
 
 class _Parser(argparse.ArgumentParser):
@@ -476,13 +480,20 @@ def _non_negative_int(text: str) -> int:
     return n
 
 
+def _load_study(path: Path) -> Study:
+    """The study at ``path``, with progress while its bridges' rupture distances are
+    solved (0.5 s each, the first time: they are cached)."""
+    from wetcontact.study import load_study
+
+    with Progress(f"loading {path} (its bridges' rupture distances)"):
+        return load_study(path)
+
+
 def _sweep(args: argparse.Namespace) -> int:
     from wetcontact.store import Store
-    from wetcontact.study import load_study
     from wetcontact.sweep import sweep
 
-    with Progress(f"loading {args.study} (its bridges' rupture distances)"):
-        study = load_study(args.study)
+    study = _load_study(args.study)
     if args.wait < 0 or args.wait != args.wait:
         raise InputError(f"--wait = {args.wait!r}; allowed: seconds >= 0")
     res = sweep(study.points(), Store(args.store), workers=args.workers,
@@ -511,15 +522,13 @@ def _export(args: argparse.Namespace) -> int:
     if args.format == "csv":
         from wetcontact.export.csv import write_csv
         from wetcontact.store import Store
-        from wetcontact.study import load_study
 
         if not args.store.is_file():
             raise InputError(f"--store {args.store}: no such store; run `wetcontact sweep` "
                              "first")
         if not args.out.parent.is_dir():
             raise InputError(f"--out {args.out}: the folder {args.out.parent} does not exist")
-        with Progress(f"loading {args.study} (its bridges' rupture distances)"):
-            study = load_study(args.study)
+        study = _load_study(args.study)
         counts = write_csv(study.points(), study.axes, Store(args.store), args.out)
         print(f"{args.out}: {counts['rows']} rows ({counts['ok']} ok, {counts['no-bridge']} "
               f"no-bridge, {counts['failed']} failed, {counts['missing']} missing)")
