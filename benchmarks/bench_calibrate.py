@@ -11,7 +11,9 @@ regeneration time is the one recorded in ``bounds.json`` when it was generated, 
 ``python -m wetcontact.calibrate capillary`` on 2 processes; ``--regenerate-capillary``
 times the one-angle and wall tables afresh into a temporary file, about 15 minutes). The
 two-angle pair table's time is the sum of the resumed runs that built it, recorded in
-``results/pair_table_stages.json`` (about 7.8 h on 2 processes; not rerun here).
+``results/pair_table_stages.json`` (about 7.8 h on 2 processes; not rerun here). The
+two-angle tables are timed at the default precision (the force's tensor train in single
+precision) and at the accurate preset (every train in double), in the same run.
 """
 
 from __future__ import annotations
@@ -85,10 +87,16 @@ def costs() -> dict[str, float]:
             t2 = None if table == kind else np.radians(rng.uniform(0, 70, N))
             _, sc = ccap.force_star(kind, v, th, np.zeros(N), rr, theta_wall=t2)
             gap = rng.uniform(0, 1.0, N) * sc
-            t, _ = median_time(lambda kind=kind, rr=rr, gap=gap, t2=t2: ccap.force_star(
-                kind, v, th, gap, rr, theta_wall=t2), repeats=7, warmup=1)
             label = kind if t2 is None else f"{kind}, two angles"
-            per_point[f"calibrated-capillary {label} (force and S_c)"] = t / N
+            # the default precision; for the tables with tensor trains (two angles) the
+            # accurate preset's too (every train in double, what the exports compute)
+            for precision in ("mixed",) if t2 is None else ("mixed", "double"):
+                t, _ = median_time(
+                    lambda kind=kind, rr=rr, gap=gap, t2=t2, p=precision: ccap.force_star(
+                        kind, v, th, gap, rr, theta_wall=t2, precision=p),
+                    repeats=7, warmup=1)
+                extra = ", accurate preset" if precision == "double" else ""
+                per_point[f"calibrated-capillary {label}{extra} (force and S_c)"] = t / N
     s_small = s[:1000]
     t, _ = median_time(lambda: brenner_lambda(s_small), repeats=3, warmup=1)
     per_point["brenner (exact series, 1e3 points)"] = t / s_small.size

@@ -5,12 +5,15 @@ point (``bench_calibrate``), against the 1 us goal of issue 11. This benchmark m
 in one run on the points of ``bench_pair_tt`` (1e5, one BLAS thread, alternating rounds,
 median of 7):
 
-- **shipped**: the package's evaluation of the two-angle pair table, as
-  ``calibrated_capillary.force_star`` does it, through :func:`evaluate` like every form
-  here (checked to reproduce ``force_star`` bit for bit; ``force_star``'s own split of a
-  batch into one- and two-angle points is not timed);
-- **structure only**: the same pieces, axes and calls with every tensor-train core cut to
-  rank 1: what everything but the ranks costs (Chebyshev rows, ridge and onset series,
+- **shipped (default)**: the package's evaluation of the two-angle pair table, as
+  ``calibrated_capillary.force_star`` does it at its default precision (the force's tensor
+  train summed in float32, everything else in float64), through :func:`evaluate` like
+  every form here (checked to reproduce ``force_star`` bit for bit; ``force_star``'s own
+  split of a batch into one- and two-angle points is not timed);
+- **double (accurate preset)**: the same with every train summed in float64
+  (``precision="double"``, what the exports compute; what shipped until 2026-11-26);
+- **structure only**: the double form's pieces, axes and calls with every tensor-train
+  core cut to rank 1: what everything but the ranks costs (Chebyshev rows, ridge and onset series,
   gap coordinate, the per-batch calls and their elementwise sums);
 - **no train sums**: the trains not evaluated at all (the rest of the pipeline);
 - **b1 sub-pieces (K)**: each piece split along the small sphere's angle coordinate b1
@@ -21,16 +24,16 @@ median of 7):
   (``calibrate_pairs2.train_piece``). Evaluated by the package's own piece code on the
   points of each sub-range (:func:`evaluate`); not a format the package or its exports
   read.
-- **trains in float32**: the force trains' cores (then every train's) stored in single
-  precision, and the Chebyshev rows cast to it as each train is summed: the products and
-  sums in float32, everything else in float64. Precision is a lever beside the ranks
-  (twice the numbers a SIMD lane and a cache line); not a form the package ships.
+- **every train in float32**: the rupture trains' cores too in single precision, and the
+  Chebyshev rows cast to it as each train is summed (not shipped: S_c would move, by up
+  to 3.3e-7, and with it the rupture window; the shipped default keeps S_c in float64).
 
 For each form: the cost a point, the multiply-adds a point of its trains weighted by the
-points each piece evaluates, and the largest change against the shipped values (rupture
-distance; force short of 0.999 S_c, where the held-out points stop, and everywhere the
-force is nonzero). For K = 4 it also gives the multiply-adds if the force's gap axis were
-halved too (the package cannot evaluate a gap sub-range: multiply-adds only).
+points each piece evaluates, and the largest change against the double form's values
+(rupture distance; force short of 0.999 S_c, where the held-out points stop, and
+everywhere the force is nonzero). For K = 4 it also gives the multiply-adds if the force's
+gap axis were halved too (the package cannot evaluate a gap sub-range: multiply-adds
+only).
 
 Writes ``benchmarks/results/pair_split.json`` and ``pair_split.png``. Run:
 ``python benchmarks/bench_pair_split.py`` (about 10 minutes: the sub-pieces' trains try
@@ -109,10 +112,11 @@ def split_table(entry: dict[str, Any], k: int) -> list[list[tuple[float, float, 
     return out
 
 
-def evaluate(entry: dict[str, Any], subs: list[Any] | None, pts: tuple[np.ndarray, ...]
-             ) -> tuple[np.ndarray, np.ndarray]:
+def evaluate(entry: dict[str, Any], subs: list[Any] | None, pts: tuple[np.ndarray, ...],
+             dtype: Any = np.float64) -> tuple[np.ndarray, np.ndarray]:
     """``force_star``'s two-angle pair path (``F/(2 pi sigma R_s)``, S_c/R_s), each band's
-    points in their b1 sub-range's pieces (``subs``; ``None``: the band's own pieces)."""
+    points in their b1 sub-range's pieces (``subs``; ``None``: the band's own pieces), the
+    force's trains summed in ``dtype`` (float32: the package's default precision)."""
     v, th, s, ratio, tw = pts
     rho = cc.reduced_star("sphere-sphere", ratio)
     ts = np.degrees(th)
@@ -123,7 +127,7 @@ def evaluate(entry: dict[str, Any], subs: list[Any] | None, pts: tuple[np.ndarra
         split = cc.theta_split_deg(band, lm, b1)
         if subs is None:  # the band's own pieces, b1 as it is
             f[m], s_c[m] = cc._pieces(band, [*lm, b1], np.degrees(tw[m]), split, v[m], s[m],
-                                      rho[m], None, ts[m])
+                                      rho[m], None, ts[m], dtype)
             continue
         at = next(i for i, b in enumerate(entry["bands"]) if b is band)
         for j, (lo, hi, table) in enumerate(subs[at]):
@@ -132,7 +136,7 @@ def evaluate(entry: dict[str, Any], subs: list[Any] | None, pts: tuple[np.ndarra
                 g = m[mm]
                 f[g], s_c[g] = cc._pieces(
                     table, [*cc._take(lm, mm), cc._map(b1[mm], lo, hi)],
-                    np.degrees(tw[g]), split[mm], v[g], s[g], rho[g], None, ts[g])
+                    np.degrees(tw[g]), split[mm], v[g], s[g], rho[g], None, ts[g], dtype)
     return f * (np.cos(th) + np.cos(tw)), s_c
 
 
@@ -233,15 +237,20 @@ def main() -> None:
     v, th, gap, ratio, tw = pts
     subs = {k: split_table(entry, k) for k in SPLITS}
     print("sub-pieces trained", flush=True)
-    f0, sc0 = cc.force_star("sphere-sphere", v, th, gap, ratio, theta_wall=tw)
-    mine = evaluate(entry, None, pts)  # every form is timed through evaluate: check it
-    if not (np.array_equal(mine[0], f0) and np.array_equal(mine[1], sc0)):
-        sys.exit("bench_pair_split: evaluate no longer reproduces force_star's two-angle "
-                 "pair path bit for bit")
+    # every form is timed through evaluate: check it against both precisions
+    for dtype, precision in ((np.float32, "mixed"), (np.float64, "double")):
+        want = cc.force_star("sphere-sphere", v, th, gap, ratio, theta_wall=tw,
+                             precision=precision)
+        mine = evaluate(entry, None, pts, dtype)
+        if not (np.array_equal(mine[0], want[0]) and np.array_equal(mine[1], want[1])):
+            sys.exit("bench_pair_split: evaluate no longer reproduces force_star's two-angle "
+                     f"pair path bit for bit (precision {precision})")
+    f0, sc0 = want  # the double form's: what every change is measured against
     flat = rank_one(entry)
-    low = {"force trains in float32": single(entry, ("force_train",)),
-           "all trains in float32": single(entry, cc.TRAIN_FIELDS)}
-    fns = {"shipped": lambda: evaluate(entry, None, pts),
+    low = {"every train in float32": single(entry, cc.TRAIN_FIELDS)}
+    fns = {"double (accurate preset)": lambda: evaluate(entry, None, pts),
+           "shipped (default: force train in float32)":
+               lambda: evaluate(entry, None, pts, np.float32),
            "structure only (rank-1 cores)": lambda: evaluate(flat, None, pts)}
     fns.update({f"b1 sub-pieces (K = {k})": (lambda k=k: evaluate(entry, subs[k], pts))
                 for k in SPLITS})
@@ -263,12 +272,15 @@ def main() -> None:
     def changes(rec: dict[str, Any], f: np.ndarray, sc: np.ndarray) -> None:
         short = (gap < 0.999 * np.minimum(sc, sc0)) & (f0 > 0)
         both = (f > 0) & (f0 > 0)
-        rec["max_change_rupture_vs_shipped"] = float(np.max(np.abs(sc / sc0 - 1.0)))
-        rec["max_change_force_vs_shipped_short_of_0.999_sc"] = float(
+        rec["max_change_rupture_vs_double"] = float(np.max(np.abs(sc / sc0 - 1.0)))
+        rec["max_change_force_vs_double_short_of_0.999_sc"] = float(
             np.max(np.abs(f[short] / f0[short] - 1.0)))
-        rec["max_change_force_vs_shipped"] = float(np.max(np.abs(f[both] / f0[both] - 1.0)))
+        rec["max_change_force_vs_double"] = float(np.max(np.abs(f[both] / f0[both] - 1.0)))
 
-    forms["shipped"]["macs_per_point"] = weighted(None)
+    forms["double (accurate preset)"]["macs_per_point"] = weighted(None)
+    shipped = forms["shipped (default: force train in float32)"]
+    shipped["macs_per_point"] = weighted(None)
+    changes(shipped, *evaluate(entry, None, pts, np.float32))
     for k in SPLITS:
         rec = forms[f"b1 sub-pieces (K = {k})"]
         rec["macs_per_point"] = weighted(subs[k])
@@ -277,7 +289,7 @@ def main() -> None:
                                   for band in subs[k] for _, _, t in band
                                   for p in t["pieces"]})
     for name, t in low.items():
-        forms[name]["macs_per_point"] = forms["shipped"]["macs_per_point"]
+        forms[name]["macs_per_point"] = shipped["macs_per_point"]
         changes(forms[name], *in_core_precision(t, pts))
     forms["b1 sub-pieces (K = 4)"]["macs_per_point_gap_halved_too"] = weighted(
         subs[4], gap_halved_macs)

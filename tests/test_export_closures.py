@@ -795,7 +795,8 @@ def _half_alone(half_entry, a: dict[str, np.ndarray], onset=None) -> np.ndarray:
     r1 = a["r1"]
     entry = {"bands": [half_entry], **({} if onset is None else {cc.ONSET_KEY: onset})}
     f, _ = cc.force_star(cc.WALL_TWO_ANGLES, a["volume"] / r1**3, np.radians(a["theta1_deg"]),
-                         a["gap"] / r1, entry=entry, theta_wall=np.radians(a["theta2_deg"]))
+                         a["gap"] / r1, entry=entry, theta_wall=np.radians(a["theta2_deg"]),
+                         precision="double")
     return -(2.0 * np.pi * a["surface_tension"] * r1 * f)
 
 
@@ -1241,14 +1242,14 @@ def _onset_reference(entry, cap: dict[str, np.ndarray]) -> dict[str, np.ndarray]
     angles (``capillary_force``'s arguments, all inside the domain) from the table
     ``entry``, by the model's formula (``CalibratedCapillary._force``: force_star at
     v = V/r1^3, the angles in radians, s = gap/r1, F = -2 pi sigma r1 f), all points in
-    one call."""
+    one call; the exports' precision, the accurate preset's: every train summed in double)."""
     r1 = cap["r1"]
     v, t1, t2 = cap["volume"] / r1**3, np.radians(cap["theta1_deg"]), np.radians(
         cap["theta2_deg"])
     _, sc = cc.force_star(cc.WALL_TWO_ANGLES, v, t1, np.zeros(v.size), entry=entry,
-                          theta_wall=t2)
+                          theta_wall=t2, precision="double")
     f, _ = cc.force_star(cc.WALL_TWO_ANGLES, v, t1, cap["gap"] / r1, entry=entry,
-                         theta_wall=t2)
+                         theta_wall=t2, precision="double")
     return {"rupture_distance": sc * r1,
             "capillary_force": -(2.0 * np.pi * cap["surface_tension"] * r1 * f)}
 

@@ -297,6 +297,62 @@ def test_two_angle_table_joins_the_one_angle_table() -> None:
     np.testing.assert_allclose(two[0], one[0], rtol=1e-4)
 
 
+PRECISION_FORCE = 2e-5
+"""What summing the force's tensor train in single precision (the default, ``"mixed"``)
+may move the force, relative: 1/50 of the force goal (measured: 6.0e-6 between spheres,
+5.3e-6 on a wall, 1e5 points each, ``benchmarks/bench_calibrate.py``)."""
+
+
+@pytest.mark.parametrize("kind", ["sphere-wall", "sphere-sphere"])
+def test_single_precision_moves_only_the_two_angle_force(kind: str) -> None:
+    """``precision="mixed"`` (the default) against ``"double"`` on the shipped tables, one
+    batch with one and two angles: S_c is bitwise the same (its tables are summed in double
+    either way), so are one-angle forces (their tables have no trains); two-angle forces
+    move by rounding only, and do move (the sum is single precision)."""
+    rng = np.random.default_rng(58)
+    n = 20_000
+    v = np.exp(rng.uniform(*np.log(cc.V_RANGE), n))
+    th = np.radians(rng.uniform(*cc.THETA_RANGE_DEG, n))
+    tw = np.radians(rng.uniform(*cc.THETA_RANGE_DEG, n))
+    one = np.arange(n) < n // 4
+    tw[one] = th[one]
+    ratio = np.exp(rng.uniform(0.0, math.log(10.0), n)) if kind == "sphere-sphere" else None
+    _, sc = cc.force_star(kind, v, th, np.zeros(n), ratio, theta_wall=tw)
+    gap = rng.uniform(0.0, 1.0, n) * sc
+    f_d, sc_d = cc.force_star(kind, v, th, gap, ratio, theta_wall=tw, precision="double")
+    f_m, sc_m = cc.force_star(kind, v, th, gap, ratio, theta_wall=tw)
+    np.testing.assert_array_equal(sc_m, sc_d)
+    np.testing.assert_array_equal(f_m[one], f_d[one])
+    inside = f_d > 0
+    np.testing.assert_array_equal(f_m > 0, inside)
+    rel = np.abs(f_m[inside] / f_d[inside] - 1.0)
+    assert rel.max() < PRECISION_FORCE
+    assert rel[~one[inside]].max() > 1e-9
+
+
+def test_presets_name_their_precision() -> None:
+    """The fast and default presets sum the force's train in single precision, accurate in
+    double (the exports' arithmetic); each curve's settings say which; a precision outside
+    ``PRECISIONS`` is an InputError naming the allowed ones."""
+    model = get_model("calibrated-capillary")
+    scene = make_scene("sphere-sphere", {"bridge_volume": 2e-3 * R**3}, [1e-6], 3.0 * R,
+                       (20.0, 40.0))
+    gaps = np.linspace(0.01, 0.99, 12) * model.rupture_distance(scene)
+    curves = {p: model.force(scene, gaps=gaps, preset=p) for p in ("fast", "default",
+                                                                    "accurate")}
+    assert {p: c.settings["precision"] for p, c in curves.items()} == {
+        "fast": "mixed", "default": "mixed", "accurate": "double"}
+    double = model.force(scene, gaps=gaps, precision="double").force_capillary
+    np.testing.assert_array_equal(curves["accurate"].force_capillary, double)
+    np.testing.assert_allclose(curves["default"].force_capillary, double,
+                               rtol=PRECISION_FORCE)
+    assert not np.array_equal(curves["default"].force_capillary, double)
+    np.testing.assert_array_equal(curves["default"].extras["rupture_distance"],
+                                  curves["accurate"].extras["rupture_distance"])
+    with pytest.raises(InputError, match=r"precision = 'single'; allowed: mixed, double"):
+        model.force(scene, gaps=gaps, precision="single")
+
+
 def test_split_angle_separates_fold_from_bifurcation() -> None:
     """Between equal spheres the branch ends at a fold below the table's split angle and
     at a symmetry-breaking bifurcation above it, at volumes between its nodes."""

@@ -803,7 +803,9 @@ def package_evaluation(function: str, source: CapillarySource | None = None,
 
 def _calibrated_capillary(function: str, liquid: dict[str, Any], **args: float) -> float:
     """``calibrated-capillary`` through its model: the scene's checks, its rupture distance
-    and its force (0 at and past rupture). Two gaps a Scene does not hold are answered by
+    and its force (0 at and past rupture), every table summed in double precision (its
+    ``accurate`` preset, what the exports compute; the default sums the two-angle pair
+    table's trains in single precision). Two gaps a Scene does not hold are answered by
     the model's own formula: S = 0 (the limit at contact, :func:`force_star` at s = 0) and
     S > 100 r1 (past any rupture distance: 0)."""
     from wetcontact.models import get_model
@@ -821,12 +823,13 @@ def _calibrated_capillary(function: str, liquid: dict[str, Any], **args: float) 
         v, ratio = model._v_ratio(nominal)
         rs = model.small_radius(nominal)
         th, other = model._angles(nominal)
-        f, _ = force_star(nominal.kind, v, th, 0.0, ratio, theta_wall=other)
+        f, _ = force_star(nominal.kind, v, th, 0.0, ratio, theta_wall=other,
+                          precision="double")
         return -float(2.0 * math.pi * nominal.surface_tension * rs * f)
     if gap > 100.0 * r1 and math.isfinite(gap):
         assert gap > sc
         return 0.0
-    return float(model.force(nominal, gaps=[gap]).force_capillary[0])
+    return float(model.force(nominal, gaps=[gap], preset="accurate").force_capillary[0])
 
 
 def _closure(table: RefitTable):

@@ -93,9 +93,9 @@ Two angles between spheres (table ``sphere-sphere-two-angles``, :data:`PAIR_TWO_
 (cos theta1 + cos theta2)``; three bands of theta1 whose onset end is a 2-D series in (w,
 a), a 3-D ridge series theta2*(w, a, b1) per band, and the piece above the ridge ending at
 ``70.5 + theta2* - theta1`` deg (:data:`UPPER_PAST_RIDGE`). Held-out maxima (rupture
-distance / force): 2.5e-4 / 2.6e-4 uniformly, 7.4e-5 / 1.0e-4 within
-:data:`RIDGE_ZONE_DEG` of the ridge, 1.1e-4 / 1.2e-4 at its top, 2.5e-4 / 4.2e-4 where
-the jump appears and 1.1e-4 / 5.3e-5 between nearly equal spheres (the full stage of
+distance / force): 2.5e-4 / 2.6e-4 uniformly, 7.4e-5 / 1.1e-4 within
+:data:`RIDGE_ZONE_DEG` of the ridge, 1.1e-4 / 1.3e-4 at its top, 2.5e-4 / 4.2e-4 where
+the jump appears and 1.1e-4 / 5.1e-5 between nearly equal spheres (the full stage of
 :data:`~wetcontact.calibrate_pairs2.STAGES`: 27 b2 nodes above the ridge).
 
 The force table is stored in low-rank form: its unfolding over the first two axes
@@ -107,6 +107,20 @@ table's size (sphere pairs: about a third; :func:`low_rank_rows`). The two-angle
 evaluate each piece's rupture table and this low-rank force as their tensor trains
 (:data:`TRAIN_FIELDS`, :func:`train_sum`; :data:`wetcontact.calibrate_pairs2.TRAIN_TOL`),
 on a wall 0.56-0.74 of the low-rank form's multiply-adds, between spheres 0.23-0.40.
+
+Precision. By default (``precision="mixed"``, the fast and default presets) the force's
+tensor train is summed in single precision: its cores are kept in float32 beside the
+float64 ones (:func:`as_arrays`) and its Chebyshev rows rounded to float32, so that the
+products and elementwise sums move half the bytes and fill twice the SIMD lanes. The
+rupture distance's tables, the one-angle tables, the ridge and onset series (which decide
+a point's band and piece), the coordinates and exp stay in float64, so S_c and every
+one-angle value are bitwise those of ``precision="double"`` (the accurate preset, what the
+C header and the numpy module compute). The force moves by at most 6.0e-6 (sphere pairs)
+and 5.3e-6 (a wall) relative on 1e5 seeded points, 1/170 of the 1e-3 force goal, and the
+held-out tables above are measured at the default. Summing the rupture trains in float32
+too saved about 0.06 us more a point but moved S_c by up to 3.3e-7, and with it which gaps
+a bridge still spans, so it is not done (``docs/notes/sphere_pair_two_angles.md``,
+"The force's train in single precision").
 """
 
 from __future__ import annotations
@@ -120,7 +134,7 @@ from typing import Any
 
 import numpy as np
 
-from wetcontact.errors import ValidityError
+from wetcontact.errors import InputError, ValidityError
 from wetcontact.models import ForceCurve, Model, register
 from wetcontact.reduced_models.bounds import estimate_or_none
 from wetcontact.scene import Scene
@@ -168,6 +182,15 @@ whose ``stratum`` names a ``theta_sphere_deg`` range only at sphere angles insid
 ``held_out_ridge_onset``, where the jump at the top appears, 17.5-35 deg)."""
 ANGLE_TOL = 1e-9
 """Two contact angles closer than this (rad) count as one."""
+PRECISIONS = ("mixed", "double")
+"""How :func:`force_star` sums the force's tensor train (:data:`TRAIN_FIELDS`; the
+two-angle tables have one): ``"mixed"`` (the default) in single precision, from its
+Chebyshev rows and cores rounded to it, ``"double"`` in double. Everything else (the
+coordinates, the rupture distance's tables, the one-angle tables, the ridge and onset
+series, exp, the result) is double either way, so S_c is the same in both. Single
+precision moves the force by at most 6.0e-6 relative (measured; the tests hold it under
+2e-5, 1/50 of the force goal) and cuts the two-angle tables' cost by about a fifth (wall)
+and a third (sphere pairs): the module's notes, "Precision"."""
 
 
 @cache
@@ -185,9 +208,16 @@ two-angle tables, a wall's and sphere pairs'): what is evaluated; the arrays abo
 fit they were built from (:func:`wetcontact.calibrate_pairs2.train_piece`)."""
 
 
+def _train_arrays(train: dict[str, Any]) -> dict[str, Any]:
+    """A tensor train with its cores as float arrays, and beside them in single precision
+    (``cores_single``, what :func:`train_sum` reads for single-precision rows)."""
+    cores = [np.asarray(c, dtype=float) for c in train["cores"]]
+    return {**train, "cores": cores, "cores_single": [c.astype(np.float32) for c in cores]}
+
+
 def as_arrays(table: dict[str, Any]) -> dict[str, Any]:
     """A copy of the table with each piece's coefficient lists as float arrays (the
-    argument is left as it was)."""
+    argument is left as it was); each tensor train's cores also in single precision."""
     def entry(e: Any) -> Any:
         if isinstance(e, dict) and "bands" in e:  # a wall with two angles
             return {**e, "bands": [entry(h) for h in e["bands"]]}
@@ -195,9 +225,7 @@ def as_arrays(table: dict[str, Any]) -> dict[str, Any]:
             return e
         return {**e, "pieces": [{**p, **{n: np.asarray(p[n], dtype=float)
                                         for n in TABLE_FIELDS if n in p},
-                                 **{n: {**p[n], "cores": [np.asarray(c, dtype=float)
-                                                          for c in p[n]["cores"]]}
-                                    for n in TRAIN_FIELDS if n in p}}
+                                 **{n: _train_arrays(p[n]) for n in TRAIN_FIELDS if n in p}}
                                 for p in e["pieces"]]}
     return {k: entry(e) for k, e in table.items()}
 
@@ -459,10 +487,12 @@ def gap_from_coordinate(c: np.ndarray, s_c: float, eps: float) -> np.ndarray:
     return eps * np.expm1((1.0 - z**2) * math.log1p(s_c / eps))
 
 
-def _cheb_rows(t: np.ndarray, n: int) -> np.ndarray:
+def _cheb_rows(t: np.ndarray, n: int, dtype: Any = np.float64) -> np.ndarray:
     """``T_k(t)`` for k < n, shape (n, len(t)) (coefficient-major: each row contiguous),
-    by the three-term recurrence ``T_k = 2 t T_{k-1} - T_{k-2}``."""
-    out = np.empty((n, t.size))
+    by the three-term recurrence ``T_k = 2 t T_{k-1} - T_{k-2}``, in ``dtype`` (``t``
+    rounded to it first)."""
+    t = np.asarray(t, dtype=dtype)
+    out = np.empty((n, t.size), dtype=dtype)
     out[0] = 1.0
     if n > 1:
         out[1] = t
@@ -547,12 +577,21 @@ def train_sum(train: dict[str, Any], rows: list[np.ndarray]) -> np.ndarray:
     (``(G V)[m, r_k, p]``, then the sum over m) where r_k <= r_{k-1}, last (the rows'
     outer product with ``V``, ``[r, m, p]``, then the product) where r_k > r_{k-1}: the
     elementwise work a point is ``n_k min(r_{k-1}, r_k)``, the multiply-adds
-    ``sum_k r_{k-1} n_k r_k`` either way. :data:`TRAIN_CHUNK` points at a time."""
-    cores, order = train["cores"], train["order"]
+    ``sum_k r_{k-1} n_k r_k`` either way. :data:`TRAIN_CHUNK` points at a time (twice
+    as many in single precision: the same bytes).
+
+    The sums are taken in the rows' precision: single-precision rows (``float32``) are
+    contracted with the cores' single-precision copy (``cores_single``,
+    :func:`as_arrays`; made here if the train lacks it); the result is float64."""
+    order = train["order"]
+    cores = train["cores"]
+    if rows[0].dtype == np.float32:
+        cores = train.get("cores_single") or [np.asarray(g, dtype=np.float32) for g in cores]
     n = rows[0].shape[1]
     out = np.empty(n)
-    for lo in range(0, n, TRAIN_CHUNK):
-        sl = slice(lo, min(n, lo + TRAIN_CHUNK))
+    batch = TRAIN_CHUNK * 8 // rows[0].itemsize  # as many bytes in single precision
+    for lo in range(0, n, batch):
+        sl = slice(lo, min(n, lo + batch))
         v = cores[0][0].T @ rows[order[0]][:, sl]  # (r_1, p)
         for g, ax in zip(cores[1:], order[1:], strict=True):
             r0, m, r1 = g.shape
@@ -589,7 +628,7 @@ def rupture_star(kind: str, v: np.ndarray, theta: np.ndarray,
                  ratio: np.ndarray | None = None, theta_wall: np.ndarray | None = None
                  ) -> np.ndarray:
     """Rupture distance S_c/R_s (``theta_wall``: the wall's own angle, see
-    :func:`force_star`)."""
+    :func:`force_star`; in double precision whatever its ``precision``)."""
     v = np.asarray(v, dtype=float)
     return force_star(kind, v, theta, np.zeros(v.shape), ratio, theta_wall=theta_wall)[1]
 
@@ -601,8 +640,8 @@ def reduced_star(kind: str, ratio: np.ndarray | None) -> np.ndarray | float:
 
 def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
                ratio: np.ndarray | None = None, chunk: int | None = None,
-               entry: dict[str, Any] | None = None, theta_wall: np.ndarray | None = None
-               ) -> tuple[np.ndarray, np.ndarray]:
+               entry: dict[str, Any] | None = None, theta_wall: np.ndarray | None = None,
+               precision: str = "mixed") -> tuple[np.ndarray, np.ndarray]:
     """Attractive force ``F/(2 pi sigma R_s)`` at gap ``s = S/R_s`` (0 at and beyond
     rupture) and the rupture distance ``S_c/R_s``, in one pass (the Chebyshev rows of
     (w,) a, b serve both tables).
@@ -621,7 +660,14 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
     angle, :func:`band_index`: sphere angle ``b1`` over the band, and the wall angle within
     the pieces that meet at the band's ridge), the others in the
     one-angle table (``entry``, if given, is the one-angle table), and the Derjaguin
-    prefactor is ``cos theta_s + cos theta_w``."""
+    prefactor is ``cos theta_s + cos theta_w``.
+
+    ``precision`` (:data:`PRECISIONS`): ``"mixed"`` sums the tensor trains in single
+    precision (everything else, and the result, in double); ``"double"`` sums every table
+    in double precision."""
+    if precision not in PRECISIONS:
+        raise ValueError(f"calibrated-capillary: precision = {precision!r}; allowed: "
+                         + ", ".join(PRECISIONS))
     v, theta, s = np.broadcast_arrays(np.asarray(v, float), np.asarray(theta, float),
                                       np.asarray(s, float))
     shape = v.shape
@@ -637,11 +683,12 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
                 f[mask], s_c[mask] = force_star(
                     k, v[mask], theta[mask], s[mask], None if ratio is None else ratio[mask],
                     chunk=chunk, entry=entry if k == kind else None,
-                    theta_wall=None if k == kind else tw[mask])
+                    theta_wall=None if k == kind else tw[mask], precision=precision)
         return f.reshape(shape), s_c.reshape(shape)
     e = _entry(kind) if entry is None else entry
     a = volume_coordinate(v)
     rho = np.broadcast_to(np.asarray(reduced_star(kind, ratio), dtype=float), (v.size,))
+    dtype = np.float32 if precision == "mixed" else np.float64  # the trains' (_piece)
     if kind in (WALL_TWO_ANGLES, PAIR_TWO_ANGLES):
         if theta_wall is None:
             raise ValueError(f"calibrated-capillary: the {kind} table needs theta_wall")
@@ -653,23 +700,25 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
             lm = _take(lead, m)
             f[m], s_c[m] = _pieces(band, [*lead_list(lm), b1], np.degrees(tw[m]),
                                    theta_split_deg(band, lm, b1), v[m], s[m], rho[m], chunk,
-                                   ts[m])
+                                   ts[m], dtype)
         cos_sum = np.cos(theta) + np.cos(tw)
     else:
         lead = [a] if kind == "sphere-wall" else [ratio_coordinate(ratio), a]
-        f, s_c = _pieces(e, lead, np.degrees(theta), theta_split_deg(e, a), v, s, rho, chunk)
+        f, s_c = _pieces(e, lead, np.degrees(theta), theta_split_deg(e, a), v, s, rho, chunk,
+                         dtype=dtype)
         cos_sum = 2.0 * np.cos(theta)
     return (f * cos_sum).reshape(shape), s_c.reshape(shape)
 
 
 def _pieces(e: dict[str, Any], lead: list[np.ndarray], piece_deg: np.ndarray,
             split: np.ndarray | None, v: np.ndarray, s: np.ndarray, rho: np.ndarray,
-            chunk: int | None, first_deg: np.ndarray | None = None
+            chunk: int | None, first_deg: np.ndarray | None = None, dtype: Any = np.float64
             ) -> tuple[np.ndarray, np.ndarray]:
     """``rho q`` and ``S_c/R_s`` from a table's pieces: the lead coordinates, the angle that
     the pieces divide (deg) mapped within its piece, and the gap coordinate; a point
     belongs to the first piece whose upper end is at or above its angle (``first_deg``:
-    the sphere's angle, for a piece whose end follows the ridge, :func:`piece_range`)."""
+    the sphere's angle, for a piece whose end follows the ridge, :func:`piece_range`).
+    ``dtype``: the precision of the pieces' tensor-train sums (:func:`_piece`)."""
     n = v.size
     eps = np.sqrt(v / (np.pi * rho))
     f, s_c = np.full(n, np.nan), np.full(n, np.nan)
@@ -678,17 +727,19 @@ def _pieces(e: dict[str, Any], lead: list[np.ndarray], piece_deg: np.ndarray,
         lo, hi = piece_range(piece, split, n, first_deg)
         idx = np.flatnonzero(todo & (piece_deg <= hi))
         todo[idx] = False
-        f[idx], s_c[idx] = _piece(piece, lo, hi, idx, lead, piece_deg, v, s, rho, eps, chunk)
+        f[idx], s_c[idx] = _piece(piece, lo, hi, idx, lead, piece_deg, v, s, rho, eps, chunk,
+                                  dtype)
     return f, s_c
 
 
 def _piece(piece: dict[str, Any], lo: np.ndarray, hi: np.ndarray, idx: np.ndarray,
            lead: list[np.ndarray], piece_deg: np.ndarray, v: np.ndarray, s: np.ndarray,
-           rho: np.ndarray, eps: np.ndarray, chunk: int | None
+           rho: np.ndarray, eps: np.ndarray, chunk: int | None, dtype: Any = np.float64
            ) -> tuple[np.ndarray, np.ndarray]:
     """``rho q`` and ``S_c/R_s`` of the points ``idx`` from one piece's tables, ``chunk``
     points at a time (default :func:`piece_chunk`); by its tensor trains
-    (:data:`TRAIN_FIELDS`, :func:`train_sum`) where it has them."""
+    (:data:`TRAIN_FIELDS`, :func:`train_sum`) where it has them, the force's train summed
+    in ``dtype`` (everything else, S_c included, in double precision)."""
     f, s_c = np.empty(idx.size), np.empty(idx.size)
     rup_train, force_train = (piece.get(n) for n in TRAIN_FIELDS)
     rup = np.asarray(piece["rupture"])
@@ -711,12 +762,13 @@ def _piece(piece: dict[str, Any], lo: np.ndarray, hi: np.ndarray, idx: np.ndarra
             sc = np.cbrt(v[sl]) * np.exp(train_sum(rup_train, rows))
         inside = s[sl] < sc
         c = gap_coordinate(np.where(inside, s[sl], 0.0), sc, eps[sl])
-        rows.append(_cheb_rows(c, dims[-1]))
         if force_train is None:
+            rows.append(_cheb_rows(c, dims[-1]))
             r_left = r_lead if k == len(lead) and rup_train is None else _outer(rows[:k])
             q = np.exp(low_rank_rows(left, right, r_left, _outer(rows[k:])))
-        else:
-            q = np.exp(train_sum(force_train, rows))
+        else:  # the force's train in ``dtype``: its rows rounded to it
+            q = np.exp(train_sum(force_train, [*(r.astype(dtype, copy=False) for r in rows),
+                                               _cheb_rows(c, dims[-1], dtype)]))
         f[out] = np.where(inside, rho[sl] * q, 0.0)
         s_c[out] = sc
     return f, s_c
@@ -755,6 +807,11 @@ class CalibratedCapillary(Model):
                 "rupture distance)")
     reference = "calibrated here: tensor Chebyshev interpolation of meniscus"
     cost = 1e-6
+    presets = {"fast": {"precision": "mixed"}, "default": {"precision": "mixed"},
+               "accurate": {"precision": "double"}}
+    """``precision`` (:data:`PRECISIONS`): how the force's tensor train (two angles) is
+    summed; ``accurate`` sums every table in double precision (what the exported closures
+    compute), the others the force's train in single precision."""
 
     def check(self, scene: Scene) -> None:
         if scene.amount != "bridge":
@@ -878,12 +935,17 @@ class CalibratedCapillary(Model):
         assert scene.radius2 is not None
         return (th2, th1) if scene.radius2 < scene.radius else (th1, th2)
 
-    def _force(self, scene: Scene, preset: str, **opts: Any) -> ForceCurve:
+    def _force(self, scene: Scene, preset: str, precision: str = "mixed", **opts: Any
+               ) -> ForceCurve:
+        if precision not in PRECISIONS:
+            raise InputError(f"model '{self.name}': setting precision = {precision!r}; "
+                             "allowed: " + ", ".join(PRECISIONS))
         rs = self.small_radius(scene)
         v, ratio = self._v_ratio(scene)
         gap = scene.gap_array
         th, other = self._angles(scene)
-        f, s_c = force_star(scene.kind, v, th, gap / rs, ratio, theta_wall=other)
+        f, s_c = force_star(scene.kind, v, th, gap / rs, ratio, theta_wall=other,
+                            precision=precision)
         sc = float(s_c.flat[0]) * rs
         force = 2.0 * np.pi * scene.surface_tension * rs * f
         est = estimate_or_none(self.name, "capillary", scene, sc)
