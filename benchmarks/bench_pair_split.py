@@ -320,8 +320,9 @@ def chart(result: dict[str, Any]) -> None:
         halved = forms[n].get("macs_per_point_gap_halved_too")
         ax.text(c, y, f" {c:.2f} us" + ("" if macs is None else f", {macs:.0f} MACs")
                 + ("" if halved is None else f"\n ({halved:.0f} MACs with the gap halved too)"),
-                va="center", fontsize=9)
-    ax.axvline(1.0, color="k", ls="--", lw=1)
+                va="center", fontsize=9,
+                bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.5})
+    ax.axvline(1.0, color="k", ls="--", lw=1, zorder=0)
     ax.text(1.0, len(names) - 0.5, " 1 us goal", fontsize=9)
     ax.invert_yaxis()
     ax.set_xlim(0, max(cost) * 1.45)
