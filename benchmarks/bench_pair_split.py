@@ -1,7 +1,9 @@
 """The two-angle sphere-pair table's cost: where it goes, and what sub-pieces would save.
 
 ``calibrated-capillary`` evaluates two spheres with two contact angles at 1.3-1.5 us a
-point (``bench_calibrate``), against the 1 us goal of issue 11. This benchmark measures,
+point in double precision (``bench_calibrate``, 2026-11-25), and at about 0.75x that with
+its force's train in single precision (the default since 2026-11-26), against the 1 us
+goal of issue 11. This benchmark measures,
 in one run on the points of ``bench_pair_tt`` (1e5, one BLAS thread, alternating rounds,
 median of 7):
 

@@ -804,8 +804,8 @@ def package_evaluation(function: str, source: CapillarySource | None = None,
 def _calibrated_capillary(function: str, liquid: dict[str, Any], **args: float) -> float:
     """``calibrated-capillary`` through its model: the scene's checks, its rupture distance
     and its force (0 at and past rupture), every table summed in double precision (its
-    ``accurate`` preset, what the exports compute; the default sums the two-angle pair
-    table's trains in single precision). Two gaps a Scene does not hold are answered by
+    ``accurate`` preset, what the exports compute; the default sums the two-angle tables'
+    force trains in single precision). Two gaps a Scene does not hold are answered by
     the model's own formula: S = 0 (the limit at contact, :func:`force_star` at s = 0) and
     S > 100 r1 (past any rupture distance: 0)."""
     from wetcontact.models import get_model

@@ -662,11 +662,11 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
     one-angle table (``entry``, if given, is the one-angle table), and the Derjaguin
     prefactor is ``cos theta_s + cos theta_w``.
 
-    ``precision`` (:data:`PRECISIONS`): ``"mixed"`` sums the tensor trains in single
-    precision (everything else, and the result, in double); ``"double"`` sums every table
-    in double precision."""
+    ``precision`` (:data:`PRECISIONS`): ``"mixed"`` sums the force's tensor train in single
+    precision (everything else, S_c and the result included, in double); ``"double"`` sums
+    every table in double precision."""
     if precision not in PRECISIONS:
-        raise ValueError(f"calibrated-capillary: precision = {precision!r}; allowed: "
+        raise InputError(f"calibrated-capillary: precision = {precision!r}; allowed: "
                          + ", ".join(PRECISIONS))
     v, theta, s = np.broadcast_arrays(np.asarray(v, float), np.asarray(theta, float),
                                       np.asarray(s, float))
@@ -718,7 +718,7 @@ def _pieces(e: dict[str, Any], lead: list[np.ndarray], piece_deg: np.ndarray,
     the pieces divide (deg) mapped within its piece, and the gap coordinate; a point
     belongs to the first piece whose upper end is at or above its angle (``first_deg``:
     the sphere's angle, for a piece whose end follows the ridge, :func:`piece_range`).
-    ``dtype``: the precision of the pieces' tensor-train sums (:func:`_piece`)."""
+    ``dtype``: the precision of the force's tensor-train sum (:func:`_piece`)."""
     n = v.size
     eps = np.sqrt(v / (np.pi * rho))
     f, s_c = np.full(n, np.nan), np.full(n, np.nan)
@@ -937,9 +937,6 @@ class CalibratedCapillary(Model):
 
     def _force(self, scene: Scene, preset: str, precision: str = "mixed", **opts: Any
                ) -> ForceCurve:
-        if precision not in PRECISIONS:
-            raise InputError(f"model '{self.name}': setting precision = {precision!r}; "
-                             "allowed: " + ", ".join(PRECISIONS))
         rs = self.small_radius(scene)
         v, ratio = self._v_ratio(scene)
         gap = scene.gap_array
