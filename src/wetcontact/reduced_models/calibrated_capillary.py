@@ -109,8 +109,8 @@ evaluate each piece's rupture table and this low-rank force as their tensor trai
 on a wall 0.56-0.74 of the low-rank form's multiply-adds, between spheres 0.23-0.40.
 
 Precision. By default (``precision="mixed"``, the fast and default presets) the force's
-tensor train is summed in single precision: its cores are kept in float32 beside the
-float64 ones (:func:`as_arrays`) and its Chebyshev rows rounded to float32, so that the
+tensor train is summed in single precision: its cores and Chebyshev rows are rounded to
+float32 as it is summed (:func:`train_sum`), so that the
 products and elementwise sums move half the bytes and fill twice the SIMD lanes. The
 rupture distance's tables, the one-angle tables, the ridge and onset series (which decide
 a point's band and piece), the coordinates and exp stay in float64, so S_c and every
@@ -208,16 +208,9 @@ two-angle tables, a wall's and sphere pairs'): what is evaluated; the arrays abo
 fit they were built from (:func:`wetcontact.calibrate_pairs2.train_piece`)."""
 
 
-def _train_arrays(train: dict[str, Any]) -> dict[str, Any]:
-    """A tensor train with its cores as float arrays, and beside them in single precision
-    (``cores_single``, what :func:`train_sum` reads for single-precision rows)."""
-    cores = [np.asarray(c, dtype=float) for c in train["cores"]]
-    return {**train, "cores": cores, "cores_single": [c.astype(np.float32) for c in cores]}
-
-
 def as_arrays(table: dict[str, Any]) -> dict[str, Any]:
     """A copy of the table with each piece's coefficient lists as float arrays (the
-    argument is left as it was); each tensor train's cores also in single precision."""
+    argument is left as it was)."""
     def entry(e: Any) -> Any:
         if isinstance(e, dict) and "bands" in e:  # a wall with two angles
             return {**e, "bands": [entry(h) for h in e["bands"]]}
@@ -225,7 +218,9 @@ def as_arrays(table: dict[str, Any]) -> dict[str, Any]:
             return e
         return {**e, "pieces": [{**p, **{n: np.asarray(p[n], dtype=float)
                                         for n in TABLE_FIELDS if n in p},
-                                 **{n: _train_arrays(p[n]) for n in TRAIN_FIELDS if n in p}}
+                                 **{n: {**p[n], "cores": [np.asarray(c, dtype=float)
+                                                          for c in p[n]["cores"]]}
+                                    for n in TRAIN_FIELDS if n in p}}
                                 for p in e["pieces"]]}
     return {k: entry(e) for k, e in table.items()}
 
@@ -580,13 +575,10 @@ def train_sum(train: dict[str, Any], rows: list[np.ndarray]) -> np.ndarray:
     ``sum_k r_{k-1} n_k r_k`` either way. :data:`TRAIN_CHUNK` points at a time (twice
     as many in single precision: the same bytes).
 
-    The sums are taken in the rows' precision: single-precision rows (``float32``) are
-    contracted with the cores' single-precision copy (``cores_single``,
-    :func:`as_arrays`; made here if the train lacks it); the result is float64."""
+    The sums are taken in the rows' precision (the cores rounded to it: single-precision
+    rows, ``float32``, are contracted with float32 cores); the result is float64."""
     order = train["order"]
-    cores = train["cores"]
-    if rows[0].dtype == np.float32:
-        cores = train.get("cores_single") or [np.asarray(g, dtype=np.float32) for g in cores]
+    cores = [g.astype(rows[0].dtype, copy=False) for g in train["cores"]]
     n = rows[0].shape[1]
     out = np.empty(n)
     batch = TRAIN_CHUNK * 8 // rows[0].itemsize  # as many bytes in single precision
