@@ -143,7 +143,15 @@ def test_rupture_distances_are_solved_once_across_loads(tmp_path, monkeypatch):
     assert len(list((tmp_path / "cache" / "wetcontact").glob("study_rupture-*.jsonl"))) == 1
 
 
-def test_latin_hypercube_is_stratified_seeded_and_mapped(tmp_path):
+def test_latin_hypercube_is_stratified_seeded_and_mapped(tmp_path, monkeypatch):
+    """The design's strata, seed and mapping to the axes. The shipped held-out study's
+    gaps are fractions of each bridge's rupture distance, which the sampling does not
+    depend on: a stand-in (V^(1/3), Lian's leading term) spares 40 meniscus solves (40 s
+    on a cold cache); the solved distances are tested above."""
+    from wetcontact import study as study_mod
+
+    monkeypatch.setattr(study_mod, "_rupture_distance",
+                        lambda r1, r2, th1, th2, sigma, volume: volume ** (1.0 / 3.0))
     u = latin_hypercube(50, 3, seed=7)
     for j in range(3):  # one sample in each of the 50 strata of every column
         assert sorted(np.floor(u[:, j] * 50).astype(int)) == list(range(50))
