@@ -169,7 +169,7 @@ def schema() -> dict[str, Any]:
 
 NUMBER_ARRAYS = ("coefficients", "published")
 """A part's fields that the schema declares arrays of numbers (``items: finite``): the
-only large arrays of a document (calibrated-capillary's dense tensors, about 4 million
+only large arrays of a document (calibrated-capillary's dense tensors, about 2 million
 numbers, 48 MB as text)."""
 
 
