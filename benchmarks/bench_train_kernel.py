@@ -1,0 +1,227 @@
+"""Would a compiled kernel take the two-angle sphere-pair table under 1 us a point?
+
+``calibrated-capillary`` evaluates two spheres with two contact angles at 1.3-1.5 us a
+point on this project's machines, against the 1 us goal of issue 11; its tensor-train sums
+(:func:`wetcontact.reduced_models.calibrated_capillary.train_sum`: small matrix products
+through numpy's OpenBLAS, and elementwise sums over the Chebyshev rows, 256 points at a
+time) take about 0.8 us of it. ``bench_pair_split`` left "a compiled batched kernel" as the
+way under 1 us. This benchmark tries the one compiler the package already installs,
+numba (a dependency of py-pde), in place of ``train_sum``, on the points of
+``bench_pair_tt`` (1e5, one BLAS thread, alternating rounds, median of 7):
+
+- **numpy (shipped)**: ``train_sum`` as shipped;
+- **numba, loops**: every core's contraction as compiled loops, points innermost (so that
+  they vectorise), ``V_k[r1, p] += G[r, m, r1] (V_{k-1}[r, p] T_m(x_p))``, one call a
+  train, batches of the same 256 points, ``fastmath`` (contraction into fused
+  multiply-adds and reassociation allowed: its best case);
+- **numba, BLAS products**: the same split as ``train_sum`` (each core one matrix product
+  through numba's BLAS binding, the elementwise sums as compiled loops), one call a train,
+  without numpy's per-call overhead.
+
+Both numba forms take the same rows and cores in the same precision as ``train_sum`` (the
+force's train in float32 at the default precision, the rupture distance's in float64), and
+their results are checked against it: S_c and force relative changes are reported. The
+cores are packed once per table (not timed); the numba compile time (``cache=False``) is
+reported separately.
+
+Writes ``benchmarks/results/train_kernel.json`` and ``train_kernel.png``. Run:
+``python benchmarks/bench_train_kernel.py`` (about 2 minutes).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import numba  # noqa: E402
+import numpy as np  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _common import RESULTS, write_json  # noqa: E402
+from bench_pair_tt import N, points  # noqa: E402
+
+from wetcontact.reduced_models import calibrated_capillary as cc  # noqa: E402
+
+ROUNDS = 7
+
+
+@numba.njit(cache=False, fastmath=True, error_model="numpy")
+def _loops(flat: np.ndarray, offs: np.ndarray, shapes: np.ndarray, order: np.ndarray,
+           rows: np.ndarray, roff: np.ndarray, batch: int, out: np.ndarray) -> None:
+    """``sum C T...T`` of a tensor train (cores packed in ``flat`` at ``offs``, shapes
+    (r0, m, r1) in ``shapes``, axes in ``order``) at the points whose Chebyshev rows are
+    stacked in ``rows`` (axis k's from row ``roff[k]``): compiled loops only."""
+    n, d = rows.shape[1], shapes.shape[0]
+    rmax = 1
+    for c in range(d):
+        rmax = max(rmax, shapes[c, 0], shapes[c, 2])
+    v = np.empty((rmax, batch), dtype=flat.dtype)
+    new = np.empty((rmax, batch), dtype=flat.dtype)
+    u = np.empty(batch, dtype=flat.dtype)
+    for p0 in range(0, n, batch):
+        pb = min(batch, n - p0)
+        v[0, :pb] = 1.0
+        for c in range(d):
+            r0, m, r1 = shapes[c, 0], shapes[c, 1], shapes[c, 2]
+            tb = roff[order[c]]
+            new[:r1, :pb] = 0.0
+            for r in range(r0):
+                for mm in range(m):
+                    for p in range(pb):
+                        u[p] = v[r, p] * rows[tb + mm, p0 + p]
+                    gb = offs[c] + (r * m + mm) * r1
+                    for k in range(r1):
+                        g = flat[gb + k]
+                        for p in range(pb):
+                            new[k, p] += g * u[p]
+            v, new = new, v
+        out[p0:p0 + pb] = v[0, :pb]
+
+
+@numba.njit(cache=False, fastmath=True, error_model="numpy")
+def _blas(flat: np.ndarray, offs: np.ndarray, shapes: np.ndarray, order: np.ndarray,
+          rows: np.ndarray, roff: np.ndarray, batch: int, out: np.ndarray) -> None:
+    """As :func:`_loops`, each core's product through BLAS (``train_sum``'s split: the
+    product first where r1 <= r0, last otherwise), the elementwise sums compiled."""
+    n, d = rows.shape[1], shapes.shape[0]
+    for p0 in range(0, n, batch):
+        pb = min(batch, n - p0)
+        m, r1 = shapes[0, 1], shapes[0, 2]
+        t = np.ascontiguousarray(rows[roff[order[0]]:roff[order[0]] + m, p0:p0 + pb])
+        v = np.dot(flat[offs[0]:offs[0] + m * r1].reshape(m, r1).T, t)
+        for c in range(1, d):
+            r0, m, r1 = shapes[c, 0], shapes[c, 1], shapes[c, 2]
+            tb = roff[order[c]]
+            g = flat[offs[c]:offs[c] + r0 * m * r1]
+            if r1 <= r0:
+                w = np.dot(g.reshape(r0, m * r1).T, v)
+                new = np.zeros((r1, pb), dtype=flat.dtype)
+                for mm in range(m):
+                    for k in range(r1):
+                        for p in range(pb):
+                            new[k, p] += w[mm * r1 + k, p] * rows[tb + mm, p0 + p]
+                v = new
+            else:
+                z = np.empty((r0 * m, pb), dtype=flat.dtype)
+                for r in range(r0):
+                    for mm in range(m):
+                        for p in range(pb):
+                            z[r * m + mm, p] = v[r, p] * rows[tb + mm, p0 + p]
+                v = np.dot(g.reshape(r0 * m, r1).T, z)
+        out[p0:p0 + pb] = v[0, :pb]
+
+
+KERNELS = {"numba, loops": _loops, "numba, BLAS products": _blas}
+
+
+def packed(train: dict[str, Any], dtype: Any) -> tuple[np.ndarray, ...]:
+    """A train's cores flattened in ``dtype`` with their offsets and shapes, and its axis
+    order (cached on the train: packing is set-up, not evaluation)."""
+    key = f"_packed_{np.dtype(dtype).name}"
+    if key not in train:
+        cores = [np.ascontiguousarray(g, dtype=dtype) for g in train["cores"]]
+        train[key] = (np.concatenate([g.ravel() for g in cores]),
+                      np.cumsum([0] + [g.size for g in cores])[:-1].astype(np.int64),
+                      np.array([g.shape for g in cores], dtype=np.int64),
+                      np.asarray(train["order"], dtype=np.int64))
+    return train[key]
+
+
+def compiled_train_sum(kernel: Any) -> Any:
+    """A drop-in for ``train_sum`` evaluated by ``kernel`` in the rows' precision."""
+    def train_sum(train: dict[str, Any], rows: list[np.ndarray]) -> np.ndarray:
+        flat, offs, shapes, order = packed(train, rows[0].dtype)
+        stacked = np.concatenate(rows, axis=0)
+        roff = np.cumsum([0] + [r.shape[0] for r in rows])[:-1].astype(np.int64)
+        out = np.empty(stacked.shape[1], dtype=rows[0].dtype)
+        kernel(flat, offs, shapes, order, stacked, roff, cc.TRAIN_CHUNK, out)
+        return out.astype(np.float64)
+    return train_sum
+
+
+def main() -> None:
+    v, th, gap, ratio, tw = pts = points()
+    shipped = cc.train_sum
+    forms = {"numpy (shipped)": shipped,
+             **{name: compiled_train_sum(k) for name, k in KERNELS.items()}}
+
+    def run(fn: Any) -> tuple[np.ndarray, np.ndarray]:
+        cc.train_sum = fn
+        try:
+            return cc.force_star("sphere-sphere", v, th, gap, ratio, theta_wall=tw)
+        finally:
+            cc.train_sum = shipped
+
+    compile_s = {}
+    for name, fn in forms.items():  # first call: numba compiles both precisions here
+        t0 = time.perf_counter()
+        run(fn)
+        compile_s[name] = time.perf_counter() - t0
+    f_ref, sc_ref = run(shipped)
+    inside = f_ref > 0
+    times: dict[str, list[float]] = {name: [] for name in forms}
+    for _ in range(ROUNDS):
+        for name, fn in forms.items():
+            t0 = time.perf_counter()
+            run(fn)
+            times[name].append(time.perf_counter() - t0)
+    out = {}
+    for name, fn in forms.items():
+        f, sc = run(fn)
+        out[name] = {
+            "s_per_point": float(np.median(times[name]) / N),
+            "first_call_s": compile_s[name],
+            "max_rel_change_force": float(np.max(np.abs(f[inside] / f_ref[inside] - 1))),
+            "max_rel_change_rupture": float(np.max(np.abs(sc / sc_ref - 1))),
+        }
+        print(f"{name}: {out[name]['s_per_point'] * 1e6:.2f} us a point (first call "
+              f"{compile_s[name]:.1f} s), force change {out[name]['max_rel_change_force']:.1e}"
+              f", S_c change {out[name]['max_rel_change_rupture']:.1e}", flush=True)
+    result = {"points": N, "rounds": ROUNDS, "numba": numba.__version__,
+              "table": cc.PAIR_TWO_ANGLES, "precision": "mixed (the default)",
+              "points_seed": "bench_pair_tt.points", "forms": out,
+              "date": time.strftime("%Y-%m-%d")}
+    del pts
+    write_json("train_kernel", result)
+    chart(result)
+
+
+def chart(result: dict[str, Any]) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    forms = result["forms"]
+    names = list(forms)
+    cost = [forms[n]["s_per_point"] * 1e6 for n in names]
+    fig, ax = plt.subplots(figsize=(8.5, 2.8))
+    ax.barh(names, cost, color=[f"C{i}" for i in range(len(names))],
+            hatch=["", "//", ".."][:len(names)], edgecolor="k")
+    for y, c in enumerate(cost):
+        ax.text(c, y, f" {c:.2f} us ({c / cost[0]:.2f}x)", va="center", fontsize=9)
+    ax.axvline(1.0, color="k", ls="--", lw=1, zorder=0)
+    ax.set_ylim(len(names) - 0.5, -1.0)  # room above the bars for the goal's label
+    ax.text(1.0, -0.75, " 1 us goal", fontsize=9, va="center")
+    ax.set_xlim(0, max(cost) * 1.35)
+    ax.set_xlabel("cost a point, force and S_c (us, one BLAS thread, 1e5 points)")
+    ax.set_title("calibrated-capillary, two spheres with two contact angles:\n"
+                 "the tensor-train sums in numpy or compiled by numba", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(RESULTS / "train_kernel.png", dpi=120)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    if "--chart" in sys.argv:  # redraw from the results written before
+        import json
+
+        chart(json.loads((RESULTS / "train_kernel.json").read_text()))
+    else:
+        main()
