@@ -1,7 +1,8 @@
 """Would a compiled kernel take the two-angle sphere-pair table under 1 us a point?
 
 ``calibrated-capillary`` evaluates two spheres with two contact angles at 1.3-1.5 us a
-point on this project's machines, against the 1 us goal of issue 11; its tensor-train sums
+point on this project's machines (2.0-2.1 us in this benchmark's slow hour), against the
+1 us goal of issue 11; its tensor-train sums
 (:func:`wetcontact.reduced_models.calibrated_capillary.train_sum`: small matrix products
 through numpy's OpenBLAS, and elementwise sums over the Chebyshev rows, 256 points at a
 time) take about 0.8 us of it. ``bench_pair_split`` left "a compiled batched kernel" as the
@@ -25,7 +26,7 @@ cores are packed once per table (not timed); the numba compile time (``cache=Fal
 reported separately.
 
 Writes ``benchmarks/results/train_kernel.json`` and ``train_kernel.png``. Run:
-``python benchmarks/bench_train_kernel.py`` (about 2 minutes).
+``python benchmarks/bench_train_kernel.py`` (under a minute, 15 s of it compiling).
 """
 
 from __future__ import annotations
