@@ -26,6 +26,18 @@ def median_time(fn: Callable[[], Any], repeats: int = 5, warmup: int = 1) -> tup
     return statistics.median(times), out
 
 
+def main_or_chart(name: str, main: Callable[[], Any],
+                  chart: Callable[[dict[str, Any]], Any]) -> None:
+    """Run a benchmark's ``main``, or with ``--chart`` on the command line redraw its chart
+    from ``benchmarks/results/<name>.json`` (written by an earlier run)."""
+    import sys
+
+    if "--chart" in sys.argv:
+        chart(json.loads((RESULTS / f"{name}.json").read_text()))
+    else:
+        main()
+
+
 def write_json(name: str, data: dict[str, Any]) -> Path:
     """Write ``benchmarks/results/<name>.json`` with the machine's core count attached."""
     RESULTS.mkdir(parents=True, exist_ok=True)

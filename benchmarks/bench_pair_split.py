@@ -55,7 +55,7 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import RESULTS, write_json  # noqa: E402
+from _common import RESULTS, main_or_chart, write_json  # noqa: E402
 from bench_pair_tt import N, points, shipped_pair_table  # noqa: E402
 
 from wetcontact import calibrate_pairs2 as p2  # noqa: E402
@@ -337,9 +337,4 @@ def chart(result: dict[str, Any]) -> None:
 
 
 if __name__ == "__main__":
-    if "--chart" in sys.argv:  # redraw from the results written before
-        import json
-
-        chart(json.loads((RESULTS / "pair_split.json").read_text()))
-    else:
-        main()
+    main_or_chart("pair_split", main, chart)

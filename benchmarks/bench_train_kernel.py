@@ -44,7 +44,7 @@ import numba  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import RESULTS, write_json  # noqa: E402
+from _common import RESULTS, main_or_chart, write_json  # noqa: E402
 from bench_pair_tt import N, points  # noqa: E402
 
 from wetcontact.reduced_models import calibrated_capillary as cc  # noqa: E402
@@ -220,9 +220,4 @@ def chart(result: dict[str, Any]) -> None:
 
 
 if __name__ == "__main__":
-    if "--chart" in sys.argv:  # redraw from the results written before
-        import json
-
-        chart(json.loads((RESULTS / "train_kernel.json").read_text()))
-    else:
-        main()
+    main_or_chart("train_kernel", main, chart)
