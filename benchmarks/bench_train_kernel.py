@@ -121,17 +121,21 @@ def _blas(flat: np.ndarray, offs: np.ndarray, shapes: np.ndarray, order: np.ndar
 KERNELS = {"numba, loops": _loops, "numba, BLAS products": _blas}
 
 
+_PACKED: dict[tuple[int, str], tuple[np.ndarray, ...]] = {}
+
+
 def packed(train: dict[str, Any], dtype: Any) -> tuple[np.ndarray, ...]:
     """A train's cores flattened in ``dtype`` with their offsets and shapes, and its axis
-    order (cached on the train: packing is set-up, not evaluation)."""
-    key = f"_packed_{np.dtype(dtype).name}"
-    if key not in train:
+    order (kept per train and precision, beside the package's table, which stays as it
+    is: packing is set-up, not evaluation)."""
+    key = (id(train), np.dtype(dtype).name)
+    if key not in _PACKED:
         cores = [np.ascontiguousarray(g, dtype=dtype) for g in train["cores"]]
-        train[key] = (np.concatenate([g.ravel() for g in cores]),
-                      np.cumsum([0] + [g.size for g in cores])[:-1].astype(np.int64),
-                      np.array([g.shape for g in cores], dtype=np.int64),
-                      np.asarray(train["order"], dtype=np.int64))
-    return train[key]
+        _PACKED[key] = (np.concatenate([g.ravel() for g in cores]),
+                        np.cumsum([0] + [g.size for g in cores])[:-1].astype(np.int64),
+                        np.array([g.shape for g in cores], dtype=np.int64),
+                        np.asarray(train["order"], dtype=np.int64))
+    return _PACKED[key]
 
 
 def compiled_train_sum(kernel: Any) -> Any:
@@ -147,7 +151,7 @@ def compiled_train_sum(kernel: Any) -> Any:
 
 
 def main() -> None:
-    v, th, gap, ratio, tw = pts = points()
+    v, th, gap, ratio, tw = points()
     shipped = cc.train_sum
     forms = {"numpy (shipped)": shipped,
              **{name: compiled_train_sum(k) for name, k in KERNELS.items()}}
@@ -188,7 +192,6 @@ def main() -> None:
               "table": cc.PAIR_TWO_ANGLES, "precision": "mixed (the default)",
               "points_seed": "bench_pair_tt.points", "forms": out,
               "date": time.strftime("%Y-%m-%d")}
-    del pts
     write_json("train_kernel", result)
     chart(result)
 
