@@ -23,7 +23,8 @@ Both numba forms take the same rows and cores in the same precision as ``train_s
 force's train in float32 at the default precision, the rupture distance's in float64), and
 their results are checked against it: S_c and force relative changes are reported. The
 cores are packed once per table (not timed); the numba compile time (``cache=False``) is
-reported separately.
+reported separately. For scale, the rate OpenBLAS reaches alone on matrix products of the
+trains' shapes is measured too (:func:`gemm_rates`).
 
 Writes ``benchmarks/results/train_kernel.json`` and ``train_kernel.png``. Run:
 ``python benchmarks/bench_train_kernel.py`` (under a minute, 15 s of it compiling).
@@ -44,7 +45,7 @@ import numba  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import RESULTS, main_or_chart, write_json  # noqa: E402
+from _common import RESULTS, main_or_chart, median_time, write_json  # noqa: E402
 from bench_pair_tt import N, points  # noqa: E402
 
 from wetcontact.reduced_models import calibrated_capillary as cc  # noqa: E402
@@ -150,6 +151,32 @@ def compiled_train_sum(kernel: Any) -> Any:
     return train_sum
 
 
+GEMM_SHAPES = ((37, 198, 512), (180, 37, 512), (22, 81, 512))
+"""(M, K, N) of matrix products like the trains' (``G^T @ Z``: a core against a batch's
+rows, 512 points as ``train_sum`` takes them in float32)."""
+
+
+def gemm_rates() -> dict[str, float]:
+    """Multiply-adds per second of OpenBLAS alone on :data:`GEMM_SHAPES`, ``A @ Z`` into a
+    preallocated result (the layout ``train_sum`` uses), float32 and float64, median of
+    7 timings of 500 products each."""
+    rng = np.random.default_rng(0)
+    rates = {}
+    for dtype in (np.float32, np.float64):
+        for m, k, n in GEMM_SHAPES:
+            a = rng.standard_normal((m, k)).astype(dtype)
+            z = rng.standard_normal((k, n)).astype(dtype)
+            out = np.empty((m, n), dtype=dtype)
+
+            def products(a: np.ndarray = a, z: np.ndarray = z, out: np.ndarray = out
+                         ) -> None:
+                for _ in range(500):
+                    np.matmul(a, z, out=out)
+            t, _ = median_time(products, repeats=7, warmup=1)
+            rates[f"{np.dtype(dtype).name} {m}x{k}x{n}"] = 500 * m * k * n / t
+    return rates
+
+
 def main() -> None:
     v, th, gap, ratio, tw = points()
     shipped = cc.train_sum
@@ -188,7 +215,11 @@ def main() -> None:
         print(f"{name}: {out[name]['s_per_point'] * 1e6:.2f} us a point (first call "
               f"{compile_s[name]:.1f} s), force change {out[name]['max_rel_change_force']:.1e}"
               f", S_c change {out[name]['max_rel_change_rupture']:.1e}", flush=True)
+    rates = gemm_rates()
+    for name, r in rates.items():
+        print(f"OpenBLAS alone, {name}: {r / 1e9:.1f} G multiply-adds/s", flush=True)
     result = {"points": N, "rounds": ROUNDS, "numba": numba.__version__,
+              "openblas_multiply_adds_per_s": rates,
               "table": cc.PAIR_TWO_ANGLES, "precision": "mixed (the default)",
               "points_seed": "bench_pair_tt.points", "forms": out,
               "date": time.strftime("%Y-%m-%d")}
