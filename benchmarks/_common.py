@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import os
 import statistics
+import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -30,8 +31,6 @@ def main_or_chart(name: str, main: Callable[[], Any],
                   chart: Callable[[dict[str, Any]], Any]) -> None:
     """Run a benchmark's ``main``, or with ``--chart`` on the command line redraw its chart
     from ``benchmarks/results/<name>.json`` (written by an earlier run)."""
-    import sys
-
     if "--chart" in sys.argv:
         chart(json.loads((RESULTS / f"{name}.json").read_text()))
     else:
