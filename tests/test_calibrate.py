@@ -222,3 +222,39 @@ def test_fit_survives_a_start_whose_form_overflows() -> None:
     got = cal.rel_errors(fam, cal.fit(replace(fam, published=start), train), train).max()
     ref = cal.rel_errors(fam, cal.fit(fam, train), train).max()
     assert np.isfinite(got) and abs(got - ref) <= 1e-6 * ref
+
+
+def test_refitted_rupture_distance_is_no_force(tmp_path, capsys) -> None:
+    """A refitted rupture-distance family (``lian-rupture``) models S_c, not a force: its
+    curve has no force component (both ``None``, JSON ``null``; a column of 0 N was printed
+    before) and carries S_c, ``(a + b theta) V*^(1/3) + c V*^(2/3)`` times R with the
+    file's coefficients, which the text table shows."""
+    from wetcontact.cli import main
+    from wetcontact.scene import load_case
+
+    path = ROOT / "benchmarks" / "results" / "calibration" / "lian-rupture.json"
+    a, b, c = json.loads(path.read_text())["coefficients"]
+    r, v, theta = 5e-5, 1.25e-15, 20.0
+    case = tmp_path / "bridge.toml"
+    case.write_text(
+        'name = "bridge"\n[geometry]\nkind = "sphere-sphere"\nradius = 5e-5\nradius2 = 5e-5\n'
+        '[liquid]\nviscosity = 1e-3\nsurface_tension = 0.072\ndensity = 998.0\n'
+        f'contact_angle = {theta}\n[amount]\nbridge_volume = {v}\n[motion]\n'
+        'velocity = 0.01\ngaps = [1e-6, 5e-6]\n')
+    v_star = v / r**3
+    s_c = r * ((a + b * math.radians(theta)) * v_star ** (1 / 3) + c * v_star ** (2 / 3))
+    curve = cal.load_coefficients(path, family="lian-rupture").force(load_case(case))
+    assert curve.force_viscous is None and curve.force_capillary is None
+    assert curve.force_total is None
+    np.testing.assert_allclose(curve.extras["rupture_distance"], s_c, rtol=1e-12)
+    assert main(["solve", str(case), "--model", "lian-rupture", "--coefficients",
+                 str(path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["force_capillary"] is None and out["force_total"] is None
+    assert out["model_capillary"] is None and out["model_viscous"] is None
+    np.testing.assert_allclose(out["rupture_distance"], s_c, rtol=1e-12)
+    assert main(["solve", str(case), "--model", "lian-rupture", "--coefficients",
+                 str(path)]) == 0
+    head, cols, first = capsys.readouterr().out.splitlines()[:3]
+    assert cols.split() == ["gap_m", "rupture_distance_m"]
+    assert float(first.split()[1]) == pytest.approx(s_c, rel=1e-6)

@@ -877,10 +877,9 @@ class CalibratedClosure(Model):
         if self.family.target == "viscous":
             return ForceCurve(case=scene.name, model=self.name, gap=gap, force_viscous=val,
                               force_capillary=None)
-        if self.family.target == "rupture":
-            zero = np.zeros_like(gap)
+        if self.family.target == "rupture":  # a rupture distance, no force: both None
             return ForceCurve(case=scene.name, model=self.name, gap=gap, force_viscous=None,
-                              force_capillary=zero, extras={"rupture_distance": val})
+                              force_capillary=None, extras={"rupture_distance": val})
         return ForceCurve(case=scene.name, model=self.name, gap=gap, force_viscous=None,
                           force_capillary=-val)
 

@@ -39,7 +39,9 @@ class ForceCurve:
         Surface gaps S (m), shape (n,).
     force_viscous, force_capillary
         Axial force components (N), shape (n,), positive = pushing the surfaces apart;
-        ``None`` where the model does not model that component (not zero).
+        ``None`` where the model does not model that component (not zero). Both are
+        ``None`` only for a model of a derived quantity alone, carried in ``extras`` (a
+        refitted rupture-distance closure: ``rupture_distance``, no force).
     extras
         Per-gap quantities, each shape (n,): e.g. ``laplace_pressure`` (Pa), ``neck_radius``
         (m), ``filling_angle`` (rad), ``wetted_radius`` (m), ``rupture_distance`` (m).
@@ -69,7 +71,7 @@ class ForceCurve:
         if gap.ndim != 1 or gap.size == 0:
             raise SolverError(f"ForceCurve '{self.model}': gap must be a non-empty 1-D array")
         object.__setattr__(self, "gap", gap)
-        if self.force_viscous is None and self.force_capillary is None:
+        if self.force_viscous is None and self.force_capillary is None and not self.extras:
             raise SolverError(f"ForceCurve '{self.model}': no force component given")
         for name in ("force_viscous", "force_capillary", "error_estimate"):
             val = getattr(self, name)
@@ -94,10 +96,11 @@ class ForceCurve:
         return arr
 
     @property
-    def force_total(self) -> np.ndarray:
-        """Sum of the modelled components (N)."""
+    def force_total(self) -> np.ndarray | None:
+        """Sum of the modelled components (N); ``None`` when the curve models no force
+        (its ``extras`` alone)."""
         parts = [f for f in (self.force_viscous, self.force_capillary) if f is not None]
-        return np.sum(parts, axis=0)
+        return np.sum(parts, axis=0) if parts else None
 
     def to_json_dict(self) -> dict[str, Any]:
         """The CLI's ``--json`` object (DESIGN.md): lists in SI units."""

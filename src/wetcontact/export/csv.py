@@ -78,4 +78,5 @@ def _curve_rows(curve: ForceCurve):
     for i, g in enumerate(curve.gap):
         status = "no-bridge" if exists is not None and not np.asarray(exists)[i] else "ok"
         yield ([_cell(g), _cell(None if fv is None else fv[i]),
-                _cell(None if fc is None else fc[i]), _cell(ft[i])], status)
+                _cell(None if fc is None else fc[i]),
+                _cell(None if ft is None else ft[i])], status)
