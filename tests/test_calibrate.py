@@ -258,3 +258,6 @@ def test_refitted_rupture_distance_is_no_force(tmp_path, capsys) -> None:
     head, cols, first = capsys.readouterr().out.splitlines()[:3]
     assert cols.split() == ["gap_m", "rupture_distance_m"]
     assert float(first.split()[1]) == pytest.approx(s_c, rel=1e-6)
+    # a family named without its coefficients: exit 2, saying what to give
+    assert main(["solve", str(case), "--model", "lian-rupture"]) == 2
+    assert "--coefficients FILE.json" in capsys.readouterr().err

@@ -266,7 +266,16 @@ def _solve(args: argparse.Namespace) -> int:
             model = load_coefficients(coefficients, family=name)
             why = f"coefficients from {coefficients}"
         elif args.model:
-            model = get_model(name)
+            try:
+                model = get_model(name)
+            except InputError:
+                from wetcontact.calibrate import FAMILIES
+
+                if name not in FAMILIES:
+                    raise
+                raise InputError(f"--model {name!r} is a closure family to refit: give "
+                                 "--coefficients FILE.json (from wetcontact calibrate), or "
+                                 "one of the models of 'wetcontact models'") from None
         else:  # the case file's fidelity.model
             try:
                 model = get_model(name)
