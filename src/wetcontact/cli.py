@@ -482,10 +482,12 @@ def _add_export_closure_parsers(fmt: argparse._SubParsersAction) -> None:
              "wetcontact_closures.py"),
             ("c", "one header-only C99 file with the calibrated closures",
              "wetcontact_closures.h")):
-        q = fmt.add_parser(name, help=what, description=what.capitalize() + ": the shipped "
-                           "calibrated-viscous (immersed and bridge) and calibrated-capillary "
-                           "(one contact angle), and the REFITTED willett force and "
-                           "lian-rupture distance as *_refit (two contact angles).")
+        q = fmt.add_parser(name, help=what, description=what[0].upper() + what[1:]
+                           + ": the shipped calibrated-viscous (immersed and bridge) and "
+                           "calibrated-capillary "
+                           "(one contact angle on both solids, or one on each), and the "
+                           "REFITTED willett force and lian-rupture distance as *_refit "
+                           "(two contact angles).")
         q.add_argument("--out", type=path_arg, required=True,
                        help=f"file to write (or a folder: {default} in it)")
         q.add_argument("--capillary", type=path_arg, default=None, metavar="FILE.json",
