@@ -330,7 +330,7 @@ def _solve(args: argparse.Namespace) -> int:
               f"{curve.diagnostics.get('wall_time_s', 0):.3g} s")
         cols = [("gap_m", curve.gap), ("F_viscous_N", curve.force_viscous),
                 ("F_capillary_N", curve.force_capillary), ("F_total_N", curve.force_total),
-                *((extra_column(k), v) for k, v in curve.extras.items()
+                *((TEXT_EXTRAS.get(k, k), v) for k, v in curve.extras.items()
                   if k in TEXT_EXTRAS or curve.force_total is None)]
         cols = [(n, c) for n, c in cols if c is not None]
         print("  ".join(f"{n:>14}" for n, _ in cols))
@@ -339,20 +339,10 @@ def _solve(args: argparse.Namespace) -> int:
     return 0
 
 
-EXTRA_UNITS = {"rupture_distance": "m", "wetted_radius": "m", "neck_radius": "m",
-               "force_traction": "N", "force_reaction": "N", "laplace_pressure": "Pa",
-               "filling_angle": "rad", "filling_angle2": "rad"}
-"""SI units of the extras a model may carry, for the text table's column names."""
-TEXT_EXTRAS = ("rupture_distance",)
-"""Extras the text table of ``solve`` shows beside the forces (every extra when the model
-gives no force, e.g. a refitted rupture-distance closure); ``--json`` gives them all."""
-
-
-def extra_column(name: str) -> str:
-    """The text table's column name of an extra: its name and SI unit (``_m``, ``_N``, ...;
-    none for a dimensionless or unknown one, e.g. ``bridge_exists``)."""
-    unit = EXTRA_UNITS.get(name)
-    return f"{name}_{unit}" if unit else name
+TEXT_EXTRAS = {"rupture_distance": "rupture_distance_m"}
+"""Extras the text table of ``solve`` shows beside the forces, with their column names
+(every extra, under its own name where it has none here, when the model gives no force);
+``--json`` gives them all."""
 
 
 def writable_folder(path: Path, flag: str) -> Path:
