@@ -44,3 +44,35 @@ def write_json(name: str, data: dict[str, Any]) -> Path:
     path = RESULTS / f"{name}.json"
     path.write_text(json.dumps(data, indent=2, default=float))
     return path
+
+
+HATCHES = ("", "//", "..", "\\\\", "xx", "--", "++")
+"""Bar hatches, one a form, so that the bars differ without their colours."""
+
+
+def cost_bars(forms: dict[str, dict[str, Any]], figsize: tuple[float, float]) -> tuple[Any, ...]:
+    """A horizontal bar chart of each form's ``s_per_point`` in us (colour and hatch a
+    form, Agg backend): ``(fig, ax, names, cost)``; :func:`save_chart` writes it."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names = list(forms)
+    cost = [forms[n]["s_per_point"] * 1e6 for n in names]
+    fig, ax = plt.subplots(figsize=figsize)
+    ax.barh(names, cost, color=[f"C{i}" for i in range(len(names))],
+            hatch=[HATCHES[i % len(HATCHES)] for i in range(len(names))], edgecolor="k")
+    return fig, ax, names, cost
+
+
+def save_chart(fig: Any, name: str) -> Path:
+    """Lay out ``fig`` and write it as ``RESULTS/name.png`` (120 dpi), then close it."""
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    path = RESULTS / f"{name}.png"
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+

@@ -55,7 +55,7 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import RESULTS, main_or_chart, write_json  # noqa: E402
+from _common import cost_bars, main_or_chart, save_chart, write_json  # noqa: E402
 from bench_pair_tt import N, points, shipped_pair_table  # noqa: E402
 
 from wetcontact import calibrate_pairs2 as p2  # noqa: E402
@@ -306,17 +306,8 @@ def main() -> None:
 
 
 def chart(result: dict[str, Any]) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     forms = result["forms"]
-    names = list(forms)
-    cost = [forms[n]["s_per_point"] * 1e6 for n in names]
-    fig, ax = plt.subplots(figsize=(9.5, 3.8))
-    ax.barh(names, cost, color=[f"C{i}" for i in range(len(names))],
-            hatch=["", "//", "..", "\\\\", "xx", "--", "++"][:len(names)], edgecolor="k")
+    fig, ax, names, cost = cost_bars(forms, (9.5, 3.8))
     for y, (c, n) in enumerate(zip(cost, names, strict=True)):
         macs = forms[n].get("macs_per_point")
         halved = forms[n].get("macs_per_point_gap_halved_too")
@@ -331,9 +322,7 @@ def chart(result: dict[str, Any]) -> None:
     ax.set_xlabel("cost a point (us, one BLAS thread, 1e5 points)")
     ax.set_title("calibrated-capillary, two spheres with two contact angles: "
                  "where the cost goes")
-    fig.tight_layout()
-    fig.savefig(RESULTS / "pair_split.png", dpi=120)
-    plt.close(fig)
+    save_chart(fig, "pair_split")
 
 
 if __name__ == "__main__":

@@ -52,7 +52,7 @@ import numba  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import RESULTS, main_or_chart, median_time, write_json  # noqa: E402
+from _common import cost_bars, main_or_chart, median_time, save_chart, write_json  # noqa: E402
 from bench_pair_tt import N, points  # noqa: E402
 
 from wetcontact.reduced_models import calibrated_capillary as cc  # noqa: E402
@@ -323,17 +323,7 @@ def main() -> None:
 
 
 def chart(result: dict[str, Any]) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    forms = result["forms"]
-    names = list(forms)
-    cost = [forms[n]["s_per_point"] * 1e6 for n in names]
-    fig, ax = plt.subplots(figsize=(8.5, 3.6))
-    ax.barh(names, cost, color=[f"C{i}" for i in range(len(names))],
-            hatch=["", "//", "..", "xx", "--"][:len(names)], edgecolor="k")
+    fig, ax, names, cost = cost_bars(result["forms"], (8.5, 3.6))
     for y, c in enumerate(cost):
         ax.text(c, y, f" {c:.2f} us ({c / cost[0]:.2f}x)", va="center", fontsize=9)
     ax.axvline(1.0, color="k", ls="--", lw=1, zorder=0)
@@ -344,9 +334,7 @@ def chart(result: dict[str, Any]) -> None:
     ax.set_title("calibrated-capillary, two spheres with two contact angles:\n"
                  "the tensor-train sums in numpy, compiled by numba, or in C (AVX-512)",
                  fontsize=10)
-    fig.tight_layout()
-    fig.savefig(RESULTS / "train_kernel.png", dpi=120)
-    plt.close(fig)
+    save_chart(fig, "train_kernel")
 
 
 if __name__ == "__main__":
