@@ -22,6 +22,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from wetcontact import cli, fileio
+from wetcontact.errors import InputError
 from wetcontact.fileio import MAX_STEM, atomic_output, atomic_write_text, safe_stem
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -95,6 +96,55 @@ def test_atomic_write_text_replaces_and_uses_the_umask(tmp_path):
     os.umask(mask)
     assert target.stat().st_mode & 0o777 == 0o666 & ~mask
     assert [p.name for p in tmp_path.iterdir()] == ["r.md"]
+
+
+def test_a_special_file_as_output_is_refused_not_replaced(tmp_path):
+    """Renaming over a pipe (or, as root, over /dev/null) would replace the special file
+    itself with a regular one: the writers refuse it, and it stays what it was."""
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    for write in (lambda: atomic_write_text(fifo, "x"),
+                  lambda: atomic_output(fifo).__enter__()):
+        with pytest.raises(InputError, match="pipe.*not a regular file.*allowed: a regular "
+                                             "file or a new path"):
+            write()
+        assert fifo.is_fifo()
+    assert [p.name for p in tmp_path.iterdir()] == ["pipe"]  # no temporary left
+
+
+def test_path_errors_name_the_output_not_the_temporary(tmp_path):
+    folder = tmp_path / "out"
+    folder.mkdir()
+    with pytest.raises(IsADirectoryError) as info:
+        atomic_write_text(folder, "x")
+    assert (info.value.filename, info.value.filename2) == (str(folder), None)
+    missing = tmp_path / "no" / "r.csv"
+    with pytest.raises(FileNotFoundError) as info:
+        atomic_write_text(missing, "x")
+    assert (info.value.filename, info.value.filename2) == (str(missing), None)
+    a_file = tmp_path / "f"
+    a_file.write_text("")
+    with pytest.raises(NotADirectoryError) as info:
+        atomic_write_text(a_file / "r.csv", "x")
+    assert info.value.filename == str(a_file / "r.csv")
+    with pytest.raises(NotADirectoryError) as info:  # not "File exists"
+        fileio.make_folder(a_file / "sub" / "deeper")
+    assert info.value.filename == str(a_file)
+    fileio.make_folder(tmp_path / "new" / "deeper")
+    assert (tmp_path / "new" / "deeper").is_dir()
+
+
+def test_cli_refuses_a_pipe_as_output_with_exit_2(tmp_path):
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    code, _, err = run_cli(["export", "json", "--closure", "calibrated-viscous", "--out",
+                            str(fifo)])
+    assert code == 2 and "Traceback" not in err
+    assert f"{str(fifo)!r}: exists and is not a regular file" in err
+    assert fifo.is_fifo()
+    code, _, err = run_cli(["export", "json", "--closure", "calibrated-viscous", "--out",
+                            str(tmp_path)])
+    assert code == 2 and err.count(str(tmp_path)) == 1 and "give a file, not a folder" in err
 
 
 @pytest.mark.parametrize("where", ["write", "fsync", "replace"])

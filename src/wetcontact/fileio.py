@@ -10,13 +10,17 @@ killed mid-write, or a full disk) sees either the old complete file or the new o
 from __future__ import annotations
 
 import contextlib
+import errno
 import hashlib
 import os
 import re
+import stat
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 from typing import TextIO
+
+from wetcontact.errors import InputError
 
 MAX_STEM = 100
 
@@ -53,7 +57,7 @@ def atomic_open(path: str | Path, newline: str | None = None) -> Iterator[TextIO
     if the block raises, ``path`` is untouched and the temporary file removed.
     """
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name[:50]}.", suffix=".tmp", dir=path.parent)
+    fd, tmp = _temporary_sibling(path, ".tmp")
     try:
         with os.fdopen(fd, "w", encoding="utf-8", newline=newline) as fh:
             yield fh
@@ -75,8 +79,7 @@ def atomic_output(path: str | Path) -> Iterator[Path]:
     it is removed and ``path`` is untouched.
     """
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name[:50]}.", suffix=f".tmp{path.suffix}",
-                               dir=path.parent)
+    fd, tmp = _temporary_sibling(path, f".tmp{path.suffix}")
     os.close(fd)
     try:
         yield Path(tmp)
@@ -89,12 +92,59 @@ def atomic_output(path: str | Path) -> Iterator[Path]:
         raise
 
 
+def _temporary_sibling(path: Path, suffix: str) -> tuple[int, str]:
+    """Open a new temporary file beside ``path`` for an atomic replacement of it.
+
+    Refuses a target that exists and is not a regular file: renaming over a folder fails
+    anyway, and renaming over a device, pipe or socket (``/dev/null`` given as an output,
+    as root) would replace the special file itself. An error creating the temporary names
+    ``path``, the file the user asked for, not the hidden temporary.
+    """
+    try:
+        mode = os.stat(path).st_mode
+    except FileNotFoundError:
+        mode = None
+    except OSError as exc:  # e.g. a part of the path is a file: ENOTDIR
+        exc.filename, exc.filename2 = str(path), None
+        raise
+    if mode is not None and stat.S_ISDIR(mode):
+        raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), str(path))
+    if mode is not None and not stat.S_ISREG(mode):
+        raise InputError(f"{str(path)!r}: exists and is not a regular file (a device, pipe "
+                         "or socket); allowed: a regular file or a new path")
+    try:
+        return tempfile.mkstemp(prefix=f".{path.name[:50]}.", suffix=suffix, dir=path.parent)
+    except OSError as exc:
+        exc.filename, exc.filename2 = str(path), None
+        raise
+
+
 def _forget(tmp: str, path: Path, exc: BaseException) -> None:
     """Remove the temporary; an error about it names the target the user asked for."""
     with contextlib.suppress(FileNotFoundError):
         os.unlink(tmp)
     if isinstance(exc, OSError) and exc.filename is not None and str(exc.filename) == str(tmp):
         exc.filename = str(path)
+        if exc.filename2 is not None and str(exc.filename2) == str(path):
+            exc.filename2 = None  # os.replace(tmp, path) names both: say the path once
+
+
+def make_folder(path: str | Path) -> None:
+    """``mkdir -p path``; a file in the way is ``NotADirectoryError`` naming that file.
+
+    (``Path.mkdir(parents=True, exist_ok=True)`` reports a file where a folder should be as
+    "File exists", which reads as if the folder were already there, or names the folder
+    it could not make rather than the file in the way.)
+    """
+    path = Path(path)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except (FileExistsError, NotADirectoryError):
+        for part in (path, *path.parents):
+            if part.exists() and not part.is_dir():
+                raise NotADirectoryError(errno.ENOTDIR, os.strerror(errno.ENOTDIR),
+                                         str(part)) from None
+        raise
 
 
 def fsync_dir(path: str | Path) -> None:

@@ -46,7 +46,7 @@ import h5py
 import numpy as np
 
 from wetcontact.errors import InputError
-from wetcontact.fileio import _umask, fsync_dir
+from wetcontact.fileio import _umask, fsync_dir, make_folder
 from wetcontact.models import ForceCurve
 from wetcontact.scene import Scene
 
@@ -127,7 +127,7 @@ def _locked(lock_path: Path, timeout: float, what: str) -> Iterator[None]:
             _HELD[key][1] -= 1
         return
     try:
-        lock_path.parent.mkdir(parents=True, exist_ok=True)
+        make_folder(lock_path.parent)
         fd = os.open(lock_path, os.O_RDWR | os.O_CREAT, 0o666)
     except OSError as exc:
         raise InputError(f"{what}: cannot create the lock file {lock_path} ({exc.strerror}); "
@@ -289,7 +289,7 @@ class Store:
             raise ValueError("save_many: one key per item")
         if not items and not failures:
             return keys
-        self.path.parent.mkdir(parents=True, exist_ok=True)
+        make_folder(self.path.parent)
         with self.writer():
             self._write(keys, items, failures)
         return keys
