@@ -111,6 +111,11 @@ def test_bad_coefficient_files_are_input_errors(tmp_path) -> None:
         cal.load_coefficients(bad)
     with pytest.raises(InputError, match="cannot read"):
         cal.load_coefficients(tmp_path / "missing.json")
+    png = tmp_path / "parity.png"  # a binary file given by mistake: was an internal error
+    png.write_bytes(b"\x89PNG\r\n\x1a\n\x00\xff")
+    with pytest.raises(InputError, match="parity.png: not a UTF-8 text file; allowed: a "
+                                         "calibration JSON"):
+        cal.load_coefficients(png)
     bad.write_text(json.dumps({"family": "nope", "coefficients": [], "domain": {}}))
     with pytest.raises(InputError, match="allowed"):
         cal.load_coefficients(bad)
@@ -182,6 +187,25 @@ def test_coefficients_that_flip_the_force_are_refused(tmp_path) -> None:
     with pytest.raises(InputError, match="against the motion") as err:
         cal.load_coefficients(path).force(sc)
     assert str(path) in str(err.value)
+
+
+def test_coefficients_that_overflow_the_form_are_refused(tmp_path) -> None:
+    """Willett's coefficients scaled by 1e4 (an audit's hand edit) underflow the form's exp
+    to F = 0 N inside the bridge, and scaled by -1e4 overflow it: both were printed with
+    exit 0 (the second with numpy's overflow warning only)."""
+    data = json.loads(WILLETT_JSON.read_text())
+    sc = make_scene("sphere-sphere", {"bridge_volume": 0.01 * 1e-9}, [2e-5, 1e-4],
+                    radius2=1e-3, theta=(20.0, 20.0))
+    path = tmp_path / "w.json"
+    path.write_text(json.dumps(data))
+    assert np.all(cal.load_coefficients(path).force(sc).force_capillary < 0)  # as refitted
+    k = data["coefficients"]
+    for scale, says in ((1e4, "not an attraction"), (-1e4, "overflow the willett form")):
+        data["coefficients"] = [scale * c for c in k]
+        path.write_text(json.dumps(data))
+        with pytest.raises(InputError, match=says) as err:
+            cal.load_coefficients(path).force(sc)
+        assert str(path) in str(err.value)
 
 
 def test_points_from_a_sweep(tmp_path) -> None:

@@ -860,16 +860,27 @@ class CalibratedClosure(Model):
 
     def _force(self, scene: Scene, preset: str, **opts: Any) -> ForceCurve:
         x = scene_inputs(self.family, scene)
-        val = self.family.form(self.k, x)
         gap = scene.gap_array
-        # the form's sign: a squeeze force along the velocity, an attraction, a positive
-        # rupture distance; coefficients that break it are refused, not printed
+        try:  # absurd coefficients (a file edited by hand) overflow: refused, not printed
+            with np.errstate(over="raise", invalid="raise"):
+                val = np.asarray(self.family.form(self.k, x), dtype=float)
+            ok = bool(np.all(np.isfinite(val)))
+        except FloatingPointError:
+            ok = False
+        if not ok:
+            raise InputError(f"{self.source}: the coefficients overflow the {self.family.name} "
+                             f"form on case '{scene.name}' (a non-finite intermediate); "
+                             "allowed: coefficients written by wetcontact calibrate")
+        # the form's sign: a squeeze force along the velocity, an attraction (inside the
+        # domain, s/S_c < 1: never 0, which is an exp underflowed), a positive rupture
+        # distance; coefficients that break it are refused, not printed
         wrong = (val * math.copysign(1.0, scene.velocity) < 0 if self.family.target == "viscous"
-                 else val < 0 if self.family.target == "capillary" else val <= 0)
+                 else val <= 0)
         if np.any(wrong):
             i = int(np.argmax(wrong))
             what = {"viscous": "a viscous force against the motion", "capillary":
-                    "a repulsive capillary force", "rupture": "a rupture distance <= 0"}
+                    "a capillary force that is not an attraction (repulsive or 0)",
+                    "rupture": "a rupture distance <= 0"}
             raise InputError(f"{self.source}: the coefficients give {what[self.family.target]}"
                              f" ({float(val[i]):.4g} at gap {float(gap[i]):.4g} m, case "
                              f"'{scene.name}'); allowed: coefficients whose {self.family.name} "
@@ -911,7 +922,10 @@ def load_coefficients(path: Path | str, family: str | None = None) -> Calibrated
     """A :class:`CalibratedClosure` from a calibration JSON (``family`` must match)."""
     path = Path(path)
     try:
-        data = json.loads(path.read_text())
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except UnicodeDecodeError:  # a PNG or other binary file given by mistake
+        raise InputError(f"{path}: not a UTF-8 text file; allowed: a calibration JSON "
+                         "written by wetcontact calibrate") from None
     except (OSError, json.JSONDecodeError) as exc:
         raise InputError(f"{path}: cannot read the coefficients ({exc})") from None
     if not isinstance(data, dict):
