@@ -134,9 +134,12 @@ def test_tolerance_and_case_model_errors_name_their_source(tmp_path):
     for flag in ("1e-13", "1"):  # the same open range as fidelity.tolerance
         r = wc("solve", str(case), "--tol", flag)
         assert r.returncode == 2 and "--tol" in r.stderr and "(1e-12, 1)" in r.stderr
-    bad = _edited_case(tmp_path, "willett-2000-experiment", {"tolerance": "tolerance = 1.0"})
-    r = wc("solve", str(bad))
-    assert r.returncode == 2 and str(bad) in r.stderr and "fidelity.tolerance" in r.stderr
+    for value in ("1.0", "0.0"):  # one range in both messages (0.0 said "(1e-12, 1]")
+        bad = _edited_case(tmp_path, "willett-2000-experiment",
+                           {"tolerance": f"tolerance = {value}"})
+        r = wc("solve", str(bad))
+        assert r.returncode == 2 and str(bad) in r.stderr and "fidelity.tolerance" in r.stderr
+        assert "a number in (1e-12, 1) (relative)" in r.stderr, r.stderr
     bad = _edited_case(tmp_path, "willett-2000-experiment", {"tolerance": 'model = "stoks"'})
     r = wc("solve", str(bad))
     assert r.returncode == 2 and str(bad) in r.stderr and "fidelity.model" in r.stderr
@@ -175,6 +178,30 @@ def test_models_lists_registry():
     assert r.returncode == 0
     for name in ("reynolds", "brenner", "reynolds-finite"):
         assert name in r.stdout
+    from wetcontact.calibrate import FAMILIES  # the refit families are found here too
+
+    tail = r.stdout.split("closure families to refit")[1]
+    assert [ln.split()[0] for ln in tail.strip().splitlines()[1:]] == list(FAMILIES)
+
+
+def test_model_names_point_to_the_refit_families(tmp_path):
+    case = ROOT / "cases" / "dem-pendular-bridge-100um.toml"
+    r = wc("solve", str(case), "--model", "nope")
+    assert r.returncode == 2 and "a closure family: mikami-pw, mikami-pp, willett" in r.stderr
+    pp = ROOT / "benchmarks" / "results" / "calibration" / "mikami-pp.json"
+    r = wc("solve", str(case), "--model", "mikami", "--coefficients", str(pp))
+    assert r.returncode == 2 and "allowed: --model mikami-pp" in r.stderr, r.stderr
+
+
+def test_sweep_in_which_every_point_fails_exits_1(tmp_path):
+    """A study whose model refuses every scene computed nothing but exited 0."""
+    study = tmp_path / "s.toml"
+    study.write_text(f'name = "refused"\nbase = "{ROOT / "cases" / "unequal-spheres-bridge.toml"}"'
+                     '\nmodels = ["brenner"]\n[axes]\n"liquid.contact_angle" = [10.0, 20.0]\n')
+    for extra in ((), ("--json",)):
+        r = wc("sweep", str(study), "--workers", "0", "--store", str(tmp_path / "s.h5"), *extra)
+        assert r.returncode == 1, r.stderr
+        assert "every one of the 2 points failed" in r.stderr and "Traceback" not in r.stderr
 
 
 def test_help_on_every_command():

@@ -941,7 +941,8 @@ def load_coefficients(path: Path | str, family: str | None = None) -> Calibrated
     except InputError as exc:
         raise InputError(f"{path}: field 'family': {exc}") from None
     if family is not None and family != fam.name:
-        raise InputError(f"{path}: family = {fam.name!r}, but --model {family!r}")
+        raise InputError(f"{path}: family = {fam.name!r}, but --model {family!r}; allowed: "
+                         f"--model {fam.name} (the family the file was fitted for)")
     for key, want in (("kind", fam.kind), ("amount", fam.amount), ("target", fam.target),
                       ("equal_spheres", fam.equal)):
         if key in data and data[key] != want:

@@ -241,6 +241,14 @@ def _models() -> int:
     print(f"{'model':<{w[0]}}  {'level':<{w[1]}}  {'component':<{w[2]}}  validity")
     for r in rows:
         print(f"{r[0]:<{w[0]}}  {r[1]:<{w[1]}}  {r[2]:<{w[2]}}  {r[3]}")
+    from wetcontact.calibrate import FAMILIES
+
+    print("\nclosure families to refit (wetcontact calibrate STUDY --closure FAMILY; then "
+          "solve --model FAMILY --coefficients FILE.json):")
+    wf = max(len(name) for name in FAMILIES)
+    for fam in FAMILIES.values():
+        print(f"{fam.name:<{wf}}  {fam.target:<9}  {fam.description}; {fam.kind} {fam.amount}"
+              + (" (equal spheres)" if fam.equal else ""))
     return 0
 
 
@@ -268,11 +276,12 @@ def _solve(args: argparse.Namespace) -> int:
         elif args.model:
             try:
                 model = get_model(name)
-            except InputError:
+            except InputError as exc:
                 from wetcontact.calibrate import FAMILIES
 
                 if name not in FAMILIES:
-                    raise
+                    raise InputError(f"{exc}; or, with --coefficients FILE.json, a closure "
+                                     "family: " + ", ".join(FAMILIES)) from None
                 raise InputError(f"--model {name!r} is a closure family to refit: give "
                                  "--coefficients FILE.json (from wetcontact calibrate), or "
                                  "one of the models of 'wetcontact models'") from None
@@ -519,9 +528,16 @@ def _sweep(args: argparse.Namespace) -> int:
                 scheduler=args.scheduler, progress=True, retry_failed=args.retry_failed,
                 lock_timeout=args.wait, keep_curves=False)
     summary = res.summary(study.name)
+    # a sweep in which every point failed (e.g. a model that refuses the study's scenes)
+    # computed nothing: a script must see it, so exit 1 (some failures keep exit 0)
+    code = 1 if summary["points"] and summary["failed"] == summary["points"] else 0
+    every = (f"wetcontact: error: every one of the {summary['points']} points failed "
+             "(reasons in the store; without --json, above); nothing was computed\n")
     if args.json:
         print(json.dumps(summary))
-        return 0
+        if code:
+            sys.stderr.write(every)
+        return code
     print(f"study {study.name}: {summary['points']} points, {summary['computed']} computed, "
           f"{summary['reused']} reused, {summary['failed']} failed in "
           f"{summary['wall_time_s']:.3g} s ({res.executor}) -> {res.store}")
@@ -532,7 +548,9 @@ def _sweep(args: argparse.Namespace) -> int:
                 f"{o.point.model}: {o.reason}", 0) + 1
     for why, n in sorted(reasons.items(), key=lambda kv: -kv[1])[:5]:
         print(f"  failed x{n}: {why}")
-    return 0
+    if code:
+        sys.stderr.write(every)
+    return code
 
 
 def _export(args: argparse.Namespace) -> int:

@@ -261,10 +261,8 @@ def scene_from_dict(data: Mapping[str, Any], source: str = "<dict>") -> Scene:
         raise CaseError(source, "fidelity", sorted(fid), "one of tolerance or model, not both")
     if "tolerance" in fid:
         lo, hi = TOLERANCE_RANGE
-        tol = _num(source, "fidelity.tolerance", fid["tolerance"], lo, hi, "(relative)")
-        if tol == hi:
-            raise CaseError(source, "fidelity.tolerance", fid["tolerance"],
-                            f"a number in ({lo:g}, {hi:g}) (relative)")
+        tol = _num(source, "fidelity.tolerance", fid["tolerance"], lo, hi, "(relative)",
+                   hi_open=True)
     if "model" in fid:
         model = fid["model"]
         if not isinstance(model, str) or not model:
@@ -316,17 +314,19 @@ TOLERANCE_RANGE = (1e-12, 1.0)
 
 
 def _num(source: str, name: str, value: Any, lo: float, hi: float, unit: str,
-         lo_open: bool = True) -> float:
-    """Validate a finite real number in (lo, hi] (or [lo, hi] with ``lo_open=False``)."""
+         lo_open: bool = True, hi_open: bool = False) -> float:
+    """Validate a finite real number in (lo, hi] (``[lo`` with ``lo_open=False``, ``hi)``
+    with ``hi_open=True``)."""
     bracket = "(" if lo_open else "["
-    allowed = f"a number in {bracket}{lo:g}, {hi:g}] {unit}".rstrip()
+    allowed = f"a number in {bracket}{lo:g}, {hi:g}{')' if hi_open else ']'} {unit}".rstrip()
     if isinstance(value, bool) or not isinstance(value, int | float):
         raise CaseError(source, name, value, allowed)
     try:
         x = float(value)
     except OverflowError:  # an integer beyond the float range
         raise CaseError(source, name, value, allowed) from None
-    if not math.isfinite(x) or x > hi or x < lo or (lo_open and x == lo):
+    if not math.isfinite(x) or x > hi or x < lo or (lo_open and x == lo) or (
+            hi_open and x == hi):
         raise CaseError(source, name, value, allowed)
     return x
 
