@@ -49,7 +49,9 @@ splits the base's ``contact_angle`` into both.
 
 Every error is one :class:`~wetcontact.errors.CaseError` naming the study file, the key,
 the value and the allowed range; an invalid generated scene is reported against the axis
-(or ``set`` entry) that produced the bad value.
+(or ``set`` entry) that produced the bad value. A derived field reads the point's other
+fields (``gap_over_rupture`` its radius, angles and volume): a bad value there is blamed
+on the entry that set it, and the derived entry only when the rest of the point is valid.
 """
 
 from __future__ import annotations
