@@ -240,3 +240,95 @@ def test_missing_study_and_missing_base(tmp_path):
     p.write_text('name = "t"\nbase = "../no-case.toml"\nmodels = ["reynolds"]\n')
     with pytest.raises(CaseError, match=r"s.toml: \(file\) missing; allowed: an existing case"):
         load_study(p)
+
+
+@pytest.fixture
+def rupture_cache(tmp_path, monkeypatch):
+    """Rupture distances solved in a test go to a cache under ``tmp_path``."""
+    from wetcontact import study as study_mod
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    study_mod._rupture_cache.cache_clear()
+    yield
+    study_mod._rupture_cache.cache_clear()
+
+
+# A bad value on a point of a study with gap_over_rupture: the rupture distance is solved
+# from the point's scene, whose errors were all blamed on set.motion.gap_over_rupture with
+# the pseudo-file "<study point>" (an audit, 2026-12). The bad value comes first, so no
+# rupture distance is solved.
+GAPS = '[set]\n"motion.gap_over_rupture" = [0.1, 0.5]\n'
+MISBLAMED = [
+    ('[axes]\n"liquid.contact_angle" = [200.0, 10.0]\n' + GAPS,
+     "axes.liquid.contact_angle = 200.0", "[0, 180) degrees"),
+    ('[axes]\n"liquid.contact_angle" = ["a", 10.0]\n' + GAPS,
+     "axes.liquid.contact_angle = 'a'", "[0, 180) degrees"),
+    (GAPS + '"geometry.radius" = -1.0\n[axes]\n"liquid.contact_angle" = [10.0, 20.0]\n',
+     "set.geometry.radius = -1.0", "(1e-09, 10] m"),
+    ('[axes]\n"amount.volume_over_radius3" = [5.0, 1e-3]\n' + GAPS,
+     "axes.amount.volume_over_radius3 = 5.0", "amount.bridge_volume a number in (1e-30, "),
+    ('[axes]\n"amount.volume_over_radius3" = ["a", 1e-3]\n' + GAPS,
+     "axes.amount.volume_over_radius3 = 'a'", "a finite number"),
+    # the other derived fields that read the point's plain fields
+    ('[set]\n"geometry.radius" = "x"\n"amount.volume_over_radius3" = 0.01\n'
+     '"motion.gap_over_rupture" = [0.5]\n', "set.geometry.radius = 'x'", "(1e-09, 10] m"),
+    ('[set]\n"amount.bridge_volume" = -1.0\n"motion.gap_over_edge_gap" = [0.5]\n',
+     "set.amount.bridge_volume = -1.0", "(1e-30, "),
+]
+
+
+@pytest.mark.parametrize(("body", "shown", "allowed"), MISBLAMED, ids=[
+    "axis-angle-200", "axis-angle-a", "set-radius-negative", "axis-volume-over-r3-5",
+    "axis-volume-over-r3-a", "set-radius-x-with-volume-over-r3", "set-volume-with-edge-gap"])
+def test_bad_point_blames_the_entry_that_set_the_field(tmp_path, capsys, body, shown,
+                                                       allowed):
+    p = write(tmp_path, 'models = ["willett", "mikami"]\n' + body, base=BASE_BRIDGE)
+    with pytest.raises(CaseError) as err:
+        load_study(p)
+    msg = str(err.value)
+    assert msg.startswith(f"{p}: {shown}; allowed: ") and allowed in msg, msg
+    assert "gap_over" not in msg and "<study point>" not in msg and "\n" not in msg
+    store = tmp_path / "r.h5"
+    runs = [["sweep", str(p), "--workers", "0", "--store", str(store)],
+            # calibrate loads its study the same way, before it sweeps or writes anything
+            ["calibrate", str(p), "--closure", "finite-liquid", "--workers", "0", "--store",
+             str(store), "--out", str(tmp_path / "out" / "c.json")]]
+    for argv in runs:
+        assert main(argv) == 2
+        err_text = capsys.readouterr().err
+        assert err_text == f"wetcontact: error: {msg}\n"
+    assert not store.exists() and not (tmp_path / "out").exists()
+
+
+BAD_RUPTURE_GAPS = [
+    ("[0.0, 0.5]", "set.motion.gap_over_rupture = [0.0, 0.5]",
+     "a value giving motion.gaps[0] a number in (0, 0.005] m (it gave 0.0)"),
+    ("[0.5, -0.5]", "set.motion.gap_over_rupture = [0.5, -0.5]",
+     "a value giving motion.gaps[1] a number in (0, 0.005] m (it gave -"),
+    ("[0.5, 1e6]", "set.motion.gap_over_rupture = [0.5, 1000000.0]",
+     "a value giving motion.gaps[1] a number in (0, 0.005] m (it gave "),
+]
+
+
+@pytest.mark.parametrize(("gaps", "shown", "allowed"), BAD_RUPTURE_GAPS,
+                         ids=["zero", "negative", "huge"])
+def test_bad_gap_over_rupture_is_still_blamed(tmp_path, rupture_cache, gaps, shown,
+                                              allowed):
+    p = write(tmp_path, f'models = ["willett"]\n[set]\n"motion.gap_over_rupture" = {gaps}\n'
+              '"liquid.contact_angle" = 10.0\n', base=BASE_BRIDGE)
+    with pytest.raises(CaseError) as err:
+        load_study(p)
+    msg = str(err.value)
+    assert msg.startswith(f"{p}: {shown}; allowed: {allowed}"), msg
+    assert "liquid.contact_angle" not in msg and "\n" not in msg
+
+
+def test_radius_axis_with_derived_gaps_ignores_the_bases_gaps(tmp_path, rupture_cache):
+    """The base's gaps (up to 13 um) exceed 100 R at R = 0.1 um, but gap_over_rupture
+    replaces them: the rupture distance was solved from a scene holding them, and the
+    valid study was refused."""
+    p = write(tmp_path, 'models = ["willett"]\n[axes]\n"geometry.radius" = [1e-7]\n[set]\n'
+              '"amount.volume_over_radius3" = 0.01\n"motion.gap_over_rupture" = [0.5]\n',
+              base=BASE_BRIDGE)
+    (_, sc), = load_study(p).scenes
+    assert sc.radius == 1e-7 and 0.0 < sc.gaps[0] < 100 * sc.radius

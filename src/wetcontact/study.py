@@ -49,7 +49,9 @@ splits the base's ``contact_angle`` into both.
 
 Every error is one :class:`~wetcontact.errors.CaseError` naming the study file, the key,
 the value and the allowed range; an invalid generated scene is reported against the axis
-(or ``set`` entry) that produced the bad value.
+(or ``set`` entry) that produced the bad value. A derived field reads the point's other
+fields (``gap_over_rupture`` its radius, angles and volume): a bad value there is blamed
+on the entry that set it, and the derived entry only when the rest of the point is valid.
 """
 
 from __future__ import annotations
@@ -81,7 +83,7 @@ _PER_SURFACE = ("contact_angle_sphere", "contact_angle_wall", "contact_angle_sph
 
 
 def _rupture_gaps(case: dict[str, Any], value: Any) -> Any:
-    sc = scene_from_dict(case, source="<study point>")
+    sc = scene_from_dict(_without_gaps(case), source="<study point>")
     if sc.bridge_volume is None:
         raise InputError("needs a bridge (amount.bridge_volume) to define a rupture distance")
     sc_rupture = _rupture_distance(sc.radius, sc.radius2 if sc.kind == "sphere-sphere" else
@@ -142,6 +144,21 @@ def _edge_gaps(case: dict[str, Any], value: Any) -> Any:
             raise InputError(f"S/H = {x!r}; allowed: [0, 1)")
     gaps = [x * math.sqrt(h0sq / (1.0 - x * x)) for x in xs]
     return gaps if isinstance(value, list | tuple) else gaps[0]
+
+
+ANY_GAP = 1e-30
+"""A gap (m) that passes every gap check of every otherwise valid scene: > 0, <= 100 R for
+any allowed radius (>= 1e-9 m), and below any allowed film (>= 1e-12 m). It stands in for
+gaps still to be derived, so that a point's other fields can be validated on their own."""
+
+
+def _without_gaps(case: dict[str, Any]) -> dict[str, Any]:
+    """A shallow copy of ``case`` with its gaps replaced by :data:`ANY_GAP` (the rupture
+    distance and the validity of every other field do not depend on the gaps)."""
+    motion = case.get("motion")
+    if not isinstance(motion, Mapping):
+        return case
+    return {**case, "motion": {**motion, "gaps": [ANY_GAP]}}
 
 
 def _scaled(value: Any, scale: float) -> Any:
@@ -386,6 +403,8 @@ def _set_value(src: str, p: str, v: Any) -> Any:
 
 def _grid(src: str, axes: Mapping[str, Any]) -> list[dict[str, Any]]:
     values = {p: _values(src, f"axes.{p}", v) for p, v in axes.items()}
+    for p in values.keys() & DERIVED.keys():  # a derived field scales a number
+        values[p] = [_number(src, f"axes.{p}", x) for x in values[p]]
     for p, vals in values.items():  # a repeated value would be one point listed twice
         twice = [v for i, v in enumerate(vals) if v in vals[:i]]
         if twice:
@@ -467,38 +486,106 @@ def _assign(case: dict[str, Any], p: str, value: Any) -> None:
     sub[key] = value
 
 
+@dataclass
+class _Entries:
+    """Which study entry set which case-file field of one point, to blame errors on.
+
+    Attributes
+    ----------
+    src, base_path
+        The study file and its base case file.
+    given
+        Every entry of the point (``[set]`` and axis values), field path -> value.
+    origin
+        Field path -> ``"set"`` or ``"axes"``.
+    axes
+        The point's axis values (shown when the base is to blame).
+    targets
+        Case-file field -> the entry that set it, filled as the point is built.
+    """
+
+    src: str
+    base_path: Path
+    given: dict[str, Any]
+    origin: dict[str, str]
+    axes: Mapping[str, Any]
+    targets: dict[str, str] = field(default_factory=dict)
+
+    def blame(self, exc: CaseError) -> CaseError:
+        """``exc`` (an error of the point's case) against the study entry that set its
+        field: its own value for a plain field, the derived value and what it gave for a
+        derived one, the base file and the point when no entry set the field."""
+        entry = self.targets.get(_bare(exc.field))
+        if entry is None:
+            return CaseError(self.src, exc.field, exc.value, f"{exc.allowed} (base "
+                             f"{self.base_path} at point {dict(self.axes)})")
+        key = f"{self.origin[entry]}.{entry}"
+        if entry in DERIVED:
+            return CaseError(self.src, key, self.given[entry], f"a value giving {exc.field} "
+                             f"{exc.allowed} (it gave {exc.value!r})")
+        return CaseError(self.src, key, exc.value, exc.allowed)
+
+    def check_inputs(self, case: dict[str, Any]) -> None:
+        """Raise the blamed error of ``case`` (with derived gaps stood in for by
+        :data:`ANY_GAP`), unless its error is in a field a derived entry has still to set.
+        A derived field reads the point's other fields (radius, angles, volume), so a bad
+        value there is the error, not the derived field that read it."""
+        derived_gaps = any(DERIVED[p][0] == "motion.gaps" for p in self.given if p in DERIVED)
+        try:
+            scene_from_dict(_without_gaps(case) if derived_gaps else case,
+                            source=str(self.base_path))
+        except CaseError as exc:
+            pending = {_slot(DERIVED[p][0]) for p in self.given
+                       if p in DERIVED and DERIVED[p][0] not in self.targets}
+            if _slot(exc.field) not in pending:
+                raise self.blame(exc) from None
+
+
+def _bare(fld: str) -> str:
+    """The case-file field of an error's field: ``motion.gaps`` for ``motion.gaps[3]`` or
+    ``motion.gaps.start``."""
+    return re.sub(r"(\[\d+\]|\.(start|stop|points|spacing))$", "", fld)
+
+
+def _slot(fld: str) -> str:
+    """The case-file field ``fld`` stands for: ``amount`` for any amount (a case has one)."""
+    fld = _bare(fld)
+    return "amount" if fld == "amount" or fld.startswith("amount.") else fld
+
+
 def _scene(src: str, base_path: Path, base: dict[str, Any], fixed: Mapping[str, Any],
            axes: Mapping[str, Any]) -> Scene:
-    """The base with ``fixed`` and ``axes`` applied; errors blamed on their origin."""
+    """The base with ``fixed`` and ``axes`` applied; errors blamed on their origin.
+
+    Plain fields are set first, then the derived ones in :data:`DERIVED` order. A derived
+    field that fails, or derived gaps the finished scene refuses, are blamed on that
+    derived entry only when the point's other fields are valid on their own
+    (:meth:`_Entries.check_inputs`): an angle of 200 deg read by ``gap_over_rupture`` is
+    the angle's error.
+    """
     case = copy.deepcopy(base)
     given = {**fixed, **axes}
-    origin = {p: ("set" if p in fixed else "axes") for p in given}
-    targets: dict[str, str] = {}  # case-file field -> study entry that set it
+    entries = _Entries(src=src, base_path=base_path, given=given,
+                       origin={p: ("set" if p in fixed else "axes") for p in given}, axes=axes)
     for p, v in given.items():
         if p not in DERIVED:
             _assign(case, p, v)
-            targets[p] = p
+            entries.targets[p] = p
     for p, (target, fn) in DERIVED.items():
         if p not in given:
             continue
         try:
             val = fn(case, given[p])
-        except (InputError, KeyError, TypeError, ZeroDivisionError) as exc:
-            why = str(exc) if isinstance(exc, InputError) else f"missing {exc}"
-            raise CaseError(src, f"{origin[p]}.{p}", given[p], f"a value giving a valid "
-                            f"{target} ({why}; point {dict(axes)})") from None
+        except (ValueError, KeyError, TypeError, ArithmeticError) as exc:
+            entries.check_inputs(case)
+            why = f"missing {exc}" if isinstance(exc, KeyError) else str(exc)
+            raise CaseError(src, f"{entries.origin[p]}.{p}", given[p], f"a value giving a "
+                            f"valid {target} ({why}; point {dict(axes)})") from None
         _assign(case, target, val)
-        targets[target] = p
+        entries.targets[target] = p
     try:
         return scene_from_dict(case, source=str(base_path))
     except CaseError as exc:
-        fld = re.sub(r"(\[\d+\]|\.(start|stop|points|spacing))$", "", exc.field)
-        entry = targets.get(fld)
-        if entry is None:
-            raise CaseError(src, exc.field, exc.value, f"{exc.allowed} (base {base_path} "
-                            f"at point {dict(axes)})") from None
-        if entry in DERIVED:
-            raise CaseError(src, f"{origin[entry]}.{entry}", given[entry],
-                            f"a value giving {exc.field} {exc.allowed} (it gave "
-                            f"{exc.value!r})") from None
-        raise CaseError(src, f"{origin[entry]}.{entry}", exc.value, exc.allowed) from None
+        if entries.targets.get(_bare(exc.field)) in DERIVED:
+            entries.check_inputs(case)  # derived gaps are checked before the amounts
+        raise entries.blame(exc) from None
