@@ -204,6 +204,12 @@ def test_sweep_in_which_every_point_fails_exits_1(tmp_path):
         assert "every one of the 2 points failed" in r.stderr and "Traceback" not in r.stderr
 
 
+def test_python_dash_m_wetcontact_is_the_cli():
+    r = subprocess.run([sys.executable, "-m", "wetcontact", "solve", "nope.toml"],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2 and r.stderr.startswith("wetcontact: error: nope.toml")
+
+
 def test_help_on_every_command():
     for cmd in ([], ["run"], ["solve"], ["models"]):
         r = wc(*cmd, "--help")
