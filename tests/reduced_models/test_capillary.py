@@ -351,6 +351,29 @@ def test_willett_refuses_volumes_below_its_fit():
         load_all()["willett"].force(scene)
 
 
+def test_bagheri_refuses_where_its_form_has_a_pole():
+    """At 89.9 deg, V* = 0.01 (an audit's case) the force grew to 11 times its contact
+    value and flipped sign one gap further, with only the soft-validity note. The pole
+    predicted by the quadratic is where a dense scan of the force peaks; no pole at the
+    paper's angles."""
+    v, th = 0.01, math.radians(89.9)
+    s_pole = cap.bagheri_pole(v, th)
+    assert s_pole is not None and 0.0 < s_pole < 1.0
+    s_c = willett_rupture_distance(v * R**3, R, th)
+    s = np.linspace(0.0, 1.0, 100_001)
+    f = cap.bagheri_force(s * s_c, v * R**3, R, SIG, th)
+    assert s[np.argmax(np.abs(f))] == pytest.approx(s_pole, abs=2e-5)
+    assert np.abs(f).max() > 10 * F0 and f.min() < 0 < f[0]  # unbounded and sign-changing
+    with pytest.raises(ValidityError, match=r"pole inside the bridge.*use model 'meniscus'"):
+        load_all()["bagheri"].force(_bridge_scene(volume=v * R**3, angle=89.9))
+    for deg in (0.0, 20.0, 50.0):  # the paper's range: no pole for V* <= 0.1
+        for vv in (1e-4, 1e-2, 0.1):
+            assert cap.bagheri_pole(vv, math.radians(deg)) is None
+            f = cap.bagheri_force(s[::100] * willett_rupture_distance(vv * R**3, R,
+                                  math.radians(deg)), vv * R**3, R, SIG, math.radians(deg))
+            assert np.all(f > 0)
+
+
 def test_soft_validity_is_reported_not_raised():
     curve = load_all()["willett"].force(_bridge_scene(angle=60.0))
     assert "theta" in curve.diagnostics["outside_stated_validity"]

@@ -24,6 +24,7 @@ Registered models (``component = "capillary"``, ``level = 0``): ``toroidal``, ``
 
 from __future__ import annotations
 
+import math
 from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
@@ -651,6 +652,25 @@ def bagheri_force(gap: Any, volume: Any, radius: Any, surface_tension: Any,
     return f * r * sig
 
 
+def bagheri_pole(volume_ratio: float, theta: float) -> float | None:
+    r"""The smallest ``s = S/S_c`` in [0, 1] where :func:`bagheri_force` has a pole, or None.
+
+    The gap factor's denominator :math:`D(s) = 1 + a_t b_s a_s s + a_t b_s s^2` (same
+    coefficients as :func:`bagheri_force`) is 1 at contact; its first root in [0, 1] is
+    the pole, found from the quadratic.
+    """
+    vs, th = float(volume_ratio), float(theta)
+    lv = math.log(vs)
+    a_s = -0.3319 * vs**0.4974 + 0.6717 * vs**0.1995
+    b_s = 13.84 * vs**-0.3909 - 12.11 * vs**-0.3945
+    a_t = ((-0.007815 * lv**2 - 0.2105 * lv - 1.426) * th**3
+           + (-1.78 * vs**0.8351 + 0.6669 * vs**-0.01391) * th + 1.0)
+    roots = np.roots([a_t * b_s, a_t * b_s * a_s, 1.0])
+    real = sorted(float(r.real) for r in roots
+                  if abs(r.imag) <= 1e-12 * max(1.0, abs(r)) and 0.0 <= r.real <= 1.0)
+    return real[0] if real else None
+
+
 # ---- registered models --------------------------------------------------------------------
 
 
@@ -691,7 +711,7 @@ class _CapillaryClosure(Model):
                                 f"got amount = {scene.amount!r}", use_instead=instead)
         theta = np.degrees(_scene_mean_angle(scene))
         if theta >= self.hard_theta_deg:
-            raise ValidityError(self.name, f"mean contact angle {theta:.4g} deg >= "
+            raise ValidityError(self.name, f"mean contact angle {theta:.6g} deg >= "
                                 f"{self.hard_theta_deg:g} deg (no concave wetting bridge)",
                                 use_instead="meniscus")
         vr = self.volume_ratio(scene)
@@ -704,7 +724,7 @@ class _CapillaryClosure(Model):
         notes = []
         theta = np.degrees(_scene_mean_angle(scene))
         if theta > self.max_theta_deg:
-            notes.append(f"theta = {theta:.4g} deg > {self.max_theta_deg:g} deg")
+            notes.append(f"theta = {theta:.6g} deg > {self.max_theta_deg:g} deg")
         vr = self.volume_ratio(scene)
         if vr > self.max_volume_ratio:
             notes.append(f"V* = {vr:.4g} > {self.max_volume_ratio:g}")
@@ -875,6 +895,22 @@ class Bagheri(_WillettFamily):
     validity = ("identical spheres (others via R_eff = 2R1R2/(R1+R2), sphere-wall 2R: "
                 "extrapolation), pendular bridge, V* < 0.1, theta < 50 deg; about 0.6 % from "
                 "Young-Laplace where checked by the authors")
+
+    def check(self, scene: Scene) -> None:
+        """Also refuses a scene where the form has a pole inside the bridge.
+
+        At large angles ``a_t`` turns negative and the gap factor's denominator
+        ``1 + a_t b_s a_s s + a_t b_s s^2`` vanishes at some ``s = S/S_c`` in (0, 1]: the
+        force grows without bound and changes sign there (an audit found 11 times the
+        contact force at 89.9 deg, then a repulsion one gap further).
+        """
+        super().check(scene)
+        s_pole = bagheri_pole(self.volume_ratio(scene), _scene_mean_angle(scene))
+        if s_pole is not None:
+            raise ValidityError(self.name, f"the form has a pole inside the bridge, at S/S_c = "
+                                f"{s_pole:.3g} (mean contact angle "
+                                f"{np.degrees(_scene_mean_angle(scene)):.6g} deg, V* = "
+                                f"{self.volume_ratio(scene):.3g})", use_instead="meniscus")
 
     def attraction(self, scene: Scene, gaps: np.ndarray) -> tuple[np.ndarray, dict]:
         return bagheri_force(gaps, scene.bridge_volume, derjaguin_radius(scene),
