@@ -149,6 +149,30 @@ def test_models_refuse_outside_validity():
         vc.reynolds_force(1.0, 1.0, 1.0, [1e-3, 0.0])
 
 
+def test_reynolds_finite_says_when_it_is_outside_its_validity():
+    """It never warned (an audit: S/R* = 1 and gaps past rupture in silence, where
+    'reynolds' warns from S/R* = 0.1); past Lian's S_c its H = sqrt(S^2 + V/(pi R*)) still
+    exceeds S, so a force is returned where there is no bridge."""
+    liquid = {"viscosity": 1e-3, "surface_tension": 0.07, "density": 1e3,
+              "contact_angle": 20.0}
+    v, r = 1e-13, 1e-3  # V* = 1e-4: S_c/R = 0.054, inside the thin-gap limit
+    s_c = (1 + math.radians(20.0) / 2) * v ** (1 / 3)  # Lian et al. 1993
+    inside = make_scene(liquid=liquid, amount={"bridge_volume": v},
+                        motion={"velocity": 0.1, "gaps": [1e-6, 0.5 * s_c]})
+    assert "outside_stated_validity" not in MODELS["reynolds-finite"].force(inside).diagnostics
+    past = make_scene(liquid=liquid, amount={"bridge_volume": v},
+                      motion={"velocity": 0.1, "gaps": [1e-6, 0.99 * s_c, 1.01 * s_c]})
+    curve = MODELS["reynolds-finite"].force(past)
+    note = curve.diagnostics["outside_stated_validity"]
+    assert "1 of 3 gaps at or past the bridge's rupture distance" in note
+    assert f"{s_c:.3g} m" in note and "thin-gap" not in note
+    assert curve.force_viscous[-1] > 0  # returned, and said so
+    wide = make_scene(liquid=liquid, amount={"film_thickness": 0.5 * r},
+                      motion={"velocity": 0.1, "gaps": [1e-5, 0.2 * r]})
+    assert "S/R* up to 0.2 > 0.1" in MODELS["reynolds-finite"].force(wide).diagnostics[
+        "outside_stated_validity"]
+
+
 def test_vinogradova_model_one_surface():
     sc = make_scene(liquid={"viscosity": 1e-3, "surface_tension": 0.07, "density": 1e3,
                             "slip_length_wall": 1e-6},

@@ -343,6 +343,29 @@ class Reynolds(Model):
                              outside=flooded_gap_note(scene))
 
 
+def finite_liquid_note(scene: Scene) -> str:
+    """Why a film or bridge scene lies outside the stated validity of ``reynolds-finite``:
+    a gap beyond :data:`THIN_GAP_LIMIT` R* (not a thin parabolic gap), or for a bridge
+    gaps past Lian's rupture distance ``(1 + theta/2) V^(1/3)`` (no bridge there, but
+    ``H = sqrt(S^2 + V/(pi R*))`` stays above S, so the factor never reaches 0). Empty
+    inside it."""
+    notes = []
+    gaps = scene.gap_array
+    s = float(np.max(gaps)) / scene.reduced_radius
+    if s > THIN_GAP_LIMIT:
+        notes.append(f"S/R* up to {s:.3g} > {THIN_GAP_LIMIT:g}, the thin-gap limit")
+    if scene.amount == "bridge":
+        from wetcontact.reduced_models.capillary import mean_contact_angle
+        from wetcontact.reduced_models.rupture import lian_rupture_distance
+
+        sc = float(lian_rupture_distance(scene.bridge_volume, mean_contact_angle(
+            scene.contact_angle_sphere, scene.contact_angle_wall)))
+        if (n := int(np.sum(gaps >= sc))):
+            notes.append(f"{n} of {gaps.size} gaps at or past the bridge's rupture distance "
+                         f"(Lian 1993: {sc:.3g} m), where there is no bridge")
+    return "; ".join(notes)
+
+
 @register
 class ReynoldsFinite(Model):
     """Reynolds times the finite-liquid factor ``(1 - S/H)^2`` (Pitois et al. 2000)."""
@@ -368,7 +391,8 @@ class ReynoldsFinite(Model):
         return closure_curve(scene, self.name, viscous=f * fac, edge_gap=h,
                              error_estimate=estimate_or_none(self.name, "viscous", scene),
                              wetted_radius=np.sqrt(2 * scene.reduced_radius
-                                                   * np.maximum(h - s, 0.0)))
+                                                   * np.maximum(h - s, 0.0)),
+                             outside=finite_liquid_note(scene))
 
 
 @register
