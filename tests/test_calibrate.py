@@ -233,7 +233,8 @@ def test_fit_survives_a_start_whose_form_overflows() -> None:
     committed refit, each coefficient perturbed by 30 %), the fit once raised inside the
     least-squares solver (its cost and Jacobian became inf). It must now return a fit as
     good as from the published start: the same minimax maximum on the committed training
-    points (the form's limit there)."""
+    points (the form's limit there) as the committed refit, which is that fit (0.0409077
+    both, to 13 digits, when checked on 2026-11-27)."""
     fam = cal.FAMILIES["willett"]
     where = Path(__file__).resolve().parents[1] / "benchmarks" / "results" / "calibration"
     train, _ = cal.load_points(where / "willett_points.npz")
@@ -244,7 +245,7 @@ def test_fit_survives_a_start_whose_form_overflows() -> None:
     with np.errstate(all="ignore"):
         assert not np.all(np.isfinite(fam.form(start, train.inputs)))
     got = cal.rel_errors(fam, cal.fit(replace(fam, published=start), train), train).max()
-    ref = cal.rel_errors(fam, cal.fit(fam, train), train).max()
+    ref = cal.rel_errors(fam, refit, train).max()  # = the fit from the published start
     assert np.isfinite(got) and abs(got - ref) <= 1e-6 * ref
 
 

@@ -106,7 +106,7 @@ def test_refusal_hint_names_a_solver_in_a_fresh_process(tmp_path):
 
 
 @pytest.mark.parametrize("stem, edits, model, applies", [
-    ("dem-pendular-bridge-100um", {"contact_angle": "contact_angle = 89.0",
+    ("dem-pendular-bridge-100um", {"contact_angle": "contact_angle = 60.0",
                                    "gaps": "gaps = [1e-8, 1e-7, 1e-6]"}, "bagheri", "meniscus"),
     ("brenner-immersed-sphere-wall", {"gaps": "gaps = [5.0e-2, 1.0e-3]"}, "reynolds",
      "brenner"),
