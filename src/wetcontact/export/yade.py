@@ -23,12 +23,20 @@ since 2017 (nn11, nn33); blocks must not be empty.
 Grids (as Yade's own generator): ``n_distances`` distances evenly spaced from 0 to the
 largest rupture distance (at zero suction), ``u* = 0`` then ``n_suctions - 1`` values
 geometric from 0.002 to the suction at which the bridge at contact has a mean filling angle
-of 0.7 deg. Each D block lists the suctions whose stable branch reaches D. Rows come from
-the suction-controlled continuation of :mod:`wetcontact.solver.meniscus.continuation`
-(stable: the large-volume side of the fold). Filling angles on the small sphere are capped
-at ``min(90 deg - theta, 70 deg)`` (the meniscus model's range; Yade's generator goes to
+of 0.7 deg (above a contact angle of about 88.7 deg, where that bridge would pass the
+filling-angle cap below, the suction at which it fills 0.9 of the cap on the small sphere:
+Yade's generator too stops at a larger filling angle when it cannot reach 0.7 deg). Each D
+block lists the suctions whose stable branch reaches D. Rows come from the
+suction-controlled continuation of :mod:`wetcontact.solver.meniscus.continuation` (stable:
+the large-volume side of the fold). Filling angles on the small sphere are capped at
+``min(90 deg - theta, 70 deg)`` (the meniscus model's range; Yade's generator goes to
 ``90 - theta``): below that suction's smallest admitted gap no row is written and Yade
-extrapolates in suction from the rows it has.
+extrapolates in suction from the rows it has. A branch's start (contact, or the cap) and
+its fold both fall as the suction rises, so on a coarse suction grid a distance can lie
+above the fold of one grid suction and below the start of the next lower one; such a block
+(which no grid suction reaches, and which Yade cannot read empty) takes the rows of
+suctions between those two, geometric, bisected until two of them reach it
+(:func:`_fill_holes`; Yade's generator fills it by extrapolating rows in distance instead).
 
 Near the fold every quantity at fixed (D*, u*) varies like ``sqrt(S_fold - D)``: the
 discretisation error of the gap at fixed (u*, delta1) (up to 5e-8 R2 at 32 elements,
@@ -80,6 +88,10 @@ POLISH_SLOPE = 10.0      # ... those where |d ln V / dD*| > 10 (at fixed u*), or
                          # branch's last interval before the fold
 POLISH_ELASTICITY = 0.6  # ... and where max(u*, 0.002) |d ln V / du*| < 0.6 (small u*)
 FOLD_MARGIN = 1e-4       # no row within 1e-4 (relative) of its fold (see the module notes)
+CAP_AT_MAX_U = 0.9       # contact angle near 90 deg: the largest suction's contact bridge
+                         # fills 0.9 of the cap on the small sphere (its start is at contact)
+FILL_LEVELS = 6          # a hole in the grid: up to 2**6 - 1 intermediate suctions
+FILL_ROWS = 2            # ... until this many reach each of its distances
 
 
 def file_name(ratio: float, suffix: str = "") -> str:
@@ -110,6 +122,9 @@ class CapillaryTable:
         Newton solves spent and the wall time of the table.
     polished
         Rows re-solved on ``POLISH_ELEMENTS`` elements (next to their fold, small suction).
+    intermediate
+        Suctions between grid suctions whose rows fill the blocks that no grid suction
+        reaches (a coarse suction grid; :func:`_fill_holes`).
     """
 
     ratio: float
@@ -121,6 +136,7 @@ class CapillaryTable:
     solves: int
     wall_time_s: float
     polished: int = 0
+    intermediate: int = 0
 
     def blocks(self) -> list[np.ndarray]:
         """Rows grouped by distance, as Yade reads them."""
@@ -184,16 +200,22 @@ def _flat_in_suction(rows: np.ndarray) -> np.ndarray:
     return flat
 
 
-def _largest_suction(d, g: _Geo) -> tuple[float, np.ndarray]:
-    """u* at which the contact bridge has mean filling angle FILLING_AT_MAX_U; its solution."""
+def _largest_suction(d, g: _Geo, c1_max: float) -> tuple[float, np.ndarray]:
+    """u* at which the contact bridge has mean filling angle FILLING_AT_MAX_U, or (contact
+    angles above about 88.7 deg, where that bridge's filling angle on the small sphere would
+    pass the cap ``c1_max``, so that no suction of the grid would have a bridge at contact)
+    filling angle ``CAP_AT_MAX_U * c1_max`` on the small sphere; its solution."""
     target = 2.0 * math.radians(FILLING_AT_MAX_U)
     c1 = target / (1.0 + g.rt)     # equal neck radii: R1 c1 = R2 c2 (R2 = 1)
-    x0 = _guess_at(d, g, 0.0, c1)
+    x0 = _guess_at(d, g, 0.0, min(c1, CAP_AT_MAX_U * c1_max))
     if x0 is None:
         raise SolverError("yade export: no toroidal guess for the smallest bridge")
     a = np.zeros(d.m)
     a[d.ic1] = a[d.ic2] = 1.0
     nw = _newton(d, g, x0, (Linear(a, target), Fixed(d.iS, 0.0)), maxit=30)
+    if nw.converged and nw.x[d.ic1] > c1_max:
+        nw = _newton(d, g, nw.x, (Fixed(d.ic1, CAP_AT_MAX_U * c1_max), Fixed(d.iS, 0.0)),
+                     maxit=30)
     if not nw.converged:
         raise SolverError("yade export: the smallest bridge at contact did not converge")
     return -float(nw.x[d.iP]), nw.x
@@ -211,6 +233,76 @@ def _start(d, g: _Geo, u_prev: float, x_prev: np.ndarray, u: float, c1_max: floa
         return None
     xm = _start(d, g, u_prev, x_prev, mid, c1_max, depth + 1)
     return None if xm is None else _start(d, g, mid, xm, u, c1_max, depth + 1)
+
+
+def _reaches(br, distances: np.ndarray) -> np.ndarray:
+    """Mask of the distances at which a suction branch has an admitted stable bridge: from
+    its start (contact, or the filling-angle cap) to ``1 - FOLD_MARGIN`` times its fold."""
+    return (distances >= br.S_start - 1e-13) & (distances <= br.S_fold * (1.0 - FOLD_MARGIN))
+
+
+def _between(u_lo: float, u_hi: float, t: float) -> float:
+    """The suction a fraction ``t`` of the way from ``u_lo`` to ``u_hi``: geometric, as the
+    grid (linear from ``u_lo = 0``)."""
+    return u_lo + t * (u_hi - u_lo) if u_lo == 0.0 else u_lo * (u_hi / u_lo) ** t
+
+
+def _fill_holes(d, g: _Geo, suctions: np.ndarray, branches: list, starts: list,
+                holes: np.ndarray, c1_max: float) -> tuple[list, int]:
+    """Rows for the grid distances that no grid suction reaches.
+
+    Both ends of a suction's branch, its start (contact, or the filling-angle cap) and its
+    fold, fall as the suction rises. On a coarse suction grid a distance can lie above the
+    fold of a suction ``u_hi`` and below the start of the next lower one ``u_lo``: no grid
+    suction has an admitted bridge there, and an empty block would crash Yade's reader.
+    Such a block takes intermediate suctions ``u_lo (u_hi/u_lo)^(j/2^L)`` (linear from
+    ``u_lo = 0``), each branch continued from the start at the next higher one, ``L``
+    growing up to ``FILL_LEVELS`` until ``FILL_ROWS`` of them reach each of its distances
+    (at least one at the last level).
+
+    Returns the ``(u, branch, distances)`` triples of the intermediate suctions that reach
+    a hole, and the Newton solves spent.
+    """
+    plan, solves = [], 0
+    todo = np.asarray(holes, float)
+    top = 2 ** FILL_LEVELS
+    for i in range(len(suctions) - 1):
+        lo, hi = branches[i], branches[i + 1]
+        here = todo[(todo < lo.S_start - 1e-13) & (todo > hi.S_fold * (1.0 - FOLD_MARGIN))]
+        if here.size == 0:
+            continue
+        todo = np.setdiff1d(todo, here)
+        u_lo, u_hi = float(suctions[i]), float(suctions[i + 1])
+        done: dict[int, tuple] = {top: (u_hi, starts[i + 1], None)}
+        for level in range(1, FILL_LEVELS + 1):
+            step = top >> level
+            for j in range(top - step, 0, -step):       # decreasing suction
+                if j in done:
+                    continue
+                u_prev, x_prev, _ = done[min(k for k in done if k > j)]
+                u = _between(u_lo, u_hi, j / top)
+                x = _start(d, g, u_prev, x_prev, u, c1_max)
+                if x is None:
+                    raise SolverError(f"yade export: no stable bridge at u* = {u:.6g} (between "
+                                      f"the grid's {u_lo:.6g} and {u_hi:.6g})")
+                br = suction_branch(d, g, -u, x)
+                solves += br.solves + 1
+                done[j] = (u, x, br)
+            counts = sum(_reaches(br, here).astype(int)
+                         for _, _, br in done.values() if br is not None)
+            if np.all(counts >= FILL_ROWS):
+                break
+        if np.any(counts < 1):
+            raise SolverError(f"yade export: no bridge at D* = {here[counts < 1][0]:.6g} at "
+                              f"{top - 1} suctions between {u_lo:.6g} and {u_hi:.6g}")
+        for j in sorted(done):
+            u, _, br = done[j]
+            if br is not None and np.any(sel := _reaches(br, here)):
+                plan.append((u, br, here[sel]))
+    if todo.size:
+        raise SolverError(f"yade export: no bridge at D* = {todo[0]:.6g}: no grid suction's "
+                          "branch reaches it")
+    return plan, solves
 
 
 def capillary_table(ratio: float, contact_angle: float, n_suctions: int = 350,
@@ -237,14 +329,14 @@ def capillary_table(ratio: float, contact_angle: float, n_suctions: int = 350,
     d = _disc(int(n_elements))
     g = _Geo(1.0 / ratio, 1.0, contact_angle, contact_angle, 0.0)
     c1_max = min(0.5 * math.pi - contact_angle, PHI_MAX)
-    u_max, x = _largest_suction(d, g)
+    u_max, x = _largest_suction(d, g, c1_max)
     if max_suction is not None:
         if not U_FIRST < max_suction < u_max:
             raise InputError(f"yade export: max_suction = {max_suction!r}; allowed: "
                              f"({U_FIRST}, {u_max:.6g})")
         u_max = float(max_suction)
     suctions = np.concatenate([[0.0], np.geomspace(U_FIRST, u_max, n_suctions - 1)])
-    branches = []
+    branches, starts = [], []
     solves = 1
     u_prev = u_max
     for u in suctions[::-1]:
@@ -253,17 +345,25 @@ def capillary_table(ratio: float, contact_angle: float, n_suctions: int = 350,
             raise SolverError(f"yade export: no stable bridge at u* = {u:.6g}, r = {ratio:g}")
         br = suction_branch(d, g, -float(u), start)
         branches.append(br)
+        starts.append(start)
         solves += br.solves + 1
         x, u_prev = start, float(u)
-    branches = branches[::-1]
+    branches, starts = branches[::-1], starts[::-1]
     rupture = np.array([br.S_fold for br in branches])
     D_max = float(np.max(rupture)) * (1.0 - FOLD_MARGIN)
     distances = np.linspace(0.0, D_max, n_distances)
+    plan = [(float(u), br, distances[_reaches(br, distances)])
+            for u, br in zip(suctions, branches, strict=True)]
+    covered = np.zeros(distances.size, bool)
+    for _, br, _ in plan:
+        covered |= _reaches(br, distances)
+    if not covered.all():
+        extra, n = _fill_holes(d, g, suctions, branches, starts, distances[~covered], c1_max)
+        plan += extra
+        solves += n
     df = _disc(max(POLISH_ELEMENTS, int(n_elements)))
     rows, polished, coarse = [], 0, []
-    for u, br in zip(suctions, branches, strict=True):
-        top = br.S_fold * (1.0 - FOLD_MARGIN)
-        sel = distances[(distances >= br.S_start - 1e-13) & (distances <= top)]
+    for u, br, sel in plan:
         Ss = np.array([p[d.iS] for p in br.points])
         lnV = np.log([_volume(d, g, p) for p in br.points])
         for D, xs in zip(sel, suction_at_gaps(br, sel), strict=True):
@@ -271,13 +371,12 @@ def capillary_table(ratio: float, contact_angle: float, n_suctions: int = 350,
             last = k == len(Ss) - 2
             steep = abs(lnV[k + 1] - lnV[k]) > POLISH_SLOPE * max(Ss[k + 1] - Ss[k], 1e-300)
             if (last or steep) and df.n_el > d.n_el:
-                rows.append(_row(df, g, _polish(d, df, g, xs, -float(u), float(D)),
-                                 float(D), float(u)))
+                rows.append(_row(df, g, _polish(d, df, g, xs, -u, float(D)), float(D), u))
                 solves += 1
                 polished += 1
             else:
                 coarse.append((len(rows), xs))
-                rows.append(_row(d, g, xs, float(D), float(u)))
+                rows.append(_row(d, g, xs, float(D), u))
         solves += sel.size
     arr = np.array(rows)
     if df.n_el > d.n_el:
@@ -293,7 +392,8 @@ def capillary_table(ratio: float, contact_angle: float, n_suctions: int = 350,
     if missing:
         raise SolverError(f"yade export: no bridge at D* = {missing[0]:.6g} for r = {ratio:g}")
     return CapillaryTable(float(ratio), float(contact_angle), distances, suctions, arr,
-                          rupture, solves, time.perf_counter() - t0, polished)
+                          rupture, solves, time.perf_counter() - t0, polished,
+                          intermediate=len(plan) - len(suctions))
 
 
 def format_table(table: CapillaryTable) -> str:
