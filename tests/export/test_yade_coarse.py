@@ -1,4 +1,5 @@
-"""Yade capillary files on coarse grids: every block of every file filled with exact rows.
+"""Yade capillary files on coarse grids (every block of every file filled with exact rows),
+and an export that writes all ten files or none.
 
 On a coarse suction grid a distance of the grid can lie above the fold of one grid suction
 and below the start (the filling-angle cap) of the next lower one; above a contact angle of
@@ -18,7 +19,16 @@ import numpy as np
 import pytest
 
 from wetcontact.cli import main
-from wetcontact.export.yade import RATIOS, U_FIRST, capillary_table, file_name, read_table
+from wetcontact.errors import SolverError
+from wetcontact.export import yade
+from wetcontact.export.yade import (
+    RATIOS,
+    U_FIRST,
+    CapillaryTable,
+    capillary_table,
+    file_name,
+    read_table,
+)
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from yade_rows import QUANTITIES, check_rows  # noqa: E402
@@ -66,3 +76,69 @@ def test_top_suction_reaches_contact_near_90_degrees():
     assert top[1] == tab.suctions[-1]
     assert top[4] == pytest.approx(0.9 * 1.1, rel=1e-9)   # 0.9 of the cap, at contact
     _assert_exact(10.0, 88.9, tab.rows)
+
+
+# ---------------------------------------------------------------------------------------
+# All or nothing: a failure part-way leaves --out as it was
+# ---------------------------------------------------------------------------------------
+
+
+def _fake_table(ratio, theta, *args, fail_at=5.0, **kwargs):
+    """A one-row table in no time, or the solver failure of the ratio ``fail_at``."""
+    if ratio == fail_at:
+        raise SolverError(f"yade export: no bridge at D* = 0.5 for r = {ratio:g}")
+    return CapillaryTable(ratio, theta, np.array([0.0]), np.array([0.0]),
+                          np.array([[0.0, 0.0, 1.0, 1.0, 30.0, 3.0, 1.0, 1.0]]),
+                          np.array([0.1]), 0, 0.0)
+
+
+def _export(out: Path) -> int:
+    return main(["export", "yade", "--contact-angle", "20", "--suctions", "3",
+                 "--distances", "2", "--out", str(out), "--workers", "1"])
+
+
+def _leftovers(*folders: Path) -> list[str]:
+    return [p.name for f in folders if f.exists() for p in f.iterdir()
+            if "partial" in p.name or p.name.endswith(".tmp")]
+
+
+def test_failure_part_way_leaves_the_previous_export_intact(tmp_path, monkeypatch, capsys):
+    """The sixth of ten tables fails: the first five used to be written over the previous
+    export's files already (a mixed set Yade would read without complaint)."""
+    out = tmp_path / "caps"
+    out.mkdir()
+    before = {file_name(r, "_theta20"): f"previous export of r = {r:g}\n" for r in RATIOS}
+    before["notes.txt"] = "the user's own file\n"
+    for name, text in before.items():
+        (out / name).write_text(text)
+    monkeypatch.setattr(yade, "capillary_table", _fake_table)
+    assert _export(out) == 1
+    assert "no bridge at D* = 0.5 for r = 5" in capsys.readouterr().err
+    assert {p.name: p.read_text() for p in out.iterdir()} == before
+    assert _leftovers(tmp_path, out) == []
+
+
+def test_failure_into_a_new_folder_leaves_nothing(tmp_path, monkeypatch, capsys):
+    out = tmp_path / "new" / "caps"
+    monkeypatch.setattr(yade, "capillary_table", _fake_table)
+    assert _export(out) == 1
+    capsys.readouterr()
+    assert not out.exists()
+    assert _leftovers(tmp_path, tmp_path / "new") == []
+
+
+def test_success_replaces_every_file_and_leaves_no_staging(tmp_path, monkeypatch, capsys):
+    out = tmp_path / "caps"
+    out.mkdir()
+    (out / "notes.txt").write_text("the user's own file\n")
+    for r in RATIOS:
+        (out / file_name(r, "_theta20")).write_text("previous export\n")
+    monkeypatch.setattr(yade, "capillary_table",
+                        lambda *a, **k: _fake_table(*a, fail_at=-1.0, **k))
+    assert _export(out) == 0
+    capsys.readouterr()
+    assert (out / "notes.txt").read_text() == "the user's own file\n"
+    for r in RATIOS:
+        ratio, blocks = read_table(out / file_name(r, "_theta20"))
+        assert ratio == r and len(blocks) == 1
+    assert _leftovers(tmp_path, out) == []

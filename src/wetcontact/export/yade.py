@@ -58,8 +58,12 @@ u* = 0.002), so rows where that factor is below ``POLISH_ELASTICITY`` are re-sol
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
 import re
+import shutil
+import tempfile
 import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
@@ -68,7 +72,7 @@ from pathlib import Path
 import numpy as np
 
 from wetcontact.errors import InputError, SolverError
-from wetcontact.fileio import atomic_write_text
+from wetcontact.fileio import atomic_write_text, fsync_dir
 from wetcontact.solver.meniscus.continuation import (
     suction_at_gaps,
     suction_branch,
@@ -428,7 +432,8 @@ def _one(args: tuple) -> dict:
     return {"ratio": ratio, "file": path, "rows": int(tab.rows.shape[0]),
             "suctions": int(tab.suctions.size), "distances": int(tab.distances.size),
             "max_distance": float(tab.distances[-1]), "max_suction": float(tab.suctions[-1]),
-            "solves": tab.solves, "polished": tab.polished, "wall_time_s": tab.wall_time_s}
+            "solves": tab.solves, "polished": tab.polished, "intermediate": tab.intermediate,
+            "wall_time_s": tab.wall_time_s}
 
 
 MAX_SUCTIONS, MAX_DISTANCES = 5000, 2000
@@ -440,7 +445,12 @@ def export_yade(contact_angle_deg: float, out: Path, n_suctions: int = 350,
                 n_distances: int = 80, workers: int = 2, n_elements: int = DEFAULT_ELEMENTS,
                 suffix: str | None = None, ratios: tuple[float, ...] = RATIOS,
                 max_suction: float | None = None) -> dict:
-    """Write the ten capillary files for one contact angle into ``out``.
+    """Write the ten capillary files for one contact angle into ``out``, all or none.
+
+    The tables are written into a temporary folder beside ``out`` and moved into ``out``
+    only when every one of them has been computed and written: a failed or interrupted
+    export leaves ``out`` as it was (the files of an earlier export untouched, a folder it
+    created removed again).
 
     Returns a summary: ``files`` (paths), ``suffix`` (Yade's ``suffCapFiles``),
     ``contact_angle_deg``, per-file rows and times, ``wall_time_s``.
@@ -459,19 +469,61 @@ def export_yade(contact_angle_deg: float, out: Path, n_suctions: int = 350,
                          "= - (it ends each file name in the --out folder)")
     suffix = default_suffix(contact_angle_deg) if suffix is None else suffix
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    theta = math.radians(contact_angle_deg)
-    jobs = [(r, theta, n_suctions, n_distances, n_elements, max_suction,
-             str(out / file_name(r, suffix))) for r in ratios]
-    t0 = time.perf_counter()
-    if workers == 1:
-        results = [_one(j) for j in jobs]
-    else:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            results = list(pool.map(_one, jobs))
+    if out.exists() and not out.is_dir():
+        raise InputError(f"--out {str(out)!r}: exists and is not a folder; give a folder")
+    made = not out.exists()
+    out.mkdir(parents=True, exist_ok=True)   # a path error now, not after the tables
+    ok = False
+    try:
+        staging = _staging_folder(out)
+        try:
+            theta = math.radians(contact_angle_deg)
+            jobs = [(r, theta, n_suctions, n_distances, n_elements, max_suction,
+                     str(staging / file_name(r, suffix))) for r in ratios]
+            t0 = time.perf_counter()
+            results = _run_jobs(jobs, workers)
+            for res in results:
+                name = Path(res["file"]).name
+                os.replace(staging / name, out / name)
+                res["file"] = str(out / name)
+            fsync_dir(out)
+            ok = True
+        finally:
+            shutil.rmtree(staging, ignore_errors=True)
+    finally:
+        if made and not ok:
+            with contextlib.suppress(OSError):
+                out.rmdir()                  # only if still empty
     return {"files": [r["file"] for r in results], "suffix": suffix,
             "contact_angle_deg": contact_angle_deg, "n_elements": n_elements,
             "tables": results, "wall_time_s": time.perf_counter() - t0}
+
+
+def _staging_folder(out: Path) -> Path:
+    """A new temporary folder beside ``out`` on the same file system, so that moving a file
+    from it into ``out`` is one rename (inside ``out`` when its parent is not writable or
+    ``out`` is a mount point)."""
+    where = out.resolve()
+    if where.parent != where and where.parent.stat().st_dev == where.stat().st_dev:
+        with contextlib.suppress(OSError):
+            return Path(tempfile.mkdtemp(prefix=f".{where.name[:50]}.yade-partial-",
+                                         dir=where.parent))
+    return Path(tempfile.mkdtemp(prefix=".yade-partial-", dir=where))
+
+
+def _run_jobs(jobs: list[tuple], workers: int) -> list[dict]:
+    """:func:`_one` for every job, in this process (``workers == 1``) or in a pool; the
+    first failure cancels the jobs not yet started and is raised."""
+    if workers == 1:
+        return [_one(j) for j in jobs]
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        futures = [pool.submit(_one, j) for j in jobs]
+        try:
+            return [f.result() for f in futures]
+        except BaseException:
+            for f in futures:
+                f.cancel()
+            raise
 
 
 # ---------------------------------------------------------------------------------------
