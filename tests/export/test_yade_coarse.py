@@ -142,3 +142,32 @@ def test_success_replaces_every_file_and_leaves_no_staging(tmp_path, monkeypatch
         ratio, blocks = read_table(out / file_name(r, "_theta20"))
         assert ratio == r and len(blocks) == 1
     assert _leftovers(tmp_path, out) == []
+
+
+# ---------------------------------------------------------------------------------------
+# --workers, checked as sweep and calibrate check it
+# ---------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("value", ["-1", "two", "1.5"])
+def test_cli_rejects_bad_workers_before_solving(tmp_path, capsys, value):
+    out = tmp_path / "caps"
+    assert main(["export", "yade", "--contact-angle", "20", "--out", str(out),
+                 f"--workers={value}"]) == 2
+    err = capsys.readouterr().err
+    assert f"--workers = '{value}'; allowed: an integer >= 0" in err
+    assert "Traceback" not in err
+    assert not out.exists()
+
+
+def test_workers_zero_runs_in_this_process(tmp_path, monkeypatch, capsys):
+    """0 = in this process, as for sweep and calibrate (it was refused: 'allowed: >= 1');
+    the monkeypatched table is seen only in this process."""
+    monkeypatch.setattr(yade, "capillary_table",
+                        lambda *a, **k: _fake_table(*a, fail_at=-1.0, **k))
+    out = tmp_path / "caps"
+    assert main(["export", "yade", "--contact-angle", "20", "--suctions", "3",
+                 "--distances", "2", "--out", str(out), "--workers", "0"]) == 0
+    capsys.readouterr()
+    assert sorted(p.name for p in out.iterdir()) == sorted(file_name(r, "_theta20")
+                                                           for r in RATIOS)

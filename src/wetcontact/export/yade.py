@@ -453,12 +453,14 @@ def export_yade(contact_angle_deg: float, out: Path, n_suctions: int = 350,
     created removed again).
 
     Returns a summary: ``files`` (paths), ``suffix`` (Yade's ``suffCapFiles``),
-    ``contact_angle_deg``, per-file rows and times, ``wall_time_s``.
+    ``contact_angle_deg``, per-file rows and times, ``wall_time_s``. ``workers``: processes
+    (0 or 1: in this process, as ``sweep --workers 0``).
     """
     if not (math.isfinite(contact_angle_deg) and 0.0 <= contact_angle_deg < 89.0):
         raise InputError(f"--contact-angle = {contact_angle_deg!r} deg; allowed: [0, 89) deg")
-    if workers < 1:
-        raise InputError(f"--workers = {workers}; allowed: >= 1")
+    if workers < 0:
+        raise InputError(f"--workers = {workers}; allowed: an integer >= 0 (0 or 1: in this "
+                         "process)")
     for flag, n, lo, hi in (("--suctions", n_suctions, 3, MAX_SUCTIONS),
                             ("--distances", n_distances, 2, MAX_DISTANCES)):
         if not lo <= n <= hi:
@@ -512,9 +514,9 @@ def _staging_folder(out: Path) -> Path:
 
 
 def _run_jobs(jobs: list[tuple], workers: int) -> list[dict]:
-    """:func:`_one` for every job, in this process (``workers == 1``) or in a pool; the
+    """:func:`_one` for every job, in this process (``workers <= 1``) or in a pool; the
     first failure cancels the jobs not yet started and is raised."""
-    if workers == 1:
+    if workers <= 1:
         return [_one(j) for j in jobs]
     with ProcessPoolExecutor(max_workers=workers) as pool:
         futures = [pool.submit(_one, j) for j in jobs]
