@@ -317,7 +317,9 @@ def capillary_table(ratio: float, contact_angle: float, n_suctions: int = 350,
     Suctions are taken in decreasing order so that each branch start (contact, or the
     largest admitted filling angle) is continued from the previous one; along each suction
     the gap is followed from its start to the fold (:func:`suction_branch`), and the rows are
-    the stable bridges at the grid distances it reaches (:func:`suction_at_gaps`).
+    the stable bridges at the grid distances it reaches (:func:`suction_at_gaps`). A grid
+    distance that no grid suction reaches takes rows at intermediate suctions
+    (:func:`_fill_holes`), so that no block is empty.
     ``max_suction`` (u*) lowers the top of the suction grid (reduced tables for tests).
     """
     if not (math.isfinite(ratio) and ratio >= 1.0):
