@@ -5,7 +5,8 @@ On a coarse suction grid a distance of the grid can lie above the fold of one gr
 and below the start (the filling-angle cap) of the next lower one; above a contact angle of
 about 88.7 deg the bridge at contact at the top suction passed that cap. Both left a block
 that no grid suction reaches, and the export failed (exit 1, "no bridge at D* = ...") on
-grids the command accepts. The rows are checked as in test_yade.py: against the exact
+grids the command accepts; from about 88.9 deg the 0.7 deg bridge at contact is convex and the
+top suction came out negative. The rows are checked as in test_yade.py: against the exact
 bridge at each row's (D*, u*) from the independent ODE shooting of yade_rows.py.
 """
 
@@ -24,6 +25,7 @@ from wetcontact.export import yade
 from wetcontact.export.yade import (
     RATIOS,
     U_FIRST,
+    U_MIN_TOP,
     CapillaryTable,
     capillary_table,
     file_name,
@@ -76,6 +78,19 @@ def test_top_suction_reaches_contact_near_90_degrees():
     assert top[1] == tab.suctions[-1]
     assert top[4] == pytest.approx(0.9 * 1.1, rel=1e-9)   # 0.9 of the cap, at contact
     _assert_exact(10.0, 88.9, tab.rows)
+
+
+
+def test_top_suction_stays_positive_up_to_89_degrees():
+    """theta = 88.99 deg, r = 1: the 0.7 deg bridge at contact is convex (u* = -9.4), and the
+    grid's top suction was negative (a NaN grid from 4 suctions on)."""
+    tab = capillary_table(1.0, math.radians(88.99), n_suctions=3, n_distances=2)
+    assert tab.suctions[-1] == U_MIN_TOP
+    assert np.all(np.diff(tab.suctions) > 0)
+    for b in tab.blocks():
+        assert b[0, 1] >= 0.0 and np.all(np.diff(b[:, 1]) > 0)
+    assert tab.blocks()[0][-1, 1] == U_MIN_TOP                # a row at contact
+    _assert_exact(1.0, 88.99, tab.rows)
 
 
 # ---------------------------------------------------------------------------------------

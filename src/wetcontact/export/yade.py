@@ -23,9 +23,9 @@ since 2017 (nn11, nn33); blocks must not be empty.
 Grids (as Yade's own generator): ``n_distances`` distances evenly spaced from 0 to the
 largest rupture distance (at zero suction), ``u* = 0`` then ``n_suctions - 1`` values
 geometric from 0.002 to the suction at which the bridge at contact has a mean filling angle
-of 0.7 deg (above a contact angle of about 88.7 deg, where that bridge would pass the
-filling-angle cap below, the suction at which it fills 0.9 of the cap on the small sphere:
-Yade's generator too stops at a larger filling angle when it cannot reach 0.7 deg). Each D
+of 0.7 deg (near a contact angle of 90 deg, where that bridge is convex, u* < 0, or would
+pass the filling-angle cap below, a smaller one: at least u* = 1, and 0.9 of the cap on the
+small sphere; Yade's generator too has its own floor, the initial guess of its search). Each D
 block lists the suctions whose stable branch reaches D. Rows come from the
 suction-controlled continuation of :mod:`wetcontact.solver.meniscus.continuation` (stable:
 the large-volume side of the fold). Filling angles on the small sphere are capped at
@@ -94,6 +94,8 @@ POLISH_ELASTICITY = 0.6  # ... and where max(u*, 0.002) |d ln V / du*| < 0.6 (sm
 FOLD_MARGIN = 1e-4       # no row within 1e-4 (relative) of its fold (see the module notes)
 CAP_AT_MAX_U = 0.9       # contact angle near 90 deg: the largest suction's contact bridge
                          # fills 0.9 of the cap on the small sphere (its start is at contact)
+U_MIN_TOP = 1.0          # ... and the largest suction is at least 1 (the 0.7 deg bridge at
+                         # contact turns convex, u* < 0, above about 88.9 deg)
 FILL_LEVELS = 6          # a hole in the grid: up to 2**6 - 1 intermediate suctions
 FILL_ROWS = 2            # ... until this many reach each of its distances
 
@@ -205,10 +207,15 @@ def _flat_in_suction(rows: np.ndarray) -> np.ndarray:
 
 
 def _largest_suction(d, g: _Geo, c1_max: float) -> tuple[float, np.ndarray]:
-    """u* at which the contact bridge has mean filling angle FILLING_AT_MAX_U, or (contact
-    angles above about 88.7 deg, where that bridge's filling angle on the small sphere would
-    pass the cap ``c1_max``, so that no suction of the grid would have a bridge at contact)
-    filling angle ``CAP_AT_MAX_U * c1_max`` on the small sphere; its solution."""
+    """u* at which the contact bridge has mean filling angle FILLING_AT_MAX_U; its solution.
+
+    Near a contact angle of 90 deg that bridge is inadmissible for the grid, and the bridge
+    at contact is taken smaller (higher suction) instead: where its suction is below
+    ``U_MIN_TOP`` (above about 88.9 deg the 0.7 deg bridge at contact turns convex, u* < 0),
+    the bridge at contact at ``U_MIN_TOP``; then, where its filling angle on the small
+    sphere passes the cap ``c1_max`` (above about 88.7 deg; no grid suction would have a
+    bridge at contact), the one with ``CAP_AT_MAX_U * c1_max`` there.
+    """
     target = 2.0 * math.radians(FILLING_AT_MAX_U)
     c1 = target / (1.0 + g.rt)     # equal neck radii: R1 c1 = R2 c2 (R2 = 1)
     x0 = _guess_at(d, g, 0.0, min(c1, CAP_AT_MAX_U * c1_max))
@@ -217,10 +224,12 @@ def _largest_suction(d, g: _Geo, c1_max: float) -> tuple[float, np.ndarray]:
     a = np.zeros(d.m)
     a[d.ic1] = a[d.ic2] = 1.0
     nw = _newton(d, g, x0, (Linear(a, target), Fixed(d.iS, 0.0)), maxit=30)
+    if nw.converged and -nw.x[d.iP] < U_MIN_TOP:
+        nw = _newton(d, g, nw.x, (Fixed(d.iP, -U_MIN_TOP), Fixed(d.iS, 0.0)), maxit=30)
     if nw.converged and nw.x[d.ic1] > c1_max:
         nw = _newton(d, g, nw.x, (Fixed(d.ic1, CAP_AT_MAX_U * c1_max), Fixed(d.iS, 0.0)),
                      maxit=30)
-    if not nw.converged:
+    if not nw.converged or not 0.0 < nw.x[d.ic1] <= c1_max or -nw.x[d.iP] < U_MIN_TOP:
         raise SolverError("yade export: the smallest bridge at contact did not converge")
     return -float(nw.x[d.iP]), nw.x
 
