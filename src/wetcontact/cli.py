@@ -214,7 +214,8 @@ def _add_export_yade(fmt: argparse._SubParsersAction) -> None:
                    "(default 350, Yade's usual)")
     y.add_argument("--distances", type=int, default=80, help="distance values per file "
                    "(default 80, Yade's usual)")
-    y.add_argument("--workers", type=int, default=2, help="processes (default 2)")
+    y.add_argument("--workers", type=_non_negative_int, default=2, metavar="N",
+                   help="processes (default 2; 0 or 1 = in this process)")
     y.add_argument("--json", action="store_true", help="end with one JSON object")
 
 

@@ -23,12 +23,20 @@ since 2017 (nn11, nn33); blocks must not be empty.
 Grids (as Yade's own generator): ``n_distances`` distances evenly spaced from 0 to the
 largest rupture distance (at zero suction), ``u* = 0`` then ``n_suctions - 1`` values
 geometric from 0.002 to the suction at which the bridge at contact has a mean filling angle
-of 0.7 deg. Each D block lists the suctions whose stable branch reaches D. Rows come from
-the suction-controlled continuation of :mod:`wetcontact.solver.meniscus.continuation`
-(stable: the large-volume side of the fold). Filling angles on the small sphere are capped
-at ``min(90 deg - theta, 70 deg)`` (the meniscus model's range; Yade's generator goes to
+of 0.7 deg (near a contact angle of 90 deg, where that bridge is convex, u* < 0, or would
+pass the filling-angle cap below, a smaller one: at least u* = 1, and 0.9 of the cap on the
+small sphere; Yade's generator too has its own floor, the initial guess of its search). Each D
+block lists the suctions whose stable branch reaches D. Rows come from the
+suction-controlled continuation of :mod:`wetcontact.solver.meniscus.continuation` (stable:
+the large-volume side of the fold). Filling angles on the small sphere are capped at
+``min(90 deg - theta, 70 deg)`` (the meniscus model's range; Yade's generator goes to
 ``90 - theta``): below that suction's smallest admitted gap no row is written and Yade
-extrapolates in suction from the rows it has.
+extrapolates in suction from the rows it has. A branch's start (contact, or the cap) and
+its fold both fall as the suction rises, so on a coarse suction grid a distance can lie
+above the fold of one grid suction and below the start of the next lower one; such a block
+(which no grid suction reaches, and which Yade cannot read empty) takes the rows of
+suctions between those two, geometric, bisected until two of them reach it
+(:func:`_fill_holes`; Yade's generator fills it by extrapolating rows in distance instead).
 
 Near the fold every quantity at fixed (D*, u*) varies like ``sqrt(S_fold - D)``: the
 discretisation error of the gap at fixed (u*, delta1) (up to 5e-8 R2 at 32 elements,
@@ -50,8 +58,12 @@ u* = 0.002), so rows where that factor is below ``POLISH_ELASTICITY`` are re-sol
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
 import re
+import shutil
+import tempfile
 import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
@@ -60,7 +72,7 @@ from pathlib import Path
 import numpy as np
 
 from wetcontact.errors import InputError, SolverError
-from wetcontact.fileio import atomic_write_text
+from wetcontact.fileio import atomic_write_text, fsync_dir
 from wetcontact.solver.meniscus.continuation import (
     suction_at_gaps,
     suction_branch,
@@ -80,6 +92,12 @@ POLISH_SLOPE = 10.0      # ... those where |d ln V / dD*| > 10 (at fixed u*), or
                          # branch's last interval before the fold
 POLISH_ELASTICITY = 0.6  # ... and where max(u*, 0.002) |d ln V / du*| < 0.6 (small u*)
 FOLD_MARGIN = 1e-4       # no row within 1e-4 (relative) of its fold (see the module notes)
+CAP_AT_MAX_U = 0.9       # contact angle near 90 deg: the largest suction's contact bridge
+                         # fills 0.9 of the cap on the small sphere (its start is at contact)
+U_MIN_TOP = 1.0          # ... and the largest suction is at least 1 (the 0.7 deg bridge at
+                         # contact turns convex, u* < 0, above about 88.9 deg)
+FILL_LEVELS = 6          # a hole in the grid: up to 2**6 - 1 intermediate suctions
+FILL_ROWS = 2            # ... until this many reach each of its distances
 
 
 def file_name(ratio: float, suffix: str = "") -> str:
@@ -110,6 +128,9 @@ class CapillaryTable:
         Newton solves spent and the wall time of the table.
     polished
         Rows re-solved on ``POLISH_ELEMENTS`` elements (next to their fold, small suction).
+    intermediate
+        Suctions between grid suctions whose rows fill the blocks that no grid suction
+        reaches (a coarse suction grid; :func:`_fill_holes`).
     """
 
     ratio: float
@@ -121,6 +142,7 @@ class CapillaryTable:
     solves: int
     wall_time_s: float
     polished: int = 0
+    intermediate: int = 0
 
     def blocks(self) -> list[np.ndarray]:
         """Rows grouped by distance, as Yade reads them."""
@@ -184,17 +206,30 @@ def _flat_in_suction(rows: np.ndarray) -> np.ndarray:
     return flat
 
 
-def _largest_suction(d, g: _Geo) -> tuple[float, np.ndarray]:
-    """u* at which the contact bridge has mean filling angle FILLING_AT_MAX_U; its solution."""
+def _largest_suction(d, g: _Geo, c1_max: float) -> tuple[float, np.ndarray]:
+    """u* at which the contact bridge has mean filling angle FILLING_AT_MAX_U; its solution.
+
+    Near a contact angle of 90 deg that bridge is inadmissible for the grid, and the bridge
+    at contact is taken smaller (higher suction) instead: where its suction is below
+    ``U_MIN_TOP`` (above about 88.9 deg the 0.7 deg bridge at contact turns convex, u* < 0),
+    the bridge at contact at ``U_MIN_TOP``; then, where its filling angle on the small
+    sphere passes the cap ``c1_max`` (above about 88.7 deg; no grid suction would have a
+    bridge at contact), the one with ``CAP_AT_MAX_U * c1_max`` there.
+    """
     target = 2.0 * math.radians(FILLING_AT_MAX_U)
     c1 = target / (1.0 + g.rt)     # equal neck radii: R1 c1 = R2 c2 (R2 = 1)
-    x0 = _guess_at(d, g, 0.0, c1)
+    x0 = _guess_at(d, g, 0.0, min(c1, CAP_AT_MAX_U * c1_max))
     if x0 is None:
         raise SolverError("yade export: no toroidal guess for the smallest bridge")
     a = np.zeros(d.m)
     a[d.ic1] = a[d.ic2] = 1.0
     nw = _newton(d, g, x0, (Linear(a, target), Fixed(d.iS, 0.0)), maxit=30)
-    if not nw.converged:
+    if nw.converged and -nw.x[d.iP] < U_MIN_TOP:
+        nw = _newton(d, g, nw.x, (Fixed(d.iP, -U_MIN_TOP), Fixed(d.iS, 0.0)), maxit=30)
+    if nw.converged and nw.x[d.ic1] > c1_max:
+        nw = _newton(d, g, nw.x, (Fixed(d.ic1, CAP_AT_MAX_U * c1_max), Fixed(d.iS, 0.0)),
+                     maxit=30)
+    if not nw.converged or not 0.0 < nw.x[d.ic1] <= c1_max or -nw.x[d.iP] < U_MIN_TOP:
         raise SolverError("yade export: the smallest bridge at contact did not converge")
     return -float(nw.x[d.iP]), nw.x
 
@@ -213,6 +248,76 @@ def _start(d, g: _Geo, u_prev: float, x_prev: np.ndarray, u: float, c1_max: floa
     return None if xm is None else _start(d, g, mid, xm, u, c1_max, depth + 1)
 
 
+def _reaches(br, distances: np.ndarray) -> np.ndarray:
+    """Mask of the distances at which a suction branch has an admitted stable bridge: from
+    its start (contact, or the filling-angle cap) to ``1 - FOLD_MARGIN`` times its fold."""
+    return (distances >= br.S_start - 1e-13) & (distances <= br.S_fold * (1.0 - FOLD_MARGIN))
+
+
+def _between(u_lo: float, u_hi: float, t: float) -> float:
+    """The suction a fraction ``t`` of the way from ``u_lo`` to ``u_hi``: geometric, as the
+    grid (linear from ``u_lo = 0``)."""
+    return u_lo + t * (u_hi - u_lo) if u_lo == 0.0 else u_lo * (u_hi / u_lo) ** t
+
+
+def _fill_holes(d, g: _Geo, suctions: np.ndarray, branches: list, starts: list,
+                holes: np.ndarray, c1_max: float) -> tuple[list, int]:
+    """Rows for the grid distances that no grid suction reaches.
+
+    Both ends of a suction's branch, its start (contact, or the filling-angle cap) and its
+    fold, fall as the suction rises. On a coarse suction grid a distance can lie above the
+    fold of a suction ``u_hi`` and below the start of the next lower one ``u_lo``: no grid
+    suction has an admitted bridge there, and an empty block would crash Yade's reader.
+    Such a block takes intermediate suctions ``u_lo (u_hi/u_lo)^(j/2^L)`` (linear from
+    ``u_lo = 0``), each branch continued from the start at the next higher one, ``L``
+    growing up to ``FILL_LEVELS`` until ``FILL_ROWS`` of them reach each of its distances
+    (at least one at the last level).
+
+    Returns the ``(u, branch, distances)`` triples of the intermediate suctions that reach
+    a hole, and the Newton solves spent.
+    """
+    plan, solves = [], 0
+    todo = np.asarray(holes, float)
+    top = 2 ** FILL_LEVELS
+    for i in range(len(suctions) - 1):
+        lo, hi = branches[i], branches[i + 1]
+        here = todo[(todo < lo.S_start - 1e-13) & (todo > hi.S_fold * (1.0 - FOLD_MARGIN))]
+        if here.size == 0:
+            continue
+        todo = np.setdiff1d(todo, here)
+        u_lo, u_hi = float(suctions[i]), float(suctions[i + 1])
+        done: dict[int, tuple] = {top: (u_hi, starts[i + 1], None)}
+        for level in range(1, FILL_LEVELS + 1):
+            step = top >> level
+            for j in range(top - step, 0, -step):       # decreasing suction
+                if j in done:
+                    continue
+                u_prev, x_prev, _ = done[min(k for k in done if k > j)]
+                u = _between(u_lo, u_hi, j / top)
+                x = _start(d, g, u_prev, x_prev, u, c1_max)
+                if x is None:
+                    raise SolverError(f"yade export: no stable bridge at u* = {u:.6g} (between "
+                                      f"the grid's {u_lo:.6g} and {u_hi:.6g})")
+                br = suction_branch(d, g, -u, x)
+                solves += br.solves + 1
+                done[j] = (u, x, br)
+            counts = sum(_reaches(br, here).astype(int)
+                         for _, _, br in done.values() if br is not None)
+            if np.all(counts >= FILL_ROWS):
+                break
+        if np.any(counts < 1):
+            raise SolverError(f"yade export: no bridge at D* = {here[counts < 1][0]:.6g} at "
+                              f"{top - 1} suctions between {u_lo:.6g} and {u_hi:.6g}")
+        for j in sorted(done):
+            u, _, br = done[j]
+            if br is not None and np.any(sel := _reaches(br, here)):
+                plan.append((u, br, here[sel]))
+    if todo.size:
+        raise SolverError(f"yade export: no bridge at D* = {todo[0]:.6g}: no grid suction's "
+                          "branch reaches it")
+    return plan, solves
+
+
 def capillary_table(ratio: float, contact_angle: float, n_suctions: int = 350,
                     n_distances: int = 80, n_elements: int = DEFAULT_ELEMENTS,
                     max_suction: float | None = None) -> CapillaryTable:
@@ -221,7 +326,9 @@ def capillary_table(ratio: float, contact_angle: float, n_suctions: int = 350,
     Suctions are taken in decreasing order so that each branch start (contact, or the
     largest admitted filling angle) is continued from the previous one; along each suction
     the gap is followed from its start to the fold (:func:`suction_branch`), and the rows are
-    the stable bridges at the grid distances it reaches (:func:`suction_at_gaps`).
+    the stable bridges at the grid distances it reaches (:func:`suction_at_gaps`). A grid
+    distance that no grid suction reaches takes rows at intermediate suctions
+    (:func:`_fill_holes`), so that no block is empty.
     ``max_suction`` (u*) lowers the top of the suction grid (reduced tables for tests).
     """
     if not (math.isfinite(ratio) and ratio >= 1.0):
@@ -237,14 +344,14 @@ def capillary_table(ratio: float, contact_angle: float, n_suctions: int = 350,
     d = _disc(int(n_elements))
     g = _Geo(1.0 / ratio, 1.0, contact_angle, contact_angle, 0.0)
     c1_max = min(0.5 * math.pi - contact_angle, PHI_MAX)
-    u_max, x = _largest_suction(d, g)
+    u_max, x = _largest_suction(d, g, c1_max)
     if max_suction is not None:
         if not U_FIRST < max_suction < u_max:
             raise InputError(f"yade export: max_suction = {max_suction!r}; allowed: "
                              f"({U_FIRST}, {u_max:.6g})")
         u_max = float(max_suction)
     suctions = np.concatenate([[0.0], np.geomspace(U_FIRST, u_max, n_suctions - 1)])
-    branches = []
+    branches, starts = [], []
     solves = 1
     u_prev = u_max
     for u in suctions[::-1]:
@@ -253,17 +360,25 @@ def capillary_table(ratio: float, contact_angle: float, n_suctions: int = 350,
             raise SolverError(f"yade export: no stable bridge at u* = {u:.6g}, r = {ratio:g}")
         br = suction_branch(d, g, -float(u), start)
         branches.append(br)
+        starts.append(start)
         solves += br.solves + 1
         x, u_prev = start, float(u)
-    branches = branches[::-1]
+    branches, starts = branches[::-1], starts[::-1]
     rupture = np.array([br.S_fold for br in branches])
     D_max = float(np.max(rupture)) * (1.0 - FOLD_MARGIN)
     distances = np.linspace(0.0, D_max, n_distances)
+    plan = [(float(u), br, distances[_reaches(br, distances)])
+            for u, br in zip(suctions, branches, strict=True)]
+    covered = np.zeros(distances.size, bool)
+    for _, br, _ in plan:
+        covered |= _reaches(br, distances)
+    if not covered.all():
+        extra, n = _fill_holes(d, g, suctions, branches, starts, distances[~covered], c1_max)
+        plan += extra
+        solves += n
     df = _disc(max(POLISH_ELEMENTS, int(n_elements)))
     rows, polished, coarse = [], 0, []
-    for u, br in zip(suctions, branches, strict=True):
-        top = br.S_fold * (1.0 - FOLD_MARGIN)
-        sel = distances[(distances >= br.S_start - 1e-13) & (distances <= top)]
+    for u, br, sel in plan:
         Ss = np.array([p[d.iS] for p in br.points])
         lnV = np.log([_volume(d, g, p) for p in br.points])
         for D, xs in zip(sel, suction_at_gaps(br, sel), strict=True):
@@ -271,13 +386,12 @@ def capillary_table(ratio: float, contact_angle: float, n_suctions: int = 350,
             last = k == len(Ss) - 2
             steep = abs(lnV[k + 1] - lnV[k]) > POLISH_SLOPE * max(Ss[k + 1] - Ss[k], 1e-300)
             if (last or steep) and df.n_el > d.n_el:
-                rows.append(_row(df, g, _polish(d, df, g, xs, -float(u), float(D)),
-                                 float(D), float(u)))
+                rows.append(_row(df, g, _polish(d, df, g, xs, -u, float(D)), float(D), u))
                 solves += 1
                 polished += 1
             else:
                 coarse.append((len(rows), xs))
-                rows.append(_row(d, g, xs, float(D), float(u)))
+                rows.append(_row(d, g, xs, float(D), u))
         solves += sel.size
     arr = np.array(rows)
     if df.n_el > d.n_el:
@@ -293,7 +407,8 @@ def capillary_table(ratio: float, contact_angle: float, n_suctions: int = 350,
     if missing:
         raise SolverError(f"yade export: no bridge at D* = {missing[0]:.6g} for r = {ratio:g}")
     return CapillaryTable(float(ratio), float(contact_angle), distances, suctions, arr,
-                          rupture, solves, time.perf_counter() - t0, polished)
+                          rupture, solves, time.perf_counter() - t0, polished,
+                          intermediate=len(plan) - len(suctions))
 
 
 def format_table(table: CapillaryTable) -> str:
@@ -328,7 +443,8 @@ def _one(args: tuple) -> dict:
     return {"ratio": ratio, "file": path, "rows": int(tab.rows.shape[0]),
             "suctions": int(tab.suctions.size), "distances": int(tab.distances.size),
             "max_distance": float(tab.distances[-1]), "max_suction": float(tab.suctions[-1]),
-            "solves": tab.solves, "polished": tab.polished, "wall_time_s": tab.wall_time_s}
+            "solves": tab.solves, "polished": tab.polished, "intermediate": tab.intermediate,
+            "wall_time_s": tab.wall_time_s}
 
 
 MAX_SUCTIONS, MAX_DISTANCES = 5000, 2000
@@ -340,15 +456,22 @@ def export_yade(contact_angle_deg: float, out: Path, n_suctions: int = 350,
                 n_distances: int = 80, workers: int = 2, n_elements: int = DEFAULT_ELEMENTS,
                 suffix: str | None = None, ratios: tuple[float, ...] = RATIOS,
                 max_suction: float | None = None) -> dict:
-    """Write the ten capillary files for one contact angle into ``out``.
+    """Write the ten capillary files for one contact angle into ``out``, all or none.
+
+    The tables are written into a temporary folder beside ``out`` and moved into ``out``
+    only when every one of them has been computed and written: a failed or interrupted
+    export leaves ``out`` as it was (the files of an earlier export untouched, a folder it
+    created removed again).
 
     Returns a summary: ``files`` (paths), ``suffix`` (Yade's ``suffCapFiles``),
-    ``contact_angle_deg``, per-file rows and times, ``wall_time_s``.
+    ``contact_angle_deg``, per-file rows and times, ``wall_time_s``. ``workers``: processes
+    (0 or 1: in this process, as ``sweep --workers 0``).
     """
     if not (math.isfinite(contact_angle_deg) and 0.0 <= contact_angle_deg < 89.0):
         raise InputError(f"--contact-angle = {contact_angle_deg!r} deg; allowed: [0, 89) deg")
-    if workers < 1:
-        raise InputError(f"--workers = {workers}; allowed: >= 1")
+    if workers < 0:
+        raise InputError(f"--workers = {workers}; allowed: an integer >= 0 (0 or 1: in this "
+                         "process)")
     for flag, n, lo, hi in (("--suctions", n_suctions, 3, MAX_SUCTIONS),
                             ("--distances", n_distances, 2, MAX_DISTANCES)):
         if not lo <= n <= hi:
@@ -359,19 +482,61 @@ def export_yade(contact_angle_deg: float, out: Path, n_suctions: int = 350,
                          "= - (it ends each file name in the --out folder)")
     suffix = default_suffix(contact_angle_deg) if suffix is None else suffix
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    theta = math.radians(contact_angle_deg)
-    jobs = [(r, theta, n_suctions, n_distances, n_elements, max_suction,
-             str(out / file_name(r, suffix))) for r in ratios]
-    t0 = time.perf_counter()
-    if workers == 1:
-        results = [_one(j) for j in jobs]
-    else:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            results = list(pool.map(_one, jobs))
+    if out.exists() and not out.is_dir():
+        raise InputError(f"--out {str(out)!r}: exists and is not a folder; give a folder")
+    made = not out.exists()
+    out.mkdir(parents=True, exist_ok=True)   # a path error now, not after the tables
+    ok = False
+    try:
+        staging = _staging_folder(out)
+        try:
+            theta = math.radians(contact_angle_deg)
+            jobs = [(r, theta, n_suctions, n_distances, n_elements, max_suction,
+                     str(staging / file_name(r, suffix))) for r in ratios]
+            t0 = time.perf_counter()
+            results = _run_jobs(jobs, workers)
+            for res in results:
+                name = Path(res["file"]).name
+                os.replace(staging / name, out / name)
+                res["file"] = str(out / name)
+            fsync_dir(out)
+            ok = True
+        finally:
+            shutil.rmtree(staging, ignore_errors=True)
+    finally:
+        if made and not ok:
+            with contextlib.suppress(OSError):
+                out.rmdir()                  # only if still empty
     return {"files": [r["file"] for r in results], "suffix": suffix,
             "contact_angle_deg": contact_angle_deg, "n_elements": n_elements,
             "tables": results, "wall_time_s": time.perf_counter() - t0}
+
+
+def _staging_folder(out: Path) -> Path:
+    """A new temporary folder beside ``out`` on the same file system, so that moving a file
+    from it into ``out`` is one rename (inside ``out`` when its parent is not writable or
+    ``out`` is a mount point)."""
+    where = out.resolve()
+    if where.parent != where and where.parent.stat().st_dev == where.stat().st_dev:
+        with contextlib.suppress(OSError):
+            return Path(tempfile.mkdtemp(prefix=f".{where.name[:50]}.yade-partial-",
+                                         dir=where.parent))
+    return Path(tempfile.mkdtemp(prefix=".yade-partial-", dir=where))
+
+
+def _run_jobs(jobs: list[tuple], workers: int) -> list[dict]:
+    """:func:`_one` for every job, in this process (``workers <= 1``) or in a pool; the
+    first failure cancels the jobs not yet started and is raised."""
+    if workers <= 1:
+        return [_one(j) for j in jobs]
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        futures = [pool.submit(_one, j) for j in jobs]
+        try:
+            return [f.result() for f in futures]
+        except BaseException:
+            for f in futures:
+                f.cancel()
+            raise
 
 
 # ---------------------------------------------------------------------------------------
