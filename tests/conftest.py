@@ -4,14 +4,23 @@ from __future__ import annotations
 
 import copy
 import math
+import os
+import sys
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-import pytest
+# The suite runs on two pytest-xdist workers (pyproject addopts): one BLAS thread each, so
+# that two workers on two cores do not contend with four BLAS threads (small products ran
+# 10-20x slower so). Only before numpy is loaded; a worker's subprocesses inherit it.
+if os.environ.get("PYTEST_XDIST_WORKER") and "numpy" not in sys.modules:
+    for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ.setdefault(_var, "1")
 
-from wetcontact.models import load_all
-from wetcontact.scene import Scene, scene_from_dict
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+from wetcontact.models import load_all  # noqa: E402
+from wetcontact.scene import Scene, scene_from_dict  # noqa: E402
 
 load_all()  # fill the registry: closures and every solver present
 
