@@ -24,7 +24,6 @@ Registered models (``component = "capillary"``, ``level = 0``): ``toroidal``, ``
 
 from __future__ import annotations
 
-import math
 from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
@@ -637,19 +636,26 @@ def bagheri_force(gap: Any, volume: Any, radius: Any, surface_tension: Any,
     sig = positive("surface_tension", surface_tension, "N/m")
     th = angle("theta", theta)
     vs = v / r**3
-    lv = np.log(vs)
     sc = (1.0 + 0.5 * th) * (np.cbrt(vs) + 0.1 * np.cbrt(vs) ** 2)
     s = sg / (r * sc)
     f0 = 2.0 * np.pi * (1.0 - 0.3823 * vs**0.2586)
     a = 0.4158 * vs**0.2835 + 0.6474
     b = -0.2087 * vs**0.3113 + 2.267
     ft = (1.0 - a * np.sin(th) ** b) * f0
+    a_s, b_s, a_t = _bagheri_gap_terms(vs, th)
+    f = ft * (1.0 + a_s * s) / (1.0 + a_t * b_s * a_s * s + a_t * b_s * s**2)
+    return f * r * sig
+
+
+def _bagheri_gap_terms(vs: Any, th: Any) -> tuple[Any, Any, Any]:
+    """``a_s``, ``b_s``, ``a_t`` of :func:`bagheri_force`'s gap factor (Bagheri et al.
+    2024, eqs. 28-30) at ``V* = vs`` and ``theta = th`` (rad)."""
+    lv = np.log(vs)
     a_s = -0.3319 * vs**0.4974 + 0.6717 * vs**0.1995
     b_s = 13.84 * vs**-0.3909 - 12.11 * vs**-0.3945
     a_t = ((-0.007815 * lv**2 - 0.2105 * lv - 1.426) * th**3
            + (-1.78 * vs**0.8351 + 0.6669 * vs**-0.01391) * th + 1.0)
-    f = ft * (1.0 + a_s * s) / (1.0 + a_t * b_s * a_s * s + a_t * b_s * s**2)
-    return f * r * sig
+    return a_s, b_s, a_t
 
 
 def bagheri_pole(volume_ratio: float, theta: float) -> float | None:
@@ -659,12 +665,8 @@ def bagheri_pole(volume_ratio: float, theta: float) -> float | None:
     coefficients as :func:`bagheri_force`) is 1 at contact; its first root in [0, 1] is
     the pole, found from the quadratic.
     """
-    vs, th = float(volume_ratio), float(theta)
-    lv = math.log(vs)
-    a_s = -0.3319 * vs**0.4974 + 0.6717 * vs**0.1995
-    b_s = 13.84 * vs**-0.3909 - 12.11 * vs**-0.3945
-    a_t = ((-0.007815 * lv**2 - 0.2105 * lv - 1.426) * th**3
-           + (-1.78 * vs**0.8351 + 0.6669 * vs**-0.01391) * th + 1.0)
+    a_s, b_s, a_t = (float(x) for x in _bagheri_gap_terms(float(volume_ratio),
+                                                           float(theta)))
     roots = np.roots([a_t * b_s, a_t * b_s * a_s, 1.0])
     real = sorted(float(r.real) for r in roots
                   if abs(r.imag) <= 1e-12 * max(1.0, abs(r)) and 0.0 <= r.real <= 1.0)
