@@ -659,13 +659,16 @@ def test_sharp_slow_approach_suction_is_the_static_bridge_of_the_wetted_volume()
 
 def test_sharp_viscous_part_matches_lubrication_on_the_wetted_zone():
     """The viscous part is the Reynolds force of the wetted zone r < r_c (closed form in
-    the model); the ``lubrication`` model's finite-volume Reynolds solver with the same
-    wetted radius and edge pressure agrees within 1 %, and the total within 1 %."""
+    the model, ``SharpFilm.viscous_force``); the ``lubrication`` model's finite-volume
+    Reynolds solver (Richardson-extrapolated, a method independent of the closed form) with
+    the same wetted radius agrees within 1e-8 (measured 4e-14 to 6e-12). Only the viscous
+    part is compared: lubrication's boundary term pi r_c^2 p_e is not the meniscus
+    bridge's force, which the suction tests check against ``meniscus``."""
     prob = sharp_problem()
     res = tf.sharp_run(prob, SHARP_GAPS, rtol=1e-3)
     for sn in res.snapshots[1:]:
         visc, _ = _reynolds(prob, sn)
-        assert sn.force_viscous == pytest.approx(visc, rel=1e-2), sn.gap
+        assert sn.force_viscous == pytest.approx(visc, rel=1e-8), sn.gap
 
 
 def test_sharp_contact_converges_with_the_film_cells():
