@@ -579,7 +579,7 @@ def test_near_ridge_scenes_claim_no_less_than_the_near_ridge_errors() -> None:
         assert floor == pytest.approx(np.full(2, MARGIN * least), rel=1e-12)
         assert cc.NEAR_RIDGE_MARGIN == MARGIN  # the bound tables' own margin
         est = model.force(scene).error_estimate
-        assert est is None or np.all(est >= floor)
+        assert est is not None and np.all(est >= floor)
         got = select.component_bound(model, "default", "capillary", scene)
         assert np.all(got[0] >= floor)
 

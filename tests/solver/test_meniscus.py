@@ -236,6 +236,30 @@ def test_model_force_matches_shooting(scene_factory):
     assert curve.force_capillary[0] == pytest.approx(-ref.force * sig * R, rel=1e-6)
 
 
+@pytest.mark.parametrize("preset", ["fast", "default"])
+@pytest.mark.parametrize("kind,theta", [("sphere-wall", 20.0), ("sphere-sphere", 50.0)])
+def test_model_presets_within_their_declared_bounds_of_shooting(scene_factory, preset, kind,
+                                                                theta):
+    """Each preset's declared bound (``error_bound``: 1e-5 fast, 1e-6 default), which
+    selection relies on, holds against the shooting solution at a small gap, half the
+    rupture distance and 0.95 of it (V/R^3 = 1e-2; R2 = 2 R between spheres)."""
+    model = load_all()["meniscus"]
+    R, sig, v = 1e-3, 0.072, 1e-11
+    s_c = model.force(_scene(scene_factory, kind=kind, V=v, gaps=(1e-7,),
+                             contact_angle=theta)).extras["rupture_distance"][0]
+    gaps = (1e-7, 0.5 * s_c, 0.95 * s_c)
+    curve = model.force(_scene(scene_factory, kind=kind, V=v, gaps=gaps, contact_angle=theta),
+                        preset=preset)
+    r2 = 2.0 if kind == "sphere-sphere" else None
+    bound = model.error_bound[preset]
+    for i, gap in enumerate(gaps):
+        phi = curve.extras["filling_angle"][i]  # on the first sphere
+        ref = shoot_volume(v / R**3, gap / R, theta * DEG, theta * DEG, r2,
+                           (phi, curve.extras["laplace_pressure"][i] * R / sig))
+        assert ref.residual < 1e-10, "shooting did not converge"
+        assert abs(curve.force_capillary[i] / (-ref.force * sig * R) - 1.0) <= bound, gap
+
+
 def test_model_rejects_bad_input(scene_factory):
     model = load_all()["meniscus"]
     immersed = scene_factory()

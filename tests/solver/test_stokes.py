@@ -155,6 +155,16 @@ def test_reaction_equals_dissipation_and_traction_agrees():
     assert sol.force_traction == pytest.approx(sol.force_reaction, rel=3e-3)
 
 
+@pytest.mark.parametrize("s", [1e-4, 1e-3, 0.1, 1.0, 10.0])
+def test_sphere_wall_default_preset_within_its_bound_of_brenner(model, scene_factory, s):
+    """The default preset's declared bound (``error_bound["default"]``, 1e-4), which
+    selection relies on, holds against Brenner's exact series over the immersed range."""
+    curve = model.force(_scene(scene_factory, gaps=(s,)), preset="default")
+    ref = 6 * math.pi * ETA * R * V * brenner_lambda(s)
+    assert abs(curve.force_viscous[0] / ref - 1.0) <= model.error_bound["default"]
+    assert curve.error_estimate[0] == model.error_bound["default"]
+
+
 @pytest.mark.parametrize("s", [1e-3, 1.0])
 def test_two_spheres_symmetry_and_full_mesh_against_series(model, scene_factory, s):
     """The shear-free-plane half problem, the full two-sphere mesh and the series agree."""
