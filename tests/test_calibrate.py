@@ -286,3 +286,35 @@ def test_refitted_rupture_distance_is_no_force(tmp_path, capsys) -> None:
     # a family named without its coefficients: exit 2, saying what to give
     assert main(["solve", str(case), "--model", "lian-rupture"]) == 2
     assert "--coefficients FILE.json" in capsys.readouterr().err
+
+
+COMMITTED = ROOT / "benchmarks" / "results" / "calibration"
+
+
+@pytest.mark.parametrize("family", sorted(p.stem for p in COMMITTED.glob("*.json")))
+def test_committed_reference_points_are_solved_again(family):
+    """The committed held-out tables are the errors on the committed reference points
+    (``tests/tables/test_calibration.py``); here two of their scenes, the first and the
+    last of the held-out study, are solved again by the reference model at the study's
+    preset, and every point they give is one of the committed points with the same value
+    (within 1e-9): the committed references are not stale."""
+    from wetcontact.models import get_model
+    from wetcontact.study import load_study
+
+    data = json.loads((COMMITTED / f"{family}.json").read_text())
+    fam = cal.get_family(data["family"])
+    ref_name = data["reference"].split()[0]
+    study = load_study(ROOT / data["held_out_study"])
+    _, held = cal.load_points(COMMITTED / f"{family}_points.npz")
+    keys = sorted(held.inputs)
+    table = np.column_stack([held.inputs[k] for k in keys])
+    scenes = [sc for _, sc in study.scenes]
+    for scene in (scenes[0], scenes[-1]):
+        curve = get_model(ref_name).force(scene, preset=study.preset)
+        fresh = cal.points_from_curves(fam, [(scene, curve)])
+        assert len(fresh) > 0
+        for i in range(len(fresh)):
+            row = np.array([fresh.inputs[k][i] for k in keys])
+            match = np.flatnonzero(np.all(np.isclose(table, row, rtol=1e-12, atol=0), axis=1))
+            assert match.size == 1, (scene.name, i)
+            assert fresh.y[i] == pytest.approx(held.y[match[0]], rel=1e-9), (scene.name, i)
