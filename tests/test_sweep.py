@@ -12,6 +12,7 @@ import stat
 import subprocess
 import sys
 import textwrap
+import threading
 import time
 from pathlib import Path
 
@@ -165,18 +166,18 @@ def test_batch_writer_writes_in_batches(tmp_path):
 
 
 HOLDER = textwrap.dedent("""
-    import sys, time
+    import sys
     from wetcontact.store import Store
     with Store(sys.argv[1]).writer():
         print("locked", flush=True)
-        time.sleep(float(sys.argv[2]))
+        sys.stdin.readline()  # holds the lock until the test says "release"
 """)
 
 
 def test_second_writer_waits_or_exits_2_with_one_line(tmp_path, capsys):
     path = tmp_path / "r.h5"
-    holder = subprocess.Popen([sys.executable, "-c", HOLDER, str(path), "3"], env=ENV,
-                              stdout=subprocess.PIPE, text=True)
+    holder = subprocess.Popen([sys.executable, "-c", HOLDER, str(path)], env=ENV,
+                              stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
     try:
         assert holder.stdout.readline().strip() == "locked"
         sc = make_scene()
@@ -186,10 +187,19 @@ def test_second_writer_waits_or_exits_2_with_one_line(tmp_path, capsys):
         assert main(["sweep", str(study), "--store", str(path)]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and "store is in use" in err
-        t0 = time.monotonic()  # with a long enough wait the second writer goes through
-        assert main(["sweep", str(study), "--store", str(path), "--wait", "30",
-                     "--json"]) == 0
-        assert time.monotonic() - t0 > 0.5
+        # with a long enough wait the second writer goes through once the lock is freed:
+        # the holder frees it 1 s from now, so the sweep cannot finish sooner however
+        # loaded the machine is
+        release = threading.Timer(1.0, lambda: (holder.stdin.write("release\n"),
+                                                holder.stdin.flush()))
+        t0 = time.monotonic()
+        release.start()
+        try:
+            assert main(["sweep", str(study), "--store", str(path), "--wait", "30",
+                         "--json"]) == 0
+        finally:
+            release.cancel()
+        assert time.monotonic() - t0 >= 1.0
         assert json.loads(capsys.readouterr().out)["computed"] == 1
     finally:
         holder.kill()
