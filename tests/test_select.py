@@ -133,6 +133,38 @@ def test_bridge_with_speed_gets_both_components(scene_factory) -> None:
     assert np.all(curve.force_viscous > 0) and np.all(curve.force_capillary < 0)
 
 
+def test_bridge_viscous_force_is_zero_past_the_rupture_distance(capsys) -> None:
+    """Past the capillary model's rupture distance there is no bridge: the combined curve's
+    viscous force is 0 there (the thin-gap viscous models alone give a force, `lubrication`
+    with a warning), as it is in `stokes`, and the CLI says so in one note line."""
+    from wetcontact.cli import main
+    from wetcontact.scene import load_case
+
+    path = Path(__file__).resolve().parents[1] / "cases" / "dem-pendular-bridge-100um.toml"
+    case = load_case(path)
+    sc_m = float(get_model("meniscus").force(case.with_gaps([1e-7])).extras[
+        "rupture_distance"][0])
+    gaps = [1.05 * sc_m, 1.002 * sc_m, 0.99 * sc_m, 0.5 * sc_m]
+    scene = case.with_gaps(gaps)
+    curve, sel = select.solve(scene, 0.01)
+    sc = curve.extras["rupture_distance"]
+    assert np.all(np.abs(sc / sc_m - 1) < 1e-3)  # the capillary model's own S_c
+    past = scene.gap_array >= sc
+    assert past.tolist() == [True, True, False, False]
+    assert np.all(curve.force_viscous[past] == 0) and np.all(curve.force_capillary[past] == 0)
+    assert np.all(curve.force_viscous[~past] > 0) and np.all(curve.force_capillary[~past] < 0)
+    assert "2 of 4 gaps" in curve.diagnostics["past_rupture"]
+    alone = sel.choices["viscous"].model.force(scene, preset=sel.choices["viscous"].preset)
+    assert np.all(alone.force_viscous > 0)  # what the combination corrects
+    assert "no bridge" in alone.diagnostics.get("outside_stated_validity", "")
+    inside = get_model("lubrication").force(case.with_gaps([0.5 * sc_m]))
+    assert "outside_stated_validity" not in inside.diagnostics
+    capsys.readouterr()
+    assert main(["solve", str(path), "--tol", "0.01"]) == 0  # its first gap is past S_c
+    err = capsys.readouterr().err
+    assert err.count("wetcontact: note: viscous force 0 at 1 of") == 1, err
+
+
 def test_cox_brenner_bound_covers_its_error_and_refuses_far_gaps() -> None:
     for kind in ("sphere-wall", "sphere-sphere"):
         sc = make_scene(kind, {"immersed": True}, [0.5 * R, R], R if kind != "sphere-wall"

@@ -324,6 +324,8 @@ def _solve(args: argparse.Namespace) -> int:
         for ch in sel.choices.values():
             if not ch.met:
                 sys.stderr.write(f"wetcontact: warning: {ch.component} force: {ch.reason}\n")
+        if note := curve.diagnostics.get("past_rupture"):
+            sys.stderr.write(f"wetcontact: note: {note}\n")
     if args.json:
         out = curve.to_json_dict()
         out["model_viscous"] = names.get("viscous")

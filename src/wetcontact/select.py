@@ -36,7 +36,9 @@ used (a costlier one only if it cuts the bound by :data:`FALLBACK_RATIO`) and th
 says so (``met = False``). Both models run, and one curve is returned:
 ``force_viscous`` from the viscous choice, ``force_capillary`` from the capillary one, and
 the per-component bounds as extras ``error_estimate_viscous`` / ``error_estimate_capillary``
-(``error_estimate`` is their maximum per gap).
+(``error_estimate`` is their maximum per gap). For a bridge, the viscous force is 0 at
+the gaps at or past the capillary model's rupture distance (no bridge, no liquid between
+the surfaces); the thin-gap viscous models alone would still give one there.
 """
 
 from __future__ import annotations
@@ -282,10 +284,32 @@ def combine(scene: Scene, sel: Selection, runs: dict[tuple[str, str], ForceCurve
         settings[c] = _plain({"model": ch.model.name, **parts[c].settings})
     if fv is None and fc is None:
         raise InputError(f"scene '{scene.name}' needs no force component")
+    if fv is not None and fc is not None and scene.amount == "bridge":
+        fv, note = _no_bridge_no_viscous(scene, fv, parts["capillary"])
+        if note:
+            diag["past_rupture"] = note
     return ForceCurve(case=scene.name, model="+".join(names), gap=scene.gap_array,
                       force_viscous=fv, force_capillary=fc, extras=extras,
                       error_estimate=est, diagnostics=diag, settings=settings,
                       provenance=provenance())
+
+
+def _no_bridge_no_viscous(scene: Scene, fv: np.ndarray, capillary: ForceCurve
+                          ) -> tuple[np.ndarray, str]:
+    """The viscous force set to 0 at the gaps at or past the bridge's rupture distance
+    given by the capillary model (``rupture_distance``), where there is no bridge and so no
+    liquid between the surfaces; the thin-gap viscous models would return a force there.
+    Returns the force and a one-line note (empty when no gap is past rupture)."""
+    sc = capillary.extras.get("rupture_distance")
+    if sc is None:
+        return fv, ""
+    sc = np.broadcast_to(np.asarray(sc, dtype=float), fv.shape)
+    past = np.isfinite(sc) & (scene.gap_array >= sc)
+    if not past.any():
+        return fv, ""
+    return np.where(past, 0.0, fv), (
+        f"viscous force 0 at {int(past.sum())} of {past.size} gaps at or past the bridge's "
+        f"rupture distance {float(sc[past][0]):.4g} m ({capillary.model}): no bridge there")
 
 
 def _plain(v: Any) -> Any:

@@ -354,16 +354,28 @@ def finite_liquid_note(scene: Scene) -> str:
     s = float(np.max(gaps)) / scene.reduced_radius
     if s > THIN_GAP_LIMIT:
         notes.append(f"S/R* up to {s:.3g} > {THIN_GAP_LIMIT:g}, the thin-gap limit")
-    if scene.amount == "bridge":
-        from wetcontact.reduced_models.capillary import mean_contact_angle
-        from wetcontact.reduced_models.rupture import lian_rupture_distance
-
-        sc = float(lian_rupture_distance(scene.bridge_volume, mean_contact_angle(
-            scene.contact_angle_sphere, scene.contact_angle_wall)))
-        if (n := int(np.sum(gaps >= sc))):
-            notes.append(f"{n} of {gaps.size} gaps at or past the bridge's rupture distance "
-                         f"(Lian 1993: {sc:.3g} m), where there is no bridge")
+    if note := past_rupture_note(scene):
+        notes.append(note)
     return "; ".join(notes)
+
+
+def past_rupture_note(scene: Scene) -> str:
+    """For a bridge, how many of the scene's gaps are at or past Lian's rupture distance
+    ``S_c = (1 + theta/2) V^(1/3)`` (Lian et al. 1993, theta the mean contact angle), where
+    there is no bridge and so no viscous force; empty otherwise. For the thin-gap viscous
+    models, which take the bridge's liquid as a disk between the surfaces at every gap."""
+    if scene.amount != "bridge":
+        return ""
+    from wetcontact.reduced_models.capillary import mean_contact_angle
+    from wetcontact.reduced_models.rupture import lian_rupture_distance
+
+    gaps = scene.gap_array
+    sc = float(lian_rupture_distance(scene.bridge_volume, mean_contact_angle(
+        scene.contact_angle_sphere, scene.contact_angle_wall)))
+    if not (n := int(np.sum(gaps >= sc))):
+        return ""
+    return (f"{n} of {gaps.size} gaps at or past the bridge's rupture distance "
+            f"(Lian 1993: {sc:.3g} m), where there is no bridge")
 
 
 @register

@@ -51,6 +51,7 @@ from scipy.linalg import solve_banded
 
 from wetcontact.errors import InputError, SolverError, ValidityError
 from wetcontact.models import ForceCurve, Model, register
+from wetcontact.reduced_models.viscous import past_rupture_note
 from wetcontact.scene import Scene
 
 NAME = "lubrication"
@@ -650,7 +651,8 @@ class Lubrication(Model):
     reference: ClassVar[str] = ("Reynolds equation, axisymmetric squeeze film; finite liquid "
                                 "Pitois et al. 2000; Navier slip Vinogradova 1995")
     validity: ClassVar[str] = ("thin wetted gap (film or bridge) with r_w <= (sqrt 3/2) R_min "
-                               "(surface slope <= 60 deg); not immersed (use 'stokes'); "
+                               "(surface slope <= 60 deg); a bridge short of its rupture "
+                               "distance; not immersed (use 'stokes'); "
                                "quasi-steady, no inertia, rigid surfaces unless a gap is given")
     presets: ClassVar[dict[str, dict[str, Any]]] = {
         "fast": {"n": 24, "levels": 2},
@@ -735,7 +737,9 @@ class Lubrication(Model):
                     "axis_pressure": on_all_gaps(sol.p[:, 0])},
             error_estimate=on_all_gaps(sol.error_estimate),
             diagnostics={"dofs_per_gap": sol.dofs, "levels": opts.get("levels", 3),
-                         "active_set_iterations": sol.active_set_iterations},
+                         "active_set_iterations": sol.active_set_iterations,
+                         **({"outside_stated_validity": note}
+                            if (note := past_rupture_note(full)) else {})},
         )
 
     def convergence_data(self) -> tuple[np.ndarray, np.ndarray]:
