@@ -1251,12 +1251,18 @@ def test_cli_errors_are_one_line(tmp_path, capsys):
         (["export", "c", "--out", str(tmp_path / "no" / "x.h")], "does not exist"),
         (["export", "python", "--out", str(tmp_path), "--capillary",
           str(tmp_path / "missing.json")], "missing.json: no such calibration file"),
+        # a trailing separator names a folder: a missing one is not written as a file
+        (["export", "python", "--out", str(tmp_path / "pyfolder") + "/"],
+         "names a folder that does not exist"),
+        (["export", "json", "--closure", "calibrated-viscous", "--out",
+          str(tmp_path / "j") + "/"], "names a folder that does not exist"),
     ]
     for argv, says in cases:
         assert main(argv) == 2, argv
         err = capsys.readouterr().err.strip()
         assert err.count("\n") == 0 and "Traceback" not in err, err
         assert says in err, err
+    assert not (tmp_path / "pyfolder").exists() and not (tmp_path / "j").exists()
 
 
 def test_cli_json_summary(tmp_path, capsys, source):

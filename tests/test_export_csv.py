@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import json
 from pathlib import Path
 
 from wetcontact.cli import main
@@ -53,6 +54,11 @@ def test_rows_columns_values_and_statuses(tmp_path, capsys):
     assert main(["export", "csv", str(s2), "--store", str(st.path), "--out", str(out)]) == 0
     assert {r["status"] for r in rows(out)} == {"ok", "missing"}
     assert "26 ok" in capsys.readouterr().out
+    assert main(["export", "csv", str(s2), "--store", str(st.path), "--out", str(out),
+                 "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    assert info["format"] == "csv" and info["out"] == str(out) and info["wall_time_s"] >= 0
+    assert (info["rows"], info["ok"], info["missing"]) == (52, 26, 26)
 
 
 def test_past_rupture_rows_are_no_bridge(tmp_path):

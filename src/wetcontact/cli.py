@@ -44,6 +44,17 @@ def path_arg(text: str) -> Path:
     return Path(text)
 
 
+def file_out_arg(text: str) -> Path:
+    """An ``--out`` that is a file, or an existing folder to write the default name in: a
+    path ending in a separator names a folder, so it must exist (``Path`` would drop the
+    separator and write a file of that name)."""
+    path = path_arg(text)
+    if text.endswith(("/", os.sep)) and not path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text!r} names a folder that does not exist; "
+                                         "create it first, or give a file name")
+    return path
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="wetcontact", description="High-fidelity reference forces for wet "
                 "particle contacts, and the error tables of DEM force closures.")
@@ -454,15 +465,18 @@ def _add_sweep_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def _add_export_parser(sub: argparse._SubParsersAction) -> None:
-    ex = sub.add_parser("export", help="write stored curves for other tools",
-                        description="Export stored reference curves (csv) and "
-                        "calibrated closures (json, python, c).")
+    ex = sub.add_parser("export", help="write calibrated closures for DEM codes (json, "
+                        "python, c), Yade capillary tables, or stored curves (csv)",
+                        description="Export stored reference curves (csv), "
+                        "calibrated closures (json, python, c) and Yade's capillary tables "
+                        "(yade).")
     fmt = ex.add_subparsers(dest="format", required=True, parser_class=_Parser)
     c = fmt.add_parser("csv", help="one row per (point, model, gap)", description="One CSV "
                        "row per (point, model, gap) of a study, a column per axis.")
     c.add_argument("study", type=path_arg, help="TOML study file")
     c.add_argument("--store", type=path_arg, required=True, help="HDF5 store the sweep wrote")
     c.add_argument("--out", type=path_arg, required=True, help="CSV file to write")
+    c.add_argument("--json", action="store_true", help="print one JSON object")
     _add_export_yade(fmt)
     _add_export_closure_parsers(fmt)
 
@@ -477,7 +491,7 @@ def _add_export_closure_parsers(fmt: argparse._SubParsersAction) -> None:
                      "calibrated-capillary)")
     src.add_argument("--coefficients", type=path_arg, metavar="FILE.json",
                      help="a refit written by `python -m wetcontact.calibrate fit`")
-    j.add_argument("--out", type=path_arg, required=True, help="JSON file to write")
+    j.add_argument("--out", type=file_out_arg, required=True, help="JSON file to write")
     j.add_argument("--json", action="store_true", help="print one JSON object")
     for name, what, default in (
             ("python", "one numpy-only module with the calibrated closures",
@@ -490,8 +504,8 @@ def _add_export_closure_parsers(fmt: argparse._SubParsersAction) -> None:
                            "(one contact angle on both solids, or one on each), and the "
                            "REFITTED willett force and lian-rupture distance as *_refit "
                            "(two contact angles).")
-        q.add_argument("--out", type=path_arg, required=True,
-                       help=f"file to write (or a folder: {default} in it)")
+        q.add_argument("--out", type=file_out_arg, required=True,
+                       help=f"file to write (or an existing folder: {default} in it)")
         q.add_argument("--capillary", type=path_arg, default=None, metavar="FILE.json",
                        help="willett refit for capillary_force_refit (default: the "
                        "package's copy of benchmarks/results/calibration/willett.json)")
@@ -568,10 +582,16 @@ def _export(args: argparse.Namespace) -> int:
                              "first")
         if not args.out.parent.is_dir():
             raise InputError(f"--out {args.out}: the folder {args.out.parent} does not exist")
+        t0 = time.perf_counter()
         study = _load_study(args.study)
         counts = write_csv(study.points(), study.axes, Store(args.store), args.out)
-        print(f"{args.out}: {counts['rows']} rows ({counts['ok']} ok, {counts['no-bridge']} "
-              f"no-bridge, {counts['failed']} failed, {counts['missing']} missing)")
+        if args.json:
+            print(json.dumps({"format": "csv", "out": str(args.out), **counts,
+                              "wall_time_s": round(time.perf_counter() - t0, 4)}))
+        else:
+            print(f"{args.out}: {counts['rows']} rows ({counts['ok']} ok, "
+                  f"{counts['no-bridge']} no-bridge, {counts['failed']} failed, "
+                  f"{counts['missing']} missing)")
         return 0
     return _export_closures(args)
 
