@@ -318,3 +318,22 @@ def test_committed_reference_points_are_solved_again(family):
             match = np.flatnonzero(np.all(np.isclose(table, row, rtol=1e-12, atol=0), axis=1))
             assert match.size == 1, (scene.name, i)
             assert fresh.y[i] == pytest.approx(held.y[match[0]], rel=1e-9), (scene.name, i)
+
+
+def test_bounds_quick_never_replaces_the_shipped_tables(monkeypatch, tmp_path, capsys):
+    """``python -m wetcontact.calibrate bounds --quick`` writes bounds-quick.json in the
+    current folder (it wrote the package data), plain ``bounds`` the package data, and
+    ``--out`` wherever it says."""
+    import wetcontact.bounds_gen as bg
+
+    seen = []
+    monkeypatch.setattr(bg, "measure_bounds",
+                        lambda seed, out, quick, progress: seen.append((out, quick))
+                        or {"tables": [], "wall_time_s": 0.0})
+    monkeypatch.chdir(tmp_path)
+    assert cal.main(["bounds", "--quick"]) == 0
+    assert cal.main(["bounds"]) == 0
+    assert cal.main(["bounds", "--quick", "--out", str(tmp_path / "q.json")]) == 0
+    assert seen == [(Path("bounds-quick.json"), True), (bg.DATA_PATH, False),
+                    (tmp_path / "q.json", True)]
+    assert "wrote bounds-quick.json" in capsys.readouterr().out

@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from wetcontact.errors import InputError, SolverError
+from wetcontact.fileio import atomic_write_text
 from wetcontact.models import get_model, load_all
 from wetcontact.scene import Scene, scene_from_dict
 
@@ -427,5 +428,5 @@ def measure_bounds(seed: int = 20261123, out: Path = DATA_PATH, quick: bool = Fa
             "margin": MARGIN, "spurious": SPURIOUS, "quick": quick,
             "wall_time_s": round(time.perf_counter() - t0, 1), "tables": tabs}
     out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(json.dumps(data, indent=1) + "\n")
+    atomic_write_text(out, json.dumps(data, indent=1) + "\n")  # a killed run keeps the old
     return data

@@ -1108,13 +1108,23 @@ def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="python -m wetcontact.calibrate")
     sub = p.add_subparsers(dest="command", required=True)
     b = sub.add_parser("bounds", help="measure the closures' error-bound tables")
-    b.add_argument("--quick", action="store_true")
-    b.add_argument("--seed", type=int, default=20261123)
+    b.add_argument("--quick", action="store_true",
+                   help="fewer held-out scenes per table (a smoke run; the shipped tables "
+                        "are not --quick)")
+    b.add_argument("--seed", type=int, default=20261123,
+                   help="seed of the held-out scenes (default: the shipped tables' seed)")
+    b.add_argument("--out", type=Path, default=None,
+                   help="JSON file to write (default: the package data; with --quick: "
+                        "bounds-quick.json in the current folder, so that a smoke run never "
+                        "replaces the shipped tables)")
     f = sub.add_parser("fit", help="refit closure families on their default designs")
     f.add_argument("family", choices=sorted(FAMILIES) + ["all"])
     f.add_argument("--out", type=Path, required=True, help="JSON file (a folder for 'all')")
-    f.add_argument("--train", type=int, default=30)
-    f.add_argument("--held-out", type=int, default=16)
+    f.add_argument("--train", type=int, default=30,
+                   help="about this many training configurations, a full grid over the "
+                        "family's design (8 gaps each; default 30)")
+    f.add_argument("--held-out", type=int, default=16,
+                   help="seeded random held-out configurations (6 gaps each; default 16)")
     f.add_argument("--reuse", action="store_true", help="refit from the saved points")
     sub.add_parser("viscous", help="regenerate the calibrated-viscous closure")
     c = sub.add_parser("capillary", help="regenerate the calibrated-capillary closure")
@@ -1123,7 +1133,8 @@ def main(argv: list[str] | None = None) -> int:
                    help="one table (two contact angles: sphere-wall-two-angles, "
                         "sphere-sphere-two-angles); the others are kept as they are; 'all' "
                         "is the first three")
-    c.add_argument("--workers", type=int, default=2)
+    c.add_argument("--workers", type=int, default=2,
+                   help="processes solving the meniscus nodes (default 2)")
     c.add_argument("--held-out", type=int, default=120, help="held-out bridges per kind")
     c.add_argument("--stage", choices=["coarse", "medium", "full"], default="full",
                    help="sphere-sphere-two-angles only: the node counts (nested: each "
@@ -1181,8 +1192,9 @@ def main(argv: list[str] | None = None) -> int:
     elif args.command == "bounds":
         from wetcontact.bounds_gen import DATA_PATH, measure_bounds
 
-        data = measure_bounds(seed=args.seed, quick=args.quick, progress=True)
-        print(f"wrote {DATA_PATH} ({len(data['tables'])} tables, {data['wall_time_s']} s)")
+        out = args.out or (Path("bounds-quick.json") if args.quick else DATA_PATH)
+        data = measure_bounds(seed=args.seed, out=out, quick=args.quick, progress=True)
+        print(f"wrote {out} ({len(data['tables'])} tables, {data['wall_time_s']} s)")
     else:
         names = sorted(FAMILIES) if args.family == "all" else [args.family]
         for name in names:
