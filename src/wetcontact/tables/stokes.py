@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from wetcontact.compare import compare
-from wetcontact.models import get_model
+from wetcontact.models import ForceCurve, get_model
 from wetcontact.scene import Scene, scene_from_dict
 from wetcontact.sweep import Point, SweepResult
 from wetcontact.tables import StudyContext
@@ -80,8 +80,26 @@ def _preset(ctx: StudyContext) -> str:
 
 
 def _closure_points(scene: Scene) -> dict[str, Point]:
-    """The closures that apply to ``scene`` (the others are shown as n/a)."""
-    return {c: Point(scene, c) for c in CLOSURES if get_model(c).applicable(scene) is None}
+    """Each closure on the gaps of ``scene`` it applies to: all of them, or those it accepts
+    one by one (``cox-brenner`` refuses the immersed scene for its S/R = 10 alone, and
+    would otherwise show n/a at every gap); a closure that accepts no gap is shown n/a."""
+    out = {}
+    for c in CLOSURES:
+        model = get_model(c)
+        if model.applicable(scene) is None:
+            out[c] = Point(scene, c)
+            continue
+        ok = [g for g in scene.gaps if model.applicable(scene.with_gaps([g])) is None]
+        if ok:
+            out[c] = Point(scene.with_gaps(ok), c)
+    return out
+
+
+def _on_gaps(curve: ForceCurve, gaps: np.ndarray) -> ForceCurve:
+    """``curve``'s viscous force at ``gaps`` (a subset of its own), for :func:`compare`."""
+    idx = np.array([int(np.flatnonzero(curve.gap == g)[0]) for g in gaps], dtype=int)
+    return ForceCurve(case=curve.case, model=curve.model, gap=curve.gap[idx],
+                      force_viscous=curve.force_viscous[idx], force_capillary=None)
 
 
 def points(ctx: StudyContext) -> list[Point]:
@@ -101,7 +119,9 @@ def _errors(result: SweepResult, sc: Scene, fem: Any) -> dict[str, Any]:
     for c in CLOSURES:
         p = _closure_points(sc).get(c)
         curve = None if p is None else result.curve(p)
-        out[c] = None if curve is None else compare(curve, fem, "viscous")
+        out[c] = None if curve is None else compare(
+            curve, fem if curve.gap.size == fem.gap.size else _on_gaps(fem, curve.gap),
+            "viscous")
     return out
 
 
