@@ -229,6 +229,14 @@ def test_run_quick_writes_report(tmp_path):
     from wetcontact.store import Store
 
     assert len(Store(out / "reference.h5").find(case="dem-pendular-bridge-100um")) >= 2
+    from wetcontact.report import QUICK_GAPS, quick_gaps
+    from wetcontact.scene import load_case
+
+    case = load_case(cases / "dem-pendular-bridge-100um.toml")
+    thin = quick_gaps(case)  # a smoke run takes at most QUICK_GAPS gaps of each case
+    assert len(case.gaps) > QUICK_GAPS and len(thin.gaps) == QUICK_GAPS
+    assert thin.gaps[0] == case.gaps[0] and thin.gaps[-1] == case.gaps[-1]
+    assert set(thin.gaps) <= set(case.gaps) and quick_gaps(thin) == thin
     text = (out / "README.md").read_text()
     assert "| brenner-immersed-sphere-wall | viscous | reynolds | brenner |" in text
 

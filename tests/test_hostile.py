@@ -279,6 +279,7 @@ def test_a_5000_character_name_is_a_case_error(tmp_path):
     code, out, err = run_cli(["solve", str(case), "--model", "reynolds"])
     assert code == 2 and len(err.strip().splitlines()) == 1, err
     assert "name" in err and str(MAX_NAME) in err and len(err) < 400
+    assert "(5000 chars)" in err  # the name's own length, not its quoted repr's
 
 
 def test_names_with_control_characters_are_case_errors():

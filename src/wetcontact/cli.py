@@ -68,8 +68,8 @@ def build_parser() -> argparse.ArgumentParser:
                          "cases/ with every applicable model, the store, plots, error tables "
                          "and reports/README.md.")
     mode = run.add_mutually_exclusive_group()
-    mode.add_argument("--quick", action="store_true", help="smoke run: fast presets, fewer "
-                      "points (about a minute)")
+    mode.add_argument("--quick", action="store_true", help="smoke run: fast presets, at most 8 "
+                      "gaps a case, smaller studies (about 75 s on 2 cores)")
     mode.add_argument("--full", action="store_true", help="accurate presets and full studies")
     run.add_argument("--out", type=path_arg, default=None, help="output folder (default: "
                      "reports/; with --quick: reports-quick/, so a smoke run never "

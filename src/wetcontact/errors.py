@@ -23,7 +23,8 @@ def short_repr(value: object, quote: bool = True, limit: int = MAX_SHOWN) -> str
     text = text.encode("unicode_escape").decode("ascii") if not text.isprintable() else text
     if len(text) > limit:
         half = (limit - 20) // 2
-        text = f"{text[:half]}...({len(text)} chars)...{text[-half:]}"
+        n = len(value) if isinstance(value, str) else len(text)  # a string's own length
+        text = f"{text[:half]}...({n} chars)...{text[-half:]}"
     return text
 
 

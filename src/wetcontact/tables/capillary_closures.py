@@ -112,8 +112,8 @@ def derived_points(ctx: StudyContext, result: SweepResult) -> list[Point]:
 
 def compute(result: SweepResult, ctx: StudyContext
             ) -> tuple[list[dict], list[dict], dict[tuple[str, str], list[Comparison]]]:
-    """Rows of (closure, kind, V*, theta, S/S_c, F_FE, F_closure, rel. error), rupture rows,
-    and the comparison records per (closure, kind)."""
+    """Rows of (closure, kind, V*, theta, S/S_c, S (m), F_FE and F_closure (N), rel. error),
+    rupture rows (S_c in m), and the comparison records per (closure, kind)."""
     fracs = _grid(ctx.quick)[1]
     rows, rup_rows = [], []
     recs: dict[tuple[str, str], list[Comparison]] = {}
@@ -121,7 +121,7 @@ def compute(result: SweepResult, ctx: StudyContext
         V = vs * R**3
         for name, val in _rupture_correlations(kind, V, math.radians(th)).items():
             rup_rows.append({"correlation": name, "kind": kind, "V*": vs,
-                             "theta_deg": th, "S_c_FE": sc_rup, "S_c": val,
+                             "theta_deg": th, "S_c_FE_m": sc_rup, "S_c_m": val,
                              "rel_error": abs(val / sc_rup - 1)})
         fe = result.curve(fe_pt)
         if fe is None:
@@ -133,8 +133,8 @@ def compute(result: SweepResult, ctx: StudyContext
                 recs.setdefault((name, kind), []).append(rec)
             for i, (f, s) in enumerate(zip(fracs, gaps, strict=True)):
                 rows.append({"closure": name, "kind": kind, "V*": vs, "theta_deg": th,
-                             "S/S_c": f, "S": s, "F_FE": float(fe.force_capillary[i]),
-                             "F_closure": None if curve is None
+                             "S/S_c": f, "S_m": s, "F_FE_N": float(fe.force_capillary[i]),
+                             "F_closure_N": None if curve is None
                              else float(curve.force_capillary[i]),
                              "rel_error": None if rec is None else rec.rel_at(s)})
     return rows, rup_rows, recs

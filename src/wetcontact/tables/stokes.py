@@ -155,7 +155,7 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
                          "s_over_r": r if d is None else r * d,
                          "delta_over_r": "" if d is None else d,
                          "s_over_delta": "" if d is None else r,
-                         "force_fem": fem.force_viscous[i],
+                         "force_fem_N": fem.force_viscous[i],
                          "fem_vs_exact": _signed(exact, g),
                          **{f"err_{c}": _signed(errs[c], g) for c in CLOSURES}})
 
