@@ -13,6 +13,7 @@ same domain (NaN at the same points) and the same rupture (0 at the same points)
 from __future__ import annotations
 
 import json
+import math
 import shutil
 import subprocess
 import sys
@@ -450,6 +451,66 @@ def test_impossible_physical_inputs_are_nan_in_both_exports(source, c_program, t
         for got in (py[name], _run_c(c_program, pts, name, tmp_path)):
             assert np.isfinite(got[0]) and got[0] != 0.0, name  # the valid point computes
             assert np.all(np.isnan(got[1:])), (name, got)
+
+
+def _rows(name: str, rows: list[dict[str, float]]) -> dict[str, np.ndarray]:
+    return {a: np.array([{**VALID, **r}[a] for r in rows]) for a in ARGS[name]}
+
+
+def test_usage_notes_hold_in_both_exports(source, c_program, tmp_path):
+    """The exports' usage notes (closures.USAGE), for a DEM user: the plane is r2 (r1 = inf
+    gives NaN); each angle goes with its own radius, so swapping (r1, theta1) and (r2,
+    theta2) between spheres changes nothing; the viscous forces are odd in the approach
+    speed."""
+    sw = [{"r1": 1e-3, "r2": 2e-3, "theta1_deg": 10.0, "theta2_deg": 40.0},
+          {"r1": 2e-3, "r2": 1e-3, "theta1_deg": 40.0, "theta2_deg": 10.0}]
+    pts = {"capillary_force": _rows("capillary_force", sw + [{"r1": np.inf, "r2": 1e-3}]),
+           "rupture_distance": _rows("rupture_distance", sw + [{"r1": np.inf, "r2": 1e-3}]),
+           "viscous_force_bridge": _rows("viscous_force_bridge", [
+               {"r2": 2e-3}, {"r1": 2e-3, "r2": 1e-3}, {"r2": 2e-3, "approach_speed": -1.0},
+               {"r1": np.inf, "r2": 1e-3}]),
+           "viscous_force_immersed": _rows("viscous_force_immersed", [
+               {}, {"approach_speed": -1.0}, {"r2": np.inf}, {"r1": np.inf, "r2": 1e-3}])}
+    names = tuple(pts)
+    py = _run_python_module(source, pts, tmp_path, names=names)
+    for got in (py, {n: _run_c(c_program, pts, n, tmp_path) for n in names}):
+        for n in ("capillary_force", "rupture_distance"):
+            assert np.isfinite(got[n][0]) and got[n][0] == got[n][1], n
+            assert np.isnan(got[n][2]), n
+        vb, vi = got["viscous_force_bridge"], got["viscous_force_immersed"]
+        assert vb[0] > 0 and vb[0] == vb[1] and vb[2] == -vb[0] and np.isnan(vb[3])
+        assert vi[0] > 0 and vi[1] == -vi[0] and vi[2] > 0 and np.isnan(vi[3])
+
+
+def test_usage_notes_figures_against_the_package():
+    """The figures of the usage notes: Pitois' (1 - S/H)^2 against `lubrication` outside
+    the bridge viscous domain (within 1.6 % below S/H = 0.01, 0.16 % above 0.95, at
+    V/R^3 = 0.1 where it is worst), the capillary force's jump to 0 at S_c (3.7 % of its
+    contact value for V/R^3 = 0.01, 20 deg, plane), and a large bridge's viscous closure
+    still finite just past S_c (so it must be gated by the rupture distance)."""
+    from wetcontact.bounds_gen import make_scene
+    from wetcontact.models import get_model
+
+    lub, pit = get_model("lubrication"), get_model("reynolds-finite")
+    r = 1e-3
+    for r2, lim in ((None, (0.016, 0.0016)), (r, (0.016, 0.0016)), (10 * r, (0.016, 0.0016))):
+        rs = r if r2 is None else r * r2 / (r + r2)
+        h0 = math.sqrt(0.1 * r**3 / (math.pi * rs))
+        for x, bound in ((1e-4, lim[0]), (3e-3, lim[0]), (0.0099, lim[0]), (0.951, lim[1]),
+                         (0.99, lim[1])):
+            sc = make_scene("sphere-wall" if r2 is None else "sphere-sphere",
+                            {"bridge_volume": 0.1 * r**3}, [x * h0 / math.sqrt(1 - x * x)], r2)
+            err = pit.force(sc).force_viscous[0] / lub.force(
+                sc, preset="accurate").force_viscous[0] - 1
+            assert 0 < err <= bound, (r2, x, err)
+    cap = get_model("calibrated-capillary")
+    base = make_scene("sphere-wall", {"bridge_volume": 0.01 * r**3}, [1e-9], theta=(20.0, 20.0))
+    s_c = cap.rupture_distance(base)
+    f = cap.force(base.with_gaps([1e-9, s_c * (1 - 1e-9), s_c])).force_capillary
+    assert 0.035 < f[1] / f[0] < 0.039 and f[2] == 0
+    big = make_scene("sphere-wall", {"bridge_volume": 0.05 * r**3}, [1e-9], theta=(0.0, 0.0))
+    past = 1.01 * cap.rupture_distance(big)
+    assert get_model("calibrated-viscous").force(big.with_gaps([past])).force_viscous[0] > 0
 
 
 def test_python_module_numpy_only(points, source, tmp_path, tol):

@@ -25,6 +25,7 @@ from wetcontact.export.closures import (
     TensorTrain,
     immersed_tables,
     sphere_end_text,
+    usage_text,
 )
 from wetcontact.fileio import atomic_write_text
 from wetcontact.reduced_models.calibrated import viscous_table
@@ -57,11 +58,27 @@ HEAD = """\
  * POSITIVE = PUSHING THE PARTICLES APART (viscous resistance to approach is positive, a
  * liquid bridge's attraction is negative). r2 = INFINITY for a plane.
  *
+ * API (every argument a double unless stated; returns NAN outside the domain, below):
+ *   double wc_viscous_force_immersed(r1, r2, viscosity, approach_speed, gap);
+ *   double wc_viscous_force_bridge(r1, r2, viscosity, volume, approach_speed, gap);
+ *   double wc_capillary_force(r1, r2, volume, gap, surface_tension, theta1_deg, theta2_deg);
+ *   double wc_rupture_distance(r1, r2, volume, theta1_deg, theta2_deg);
+ *   int wc_capillary_contact_init(struct wc_capillary_contact *c, r1, r2, volume,
+ *                                 surface_tension, theta1_deg, theta2_deg);  (1 = in domain)
+ *   double wc_capillary_force_at(const struct wc_capillary_contact *c, gap);
+ *   double wc_capillary_force_refit(r1, r2, volume, gap, surface_tension, theta1_deg,
+ *                                   theta2_deg);
+ *   double wc_rupture_distance_refit(r1, r2, volume, theta1_deg, theta2_deg);
+ *   struct wc_capillary_contact is plain data (ints and doubles, no pointers): copy it, or
+ *   keep it in a contact's history.
+ *
+{usage}
+ *
  * NAN OUTSIDE THE CALIBRATED DOMAIN: every function returns NAN (test with isnan) when
  * its inputs lie outside the domain its coefficients were calibrated and tested on, or
- * when no calibration covers the geometry (e.g. unequal spheres), or when a physical input
- * is impossible (a radius, volume, viscosity or surface tension <= 0, a negative gap, a
- * non-finite value). Nothing is extrapolated.
+ * when no calibration covers the geometry (e.g. unequal immersed spheres), or when a
+ * physical input is impossible (a radius, volume, viscosity or surface tension <= 0, a
+ * negative gap, a non-finite value). Nothing is extrapolated.
  * The capillary force is exactly 0 at and past the rupture distance.
  *
  * wc_viscous_force_immersed: the shipped `calibrated-viscous` closure (immersed part).
@@ -975,7 +992,8 @@ def header_text(source: CapillarySource) -> str:
     bw, bs = viscous_table()["bridge"]["sphere-wall"], viscous_table()["bridge"]["sphere-sphere"]
     br = _bridge_fields(bw, bs)
     head = HEAD.format(
-        **br,
+        **br, usage="\n".join(f" * {line}".rstrip() for line in usage_text(
+            br["bh_lo"], br["bh_hi"], "c").splitlines()),
         br_err_wall=bw["held_out"]["after"]["max"], br_err_ss=bs["held_out"]["after"]["max"],
         version=__version__, imm_err_wall=w["held_out"]["max"],
         imm_err_ss=ss["held_out"]["max"], s_lo=math.exp(lo), s_hi=math.exp(hi),

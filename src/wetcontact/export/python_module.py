@@ -33,6 +33,7 @@ from wetcontact.export.closures import (
     CapillarySource,
     TensorTrain,
     immersed_tables,
+    usage_text,
 )
 from wetcontact.fileio import atomic_write_text
 from wetcontact.reduced_models.calibrated import viscous_table
@@ -49,11 +50,13 @@ is the force on the FIRST particle along the line of centres, POSITIVE = PUSHING
 PARTICLES APART. ``r2 = numpy.inf`` for a plane. Arguments broadcast; results are float
 arrays (0-d for scalars).
 
+{usage}
+
 NaN OUTSIDE THE CALIBRATED DOMAIN: every function returns NaN where its inputs lie outside
 the domain its coefficients were calibrated and tested on, where no calibration covers
-the geometry (e.g. unequal spheres), or where a physical input is impossible (a radius,
-volume, viscosity or surface tension <= 0, a negative gap, a non-finite value). Nothing
-is extrapolated. The capillary force is exactly 0 at and past the rupture distance.
+the geometry (e.g. unequal immersed spheres), or where a physical input is impossible (a
+radius, volume, viscosity or surface tension <= 0, a negative gap, a non-finite value).
+Nothing is extrapolated. The capillary force is exactly 0 at and past the rupture distance.
 
 viscous_force_immersed: the shipped `calibrated-viscous` closure (immersed part), held-out
 max relative error {imm_err_wall:.2g} (plane) / {imm_err_ss:.2g} (equal spheres) against the
@@ -604,7 +607,7 @@ def module_text(source: CapillarySource) -> str:
     br.update(br_wall=_list(bw["coefficients"]), br_ss=_list(bs["coefficients"]))
     parts = source.table.parts
     return TEMPLATE.format(
-        **br, **capillary_fields(source),
+        **br, **capillary_fields(source), usage=usage_text(br["bh_lo"], br["bh_hi"], "python"),
         cap_held_out=_fill("; ".join(held_out_lines(source)) + "."),
         cap_wall=_tables(parts.get("sphere-wall")), cap_ss=_tables(parts.get("sphere-sphere")),
         cap_wall2=_bands(parts.get(TWO_ANGLES)), bands=bands_text(parts.get(TWO_ANGLES)),
