@@ -63,16 +63,17 @@ WRITER = textwrap.dedent("""
     from wetcontact.models import ForceCurve
     from wetcontact.store import Store
     st = Store({path!r})
-    big = np.linspace(1.0, 2.0, 400_000)   # large extras make each write take a while
+    big = np.linspace(1.0, 2.0, 100_000)   # large curves make each write take a while
     for i in range(1000):
         sc = make_scene(motion={{"velocity": 0.1 + i, "gaps": [1e-5]}})
-        cv = ForceCurve(case="k", model="m", gap=[1e-5], force_viscous=[float(i)],
+        cv = ForceCurve(case=sc.name, model="m", gap=[1e-5], force_viscous=[float(i)],
                         force_capillary=None, extras={{}}, diagnostics={{"blob": 0}})
         st.save_many([(sc, cv)])
         # a second, big curve under a different model keeps the writer busy in h5py
-        cv2 = ForceCurve(case="k", model="big", gap=big, force_viscous=big,
-                         force_capillary=None)
-        sc2 = make_scene(motion={{"velocity": 0.1 + i, "gaps": [1e-5]}})
+        sc2 = make_scene(motion={{"velocity": 0.1 + i, "gaps": {{"start": 1e-5, "stop": 1e-4,
+                                                               "points": 100_000}}}})
+        cv2 = ForceCurve(case=sc2.name, model="big", gap=sc2.gap_array, force_viscous=big,
+                         force_capillary=None, extras={{"a": big, "b": big, "c": big}})
         st.save_many([(sc2, cv2)])
         print(i, flush=True)
 """)
@@ -95,7 +96,7 @@ def test_sigkill_mid_write_keeps_everything_saved_before(tmp_path):
     forces = {float(st.load(k).force_viscous[0]) for k in st.find(model="m")}
     assert {float(i) for i in done} <= forces  # everything confirmed before the kill
     for k in st.find(model="big"):
-        assert st.load(k).gap.size == 400_000  # no torn curve
+        assert st.load(k).gap.size == 100_000  # no torn curve
     # at most the killed write's temporary file, beside the lock file (kept, empty)
     leftovers = [p for p in tmp_path.iterdir() if p.name not in ("ref.h5", "ref.h5.lock")]
     assert len(leftovers) <= 1

@@ -94,6 +94,12 @@ def component_of(curve: ForceCurve, component: str) -> np.ndarray | None:
     return curve.force_total if component == "total" else getattr(curve, f"force_{component}")
 
 
+def _modelled(curve: ForceCurve) -> str:
+    """The force components a curve models, e.g. ``"viscous + capillary"``."""
+    return " + ".join(c for c in ("viscous", "capillary")
+                      if getattr(curve, f"force_{c}") is not None) or "none"
+
+
 def compare(curve: ForceCurve, reference: ForceCurve, component: str) -> Comparison:
     """Compare ``curve`` with ``reference`` gap by gap for one force component.
 
@@ -105,6 +111,10 @@ def compare(curve: ForceCurve, reference: ForceCurve, component: str) -> Compari
         ``"viscous"``, ``"capillary"`` or ``"total"``; both curves must model it.
     """
     f, ref = component_of(curve, component), component_of(reference, component)
+    if component == "total" and _modelled(curve) != _modelled(reference):
+        raise InputError(f"compare: total of '{curve.model}' ({_modelled(curve)}) against "
+                         f"'{reference.model}' ({_modelled(reference)}); allowed: curves "
+                         "that model the same force components (compare each component)")
     if f is None or ref is None:
         missing = curve.model if f is None else reference.model
         raise InputError(f"compare: model '{missing}' has no {component} force")

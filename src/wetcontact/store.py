@@ -253,11 +253,20 @@ class Store:
 
     def get(self, scene: Scene, curve_or_model: ForceCurve | str,
             settings: dict[str, Any] | None = None) -> ForceCurve | None:
-        """The stored curve for (scene, model, settings), or ``None``."""
+        """The stored curve for (scene, model, settings), or ``None``.
+
+        With a model name, ``settings`` are the options given to ``force`` (the preset
+        under ``"preset"``, default ``"default"``): the key uses the settings the curve
+        carries, ``Model.settings_for``, as a saved curve does."""
         if isinstance(curve_or_model, ForceCurve):
             key = curve_key(scene, curve_or_model.model, dict(curve_or_model.settings))
         else:
-            key = curve_key(scene, curve_or_model, settings or {})
+            from wetcontact.models import get_model
+
+            opts = dict(settings or {})
+            full = get_model(curve_or_model).settings_for(opts.pop("preset", "default"),
+                                                          **opts)
+            key = curve_key(scene, curve_or_model, full)
         return self.load(key) if key in self else None
 
     # ---- writing --------------------------------------------------------------------
@@ -283,6 +292,12 @@ class Store:
         """
         items = list(items)
         failures = list(failures)
+        for sc, cv in items:  # a curve is stored under its own scene only
+            if cv.case != sc.name or not np.array_equal(cv.gap, sc.gap_array):
+                raise InputError(f"store {self.path}: curve of '{cv.case}' by '{cv.model}' "
+                                 f"({cv.gap.size} gaps) saved under scene '{sc.name}' "
+                                 f"({len(sc.gaps)} gaps); allowed: the scene it was "
+                                 "computed for, on the same gaps")
         keys = list(keys) if keys is not None else [
             curve_key(sc, cv.model, dict(cv.settings)) for sc, cv in items]
         if len(keys) != len(items):
