@@ -19,7 +19,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from wetcontact.errors import InputError, SolverError, ValidityError
+from wetcontact.errors import InputError, SolverError, ValidityError, short_repr
 from wetcontact.scene import Scene
 
 PRESETS = ("fast", "default", "accurate")
@@ -67,9 +67,10 @@ class ForceCurve:
     provenance: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        gap = np.asarray(self.gap, dtype=float)
+        gap = np.array(self.gap, dtype=float)  # a copy, frozen below like the forces
         if gap.ndim != 1 or gap.size == 0:
             raise SolverError(f"ForceCurve '{self.model}': gap must be a non-empty 1-D array")
+        gap.setflags(write=False)
         object.__setattr__(self, "gap", gap)
         if self.force_viscous is None and self.force_capillary is None and not self.extras:
             raise SolverError(f"ForceCurve '{self.model}': no force component given")
@@ -80,6 +81,14 @@ class ForceCurve:
         object.__setattr__(
             self, "extras", {k: self._checked(k, v, gap.size) for k, v in self.extras.items()}
         )
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """Unpickling (a curve back from a sweep worker): the arrays read-only again, as
+        :meth:`__post_init__` leaves them (pickle restores them writable)."""
+        for value in (*state.values(), *state.get("extras", {}).values()):
+            if isinstance(value, np.ndarray):
+                value.setflags(write=False)
+        self.__dict__.update(state)
 
     def _checked(self, name: str, val: Any, n: int) -> np.ndarray:
         arr = np.asarray(val, dtype=float) + 0.0  # a copy, and -0.0 (a negated 0) is 0.0
@@ -194,10 +203,42 @@ class Model:
 
     def force(self, scene: Scene, gaps: Any = None, preset: str = "default",
               **settings: Any) -> ForceCurve:
-        """Force on the sphere along the gaps (the scene's, or ``gaps``).
+        """Force on the sphere at the scene's gaps (or at ``gaps``).
 
-        Validates the scene against the model, times the call and attaches provenance.
+        Parameters
+        ----------
+        scene
+            The contact (:class:`~wetcontact.scene.Scene`, e.g. from
+            :func:`~wetcontact.scene.load_case` or :func:`~wetcontact.scene.scene_from_dict`).
+        gaps
+            Surface gaps S (m) overriding the scene's: a number, a sequence or a 1-D array,
+            each in (0, 100 R].
+        preset
+            Resolution preset: ``fast``, ``default`` or ``accurate`` (a closure gives the
+            same values at each; ``calibrated-capillary`` sums two-angle tables in double
+            precision at ``accurate``).
+        **settings
+            Model options overriding the preset's (documented per model).
+
+        Returns
+        -------
+        ForceCurve
+            Forces in N on the sphere, positive = pushing the surfaces apart, with the
+            model's extras, error estimate, diagnostics (``wall_time_s``), settings and
+            provenance.
+
+        Raises
+        ------
+        InputError
+            ``scene`` is not a Scene, an unknown preset, a bad gap or option.
+        ValidityError
+            The scene is outside the model's validity (the message names the model to use).
+        SolverError
+            The solver failed.
         """
+        if not isinstance(scene, Scene):
+            raise InputError(f"model '{self.name}': scene = {short_repr(scene)}; allowed: a "
+                             "Scene (wetcontact.scene.load_case or scene_from_dict)")
         if preset not in self.presets:
             raise InputError(f"model '{self.name}': preset = {preset!r}; allowed: "
                              + ", ".join(self.presets))

@@ -313,10 +313,17 @@ TOLERANCE_RANGE = (1e-12, 1.0)
 """Open interval of a relative tolerance (case file ``fidelity.tolerance``, ``--tol``)."""
 
 
+def plain_number(value: Any) -> Any:
+    """A numpy integer or floating scalar (``np.float32(1e-3)``, ``np.int64(2)``) as the
+    Python number it holds; anything else (a numpy bool included) as it is."""
+    return value.item() if isinstance(value, np.integer | np.floating) else value
+
+
 def _num(source: str, name: str, value: Any, lo: float, hi: float, unit: str,
          lo_open: bool = True, hi_open: bool = False) -> float:
     """Validate a finite real number in (lo, hi] (``[lo`` with ``lo_open=False``, ``hi)``
-    with ``hi_open=True``)."""
+    with ``hi_open=True``); numpy scalars are taken as the numbers they hold."""
+    value = plain_number(value)
     bracket = "(" if lo_open else "["
     allowed = f"a number in {bracket}{lo:g}, {hi:g}{')' if hi_open else ']'} {unit}".rstrip()
     if isinstance(value, bool) or not isinstance(value, int | float):
@@ -332,6 +339,7 @@ def _num(source: str, name: str, value: Any, lo: float, hi: float, unit: str,
 
 
 def _angle(source: str, name: str, value: Any) -> float:
+    value = plain_number(value)
     if isinstance(value, bool) or not isinstance(value, int | float) or not (
         0.0 <= value < 180.0  # False for NaN; exact for any int, however large
     ):
@@ -395,9 +403,9 @@ def _validate_gaps(source: str, gaps: Any, radius: float) -> tuple[float, ...]:
                             f"a list of 1 to {MAX_GAPS} gaps (as for points in the table form)")
         out = []
         for i, s in enumerate(gaps):
-            out.append(_num(source, f"motion.gaps[{i}]", s if not isinstance(s, np.floating)
-                            else float(s), 0.0, 100 * radius, "m"))
+            out.append(_num(source, f"motion.gaps[{i}]", s, 0.0, 100 * radius, "m"))
         return tuple(out)
+    gaps = plain_number(gaps)
     if isinstance(gaps, int | float) and not isinstance(gaps, bool):
         return (_num(source, "motion.gaps", gaps, 0.0, 100 * radius, "m"),)
     raise CaseError(source, "motion.gaps", gaps, "a list of gaps or {start, stop, points, "

@@ -52,7 +52,7 @@ import numpy as np
 from wetcontact.errors import InputError
 from wetcontact.models import PRESETS, ForceCurve, Model, load_all, model_instead, provenance
 from wetcontact.reduced_models import bounds
-from wetcontact.scene import TOLERANCE_RANGE, Scene
+from wetcontact.scene import TOLERANCE_RANGE, Scene, plain_number
 
 #: exact series (Brenner 1961): summation accuracy, 1e-15 measured against a 40-digit sum
 EXACT_BOUND = 1e-12
@@ -200,7 +200,9 @@ def choose(scene: Scene, tolerance: float, preset: str | None = None) -> Selecti
         Restrict solvers to this preset (closures always run at ``default``).
     """
     lo, hi = TOLERANCE_RANGE
-    if not (isinstance(tolerance, float | int) and lo < tolerance < hi):
+    tolerance = plain_number(tolerance)
+    if isinstance(tolerance, bool) or not (isinstance(tolerance, float | int)
+                                           and lo < tolerance < hi):
         raise InputError(f"tolerance = {tolerance!r}; allowed: ({lo:g}, {hi:g}) relative")
     accepted = [m for m in load_all().values() if m.applicable(scene) is None]
     at_defaults = {m.name: why for m in accepted if (why := _refuses_at_defaults(m, scene))}

@@ -1,0 +1,105 @@
+"""The Python API as a notebook user meets it (an audit, 2026-11-27): each test failed on
+the code before it."""
+
+from __future__ import annotations
+
+import pickle
+
+import numpy as np
+import pytest
+from conftest import make_scene
+
+from wetcontact.compare import compare
+from wetcontact.errors import InputError
+from wetcontact.models import get_model
+from wetcontact.store import Store
+
+BRIDGE = {"bridge_volume": 1e-12}
+
+
+def _bridge(gaps=(1e-6, 1e-5, 5e-5)):
+    return make_scene(amount=BRIDGE, motion={"velocity": 0.01, "gaps": list(gaps)})
+
+
+def test_a_curve_is_stored_under_its_own_scene_only(tmp_path):
+    """The store kept a curve under another scene's key and returned it as that scene's."""
+    st = Store(tmp_path / "s.h5")
+    sc = _bridge()
+    c = get_model("willett").force(sc)
+    with pytest.raises(InputError, match="saved under scene"):
+        st.save(sc.with_gaps([2e-6]), c)
+    other = make_scene(name="other", amount=BRIDGE, motion={"velocity": 0.01,
+                                                            "gaps": list(sc.gaps)})
+    with pytest.raises(InputError, match="curve of 'test-scene'"):
+        st.save(other, c)
+    assert len(st) == 0
+    st.save(sc, c)
+    assert len(st) == 1
+
+
+def test_get_by_model_name_finds_a_curve_saved_at_its_defaults(tmp_path):
+    """Store.get(scene, "willett") looked the curve up with settings {} and never found it."""
+    st = Store(tmp_path / "s.h5")
+    sc = _bridge()
+    st.save(sc, get_model("willett").force(sc))
+    st.save(sc, get_model("lubrication").force(sc, preset="fast"))
+    assert st.get(sc, "willett") is not None
+    assert st.get(sc, "lubrication") is None  # only its fast preset is stored
+    got = st.get(sc, "lubrication", {"preset": "fast"})
+    assert got is not None and got.settings["preset"] == "fast"
+
+
+def test_total_is_compared_only_between_curves_of_the_same_components():
+    """A viscous-only and a capillary-only curve were compared as totals (error 1.02)."""
+    sc = _bridge()
+    lub, men = get_model("lubrication").force(sc), get_model("meniscus").force(sc)
+    with pytest.raises(InputError, match="same force components"):
+        compare(lub, men, "total")
+    assert compare(get_model("willett").force(sc), men, "total").points == 3
+
+
+def test_curves_stay_read_only_through_pickle():
+    """ForceCurve.gap was writable (a notebook could corrupt a 'frozen' curve), and an
+    unpickled curve (back from a worker) had every array writable."""
+    c = get_model("willett").force(_bridge())
+    for curve in (c, pickle.loads(pickle.dumps(c))):
+        arrays = [curve.gap, curve.force_capillary, *curve.extras.values()]
+        assert not any(a.flags.writeable for a in arrays)
+        with pytest.raises(ValueError):
+            curve.gap[0] = 99.0
+    back = pickle.loads(pickle.dumps(c))
+    assert np.array_equal(back.force_capillary, c.force_capillary) and back.case == c.case
+
+
+def test_numpy_scalars_are_numbers():
+    """np.float32 / np.int64 values were refused as out of range ('np.float32(0.001);
+    allowed: a number in (1e-09, 10] m')."""
+    sc = make_scene(geometry={"kind": "sphere-wall", "radius": np.float32(1e-3)},
+                    amount={"bridge_volume": np.float64(1e-12)},
+                    motion={"velocity": np.int64(1), "gaps": [np.float32(1e-6), 2e-6]})
+    assert sc.radius == pytest.approx(1e-3, rel=1e-7) and isinstance(sc.radius, float)
+    assert sc.with_gaps(np.float32(1e-6)).gaps == (float(np.float32(1e-6)),)
+    from wetcontact import select
+
+    curve, _ = select.solve(sc, np.float32(0.05))
+    assert curve.force_capillary is not None
+    with pytest.raises(InputError, match="tolerance = True"):
+        select.solve(sc, True)
+    with pytest.raises(InputError, match="geometry.radius"):
+        make_scene(geometry={"kind": "sphere-wall", "radius": np.bool_(True)})
+
+
+def test_force_of_something_else_than_a_scene_is_an_input_error():
+    with pytest.raises(InputError, match="allowed: a Scene"):
+        get_model("willett").force({"a": 1})
+
+
+def test_capillary_closures_flag_volumes_below_their_measured_range():
+    """At V* = 1e-20 Mikami's fit pushed (+9.5e-5 N) with no note."""
+    tiny = make_scene(amount={"bridge_volume": 1e-29}, motion={"velocity": 0.0,
+                                                              "gaps": [1e-12]})
+    for name in ("mikami", "willett-simple", "rabinovich", "lambert"):
+        note = get_model(name).force(tiny).diagnostics.get("outside_stated_validity", "")
+        assert "< 0.0001, below the range" in note, name
+    ok = get_model("mikami").force(_bridge())
+    assert "outside_stated_validity" not in ok.diagnostics
