@@ -103,3 +103,14 @@ def test_capillary_closures_flag_volumes_below_their_measured_range():
         assert "< 0.0001, below the range" in note, name
     ok = get_model("mikami").force(_bridge())
     assert "outside_stated_validity" not in ok.diagnostics
+
+
+def test_unknown_options_are_input_errors():
+    """A closure took any keyword silently and recorded it in its settings (so in the
+    store's key); stokes raised TypeError from its mesh resolution."""
+    with pytest.raises(InputError, match=r"'willett': unknown option\(s\) \['foo'\]"):
+        get_model("willett").force(_bridge(), foo=1)
+    immersed = make_scene(motion={"velocity": 0.01, "gaps": [1e-4]})
+    with pytest.raises(InputError, match=r"'stokes': unknown option\(s\) \['nn'\]"):
+        get_model("stokes").force(immersed, preset="fast", nn=3)
+    assert get_model("stokes").force(immersed, preset="fast", n_gap=3).force_viscous[0] > 0

@@ -242,6 +242,9 @@ class Model:
         if preset not in self.presets:
             raise InputError(f"model '{self.name}': preset = {preset!r}; allowed: "
                              + ", ".join(self.presets))
+        if settings and not any(self.presets.values()):  # a model without options
+            raise InputError(f"model '{self.name}': unknown option(s) {sorted(settings)}; "
+                             "allowed: none (a closed form)")
         if gaps is not None:
             scene = scene.with_gaps(np.atleast_1d(np.asarray(gaps, dtype=float)).tolist())
         self.check(scene)

@@ -123,7 +123,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -810,6 +810,11 @@ class Stokes(Model):
         if film_top not in FILM_TOPS:
             raise InputError(f"model 'stokes': film_top = {film_top!r}; allowed: "
                              + ", ".join(repr(k) for k in FILM_TOPS))
+        if unknown := sorted(set(res_opts) - {f.name for f in fields(Resolution)}):
+            raise InputError(f"model 'stokes': unknown option(s) {unknown}; allowed: method, "
+                             "save_fields, cache, intorder, film_top, default_slip_length, "
+                             "contact_factor, bridge_growth and "
+                             + ", ".join(f.name for f in fields(Resolution)))
         res = Resolution(**res_opts)
         if scene.amount == "bridge":
             return self._bridge_force(scene, preset, replace(res, growth=bridge_growth),
