@@ -114,3 +114,32 @@ def test_unknown_options_are_input_errors():
     with pytest.raises(InputError, match=r"'stokes': unknown option\(s\) \['nn'\]"):
         get_model("stokes").force(immersed, preset="fast", nn=3)
     assert get_model("stokes").force(immersed, preset="fast", n_gap=3).force_viscous[0] > 0
+
+
+def test_meniscus_names_the_toroid_below_the_volumes_it_resolves():
+    """A bridge of V/R^3 = 1e-12 was refused with 'the contact angles or the volume admit no
+    bridge' (InputError), and calibrated-capillary sent the user there."""
+    from wetcontact.errors import ValidityError
+
+    tiny = make_scene(amount={"bridge_volume": 1e-12 * 1e-9},
+                      motion={"velocity": 0.0, "gaps": [1e-9]})
+    with pytest.raises(ValidityError, match="use model 'toroidal'"):
+        get_model("meniscus").force(tiny)
+    f = get_model("toroidal").force(tiny).force_capillary[0]
+    small = make_scene(amount={"bridge_volume": 3e-11 * 1e-9},
+                       motion={"velocity": 0.0, "gaps": [1e-9]})
+    fm = get_model("meniscus").force(small).force_capillary[0]
+    ft = get_model("toroidal").force(small).force_capillary[0]
+    assert f < 0 and abs(ft / fm - 1) < 2e-4
+
+
+def test_with_gaps_keeps_the_film_rule_of_the_case_file():
+    """with_gaps accepted gaps all above the film, which the loader refuses; the models then
+    disagreed (zero, a force, refusals)."""
+    from wetcontact.errors import CaseError
+
+    film = make_scene(amount={"film_thickness": 1e-4}, motion={"velocity": 0.1,
+                                                               "gaps": [5e-5]})
+    with pytest.raises(CaseError, match="the smallest gap 0.0002 m"):
+        film.with_gaps([2e-4, 3e-4])
+    assert film.with_gaps([2e-4, 5e-5]).gaps == (2e-4, 5e-5)

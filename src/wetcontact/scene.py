@@ -152,8 +152,31 @@ class Scene:
         return json.dumps(self.to_dict(), sort_keys=True, separators=(",", ":"))
 
     def with_gaps(self, gaps: Any) -> Scene:
-        """Copy with other gaps, validated like the case file's."""
-        return replace(self, gaps=_validate_gaps(self.origin, gaps, self.radius))
+        """Copy with other gaps, validated like the case file's.
+
+        Parameters
+        ----------
+        gaps
+            Surface gaps S (m): a number, a sequence, a 1-D array or the table form
+            ``{start, stop, points, spacing}``; each in (0, 100 R], at most 100 000, and
+            for a film at least one below the film thickness (as ``load_case`` requires).
+
+        Returns
+        -------
+        Scene
+            The same scene on ``gaps``.
+
+        Raises
+        ------
+        CaseError
+            A gap outside its range, naming the scene's file and the gap.
+        """
+        new = _validate_gaps(self.origin, gaps, self.radius)
+        if self.film_thickness is not None and self.film_thickness <= min(new):
+            raise CaseError(self.origin, "amount.film_thickness", self.film_thickness,
+                            f"> the smallest gap {min(new):.6g} m (else the sphere never "
+                            "touches the film)")
+        return replace(self, gaps=new)
 
 
 # ---- reading ------------------------------------------------------------------------
