@@ -349,10 +349,25 @@ def register(cls: type[Model]) -> type[Model]:
 
 
 def get_model(name: str) -> Model:
-    """Registered model by name; an :class:`InputError` listing the names otherwise.
+    """Registered model by name.
 
     The closures are imported first and the solvers (scikit-fem, gmsh, py-pde) only when
     the name is not a closure, so a closure starts without loading them.
+
+    Parameters
+    ----------
+    name
+        A model name, as ``wetcontact models`` lists them (e.g. ``"meniscus"``).
+
+    Returns
+    -------
+    Model
+        The registered instance (call ``.force(scene)``).
+
+    Raises
+    ------
+    InputError
+        An unknown name; the message lists the registered ones.
     """
     if name not in MODELS:
         import importlib

@@ -185,6 +185,17 @@ class Scene:
 def load_case(path: str | Path) -> Scene:
     """Read and validate a TOML case file.
 
+    Parameters
+    ----------
+    path
+        The case file (TOML, SI units, angles in degrees; fields and ranges in the README's
+        "Case files").
+
+    Returns
+    -------
+    Scene
+        The validated, frozen scene (angles in radians inside).
+
     Raises
     ------
     CaseError
@@ -210,7 +221,27 @@ def load_case(path: str | Path) -> Scene:
 
 
 def scene_from_dict(data: Mapping[str, Any], source: str = "<dict>") -> Scene:
-    """Build and validate a :class:`Scene` from the nested dict of a case file."""
+    """Build and validate a :class:`Scene` from the nested dict of a case file.
+
+    Parameters
+    ----------
+    data
+        The case file's tables as nested dicts (``{"name": ..., "geometry": {...},
+        "liquid": {...}, "amount": {...}, "motion": {...}}``); SI units, angles in degrees;
+        numpy scalars are taken as the numbers they hold.
+    source
+        What error messages name as the file.
+
+    Returns
+    -------
+    Scene
+
+    Raises
+    ------
+    CaseError
+        An unknown key, a missing field or a value outside its range (named with its
+        allowed range).
+    """
     _check_keys(source, data)
     g = data["geometry"]
     liq = data["liquid"]
