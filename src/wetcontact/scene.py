@@ -128,6 +128,14 @@ class Scene:
         return self.radius * self.radius2 / (self.radius + self.radius2)
 
     @property
+    def small_radius(self) -> float:
+        """R_s: the sphere's radius on a wall, the smaller radius of a pair."""
+        if self.kind == "sphere-wall":
+            return self.radius
+        assert self.radius2 is not None
+        return min(self.radius, self.radius2)
+
+    @property
     def willett_radius(self) -> float:
         """Derjaguin radius of the equal-sphere closures: 2 R1 R2/(R1 + R2), and 2 R for a
         wall (Willett et al. 2000; the sphere-plate limit R2 -> infinity)."""
@@ -172,10 +180,8 @@ class Scene:
             A gap outside its range, naming the scene's file and the gap.
         """
         new = _validate_gaps(self.origin, gaps, self.radius)
-        if self.film_thickness is not None and self.film_thickness <= min(new):
-            raise CaseError(self.origin, "amount.film_thickness", self.film_thickness,
-                            f"> the smallest gap {min(new):.6g} m (else the sphere never "
-                            "touches the film)")
+        if self.film_thickness is not None:
+            _check_film_reached(self.origin, self.film_thickness, new)
         return replace(self, gaps=new)
 
 
@@ -294,10 +300,7 @@ def scene_from_dict(data: Mapping[str, Any], source: str = "<dict>") -> Scene:
             raise CaseError(source, "amount.film_thickness", amt["film_thickness"],
                             "only with kind='sphere-wall' (a film lies on the wall)")
         film = _num(source, "amount.film_thickness", amt["film_thickness"], 1e-12, 10 * radius, "m")
-        if film <= min(gaps):
-            raise CaseError(source, "amount.film_thickness", film,
-                            f"> the smallest gap {min(gaps):.6g} m (else the sphere never "
-                            "touches the film)")
+        _check_film_reached(source, film, gaps)
         amount: AmountKind = "film"
     elif amounts[0] == "bridge_volume":
         vmax = 4.0 / 3.0 * math.pi * radius**3
@@ -365,6 +368,14 @@ def _check_keys(source: str, data: Mapping[str, Any]) -> None:
 
 TOLERANCE_RANGE = (1e-12, 1.0)
 """Open interval of a relative tolerance (case file ``fidelity.tolerance``, ``--tol``)."""
+
+
+def _check_film_reached(source: str, film: float, gaps: tuple[float, ...]) -> None:
+    """A film must be thicker than the smallest gap, else the sphere never touches it."""
+    if film <= min(gaps):
+        raise CaseError(source, "amount.film_thickness", film,
+                        f"> the smallest gap {min(gaps):.6g} m (else the sphere never "
+                        "touches the film)")
 
 
 def plain_number(value: Any) -> Any:

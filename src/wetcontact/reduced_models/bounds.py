@@ -141,7 +141,7 @@ def table_from_dict(t: dict[str, Any]) -> Table:
 def scene_coords(scene: Scene, rupture_distance: float | None = None) -> dict[str, np.ndarray]:
     """The coordinates of every gap of ``scene`` (module docstring)."""
     s = scene.gap_array
-    r_small = scene.radius if scene.kind == "sphere-wall" else min(scene.radius, scene.radius2)
+    r_small = scene.small_radius
     r_large = scene.radius if scene.kind == "sphere-wall" else max(scene.radius, scene.radius2)
     c: dict[str, np.ndarray] = {
         "s_over_r": s / scene.radius,

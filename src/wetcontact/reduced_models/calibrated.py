@@ -201,7 +201,7 @@ def _finite_coords(scene: Scene) -> dict[str, np.ndarray]:
     if scene.amount == "film":
         c["delta_over_r"] = np.full(s.shape, scene.film_thickness / scene.radius)
     else:
-        rs = scene.radius if scene.kind == "sphere-wall" else min(scene.radius, scene.radius2)
+        rs = scene.small_radius
         rl = scene.radius if scene.kind == "sphere-wall" else max(scene.radius, scene.radius2)
         c["v_star"] = np.full(s.shape, scene.bridge_volume / rs**3)
         c["radius_ratio"] = np.full(s.shape, rl / rs)

@@ -842,8 +842,7 @@ class CalibratedCapillary(Model):
 
     def small_radius(self, scene: Scene) -> float:
         """R_s: the sphere's radius on a wall, the smaller radius of a pair."""
-        return scene.radius if scene.kind == "sphere-wall" else min(scene.radius,
-                                                                    scene.radius2)
+        return scene.small_radius
 
     def rupture_distance(self, scene: Scene) -> float:
         """S_c (m)."""

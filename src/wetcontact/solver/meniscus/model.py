@@ -64,8 +64,7 @@ class MeniscusModel(Model):
             if th > THETA_MAX + 1e-12:
                 raise ValidityError(self.name, f"{label} = {math.degrees(th):.4g} deg is above "
                                     "150 deg: outside the solver's range")
-        small = scene.radius if scene.radius2 is None else min(scene.radius, scene.radius2)
-        if (v := scene.bridge_volume / small**3) < MIN_VOLUME_RATIO:
+        if (v := scene.bridge_volume / scene.small_radius**3) < MIN_VOLUME_RATIO:
             raise ValidityError(self.name, f"V/R_small^3 = {v:.4g} < {MIN_VOLUME_RATIO:g}: "
                                 "below the volumes the solver resolves (its Newton iteration "
                                 "at contact fails from 1e-11); the toroidal bridge is within "
