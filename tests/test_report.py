@@ -268,13 +268,15 @@ def test_case_plot_colours_never_repeat_and_forces_are_signed():
     assert sorted(colour) == names and all(len(c) == 1 for c in colour.values())
     flat = [next(iter(c)) for c in colour.values()]
     assert len(set(flat)) == len(flat)  # no colour repeats within the figure
-    # sign marks: capillary attraction (F < 0) with open markers, viscous F > 0 filled
-    cap, visc = fig.axes[1], fig.axes[0]
-    opens = [ln for ln in cap.get_lines() if ln.get_markerfacecolor() == "none"
-             and len(ln.get_xdata())]
-    assert len(opens) == len(names)
-    assert not any(ln.get_markerfacecolor() == "none" and len(ln.get_xdata())
-                   for ln in visc.get_lines())
+    # signed axes: viscous F > 0 above the zero line, capillary attraction below it
+    visc, cap = fig.axes[0], fig.axes[1]
+    for ax, sign in ((visc, 1), (cap, -1)):
+        lo, hi = ax.get_ylim()
+        assert lo < 0 < hi  # the zero line is in view
+        ys = [np.asarray(ln.get_ydata()) for ln in ax.get_lines()
+              if not ln.get_label().startswith("_") and len(ln.get_xdata()) > 1]
+        assert ys and all(np.all(sign * y > 0) for y in ys)
+        assert ax.get_yscale() == "symlog"  # 1e-3 ... 1e+1 N: a log axis, both signs
     for ln in cap.get_lines():
         if ln.get_marker() not in (None, "None", ""):
             markers.setdefault(ln.get_marker(), set()).add(to_hex(ln.get_color()))
@@ -286,6 +288,38 @@ def test_case_plot_colours_never_repeat_and_forces_are_signed():
         "amount": {"film_thickness": 1e-4}, "motion": {"velocity": 0.01, "gaps": [5e-5]}}))
     assert "film delta = 0.0001 m" in film
     assert not clipped_texts(fig)
+
+
+def test_case_plot_draws_zero_and_sign_changes_on_the_axis():
+    """F = 0 past rupture is drawn on the zero line, not dropped, and a closure that turns
+    repulsive crosses it; a force within two decades gets a linear axis."""
+    gap = np.geomspace(1e-6, 1e-4, 9)
+    cap = -1e-4 * (1 - gap / 5.6e-5)  # about -1e-4 N, crosses zero at 5.6e-5 m
+    cap[-1] = 0.0
+    curves = {"a": ForceCurve(case="c", model="a", gap=gap, force_viscous=None,
+                              force_capillary=cap),
+              "b": ForceCurve(case="c", model="b", gap=gap, force_viscous=None,
+                              force_capillary=np.where(gap < 8e-5, -2e-4, 0.0))}
+    fig = report.case_figure(report.CaseResult(_bridge(), curves, {}))
+    (ax,) = fig.axes
+    line = next(ln for ln in ax.get_lines() if ln.get_label() == "a")
+    assert np.array_equal(line.get_ydata(), cap)  # signed, zeros kept
+    assert ax.get_yscale() == "symlog"  # |F| from 3.6e-7 to 2e-4 N: over two decades
+    lo, hi = ax.get_ylim()
+    assert lo < -2e-4 and hi > cap.max() > 0
+    flat = {"b": curves["b"]}
+    fig = report.case_figure(report.CaseResult(_bridge(), flat, {}))
+    assert fig.axes[0].get_yscale() == "linear"
+    assert fig.axes[0].get_ylim()[1] > 0 > fig.axes[0].get_ylim()[0]
+    assert not clipped_texts(fig)
+
+
+def test_every_series_has_its_own_dash_pattern():
+    from wetcontact.plotting import COLOURS, styles
+
+    st = styles([f"m{i}" for i in range(len(COLOURS))])
+    dashes = [str(s["linestyle"]) for s in st.values()]
+    assert len(set(dashes)) == len(dashes)
 
 
 def test_lubrication_chart_one_colour_per_film_thickness():

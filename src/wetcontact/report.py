@@ -192,45 +192,49 @@ def scene_label(sc: Scene) -> str:
 
 
 def case_figure(res: CaseResult):
-    """|F| of every model against the gap on log axes, one panel per force component, with
-    the sign marked: filled markers where F > 0 (pushes the surfaces apart), open markers
-    where F < 0 (attraction); F = 0 (no liquid, past rupture) is not drawn. One colour and
-    marker per model, the same in both panels."""
+    """Signed F of every model against the gap, one panel per force component.
+
+    The force axis is signed (:func:`~wetcontact.plotting.signed_axis`): symmetric-
+    logarithmic (logarithmic in |F| on both sides of a shaded linear band around zero)
+    when the forces span two decades or more, linear otherwise. F > 0 (pushes the
+    surfaces apart) lies above the zero line, F < 0 (attraction) below it, a change of
+    sign crosses it, and F = 0 (no liquid, past rupture) is drawn on it. Every model has
+    its own colour, marker and dash pattern, the same in both panels; the markers of the
+    models in a panel are staggered along the gaps so that coinciding curves all show.
+    """
     from matplotlib.lines import Line2D
 
-    from wetcontact.plotting import pyplot, styles
+    from wetcontact.plotting import pyplot, signed_axis, styles
 
     plt = pyplot()
     names = sorted(res.curves)
     st = styles(names)
     comps = [c for c in ("viscous", "capillary")
              if any(getattr(cv, f"force_{c}") is not None for cv in res.curves.values())]
-    fig, axes = plt.subplots(len(comps), 1, figsize=(7.5, 3.2 * len(comps) + 1.0),
+    fig, axes = plt.subplots(len(comps), 1, figsize=(9.0, 3.4 * len(comps) + 1.0),
                              sharex=True, squeeze=False, layout="constrained")
     for ax, comp in zip(axes[:, 0], comps, strict=True):
+        drawn = [n for n in names if getattr(res.curves[n], f"force_{comp}") is not None]
+        forces = [getattr(res.curves[n], f"force_{comp}") for n in drawn]
         handles = []
-        for k, name in enumerate(names):
-            c = res.curves[name]
-            f = getattr(c, f"force_{comp}")
-            if f is None or not np.any(f != 0):
-                continue
-            g, a, sgn = c.gap[f != 0], np.abs(f[f != 0]), np.sign(f[f != 0])
-            sty = st[name]
-            ax.plot(g, a, ls=sty["linestyle"], color=sty["color"], lw=1.2, label=name)
-            every = max(1, g.size // 20)
-            pick = slice(k % every, None, every)  # stagger markers of overlapping curves
-            for sign, face in ((1, sty["color"]), (-1, "none")):
-                sel = sgn[pick] == sign
-                ax.plot(g[pick][sel], a[pick][sel], ls="none", ms=4, marker=sty["marker"],
-                        color=sty["color"], markerfacecolor=face)
+        for k, (name, f) in enumerate(zip(drawn, forces, strict=True)):
+            g, sty = res.curves[name].gap, st[name]
+            ax.plot(g, f, ls=sty["linestyle"], color=sty["color"], lw=1.3, label=name)
+            every = max(len(drawn), int(np.ceil(g.size / 12)))
+            start = (k * every) // len(drawn) % every  # distinct per model in the panel
+            pick = slice(start % max(g.size, 1), None, every)  # at least one marker each
+            ax.plot(g[pick], f[pick], ls="none", ms=4.5, marker=sty["marker"],
+                    color=sty["color"])
             handles.append(Line2D([], [], ls=sty["linestyle"], color=sty["color"],
-                                  marker=sty["marker"], ms=4, label=name))
+                                  marker=sty["marker"], ms=4.5, lw=1.3, label=name))
         ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_ylabel(f"|F {comp}| (N)")
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(handles=handles, fontsize=6, loc="best", ncol=2,
-                  title="filled: F > 0 (apart), open: F < 0 (attraction)", title_fontsize=6)
+        lin = signed_axis(ax, forces)
+        ax.set_ylabel(f"F {comp} (N)\n> 0 apart, < 0 attraction")
+        ax.grid(True, which="major", alpha=0.3)
+        ax.legend(handles=handles, fontsize=6.5, ncol=1,
+                  loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0,
+                  title=None if lin is None else f"grey band: linear, |F| < {lin:.0e} N",
+                  title_fontsize=6.5)
     axes[-1, 0].set_xlabel("surface gap S (m)")
     sc = res.scene
     fig.suptitle(f"{sc.name}\n{scene_label(sc)}", fontsize=8)
@@ -238,7 +242,7 @@ def case_figure(res: CaseResult):
 
 
 def write_case_outputs(res: CaseResult, out: Path) -> str:
-    """``curves/<stem>.png`` (signed F against gap, every model) and ``curves/<stem>.csv``;
+    """``curves/<stem>.png`` (signed F against the gap, every model) and ``curves/<stem>.csv``;
     the stem is :func:`~wetcontact.fileio.safe_stem` of the case name (returned)."""
     from wetcontact.plotting import save
 
