@@ -337,3 +337,20 @@ def test_bounds_quick_never_replaces_the_shipped_tables(monkeypatch, tmp_path, c
     assert seen == [(Path("bounds-quick.json"), True), (bg.DATA_PATH, False),
                     (tmp_path / "q.json", True)]
     assert "wrote bounds-quick.json" in capsys.readouterr().out
+
+
+def test_calibration_figures_name_the_family_reference_and_units(finite_liquid_run) -> None:
+    """The parity plot and the error map say what was fitted against what, in which
+    units, and no label leaves the canvas."""
+    from wetcontact.plotting import clipped_texts
+
+    res, _, held = finite_liquid_run
+    parity, errors = cal.calibration_figures(res, held)
+    ax = parity.axes[0]
+    assert "finite-liquid: sphere-wall, film\n" in ax.get_title()
+    assert "lubrication" in ax.get_title()
+    assert ax.get_xlabel() == "reference viscous force (N)"
+    assert errors.get_suptitle().startswith("finite-liquid: sphere-wall, film")
+    assert errors.axes[0].get_xlabel() == "film thickness delta / R"
+    assert errors.axes[0].get_ylabel() == "S / H"
+    assert not clipped_texts(parity) and not clipped_texts(errors)

@@ -554,51 +554,76 @@ def calibrate(family: Family, train: Points, held_out: Points,
                              else "meniscus")})
 
 
+AXIS_LABELS = {"v_star": "V* = V / R^3", "theta_deg": "contact angle theta (deg)",
+               "s_over_sc": "S / S_c", "delta_over_r": "film thickness delta / R",
+               "s_over_h": "S / H", "radius_ratio": "radius ratio R2 / R1"}
+TARGET_LABELS = {"capillary": "capillary force (N)", "viscous": "viscous force (N)",
+                 "rupture": "rupture distance S_c (m)"}
+
+
 def write_calibration(cal: Calibration, held_out: Points, out: Path) -> list[Path]:
     """The JSON, a parity plot (``*_parity.png``) and an error map (``*_errors.png``)."""
-    import matplotlib
+    from wetcontact.plotting import save
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fam = get_family(cal.family)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(cal.to_json(), indent=1) + "\n")
+    parity_fig, errors_fig = calibration_figures(cal, held_out)
+    parity = out.with_name(out.stem + "_parity.png")
+    errors = out.with_name(out.stem + "_errors.png")
+    save(parity_fig, parity)
+    save(errors_fig, errors)
+    return [out, parity, errors]
+
+
+def calibration_figures(cal: Calibration, held_out: Points) -> tuple[Any, Any]:
+    """The held-out parity plot and error map of a calibration (matplotlib figures).
+
+    Both name the family, its scene class and its reference in the title; the parity
+    axes carry the target's unit, the error map the family's domain axes."""
+    from wetcontact.plotting import pyplot
+
+    plt = pyplot()
+    fam = get_family(cal.family)
+    what = (f"{cal.family}: {fam.kind}, {fam.amount}\nheld out against "
+            f"{cal.extra.get('reference', 'the reference')}")
     with np.errstate(all="ignore"):
         before = fam.form(cal.published, held_out.inputs)
         after = fam.form(cal.coefficients, held_out.inputs)
-    fig, ax = plt.subplots(figsize=(5, 5))
-    ax.loglog(held_out.y, before, "x", ms=4, label="published", color="0.6")
+    pfig, ax = plt.subplots(figsize=(5.5, 5.5), layout="constrained")
+    ax.loglog(held_out.y, before, "x", ms=4, label="published", color="0.45")
     ax.loglog(held_out.y, after, "o", ms=3, mfc="none", label="refitted", color="C0")
     lim = [held_out.y.min(), held_out.y.max()]
-    ax.plot(lim, lim, "k-", lw=0.8)
-    ax.set(xlabel="reference", ylabel="closure", title=f"{cal.family}: held-out parity")
-    ax.legend()
-    fig.tight_layout()
-    parity = out.with_name(out.stem + "_parity.png")
-    fig.savefig(parity, dpi=110)
-    plt.close(fig)
+    ax.plot(lim, lim, "k-", lw=0.8, label="closure = reference")
+    unit = TARGET_LABELS[fam.target]
+    ax.set(xlabel=f"reference {unit}", ylabel=f"closure {unit}")
+    ax.set_title(f"{what}: parity", fontsize=8)
+    ax.legend(fontsize=8)
+    from matplotlib.ticker import NullFormatter
+
+    ax.xaxis.set_minor_formatter(NullFormatter())  # minor labels overlap on a short range
     coords = domain_coords(fam, held_out.inputs)
     ax_names = [a for a in fam.domain_axes if a in coords][:2]
     e_before = rel_errors(fam, cal.published, held_out)
     e_after = rel_errors(fam, cal.coefficients, held_out)
-    fig, axs = plt.subplots(1, 2, figsize=(10, 4), sharex=True, sharey=True)
+    efig, axs = plt.subplots(1, 2, figsize=(10, 4.3), sharex=True, sharey=True,
+                             layout="constrained")
     vmax = max(float(e_before.max()), 1e-12)
+    sc = None
     for axx, e, title in ((axs[0], e_before, "published"), (axs[1], e_after, "refitted")):
         o = np.argsort(e)  # largest errors drawn last (on top) where points coincide
         sc = axx.scatter(coords[ax_names[0]][o], (coords[ax_names[1]] if len(ax_names) > 1
                                                   else e)[o],
                          c=np.log10(np.maximum(e[o], 1e-8)), s=14, cmap="viridis",
                          vmin=np.log10(vmax) - 4, vmax=np.log10(vmax))
-        axx.set(xlabel=ax_names[0], ylabel=ax_names[1] if len(ax_names) > 1 else "error",
+        axx.set(xlabel=AXIS_LABELS.get(ax_names[0], ax_names[0]),
+                ylabel=(AXIS_LABELS.get(ax_names[1], ax_names[1]) if len(ax_names) > 1
+                        else "relative error"),
                 title=f"{title}: max {e.max():.2g}")
         if ax_names[0] in ("v_star", "delta_over_r"):
             axx.set_xscale("log")
-    fig.colorbar(sc, ax=axs, label="log10 relative error (held out)")
-    errors = out.with_name(out.stem + "_errors.png")
-    fig.savefig(errors, dpi=110)
-    plt.close(fig)
-    return [out, parity, errors]
+    efig.colorbar(sc, ax=axs, label="log10 relative error (held out)")
+    efig.suptitle(what.replace("\n", ", "), fontsize=9)
+    return pfig, efig
 
 
 def run_family(name: str, out: Path, n_train: int = 30, n_held_out: int = 16,

@@ -250,7 +250,7 @@ def closures_figure(rows: list[dict]):
 
     plt = pyplot()
     st = styles(CLOSURES)
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4), sharey=True, layout="constrained")
     for ax, kind in zip(axes, KINDS, strict=True):
         for name in CLOSURES:
             sel = [r for r in rows if r["closure"] == name and r["kind"] == kind
@@ -263,8 +263,8 @@ def closures_figure(rows: list[dict]):
         ax.set_xlabel("S / S_c (FE)")
         ax.grid(True, which="both", alpha=0.3)
     axes[0].set_ylabel("max relative force error over V*, theta")
-    axes[1].legend(fontsize=7)
-    fig.tight_layout()
+    axes[1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0),
+                   borderaxespad=0.0)  # beside the panels: inside, it hid willett's points
     return fig
 
 
