@@ -37,10 +37,40 @@ def main_or_chart(name: str, main: Callable[[], Any],
         main()
 
 
+def machine() -> dict[str, Any]:
+    """What a timing depends on: CPU model, cores, load, date, commit and library versions."""
+    import datetime
+    import platform
+    import subprocess
+
+    import numpy
+    import scipy
+
+    cpu = platform.processor() or ""
+    try:
+        with open("/proc/cpuinfo") as fh:
+            cpu = next((ln.split(":", 1)[1].strip() for ln in fh
+                        if ln.startswith("model name")), cpu)
+    except OSError:
+        pass
+    try:
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
+                                text=True, cwd=RESULTS.parent, check=False).stdout.strip()
+    except OSError:
+        commit = ""
+    return {"cpu": cpu, "cores": os.cpu_count(),
+            "load_1min": os.getloadavg()[0] if hasattr(os, "getloadavg") else None,
+            "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+            "commit": commit or None, "python": platform.python_version(),
+            "numpy": numpy.__version__, "scipy": scipy.__version__}
+
+
 def write_json(name: str, data: dict[str, Any]) -> Path:
-    """Write ``benchmarks/results/<name>.json`` with the machine's core count attached."""
+    """Write ``benchmarks/results/<name>.json`` with the machine it ran on attached
+    (:func:`machine`, taken as it is written: the end of the run; a partial rerun that
+    keeps older parts of the file records its own machine)."""
     RESULTS.mkdir(parents=True, exist_ok=True)
-    data = {"cpu_count": os.cpu_count(), **data}
+    data = {"cpu_count": os.cpu_count(), **data, "machine": machine()}
     path = RESULTS / f"{name}.json"
     path.write_text(json.dumps(data, indent=2, default=float))
     return path

@@ -387,7 +387,7 @@ def chart(data: dict) -> None:
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true")
-    ap.add_argument("--chart-only", action="store_true",
+    ap.add_argument("--chart", action="store_true",
                     help="redraw the chart from the existing JSON (the stability note is "
                          "recomputed from its rows); nothing is run")
     ap.add_argument("--presets-only", action="store_true",
@@ -396,7 +396,7 @@ def main() -> None:
                     help="rerun the presets and the sharp-contact studies into the existing "
                          "JSON (the penalty contacts' studies are kept)")
     args = ap.parse_args()
-    if args.chart_only:
+    if args.chart:
         data = json.loads((RESULTS / "thinfilm.json").read_text())
         data["stability"]["note"] = stability_note(data["stability"]["rows"])
         (RESULTS / "thinfilm.json").write_text(json.dumps(data, indent=2, default=float))
