@@ -60,7 +60,7 @@ def machine() -> dict[str, Any]:
         commit = ""
     return {"cpu": cpu, "cores": os.cpu_count(),
             "load_1min": os.getloadavg()[0] if hasattr(os, "getloadavg") else None,
-            "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+            "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
             "commit": commit or None, "python": platform.python_version(),
             "numpy": numpy.__version__, "scipy": scipy.__version__}
 

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import RESULTS, median_time, write_json  # noqa: E402
+from _common import RESULTS, main_or_chart, median_time, write_json  # noqa: E402
 
 from wetcontact.models import load_all  # noqa: E402
 from wetcontact.scene import scene_from_dict  # noqa: E402
@@ -88,13 +88,17 @@ def _chart(sweep: list[dict], path: Path) -> None:
     except ImportError:
         return
     fig, ax = plt.subplots(figsize=(5, 4))
-    for levels in (1, 2, 3):
+    for levels, mark in zip((1, 2, 3), ("o-", "s--", "^-."), strict=True):
         pts = [s for s in sweep if s["levels"] == levels]
-        ax.loglog([p["time_s"] for p in pts], [max(p["rel_error"], 1e-16) for p in pts], "-o",
+        ax.loglog([p["time_s"] for p in pts], [max(p["rel_error"], 1e-16) for p in pts], mark,
                   label=f"levels={levels} (order {2 * levels})")
+        for p in pts[::2]:  # n, the radial cells, at every other point
+            ax.annotate(f"{p['n']}", (p["time_s"], max(p["rel_error"], 1e-16)), fontsize=6,
+                        textcoords="offset points", xytext=(3, 3))
     ax.set_xlabel("wall time per gap (s)")
-    ax.set_ylabel("relative error vs quadrature")
-    ax.set_title("lubrication: work-precision")
+    ax.set_ylabel("relative error vs quadrature (labels: n)")
+    ax.set_title("lubrication, sphere-wall film delta/R = 0.1,\nS/R = 1e-3: work-precision",
+                 fontsize=10)
     ax.legend()
     fig.tight_layout()
     fig.savefig(path, dpi=110)
@@ -102,4 +106,5 @@ def _chart(sweep: list[dict], path: Path) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    main_or_chart("lubrication", main,
+                  lambda d: _chart(d["error_vs_time"], RESULTS / "lubrication.png"))

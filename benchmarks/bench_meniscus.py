@@ -26,7 +26,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from _common import RESULTS, median_time, write_json  # noqa: E402
+from _common import RESULTS, main_or_chart, median_time, write_json  # noqa: E402
 
 from wetcontact.solver.meniscus import (  # noqa: E402
     Bridge,
@@ -197,7 +197,11 @@ def _plot(fe_rows, ev_rows) -> None:
     for k, (_V, S, ts, _tw) in enumerate(CASES):
         sel = [r for r in fe_rows if r["case"]["S*"] == S]
         ax.loglog([r["wall_time_s"] for r in sel], [max(r["error"], 1e-16) for r in sel],
-                  "o-", color=f"C{k}", label=f"FE P2, th={ts:.0f} deg")
+                  ("o-", "s--", "^-.", "D:")[k % 4], color=f"C{k}",
+                  label=f"FE P2, th={ts:.0f} deg (labels: elements)")
+        for r in sel:
+            ax.annotate(f"{r['n_elements']}", (r["wall_time_s"], max(r["error"], 1e-16)),
+                        fontsize=6, textcoords="offset points", xytext=(4, 2))
         sel = [r for r in ev_rows if r["case"]["S*"] == S]
         if sel:
             ax.loglog([r["wall_time_s"] for r in sel], [r["error_contact_line"] for r in sel],
@@ -215,4 +219,5 @@ def _plot(fe_rows, ev_rows) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    main_or_chart("meniscus", main, lambda d: _plot(
+        d["fe_single"], d["surface_evolver"] if isinstance(d["surface_evolver"], list) else []))

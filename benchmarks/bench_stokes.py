@@ -46,6 +46,7 @@ The machine is shared: timings are noisy, the median damps that.
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import sys
 import tempfile
@@ -53,11 +54,13 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import numpy as np  # noqa: E402
 from _common import RESULTS, median_time, write_json  # noqa: E402
 
 from wetcontact.meshes.builders import Resolution  # noqa: E402
 from wetcontact.meshes.cache import get_mesh  # noqa: E402
 from wetcontact.models import get_model, provenance  # noqa: E402
+from wetcontact.plotting import signed_axis  # noqa: E402
 from wetcontact.reduced_models.viscous import brenner_lambda, two_sphere_lambda  # noqa: E402
 from wetcontact.scene import scene_from_dict  # noqa: E402
 from wetcontact.solver.stokes import Stokes, container_factor, solve_stokes  # noqa: E402
@@ -103,17 +106,25 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="two gaps, three levels, 2 repeats")
     ap.add_argument("--repeats", type=int, default=5)
-    ap.add_argument("--part", choices=("all", "slip", "bridge", "cost", "film"),
+    ap.add_argument("--part", choices=("all", "slip", "bridge", "cost", "film", "chart"),
                     default="all",
                     help="'slip': only the slip, Basset and unequal-sphere sections; "
                     "'bridge': only the liquid-bridge sections; 'cost': median cost per gap "
                     "of bridges and films at the default preset (run it on a quiet machine); "
-                    "'film': only the film presets' agreement (film_cost)")
+                    "'film': only the film presets' agreement (film_cost); 'chart': redraw "
+                    "the three charts from the JSON, running nothing")
     ap.add_argument("--amount", choices=("all", "bridge", "film"), default="all",
                     help="with --part cost: only these cases (their rows are replaced in "
                     "the JSON, the others kept)")
     args = ap.parse_args()
     repeats = 2 if args.quick else args.repeats
+    if args.part == "chart":
+        data = json.loads((RESULTS / "stokes.json").read_text())
+        plot(data["work_precision"], RESULTS / "stokes.png")
+        plot_slip(data["slip_study"], RESULTS / "stokes_slip.png")
+        plot_bridge(data["bridge_vs_lubrication"], data["bridge_slip"],
+                    RESULTS / "stokes_bridge.png")
+        return
     if args.part == "bridge":
         bridge_part(args.quick)
         return
@@ -489,19 +500,26 @@ def plot_bridge(comp: list[dict], slip: list[dict], out: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4.2))
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.6), layout="constrained")
     styles = ["o-", "s--", "^:"]
+    signed = []
     for i, vol in enumerate(sorted({r["v_over_r3"] for r in comp})):
         rows = [r for r in comp if r["v_over_r3"] == vol]
         x = [r["s_over_r"] for r in rows]
-        a1.loglog(x, [r["over_lub_same_radius"] - 1 for r in rows], styles[i % 3],
-                  color=f"C{i}", label=f"V/R^3 = {vol:g}: F/F_lub(r_c) - 1")
-        a1.loglog(x, [abs(r["over_reynolds-finite"] - 1) if r["over_reynolds-finite"]
-                      else float("nan") for r in rows], styles[i % 3], color=f"C{i}",
-                  alpha=0.45, label=f"V/R^3 = {vol:g}: |F/F_reynolds-finite - 1|")
-    a1.axhline(0.01, color="k", lw=0.8, ls="-.", label="1 %")
+        y1 = np.array([r["over_lub_same_radius"] - 1 for r in rows])
+        y2 = np.array([r["over_reynolds-finite"] - 1 if r["over_reynolds-finite"]
+                       else np.nan for r in rows])
+        signed += [y1, y2]
+        a1.plot(x, y1, styles[i % 3], color=f"C{i}", label=f"V/R^3 = {vol:g}: F/F_lub(r_c) - 1")
+        a1.plot(x, y2, styles[(i + 1) % 3], color=f"C{i}", mfc="none", alpha=0.7,
+                label=f"V/R^3 = {vol:g}: F/F_reynolds-finite - 1")
+    a1.set_xscale("log")
+    lin = signed_axis(a1, signed)  # signed: a difference that changes sign crosses zero
+    a1.axhline(0.01, color="k", lw=0.8, ls="-.", label="±1 %")
+    a1.axhline(-0.01, color="k", lw=0.8, ls="-.")
     a1.set_xlabel("S / R")
-    a1.set_ylabel("relative difference")
+    a1.set_ylabel("relative difference (signed)" + ("" if lin is None else
+                                                     f"; linear within {lin:.0e}"))
     a1.set_title("Stokes bridge vs lubrication (sphere-wall, 20 deg, b = 1e-6 R)", fontsize=9)
     a1.legend(fontsize=6)
     for i, s in enumerate(sorted({r["s_over_r"] for r in slip})):
@@ -516,7 +534,6 @@ def plot_bridge(comp: list[dict], slip: list[dict], out: Path) -> None:
     a2.set_ylabel("(F - F_lub) / [sum 2 pi r_cl U_cl^2 f(theta)]")
     a2.set_title("moving contact lines: slip-length log law (V/R^3 = 1e-3)", fontsize=9)
     a2.legend(fontsize=7)
-    fig.tight_layout()
     fig.savefig(out, dpi=120)
     plt.close(fig)
 
@@ -534,7 +551,7 @@ def plot_slip(study: list[dict], out: Path) -> None:
             rows = [r for r in study if r["s_over_r"] == s and r["surfaces"] == n
                     and r["preset"] == pre]
             x = [r["b_over_s"] for r in rows]
-            ax.semilogx(x, [r["f_over_noslip"] for r in rows], mk,
+            ax.semilogx(x, [r["f_over_noslip"] for r in rows], mk, mfc="none" if n == 1 else None,
                         label=f"FEM S/R = {s:g}, slip on {n}")
             if s == min(r["s_over_r"] for r in study):
                 ax.semilogx(x, [r["vinogradova"] for r in rows], "k-", lw=0.8,
@@ -555,18 +572,20 @@ def plot(wp: list[dict], out: Path) -> None:
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(6, 4.2))
-    for s in sorted({r["s_over_r"] for r in wp}):
+    for i, s in enumerate(sorted({r["s_over_r"] for r in wp})):
         rows = [r for r in wp if r["s_over_r"] == s]
-        ax.loglog([r["time_s"] for r in rows], [abs(r["error"]) for r in rows], "o-",
-                  label=f"S/R = {s:g}")
+        ax.loglog([r["time_s"] for r in rows], [abs(r["error"]) for r in rows],
+                  ["o-", "s--", "^-.", "D:"][i % 4], label=f"S/R = {s:g}")
         for r in rows:
-            ax.annotate(r["level"], (r["time_s"], abs(r["error"])), fontsize=6)
-    ax.axhline(1e-5, color="k", lw=0.5, ls="--")
-    ax.axhline(1e-3, color="k", lw=0.5, ls=":")
+            ax.annotate(r["level"], (r["time_s"], abs(r["error"])), fontsize=6,
+                        textcoords="offset points", xytext=(4, 3))
+    ax.axhline(1e-5, color="k", lw=0.5, ls="--", label="1e-5")
+    ax.axhline(1e-3, color="k", lw=0.5, ls=":", label="1e-3")
     ax.set_xlabel("wall time per configuration (s, median, mesh cached)")
-    ax.set_ylabel("|F / F_Brenner - 1|")
-    ax.set_title("Stokes FEM (P2/P1, axisymmetric): work-precision")
-    ax.legend(fontsize=8)
+    ax.set_ylabel("|F / F_Brenner - 1| (labels: mesh level)")
+    ax.set_title("Stokes FEM (P2/P1, axisymmetric), immersed sphere-wall:\n"
+                 "work-precision against Brenner's series", fontsize=10)
+    ax.legend(fontsize=7)
     fig.tight_layout()
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out, dpi=120)
