@@ -201,7 +201,9 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
              "R = 1 mm, sigma = 0.072 N/m. n/a = the closure refuses the scene. "
              "Region columns: of the (V*, theta) pairs, how many are within the tolerance at "
              "contact, and the reach: the S/S_c up to which the closure stays within it "
-             "(per pair in `capillary_regions.csv`, map in `capillary_regions.png`).", "",
+             "(per pair in `capillary_regions.csv`, map in `capillary_regions.png`). "
+             "Every point: `capillary_closures.csv`; the maximum over (V*, theta) against "
+             "S/S_c: `capillary_closures.png`.", "",
              "| closure | geometry | points | n/a | max | mean | 95th pct | within 1 % | "
              "within 5 % |", "|---|---|---|---|---|---|---|---|---|"]
     best = None
@@ -221,7 +223,8 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
                          f"{_region_cell(rk, 'reach_5pct')} |")
             if kind == "sphere-sphere" and (best is None or p95 < best[1]):
                 best = (name, p95)
-    lines += ["", "Rupture distance correlations against the FE turning point:", "",
+    lines += ["", "Rupture distance correlations against the FE turning point "
+              "(every point: `capillary_rupture.csv`):", "",
               "| correlation | geometry | max | mean |", "|---|---|---|---|"]
     for name in RUPTURE:
         for kind in ("sphere-wall", "sphere-sphere"):

@@ -102,7 +102,8 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
         "## Viscous closures against the lubrication model (finite liquid)",
         "",
         "Sphere on a wall, exact cap gap, no slip; relative error F_closure/F_lubrication - 1 "
-        f"over S/R in [1e-4, 0.1]; bridge V = pi R delta^2. Full grid: `{path.name}`.",
+        f"over S/R in [1e-4, 0.1]; bridge V = pi R delta^2. Full grid: `{path.name}`; "
+        "chart: `lubrication_errors.png`.",
         "",
         "| case | delta/R | S/R range | Reynolds: min .. max error | (1-S/H)^2: max abs error |",
         "|---|---|---|---|---|",
