@@ -98,7 +98,8 @@ def run_one(kind: str, s: float, level: dict, repeats: int, method: str = "symme
     return {"kind": kind, "method": method, "s_over_r": s,
             "error": float(curve.force_viscous[0] / ref - 1),
             "error_traction": float(curve.extras["force_traction"][0] / ref - 1),
-            "time_s": warm, "time_cold_s": cold, "dofs": curve.diagnostics["dofs"][0],
+            "time_s": warm, "repeats": repeats, "time_cold_s": cold,
+            "dofs": curve.diagnostics["dofs"][0],
             "elements": curve.diagnostics["elements"][0]}
 
 
@@ -225,7 +226,8 @@ def slip_part(quick: bool, repeats: int) -> None:
                     row = {"preset": preset, "s_over_r": s, "b_over_s": q,
                            "surfaces": 2 if both else 1, "f_over_noslip": c.force_viscous[0] / f0,
                            "vinogradova": fstar,
-                           "deviation": c.force_viscous[0] / f0 / fstar - 1, "time_s": t}
+                           "deviation": c.force_viscous[0] / f0 / fstar - 1, "time_s": t,
+                           "repeats": max(1, repeats // 2)}
                     study.append(row)
                     print(f"slip {preset} S/R={s:g} b/S={q:g} n={row['surfaces']} "
                           f"F/F0={row['f_over_noslip']:.4f} f*={fstar:.4f} t={t:.2f}s", flush=True)
@@ -256,6 +258,7 @@ def slip_part(quick: bool, repeats: int) -> None:
                 f = c.force_viscous[0] / (6 * math.pi * ETA * R * V)
                 row = {"beta": beta, "s_over_r": s, "preset": preset, "f_over_6pi": f,
                        "jo_remainder": f - jeffrey_onishi(beta, xi), "time_s": t,
+                       "repeats": max(1, repeats // 2),
                        "time_cold_s": cold, "dofs": c.diagnostics["dofs"][0]}
                 unequal.append(row)
                 print(f"unequal beta={beta:g} S/R={s:g} {preset} rest={row['jo_remainder']:.4f}"

@@ -152,6 +152,7 @@ def presets(repeats: int, names: tuple[str, ...] = ("fast", "default", "accurate
             times.append(time.perf_counter() - t0)
         c = curves[name]
         out[name] = {"median_wall_time_s": float(np.median(times)), "wall_times_s": times,
+                     "repeats": reps,
                      "cells": c.diagnostics["cells"],
                      "smallest_resolved_gap_m": c.diagnostics["smallest_resolved_gap_m"],
                      "error_estimate_max": float(np.max(c.error_estimate))}
