@@ -143,3 +143,68 @@ def test_with_gaps_keeps_the_film_rule_of_the_case_file():
     with pytest.raises(CaseError, match="the smallest gap 0.0002 m"):
         film.with_gaps([2e-4, 3e-4])
     assert film.with_gaps([2e-4, 5e-5]).gaps == (2e-4, 5e-5)
+
+
+@pytest.mark.parametrize("gaps", ["abc", {"start": 1e-6, "stop": 1e-7, "points": 3}, 10**400,
+                                  [1e-6, None], True, [[1e-6, 2e-6]], [1e-6, False]])
+def test_bad_gaps_in_force_are_input_errors(gaps):
+    """ValueError, TypeError and OverflowError came out of numpy; None became nan blamed on
+    the case file; True became a gap of 1 m."""
+    with pytest.raises(InputError, match="gaps = .*allowed: a number or a list of numbers"):
+        get_model("willett").force(_bridge(), gaps=gaps)
+
+
+def test_numeric_gaps_in_any_form_are_taken():
+    m, sc = get_model("willett"), _bridge()
+    want = m.force(sc, gaps=[1e-6, 2e-6]).force_capillary
+    for g in (np.array([1e-6, 2e-6]), (1e-6, 2e-6), [np.float64(1e-6), 2e-6]):
+        assert np.array_equal(m.force(sc, gaps=g).force_capillary, want)
+
+
+def test_a_model_name_or_preset_that_is_not_a_string_is_an_input_error():
+    with pytest.raises(InputError, match="a model name"):
+        get_model(["willett"])
+    with pytest.raises(InputError, match="preset = \\['default'\\]"):
+        get_model("willett").force(_bridge(), preset=["default"])
+
+
+def test_toroidal_refuses_a_gap_without_a_toroid_wherever_it_is():
+    """Its check probed the smallest gap only, so the same missing toroid was a refusal
+    (exit 2) for gaps = [5e-5] and a solver failure (exit 1) for [5e-6, 5e-5]."""
+    from wetcontact.errors import ValidityError
+
+    def scene(gaps):
+        return make_scene(geometry={"kind": "sphere-sphere", "radius": 5e-5},
+                          liquid={"viscosity": 1e-3, "surface_tension": 0.072,
+                                  "density": 998.0, "contact_angle": 77.0},
+                          amount={"bridge_volume": 1.2e-13},
+                          motion={"velocity": 0.01, "gaps": gaps})
+
+    for gaps in ([5e-5], [5e-6, 5e-5]):
+        with pytest.raises(ValidityError, match="no bridge of volume"):
+            get_model("toroidal").force(scene(gaps))
+
+
+def test_reynolds_finite_notes_a_liquid_edge_where_the_sphere_is_steep():
+    """It answered silently with a wetted radius larger than the sphere (lubrication
+    refuses such a bridge); a film as thick as the sphere got no note either."""
+    big = make_scene(geometry={"kind": "sphere-sphere", "radius": 5e-5},
+                     amount={"bridge_volume": 2.5e-13},
+                     motion={"velocity": 0.01, "gaps": [1e-7]})
+    note = get_model("reynolds-finite").force(big).diagnostics["outside_stated_validity"]
+    assert "steeper than 60 deg" in note
+    film = make_scene(amount={"film_thickness": 1e-3}, motion={"velocity": 0.01,
+                                                              "gaps": [1e-5]})
+    assert "steeper" in get_model("reynolds-finite").force(film).diagnostics[
+        "outside_stated_validity"]
+    ok = get_model("reynolds-finite").force(_bridge())
+    assert "steeper" not in ok.diagnostics.get("outside_stated_validity", "")
+
+
+def test_a_coefficient_file_nested_too_deep_is_an_input_error(tmp_path):
+    from wetcontact.calibrate import load_coefficients
+
+    p = tmp_path / "deep.json"
+    p.write_text("[" * 100000 + "]" * 100000)
+    with pytest.raises(InputError, match="nested too deep"):
+        load_coefficients(p)

@@ -91,3 +91,43 @@ def test_stokes_names_a_model_that_applies():
         except ValidityError as exc:
             hints.add(exc.use_instead)
     assert {"brenner", "lubrication"} <= hints
+
+
+def _edge_scenes() -> list[Scene]:
+    """Scenes an input-fuzzing audit (2026-11-27) found where a hinted model's check
+    accepted but its solve refused: a bridge filling more than 70 deg of the spheres (the
+    meniscus solver's limit, met at its first step), films the sharp thin-film contact
+    cannot take (a non-wetting sphere, a gap within 3 % of first touch)."""
+    liquid = {"viscosity": 1e-3, "surface_tension": 0.072, "density": 998.0,
+              "contact_angle": 20.0}
+    out = [scene_from_dict({"name": "big-bridge", "geometry": {"kind": "sphere-sphere",
+                                                               "radius": 5e-5},
+                            "liquid": liquid, "amount": {"bridge_volume": 2.5e-13},
+                            "motion": {"velocity": 0.01, "gaps": [1e-7]}}),
+           scene_from_dict({"name": "big-wall-bridge", "geometry": {"kind": "sphere-wall",
+                                                                    "radius": R},
+                            "liquid": liquid, "amount": {"bridge_volume": 1.5e-9},
+                            "motion": {"velocity": 0.01, "gaps": [1e-6]}})]
+    for ang, gaps in ((100.0, [5e-5]), (20.0, [9.8e-5, 5e-5])):
+        out.append(scene_from_dict({
+            "name": "film-edge", "geometry": {"kind": "sphere-wall", "radius": R},
+            "liquid": {**liquid, "contact_angle": ang}, "amount": {"film_thickness": 1e-4},
+            "motion": {"velocity": 0.5, "gaps": gaps}}))
+    return out
+
+
+@pytest.mark.parametrize("scene", _edge_scenes(), ids=lambda s: s.name)
+def test_a_hinted_model_solves_the_scene(scene):
+    """Every refusal's hint, and every model accepting the scene at its check, leads to a
+    solve at the fast preset that does not refuse (before: `willett` and the other
+    closures sent a bridge of V/R^3 = 2 to `meniscus`, whose solve then refused it)."""
+    hinted = set()
+    for m in MODELS.values():
+        try:
+            m.check(scene)
+        except ValidityError as exc:
+            if exc.use_instead:
+                hinted.add(exc.use_instead)
+    for name in sorted(hinted):
+        MODELS[name].force(scene, preset="fast")  # raises if it refuses after all
+    assert MODELS["meniscus"].applicable(scene) is not None  # refused at its check

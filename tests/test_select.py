@@ -307,3 +307,22 @@ def test_film_gaps_at_or_above_the_film_give_zero_and_keep_the_calibrated_closur
     err = np.abs(get_model("calibrated-viscous").force(sub).force_viscous
                  / get_model("stokes").force(sub).force_viscous - 1)
     assert err.max() > 1e-3 and np.all(ch.bound[near] >= err)
+
+
+def test_no_model_accepting_says_why_the_most_faithful_ones_refuse():
+    """A film that is not approaching: every capillary model refuses at its check, and the
+    message ended in 'Why not:' with nothing after it."""
+    from wetcontact.scene import load_case
+
+    sc = load_case(Path(__file__).resolve().parents[1] / "cases" / "glass-2mm-water-film.toml")
+    still = dataclasses.replace(sc, velocity=0.0)
+    with pytest.raises(InputError, match=r"Why not: \S.*thinfilm: velocity = 0 m/s"):
+        select.choose(still, 0.1)
+
+
+def test_every_gap_past_rupture_is_a_zero_curve_not_a_refusal():
+    """--tol chose meniscus for a bridge whose gaps were all past rupture, and meniscus
+    then refused ('no bridge'); now it gives 0 there, as the closures do, and says so."""
+    sc = make_scene("sphere-wall", {"bridge_volume": 1e-12}, [5e-4, 1e-3], theta=(20.0, 20.0))
+    curve, _ = select.solve(sc, 0.1)
+    assert np.array_equal(curve.force_capillary, [0.0, 0.0])

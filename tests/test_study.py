@@ -332,3 +332,23 @@ def test_radius_axis_with_derived_gaps_ignores_the_bases_gaps(tmp_path, rupture_
               base=BASE_BRIDGE)
     (_, sc), = load_study(p).scenes
     assert sc.radius == 1e-7 and 0.0 < sc.gaps[0] < 100 * sc.radius
+
+
+def test_an_oversized_grid_is_refused_before_its_values_are_scanned(tmp_path):
+    """A 1e7-point grid was scanned for repeated values (quadratic in an axis' length:
+    150 s for 1e5 values) before its size was checked; now the size comes first, and the
+    repeat check is linear (numbers compared as numbers)."""
+    p = write(tmp_path, 'models = ["reynolds"]\n[axes]\n'
+              '"liquid.contact_angle" = {start=1, stop=10, points=100000}\n'
+              '"liquid.viscosity" = {start=1e-3, stop=2e-3, points=100}\n')
+    with pytest.raises(CaseError, match="10000000 grid points"):
+        load_study(p)
+    p = write(tmp_path, 'models = ["reynolds"]\n[axes]\n"liquid.viscosity" = [1e-3, 2e-3, 1e-3]\n')
+    with pytest.raises(CaseError, match=r"0\.001 appears more than once"):
+        load_study(p)
+
+
+def test_a_deeply_nested_study_file_is_a_case_error(tmp_path):
+    p = write(tmp_path, "x = " + "[" * 3000 + "]" * 3000 + "\n")
+    with pytest.raises(CaseError, match="nesting too deep"):
+        load_study(p)

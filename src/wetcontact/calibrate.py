@@ -953,6 +953,9 @@ def load_coefficients(path: Path | str, family: str | None = None) -> Calibrated
                          "written by wetcontact calibrate") from None
     except (OSError, json.JSONDecodeError) as exc:
         raise InputError(f"{path}: cannot read the coefficients ({exc})") from None
+    except RecursionError:
+        raise InputError(f"{path}: JSON nested too deep; allowed: a calibration JSON written "
+                         "by wetcontact calibrate") from None
     if not isinstance(data, dict):
         raise InputError(f"{path}: a JSON {type(data).__name__}; allowed: an object written "
                          "by wetcontact calibrate")

@@ -312,6 +312,8 @@ def _solve(args: argparse.Namespace) -> int:
         for comp, arr in (("viscous", curve.force_viscous),
                           ("capillary", curve.force_capillary)):
             names[comp] = model.name if arr is not None else None
+        if note := curve.diagnostics.get("past_rupture"):
+            sys.stderr.write(f"wetcontact: note: {note}\n")
         if note := curve.diagnostics.get("outside_stated_validity"):
             alt = model_instead(scene, model.component, exclude=model.name)
             sys.stderr.write(f"wetcontact: warning: model '{model.name}' is used outside its "

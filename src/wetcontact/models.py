@@ -239,16 +239,16 @@ class Model:
         if not isinstance(scene, Scene):
             raise InputError(f"model '{self.name}': scene = {short_repr(scene)}; allowed: a "
                              "Scene (wetcontact.scene.load_case or scene_from_dict)")
-        if preset not in self.presets:
-            raise InputError(f"model '{self.name}': preset = {preset!r}; allowed: "
+        if not isinstance(preset, str) or preset not in self.presets:
+            raise InputError(f"model '{self.name}': preset = {short_repr(preset)}; allowed: "
                              + ", ".join(self.presets))
         if settings and not any(self.presets.values()):  # a model without options
             raise InputError(f"model '{self.name}': unknown option(s) {sorted(settings)}; "
                              "allowed: none (a closed form)")
         if gaps is not None:
-            scene = scene.with_gaps(np.atleast_1d(np.asarray(gaps, dtype=float)).tolist())
-        self.check(scene)
+            scene = scene.with_gaps(_gap_list(self.name, gaps))
         opts = {**self.presets[preset], **settings}
+        self.check_options(scene, opts)
         t0 = time.perf_counter()
         curve = self._force(scene, preset=preset, **opts)
         wall = time.perf_counter() - t0
@@ -260,6 +260,13 @@ class Model:
             settings=self.settings_for(preset, **settings),
             provenance=provenance(),
         )
+
+    def check_options(self, scene: Scene, opts: dict[str, Any]) -> None:
+        """Refuse ``scene`` at the options ``opts`` (a preset's merged with the caller's):
+        :meth:`check`, since most models' validity does not depend on their options. A
+        model whose does overrides this, and its :meth:`check` is this at the default
+        preset's options: what selection and the refusal hints see."""
+        self.check(scene)
 
     def settings_for(self, preset: str = "default", **settings: Any) -> dict[str, Any]:
         """The ``settings`` a curve computed at ``preset`` with ``settings`` will carry.
@@ -275,6 +282,24 @@ class Model:
 
 
 MODELS: dict[str, Model] = {}
+
+
+def _gap_list(model: str, gaps: Any) -> list[float]:
+    """``gaps`` given to :meth:`Model.force` as a list of floats (m), or an InputError: a
+    number or a flat sequence of numbers (numpy scalars and arrays included); not a bool,
+    None, a string or a range table. Their values are checked by ``Scene.with_gaps``."""
+    from wetcontact.scene import plain_number
+
+    items = list(gaps) if isinstance(gaps, list | tuple | np.ndarray) else [gaps]
+    ok = all(isinstance(g := plain_number(x), int | float) and not isinstance(g, bool)
+             for x in items)
+    if ok:
+        try:
+            return [float(x) for x in np.asarray(items, dtype=float).ravel()]
+        except (TypeError, ValueError, OverflowError):
+            pass
+    raise InputError(f"model '{model}': gaps = {short_repr(gaps)}; allowed: a number or a "
+                     "list of numbers, surface gaps in m")
 
 
 def _accepts(model: Model, scene: Scene) -> bool:
@@ -369,6 +394,9 @@ def get_model(name: str) -> Model:
     InputError
         An unknown name; the message lists the registered ones.
     """
+    if not isinstance(name, str):
+        raise InputError(f"model = {short_repr(name)}; allowed: a model name (a string), one "
+                         "of " + ", ".join(sorted(load_all())))
     if name not in MODELS:
         import importlib
 

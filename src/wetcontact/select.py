@@ -178,15 +178,6 @@ def component_bound(model: Model, preset: str, component: str,
     return f"no error bound at preset '{preset}'"
 
 
-def _refuses_at_defaults(model: Model, scene: Scene) -> str:
-    """Why ``model``, whose check accepts ``scene``, refuses it at every preset, or empty:
-    ``thinfilm``'s sharp contact (every preset's) needs a wetting sphere."""
-    if model.name == "thinfilm" and scene.contact_angle_sphere >= 0.5 * math.pi:
-        return ("its sharp contact (every preset's) needs a wetting sphere, contact angle "
-                f"< 90 deg; the scene's is {math.degrees(scene.contact_angle_sphere):.4g} deg")
-    return ""
-
-
 def choose(scene: Scene, tolerance: float, preset: str | None = None) -> Selection:
     """Per component, the cheapest applicable model whose bound meets ``tolerance``.
 
@@ -204,9 +195,9 @@ def choose(scene: Scene, tolerance: float, preset: str | None = None) -> Selecti
     if isinstance(tolerance, bool) or not (isinstance(tolerance, float | int)
                                            and lo < tolerance < hi):
         raise InputError(f"tolerance = {tolerance!r}; allowed: ({lo:g}, {hi:g}) relative")
-    accepted = [m for m in load_all().values() if m.applicable(scene) is None]
-    at_defaults = {m.name: why for m in accepted if (why := _refuses_at_defaults(m, scene))}
-    models = sorted((m for m in accepted if m.name not in at_defaults),
+    refused = {m.name: (m, why) for m in load_all().values()
+               if (why := m.applicable(scene)) is not None}
+    models = sorted((m for m in load_all().values() if m.name not in refused),
                     key=lambda m: (m.level, m.cost, m.name))
     choices: dict[str, Choice] = {}
     for comp in needed_components(scene):
@@ -239,14 +230,20 @@ def choose(scene: Scene, tolerance: float, preset: str | None = None) -> Selecti
                 for name, reason in why_not:
                     if reason != f"does not model the {comp} force":
                         why.setdefault(name, reason)
-                why.update({m.name: at_defaults[m.name] for m in accepted
-                            if m.name in at_defaults and m.component in (comp, "both")})
-                instead = model_instead(scene, comp, exclude=tuple(at_defaults))
+                if not why:  # no model accepts: the two most faithful models' refusals
+                    mine = sorted((m for m, _ in refused.values()
+                                   if m.component in (comp, "both")),
+                                  key=lambda m: (-m.reference_rank.get(comp, 0), -m.level,
+                                                 m.name))[:2]
+                    why = {m.name: refused[m.name][1].removeprefix(f"model '{m.name}': ")
+                           for m in mine}
+                instead = model_instead(scene, comp)
                 raise InputError(f"scene '{scene.name}': no applicable model computes the "
                                  f"{comp} force with a measured error bound; give --model "
                                  + (f"(model '{instead}' applies) " if instead else "")
                                  + "instead. Why not: "
-                                 + "; ".join(f"{n}: {w}" for n, w in why.items()))
+                                 + ("; ".join(f"{n}: {w}" for n, w in why.items())
+                                    or "no model of this force accepts the scene"))
             choices[comp] = best
     return Selection(float(tolerance), choices)
 

@@ -290,6 +290,9 @@ def _read_toml(src: str, path: Path, allowed: str) -> dict[str, Any]:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise CaseError(src, "(syntax)", str(exc), "valid TOML") from None
+    except RecursionError:
+        raise CaseError(src, "(syntax)", "nesting too deep", "valid TOML of moderate "
+                        "nesting depth") from None
 
 
 def _models(src: str, models: Any) -> tuple[str, ...]:
@@ -405,14 +408,17 @@ def _grid(src: str, axes: Mapping[str, Any]) -> list[dict[str, Any]]:
     values = {p: _values(src, f"axes.{p}", v) for p, v in axes.items()}
     for p in values.keys() & DERIVED.keys():  # a derived field scales a number
         values[p] = [_number(src, f"axes.{p}", x) for x in values[p]]
-    for p, vals in values.items():  # a repeated value would be one point listed twice
-        twice = [v for i, v in enumerate(vals) if v in vals[:i]]
-        if twice:
-            raise CaseError(src, f"axes.{p}", axes[p], f"distinct values ({twice[0]!r} "
-                            "appears more than once)")
-    n = math.prod(len(v) for v in values.values())
+    n = math.prod(len(v) for v in values.values())  # first: it is cheap at any size
     if n > MAX_SCENES:
         raise CaseError(src, "axes", f"{n} grid points", f"at most {MAX_SCENES} scenes")
+    for p, vals in values.items():  # a repeated value would be one point listed twice
+        seen: set[object] = set()
+        for v in vals:  # numbers compare as numbers (1 == 1.0), anything else by its repr
+            key = float(v) if isinstance(v, int | float) and not isinstance(v, bool) else repr(v)
+            if key in seen:
+                raise CaseError(src, f"axes.{p}", axes[p], f"distinct values ({v!r} appears "
+                                "more than once)")
+            seen.add(key)
     return [dict(zip(values, combo, strict=True)) for combo in itertools.product(*values.values())]
 
 

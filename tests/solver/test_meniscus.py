@@ -270,8 +270,13 @@ def test_model_rejects_bad_input(scene_factory):
         model.force(film)
     with pytest.raises(InputError, match="volume too large"):
         model.force(_scene(scene_factory, V=2e-9))
-    with pytest.raises(InputError, match="beyond the rupture distance"):
-        model.force(_scene(scene_factory, gaps=(5e-4, 8e-4)))
+    with pytest.raises(ValidityError, match="volume too large"):  # refused by check
+        model.check(_scene(scene_factory, V=2e-9))
+    # every gap past rupture: no bridge, force 0 (as the closures give), said in a note
+    past = model.force(_scene(scene_factory, gaps=(5e-4, 8e-4)))
+    assert np.array_equal(past.force_capillary, [0.0, 0.0])
+    assert "beyond the rupture distance" in past.diagnostics["past_rupture"]
+    assert not past.extras["bridge_exists"].any()
     with pytest.raises(ValidityError, match="150 deg"):
         model.force(_scene(scene_factory, contact_angle=170.0))
     with pytest.raises(InputError, match=r"\[0, 150\] deg"):

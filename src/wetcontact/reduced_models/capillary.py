@@ -788,12 +788,14 @@ class Toroidal(_CapillaryClosure):
         return scene.bridge_volume / r**3
 
     def check(self, scene: Scene) -> None:
+        """The base checks, then the toroid itself at every gap short of rupture (a closed
+        form, cheap): a gap with no toroid of the volume is a refusal, whichever it is."""
         super().check(scene)
-        gap = min(scene.gaps)
-        if gap >= self.rupture_distance(scene):
+        gaps = scene.gap_array[scene.gap_array < self.rupture_distance(scene)]
+        if not gaps.size:
             return  # every gap past rupture: zero force, nothing to solve
         try:
-            self.attraction(scene, np.array([gap]))
+            self.attraction(scene, gaps)
         except SolverError as exc:
             raise ValidityError(self.name, str(exc), use_instead="meniscus") from None
 

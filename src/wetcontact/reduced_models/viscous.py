@@ -345,15 +345,24 @@ class Reynolds(Model):
 
 def finite_liquid_note(scene: Scene) -> str:
     """Why a film or bridge scene lies outside the stated validity of ``reynolds-finite``:
-    a gap beyond :data:`THIN_GAP_LIMIT` R* (not a thin parabolic gap), or for a bridge
-    gaps past Lian's rupture distance ``(1 + theta/2) V^(1/3)`` (no bridge there, but
-    ``H = sqrt(S^2 + V/(pi R*))`` stays above S, so the factor never reaches 0). Empty
-    inside it."""
+    a gap beyond :data:`THIN_GAP_LIMIT` R* (not a thin parabolic gap); a wetted radius
+    ``r_w = sqrt(2 R* (H - S))`` beyond ``R sin 60 deg`` (R the smaller radius), where the
+    sphere is steeper than 60 deg and the parabolic gap fails (``lubrication`` refuses
+    such a liquid amount); or for a bridge gaps past Lian's rupture distance
+    ``(1 + theta/2) V^(1/3)`` (no bridge there, but ``H = sqrt(S^2 + V/(pi R*))`` stays
+    above S, so the factor never reaches 0). Empty inside it."""
     notes = []
     gaps = scene.gap_array
     s = float(np.max(gaps)) / scene.reduced_radius
     if s > THIN_GAP_LIMIT:
         notes.append(f"S/R* up to {s:.3g} > {THIN_GAP_LIMIT:g}, the thin-gap limit")
+    h = (np.full_like(gaps, scene.film_thickness) if scene.amount == "film"
+         else bridge_edge_gap(gaps, scene.bridge_volume, scene.reduced_radius))
+    r_w = float(np.max(np.sqrt(2 * scene.reduced_radius * np.maximum(h - gaps, 0.0))))
+    if r_w > (r_max := math.sin(math.radians(60.0)) * scene.small_radius):
+        notes.append(f"wetted radius up to {r_w:.3g} m > R sin 60 deg = {r_max:.3g} m: the "
+                     "sphere is steeper than 60 deg at the liquid's edge, where the parabolic "
+                     "gap fails")
     if note := past_rupture_note(scene):
         notes.append(note)
     return "; ".join(notes)

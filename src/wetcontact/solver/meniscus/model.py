@@ -8,11 +8,11 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from wetcontact.errors import InputError, ValidityError
+from wetcontact.errors import ValidityError
 from wetcontact.models import ForceCurve, Model, register
 from wetcontact.scene import Scene
 from wetcontact.solver.meniscus.geometry import DEFAULT_ELEMENTS, THETA_MAX, Bridge
-from wetcontact.solver.meniscus.solve import _branch_for, solve_volume
+from wetcontact.solver.meniscus.solve import _branch_for, contact_problem, solve_volume
 from wetcontact.solver.meniscus.young_laplace import _disc
 
 MIN_VOLUME_RATIO = 2e-11
@@ -50,7 +50,10 @@ class MeniscusModel(Model):
 
     def check(self, scene: Scene) -> None:
         """Refuse what is not a bridge, angles above 150 deg, V/R_small^3 below
-        :data:`MIN_VOLUME_RATIO` and sphere pairs of radius ratio outside [0.1, 10]."""
+        :data:`MIN_VOLUME_RATIO`, sphere pairs of radius ratio outside [0.1, 10], and a
+        volume whose bridge at contact does not exist or fills more than 70 deg of a sphere
+        (:func:`~wetcontact.solver.meniscus.solve.contact_problem`, the solve's own first
+        step: no model in the package covers such a bridge)."""
         if scene.amount == "immersed":
             raise ValidityError(self.name, "the scene is immersed (no liquid bridge)",
                                 use_instead="stokes")
@@ -74,6 +77,9 @@ class MeniscusModel(Model):
             if not 0.1 - 1e-12 <= ratio <= 10 + 1e-12:
                 raise ValidityError(self.name, f"radius ratio R2/R1 = {ratio:.4g} outside "
                                     "[0.1, 10]")
+        why = contact_problem(Bridge.from_scene(scene), float(scene.bridge_volume))
+        if why is not None:
+            raise ValidityError(self.name, why)
 
     def convergence_data(self) -> tuple[np.ndarray, np.ndarray]:
         """Force error of a catenoid between plates (analytic, PHYSICS.md) against 1/N."""
@@ -96,10 +102,10 @@ class MeniscusModel(Model):
         br, ell = _branch_for(bridge, V, n_el)
         Sc = br.S_fold * ell
         gaps = scene.gap_array
-        if np.all(gaps > Sc * (1 + 1e-12)):
-            raise InputError(
-                f"meniscus: every gap ({gaps.min():.6g} to {gaps.max():.6g} m) is beyond the "
-                f"rupture distance {Sc:.6g} m of V = {V:.6g} m^3: no bridge")
+        past = ""
+        if np.all(gaps > Sc * (1 + 1e-12)):  # no bridge at any gap: force 0, as closures give
+            past = (f"every gap ({gaps.min():.6g} to {gaps.max():.6g} m) is beyond the "
+                    f"rupture distance {Sc:.6g} m of V = {V:.6g} m^3: no bridge, force 0")
         keys = ("laplace_pressure", "neck_radius", "filling_angle", "rupture_distance",
                 "bridge_exists", "force_spread", "stability")
         keys += ("wetted_radius",) if scene.kind == "sphere-wall" else ("filling_angle2",)
@@ -126,7 +132,8 @@ class MeniscusModel(Model):
         return ForceCurve(
             case=scene.name, model=self.name, gap=gaps, force_viscous=None,
             force_capillary=fc, extras=ex,
-            diagnostics={"newton_iterations": iters, "n_elements": n_el,
+            diagnostics={**({"past_rupture": past} if past else {}),
+                         "newton_iterations": iters, "n_elements": n_el,
                          "dofs": _disc(n_el).m, "continuation_points": len(br.xs),
                          "rupture": ("symmetry-breaking bifurcation" if br.end == "bifurcation"
                                      else "fold")},

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -80,6 +81,30 @@ def rupture_distance(bridge: Bridge, volume: float,
     """
     br, ell = _branch_for(bridge, volume, n_elements)
     return br.S_fold * ell
+
+
+@lru_cache(maxsize=256)
+def contact_problem(bridge: Bridge, volume: float,
+                    n_elements: int = DEFAULT_ELEMENTS) -> str | None:
+    """Why no bridge of ``volume`` (m^3) can be followed from contact, or None.
+
+    The first step of every solve along a branch is the bridge at contact (S = 0); its
+    Newton solve and the half-filling-angle limit (``PHI_MAX``) are run here alone
+    (about 10 ms, cached), so a model's ``check`` can refuse such a volume before a sweep
+    or a refusal hint sends a user to it."""
+    d, g, ell = _prep(bridge, volume, n_elements)
+    if g.rt is None:  # two plates: no contact state
+        return None
+    nw = _solve_at(d, g, 0.0, volume / ell**3, None)
+    if not nw.converged:
+        return (f"no liquid bridge found at contact (S = 0) for V/l^3 = {volume / ell**3:.4g} "
+                f"and contact angles {math.degrees(g.tht):.4g}, {math.degrees(g.thb):.4g} "
+                "deg: the contact angles or the volume admit no bridge")
+    try:
+        _check_filling(g, nw.x, d)
+    except InputError as exc:
+        return str(exc).removeprefix("meniscus: ")
+    return None
 
 
 def solve_volume(bridge: Bridge, gap: float, volume: float,

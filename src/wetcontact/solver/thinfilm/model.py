@@ -221,7 +221,14 @@ class ThinFilm(Model):
     }
 
     def check(self, scene: Scene) -> None:
-        """Film on a wall, approach, and (delta/R, Ca, Ca*) inside the validity."""
+        """Film on a wall, approach, (delta/R, Ca, Ca*) inside the validity, and the
+        default (sharp) contact's limits (:meth:`check_options` at the default preset)."""
+        self.check_options(scene, self.presets["default"])
+
+    def check_options(self, scene: Scene, opts: dict[str, Any]) -> None:
+        """:meth:`check` at the options ``opts``; the sharp contact (the default) also needs
+        a wetting sphere (theta_s < 90 deg) and no gap within 3 FIRST_DIP delta of first
+        touch, where its meniscus is still forming."""
         if scene.amount == "immersed":
             raise ValidityError(self.name, "the scene is immersed, not a film",
                                 use_instead="stokes")
@@ -239,7 +246,23 @@ class ThinFilm(Model):
                                  reduced_capillary_number(scene))
         if reason:
             raise ValidityError(self.name, reason, use_instead="stokes")
-        # the penalty contacts' gap limits depend on the contact setting: see _force
+        if opts.get("contact", "sharp") == "sharp":
+            if not scene.contact_angle_sphere < 0.5 * math.pi:
+                raise ValidityError(
+                    self.name, f"contact angle on the sphere "
+                    f"{math.degrees(scene.contact_angle_sphere):.4g} deg >= 90 deg: the sharp "
+                    "contact needs a wetting liquid (setting contact = 'tangential' models a "
+                    "non-wetting sphere)", use_instead="lubrication")
+            gaps, delta = scene.gap_array, scene.film_thickness
+            early = gaps[(gaps < delta) & (gaps > delta * (1.0 - 3.0 * FIRST_DIP))]
+            if early.size:
+                raise ValidityError(
+                    self.name, f"gap S = {float(early[0]):.6g} m is within "
+                    f"{3 * FIRST_DIP:g} delta of first touch (delta = {delta:g} m), where the "
+                    "sharp contact's meniscus is still forming from the undisturbed film "
+                    f"(its run starts at delta (1 - {FIRST_DIP:g})); S = delta itself is 0",
+                    use_instead="lubrication")
+        # the penalty contacts' gap limits depend on their resolution: see _force
 
     @staticmethod
     def _too_small(scene: Scene, s_min: float, preset: str) -> str:
@@ -293,15 +316,6 @@ class ThinFilm(Model):
                                  "film takes film_cells (an integer >= 8)")
             sharp = _sharp_problem(self.name, scene, film_cells, elements, domain_factor,
                                    gap_shape)
-            delta = sharp.film_thickness
-            early = gaps[(gaps < delta) & (gaps > delta * (1.0 - 3.0 * FIRST_DIP))]
-            if early.size:
-                raise ValidityError(
-                    self.name, f"gap S = {float(early[0]):.6g} m is within "
-                    f"{3 * FIRST_DIP:g} delta of first touch (delta = {delta:g} m), where the "
-                    "sharp contact's meniscus is still forming from the undisturbed film "
-                    f"(its run starts at delta (1 - {FIRST_DIP:g})); S = delta itself is 0",
-                    use_instead="lubrication")
 
             def run_sharp(prob: SharpFilm, tol: float, dip: float) -> RunResult:
                 return sharp_run(prob, gaps, profile_gaps=profile_gaps, rtol=tol, mass=m,
