@@ -140,6 +140,12 @@ def _break(data: dict, how: str) -> str:
     if how == "inverted range":
         dom["v_star"] = [0.1, 1e-4]
         return "'domain.v_star'"
+    if how == "volume beyond the sphere":  # the refit answered silently at V* = 4
+        dom["v_star"] = [-1, 1e9]
+        return "'domain.v_star'"
+    if how == "angle beyond 90 deg":  # ... and at 85 deg, where the built-in one warns
+        dom["theta_deg"] = [-90, 179]
+        return "'domain.theta_deg'"
     if how in ("string coefficient", "boolean coefficient", "NaN coefficient",
                "huge integer coefficient"):
         k[3] = {"string coefficient": "abc", "boolean coefficient": True,
@@ -156,7 +162,8 @@ def _break(data: dict, how: str) -> str:
 
 @pytest.mark.parametrize("how", [
     "domain key missing", "domain key extra", "NaN bound", "string bound", "null range",
-    "one bound", "inverted range", "string coefficient", "boolean coefficient",
+    "one bound", "inverted range", "volume beyond the sphere", "angle beyond 90 deg",
+    "string coefficient", "boolean coefficient",
     "NaN coefficient", "huge integer coefficient", "other kind", "family misspelt"])
 def test_malformed_coefficient_file_names_file_and_field(tmp_path, how) -> None:
     """Each malformation found by a new user's audit (2026-11-25) is an InputError naming

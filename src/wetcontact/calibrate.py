@@ -992,8 +992,29 @@ def load_coefficients(path: Path | str, family: str | None = None) -> Calibrated
         if not lo <= hi:
             raise InputError(f"{path}: field 'domain.{a}' = [{lo:g}, {hi:g}]; allowed: "
                              "[low, high] with low <= high")
+        a_lo, a_hi, open_lo, what = DOMAIN_LIMITS[a]
+        if not ((lo > a_lo if open_lo else lo >= a_lo) and hi <= a_hi):
+            raise InputError(f"{path}: field 'domain.{a}' = [{lo:g}, {hi:g}]; allowed: within "
+                             f"{'(' if open_lo else '['}{a_lo:g}, {a_hi:g}] ({what}; family "
+                             f"{fam.name})")
         dom[a] = (float(lo), float(hi))
     return CalibratedClosure(fam, k, dom, str(path))
+
+
+DOMAIN_LIMITS: dict[str, tuple[float, float, bool, str]] = {
+    "v_star": (0.0, 1.0, True, "a bridge at most as large as the sphere, as the built-in "
+               "closures accept"),
+    "theta_deg": (0.0, 90.0, False, "a wetting contact angle in degrees"),
+    "s_over_sc": (0.0, 1.5, False, "from contact to the rupture distance, measured with "
+                  "the family's own S_c, which the reference bridge may outlast (mikami-pp's "
+                  "training reached 1.026)"),
+    "s_over_h": (0.0, 1.0, False, "from contact to the liquid's edge gap"),
+    "delta_over_r": (0.0, 1.0, True, "a film at most as thick as the sphere's radius"),
+    "radius_ratio": (1.0, 10.0, False, "the radius ratios the bridge models take"),
+}
+"""The widest range a coefficient file's ``domain`` may claim on each axis: (low, high,
+low excluded, why). A file claiming more would let the refit answer, unflagged, where no
+closure of its form applies (a hand-edited file, an input-fuzzing audit)."""
 
 
 # ---- shipped calibrated closures ------------------------------------------------------------
