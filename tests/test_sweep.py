@@ -165,6 +165,42 @@ def test_batch_writer_writes_in_batches(tmp_path):
     assert capped.writes == 1 and len(capped.pending) == 1 and len(st) == 7
 
 
+def test_a_finished_point_is_written_without_waiting_for_the_next(tmp_path):
+    """A result was written only when the next one arrived: a 40 s Stokes point stayed
+    unsaved while the next ran, and a SIGKILL lost it (a durability audit). While the
+    sweep runs, a thread writes what is pending once the interval has passed."""
+    st = Store(tmp_path / "r.h5")
+    bw = BatchWriter(st, min_interval=0.2)
+    p = closure_points(1)[0]
+    with bw.background(poll=0.05):
+        bw.last -= 1.0  # the last write long ago: the first result is due at once
+        bw.add(p.scene, get_model(p.model).force(p.scene))
+        deadline = time.monotonic() + 30.0
+        while not st.path.exists() and time.monotonic() < deadline:
+            time.sleep(0.05)  # no further add, no flush from this thread
+        assert st.path.exists() and len(st) == 1 and not bw.pending
+    bw.flush()
+    assert bw.writes == 1
+
+
+def test_a_background_write_error_reaches_the_caller(tmp_path):
+    st = Store(tmp_path / "r.h5")
+    bw = BatchWriter(st, min_interval=0.0)
+    p = closure_points(1)[0]
+
+    def broken(*_a, **_k):
+        raise OSError("disk full")
+
+    st.save_many = broken  # type: ignore[method-assign]
+    with bw.background(poll=0.02):
+        bw.add(p.scene, get_model(p.model).force(p.scene))
+        deadline = time.monotonic() + 30.0
+        while bw._error is None and time.monotonic() < deadline:
+            time.sleep(0.02)
+    with pytest.raises(OSError, match="disk full"):
+        bw.flush()
+
+
 HOLDER = textwrap.dedent("""
     import sys
     from wetcontact.store import Store

@@ -334,11 +334,12 @@ def sweep(points: Sequence[Point], store: Store, workers: int | None = None,
             if todo:
                 local = scheduler is None and (workers == 0 or (
                     workers is None and estimated_seconds(todo) < IN_PROCESS_BELOW))
-                if local:
-                    for p in todo:
-                        record(p, p.key, solve_batch([p])[1][0])
-                else:
-                    executor, n_tasks = _run_dask(todo, workers, scheduler, record)
+                with bw.background():  # a finished point is written while the next runs
+                    if local:
+                        for p in todo:
+                            record(p, p.key, solve_batch([p])[1][0])
+                    else:
+                        executor, n_tasks = _run_dask(todo, workers, scheduler, record)
         finally:
             bw.flush()
             prog.close()
