@@ -112,3 +112,66 @@ def test_unreadable_store_paths_are_input_errors(tmp_path):
     (tmp_path / "junk.h5").write_text("not hdf5")
     with pytest.raises(InputError, match="not a readable HDF5 store"):
         len(Store(tmp_path / "junk.h5"))
+
+
+# ---- a durability audit (2026-11-27): each test failed on the code before it ---------------
+
+
+def _one(tmp_path, name="s.h5"):
+    sc = make_scene()
+    st = Store(tmp_path / name)
+    st.save(sc, MODELS["brenner"].force(sc))
+    return st, sc
+
+
+def test_a_symlinked_store_writes_its_target(tmp_path):
+    """The atomic replace turned the link into a plain file and left the real store as it
+    was; the link and the target also took different locks."""
+    (tmp_path / "real").mkdir()
+    st, sc = _one(tmp_path / "real")
+    link = tmp_path / "link.h5"
+    link.symlink_to(st.path)
+    via = Store(link)
+    via.save(sc, MODELS["cox-brenner"].force(sc))
+    assert link.is_symlink() and len(Store(st.path)) == 2
+    assert via.lock_path == st.lock_path
+
+
+def test_an_unwritable_store_is_refused_before_any_work(tmp_path):
+    from wetcontact.errors import InputError
+
+    st, _ = _one(tmp_path)
+    os.chmod(st.path, 0o444)  # refused by its mode, so as root too
+    with pytest.raises(InputError, match=r"s\.h5: the store file is read-only \(mode 444\)"):
+        st.check_writable()
+    long = Store(tmp_path / ("b" * 247 + ".h5"))  # fits, but its temporary copy does not
+    with pytest.raises(InputError, match="no room for its temporary copy"):
+        long.check_writable()
+
+
+def test_a_foreign_or_damaged_file_is_an_input_error(tmp_path):
+    import h5py
+
+    from wetcontact.errors import InputError
+
+    foreign = tmp_path / "foreign.h5"
+    with h5py.File(foreign, "w") as f:
+        f["curves"] = np.zeros(3)
+    with pytest.raises(InputError, match="not a wetcontact store .'curves' is a Dataset"):
+        Store(foreign).check_writable()
+    st, sc = _one(tmp_path)
+    key = st.keys()[0]
+    with h5py.File(st.path, "a") as f:
+        del f["curves"][key].attrs["settings"]
+    with pytest.raises(InputError, match=f"curve {key} is damaged"):
+        st.load(key)
+
+
+def test_a_killed_writers_temporary_copy_is_removed(tmp_path):
+    st, sc = _one(tmp_path)
+    stale = tmp_path / "s.h5.ab12_xYz.tmp"  # mkstemp's pattern; as a kill -9 leaves it
+    stale.write_bytes(b"x" * 1000)
+    other = tmp_path / "s.h5.notes.tmp"  # not a copy of this store: kept
+    other.write_text("keep")
+    st.save(sc, MODELS["cox-brenner"].force(sc))
+    assert not stale.exists() and other.exists()

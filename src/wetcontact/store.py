@@ -169,7 +169,10 @@ class Store:
     """
 
     def __init__(self, path: str | Path, lock_timeout: float = 60.0):
-        self.path = Path(path)
+        path = Path(path)
+        # a symlink names its target: the atomic replace writes the target (it replaced the
+        # link by a plain file, and the link and its target took different locks)
+        self.path = Path(os.path.realpath(path)) if path.is_symlink() else path
         self.lock_timeout = lock_timeout
 
     @property
@@ -189,6 +192,44 @@ class Store:
         return _locked(self.lock_path, self.lock_timeout if timeout is None else timeout,
                        str(self.path))
 
+    def check_writable(self) -> None:
+        """Refuse, before any point is computed, a store this process could not write:
+        a read-only file (refused by its mode, as root too), a folder that is not writable,
+        a name too long for the temporary copy each write makes, or an HDF5 file that is
+        not a store. A writer holding the lock calls it; it also removes the temporary
+        copies a killed writer left (each the size of the store)."""
+        name_max = 255
+        with contextlib.suppress(OSError, ValueError):
+            name_max = os.pathconf(self.path.parent if self.path.parent.exists() else "/",
+                                   "PC_NAME_MAX")
+        if len(self.path.name) + len(".XXXXXXXX.tmp") > name_max:
+            raise InputError(f"{self.path}: the store's name ({len(self.path.name)} "
+                             f"characters) leaves no room for its temporary copy; allowed: "
+                             f"at most {name_max - len('.XXXXXXXX.tmp')} characters")
+        if self.path.parent.exists() and not os.access(self.path.parent, os.W_OK):
+            raise InputError(f"{self.path}: its folder is not writable; allowed: a store in "
+                             "a folder you can write to")
+        if self.path.is_file():
+            mode = os.stat(self.path).st_mode
+            if not mode & 0o200:
+                raise InputError(f"{self.path}: the store file is read-only (mode "
+                                 f"{mode & 0o777:o}); allowed: a writable store (chmod u+w) "
+                                 "or another --store")
+            with self._open():  # a damaged or foreign file: exit 2 before any work
+                pass
+        self._remove_stale_copies()
+
+    def _remove_stale_copies(self) -> None:
+        import re
+
+        if not self.path.parent.is_dir():
+            return
+        pat = re.compile(re.escape(self.path.name) + r"\.[A-Za-z0-9_]{8}\.tmp")
+        for p in self.path.parent.iterdir():
+            if pat.fullmatch(p.name) and p.is_file():
+                with contextlib.suppress(OSError):
+                    p.unlink()
+
     # ---- reading --------------------------------------------------------------------
     @contextlib.contextmanager
     def _open(self) -> Iterator[h5py.File | None]:
@@ -203,7 +244,20 @@ class Store:
         except OSError as exc:
             raise InputError(f"{self.path}: not a readable HDF5 store ({exc})") from None
         with f:
+            for name in ("curves", "failures"):
+                if name in f and not isinstance(f[name], h5py.Group):
+                    raise InputError(f"{self.path}: not a wetcontact store ('{name}' is a "
+                                     f"{type(f[name]).__name__}, not a group); allowed: a "
+                                     "store written by wetcontact, or a new file")
             yield f
+
+    def _curve(self, grp: h5py.Group, key: str) -> ForceCurve:
+        try:
+            return _read_curve(grp)
+        except (KeyError, TypeError, ValueError) as exc:
+            raise InputError(f"{self.path}: curve {key} is damaged ({type(exc).__name__}: "
+                             f"{exc}); allowed: a curve written by wetcontact (remove it, "
+                             "or sweep into a new store)") from None
 
     def keys(self) -> list[str]:
         """All keys in the store."""
@@ -229,7 +283,7 @@ class Store:
         with self._open() as f:
             if f is None or key not in f.get("curves", {}):
                 raise KeyError(f"{self.path}: no curve with key {key}")
-            return _read_curve(f["curves"][key])
+            return self._curve(f["curves"][key], key)
 
     def find(self, case: str | None = None, model: str | None = None) -> list[str]:
         """Keys whose case and/or model name match."""
@@ -250,7 +304,7 @@ class Store:
             if f is None or "curves" not in f:
                 return {}
             grp = f["curves"]
-            return {k: _read_curve(grp[k]) for k in keys if k in grp}
+            return {k: self._curve(grp[k], k) for k in keys if k in grp}
 
     def get(self, scene: Scene, curve_or_model: ForceCurve | str,
             settings: dict[str, Any] | None = None) -> ForceCurve | None:
@@ -307,6 +361,7 @@ class Store:
             return keys
         make_folder(self.path.parent)
         with self.writer():
+            self._remove_stale_copies()
             self._write(keys, items, failures)
         return keys
 

@@ -303,6 +303,7 @@ def sweep(points: Sequence[Point], store: Store, workers: int | None = None,
     bw = BatchWriter(store)
     executor, n_tasks = "in-process", 0
     with store.writer(lock_timeout):
+        store.check_writable()  # before any point is computed
         stored = set(store.keys())
         known_failures = {} if retry_failed else store.failures()
         prog = _Progress(len(unique), progress)
