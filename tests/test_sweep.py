@@ -359,3 +359,37 @@ def test_sweep_on_a_dask_scheduler_with_two_workers(tmp_path):
                 os.killpg(p.pid, signal.SIGKILL)
                 p.wait(timeout=10)
         log.close()
+
+
+def test_a_sweep_whose_workers_all_left_gives_up_on_the_points_left():
+    """With every worker of an external scheduler killed, the sweep printed progress
+    forever (a durability audit); now the points left are cancelled after a limit, with a
+    reason, and the sweep ends (what was computed is already in the store)."""
+    from wetcontact.sweep import watch_workers
+
+    class NoWorkers:
+        def __init__(self):
+            self.cancelled = []
+
+        def nthreads(self):
+            return {}
+
+        def cancel(self, futs):
+            self.cancelled.extend(futs)
+
+    client, lost, stop = NoWorkers(), [], threading.Event()
+    t0 = time.monotonic()
+    watch_workers(client, ["f1", "f2"], lost, stop, limit=0.2, poll=0.05)
+    assert time.monotonic() - t0 < 10
+    assert client.cancelled == ["f1", "f2"] and "no Dask worker for 0 s" in lost[0]
+
+    class Workers(NoWorkers):
+        def nthreads(self):
+            return {"tcp://w": 1}
+
+    busy, lost2 = Workers(), []
+    timer = threading.Timer(0.5, stop.set)
+    stop.clear()
+    timer.start()
+    watch_workers(busy, ["f"], lost2, stop, limit=0.1, poll=0.05)  # returns at stop
+    assert not lost2 and not busy.cancelled

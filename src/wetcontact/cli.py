@@ -532,7 +532,8 @@ def _load_study(path: Path) -> Study:
     solved (0.5 s each, the first time: they are cached)."""
     from wetcontact.study import load_study
 
-    with Progress(f"loading {path} (its bridges' rupture distances)"):
+    with Progress(f"loading {path} (and the rupture distances its gaps are scaled by, "
+                  "if any)"):
         return load_study(path)
 
 
@@ -551,7 +552,8 @@ def _sweep(args: argparse.Namespace) -> int:
     # computed nothing: a script must see it, so exit 1 (some failures keep exit 0)
     code = 1 if summary["points"] and summary["failed"] == summary["points"] else 0
     every = (f"wetcontact: error: every one of the {summary['points']} points failed "
-             "(reasons in the store; without --json, above); nothing was computed\n")
+             "(reasons: without --json, above; a model's refusals are also kept in the "
+             "store, a cluster's failures are not); nothing was computed\n")
     if args.json:
         print(json.dumps(summary))
         if code:

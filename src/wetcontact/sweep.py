@@ -349,6 +349,38 @@ def sweep(points: Sequence[Point], store: Store, workers: int | None = None,
                        n_tasks, bw.write_time)
 
 
+NO_WORKER_LIMIT = 120.0
+"""Seconds a sweep waits with no Dask worker connected before it gives up on the points
+left (they are reported failed, not stored; what was computed is in the store)."""
+
+
+def watch_workers(client: Any, futures: Sequence[Any], lost: list[str],
+                  stop: threading.Event, limit: float = NO_WORKER_LIMIT,
+                  poll: float = 5.0) -> None:
+    """Cancel ``futures`` once the scheduler has had no worker for ``limit`` seconds,
+    with the reason in ``lost`` (run in a thread until ``stop``). A sweep whose workers
+    all died waited forever, printing progress (a durability audit)."""
+    since: float | None = None
+    while not stop.wait(poll):
+        try:
+            n = len(client.nthreads())
+        except Exception:  # noqa: BLE001 - the scheduler may be briefly unreachable
+            continue
+        if n:
+            since = None
+            continue
+        if since is None:
+            since = time.monotonic()
+            sys.stderr.write(f"wetcontact: sweep: no Dask worker is connected; waiting up "
+                             f"to {limit:.0f} s for one (start `dask worker "
+                             "<scheduler address>`)\n")
+        elif time.monotonic() - since >= limit:
+            lost.append(f"no Dask worker for {limit:.0f} s (every worker left the "
+                        "scheduler); rerun the sweep with workers to compute this point")
+            client.cancel(list(futures))
+            return
+
+
 def _run_dask(todo: list[Point], workers: int | None, scheduler: str | None,
               record: Callable[[Point, str, _Answer], None]) -> tuple[str, int]:
     """Run ``todo`` on a local cluster or at ``scheduler``; feed each answer to ``record``."""
@@ -359,22 +391,38 @@ def _run_dask(todo: list[Point], workers: int | None, scheduler: str | None,
         tasks = _batches(todo, n)
         mine = code_version()
         futures = {client.submit(solve_batch, b, pure=False): b for b in tasks}
-        for fut in as_completed(futures):
-            batch = futures.pop(fut)
-            try:
-                theirs, answers = fut.result()
-            except Exception as exc:  # noqa: BLE001 - a lost worker fails its points only
-                answers = [(None, f"task failed on the cluster: {type(exc).__name__}: {exc}",
-                            False)] * len(batch)
-            else:
-                if theirs != mine:
-                    answers = [(None, f"worker runs wetcontact {theirs}, this client "
-                                f"{mine}: install the same code on the workers", False)
-                               ] * len(batch)
-            fut.release()
-            for p, a in zip(batch, answers, strict=True):
-                record(p, p.key, a)
+        lost: list[str] = []
+        stop = threading.Event()
+        watch = threading.Thread(target=watch_workers, daemon=True,
+                                 args=(client, list(futures), lost, stop))
+        watch.start()
+        try:
+            _collect(futures, as_completed(futures), mine, lost, record)
+        finally:
+            stop.set()
+            watch.join()
         return label, len(tasks)
+
+
+def _collect(futures: dict[Any, list[Point]], done: Any, mine: str, lost: list[str],
+             record: Callable[[Point, str, _Answer], None]) -> None:
+    """Feed the answers of the ``done`` futures (as they complete) to ``record``."""
+    for fut in done:
+        batch = futures.pop(fut)
+        try:
+            theirs, answers = fut.result()
+        except Exception as exc:  # noqa: BLE001 - a lost worker fails its points only
+            why = lost[0] if lost else (f"task failed on the cluster: "
+                                        f"{type(exc).__name__}: {exc}")
+            answers = [(None, why, False)] * len(batch)
+        else:
+            if theirs != mine:
+                answers = [(None, f"worker runs wetcontact {theirs}, this client "
+                            f"{mine}: install the same code on the workers", False)
+                           ] * len(batch)
+        fut.release()
+        for p, a in zip(batch, answers, strict=True):
+            record(p, p.key, a)
 
 
 @contextlib.contextmanager
