@@ -208,3 +208,22 @@ def test_a_coefficient_file_nested_too_deep_is_an_input_error(tmp_path):
     p.write_text("[" * 100000 + "]" * 100000)
     with pytest.raises(InputError, match="nested too deep"):
         load_coefficients(p)
+
+
+def test_thinfilm_refuses_a_slow_film_before_its_steps_underflow():
+    """At Ca* = 4e-6 the sharp contact's time steps failed after seconds of work ('step
+    size underflow', exit 1; an input-fuzzing audit); its check now refuses Ca* below
+    CA_STAR_MIN_SHARP up front, naming lubrication, and the penalty contacts keep theirs."""
+    from wetcontact.errors import ValidityError
+    from wetcontact.solver.thinfilm.model import CA_STAR_MIN_SHARP, reduced_capillary_number
+
+    slow = make_scene(amount={"film_thickness": 1e-4},
+                      motion={"velocity": 1e-6, "gaps": [5e-5, 1e-6]})
+    assert reduced_capillary_number(slow) < CA_STAR_MIN_SHARP
+    model = get_model("thinfilm")
+    with pytest.raises(ValidityError, match=r"Ca\* = .* < 0\.0001.*lubrication"):
+        model.check(slow)
+    model.check_options(slow, {**model.presets["default"], "contact": "tangential"})
+    fast = make_scene(amount={"film_thickness": 1e-4},
+                      motion={"velocity": 1e-3, "gaps": [5e-5, 1e-6]})
+    model.check(fast)
