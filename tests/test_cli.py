@@ -308,7 +308,6 @@ gaps = {gaps}
 @pytest.mark.parametrize("name, angle, volume, gaps, words", [
     ("too-much-liquid", 20.0, 2.0e-9, "[1.0e-6]", "volume"),
     ("no-bridge-angles", 170.0, 1.0e-11, "[1.0e-6]", "angle"),
-    ("beyond-rupture", 20.0, 1.0e-11, "[5.0e-4, 8.0e-4]", "rupture"),
 ])
 def test_meniscus_bad_input_exit_2(tmp_path, name, angle, volume, gaps, words):
     case = tmp_path / f"{name}.toml"
@@ -318,6 +317,18 @@ def test_meniscus_bad_input_exit_2(tmp_path, name, angle, volume, gaps, words):
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and "Traceback" not in r.stderr
     assert words in lines[0].lower()
+
+
+def test_meniscus_with_every_gap_past_rupture_gives_zero_and_a_note(tmp_path):
+    """No bridge at any gap: force 0, as every capillary closure gives (it was exit 2, and
+    --tol, which chose meniscus, failed with it)."""
+    case = tmp_path / "beyond.toml"
+    case.write_text(BRIDGE_CASE.format(name="beyond", angle=20.0, volume=1.0e-11,
+                                       gaps="[5.0e-4, 8.0e-4]"))
+    r = wc("solve", str(case), "--model", "meniscus", "--json")
+    assert r.returncode == 0, r.stderr
+    assert r.stderr.strip().startswith("wetcontact: note: every gap") and "rupture" in r.stderr
+    assert json.loads(r.stdout)["force_capillary"] == [0.0, 0.0]
 
 
 def test_meniscus_partly_beyond_rupture_is_explicit_zero(tmp_path):
