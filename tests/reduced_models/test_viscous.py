@@ -105,7 +105,10 @@ def test_finite_liquid_factor_limits_and_bridge_volume():
     rw = math.sqrt(2 * r_eff * (h_edge - s))
     r = np.linspace(0, rw, 20001)
     v_num = np.trapezoid(2 * np.pi * r * (s + r**2 / (2 * r_eff)), r)
-    assert v_num == pytest.approx(vol, rel=1e-7)
+    # abs=0: vol is 1e-12 m3, so approx's default abs 1e-12 would accept any v_num in
+    # [0, 2e-12] (an audit: H from V/(2 pi R) passed). rel 1e-8: the trapezoid rule's
+    # error on this cubic integrand is h^2/12 [f'(r_w) - f'(0)] = 8.6e-10 of V here.
+    assert v_num == pytest.approx(vol, rel=1e-8, abs=0)
 
 
 @pytest.mark.parametrize(
