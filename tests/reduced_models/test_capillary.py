@@ -1,7 +1,10 @@
 """Capillary closures against exact limits, published numbers and independent integrations.
 
 Every tolerance states its source. Forces from the functions are attractive magnitudes;
-through the registry they are ForceCurve forces (attraction negative).
+through the registry they are ForceCurve forces (attraction negative). Comparisons of
+dimensional values (volumes 1e-13..4e-11 m3, forces ~1e-4 N, gaps ~1e-4 m) set ``abs=0``:
+pytest.approx's default absolute tolerance 1e-12 would otherwise be used whenever it is the
+larger, and accepts any volume here.
 """
 
 from __future__ import annotations
@@ -48,13 +51,15 @@ def test_toroidal_volume_matches_direct_integration(kind, ts, tw, gap, b):
         zc = r1 * math.cos(tw)
     xc = R * math.sin(b) + r1 * math.sin(b + ts)
     # the circle meets the sphere's contact point: an independent consistency check
-    assert math.hypot(R * math.sin(b) - xc, z1 - zc) == pytest.approx(r1, rel=1e-12)
+    assert math.hypot(R * math.sin(b) - xc, z1 - zc) == pytest.approx(r1, rel=1e-12, abs=0)
     integ, _ = quad(lambda z: math.pi * (xc - math.sqrt(r1**2 - (z - zc) ** 2)) ** 2, z0, z1,
                     epsabs=0, epsrel=1e-12)
     v = integ - math.pi * cap_h**2 * (3 * R - cap_h) / 3
     if kind == "sphere-sphere":
         v *= 2
-    assert cap.toroidal_volume(b, gap, R, ts, tw, kind) == pytest.approx(v, rel=1e-9)
+    # V = 1e-12 m3 here: without abs=0 approx accepts any volume within 1e-12 m3. rel 1e-9:
+    # quad's epsrel 1e-12 amplified at most 2.5x by subtracting the cap (measured: 2e-15)
+    assert cap.toroidal_volume(b, gap, R, ts, tw, kind) == pytest.approx(v, rel=1e-9, abs=0)
 
 
 @pytest.mark.parametrize("vstar", [1e-4, 1e-3, 1e-2])
@@ -62,8 +67,10 @@ def test_toroidal_gorge_zero_gap_is_fishers_limit(vstar):
     # Fisher (1926): F = 2 pi R sigma / (1 + tan(b/2)) at zero gap, theta = 0 (gorge method)
     br = cap.toroidal_bridge(0.0, vstar * R**3, R, SIG, 0.0, method="gorge")
     b = br.filling_angle[0]
-    assert cap.toroidal_volume(b, 0.0, R, 0.0) == pytest.approx(vstar * R**3, rel=1e-10)
-    assert br.force[0] == pytest.approx(F0 / (1 + math.tan(b / 2)), rel=1e-10)
+    # dimensionless V/R^3 (V itself is 1e-13..1e-11 m3, below approx's default abs 1e-12);
+    # rel 1e-10: the root find's rtol 1e-13 on b (measured 4e-14 on V)
+    assert cap.toroidal_volume(b, 0.0, R, 0.0) / R**3 == pytest.approx(vstar, rel=1e-10, abs=0)
+    assert br.force[0] == pytest.approx(F0 / (1 + math.tan(b / 2)), rel=1e-10, abs=0)
 
 
 def test_toroidal_boundary_method_is_not_fishers_formula_but_converges():
@@ -99,7 +106,7 @@ def test_toroidal_too_large_volume_is_an_error():
 @pytest.mark.parametrize("theta", [0.0, 0.3, 0.7])
 def test_willett_simple_at_contact_is_the_contact_limit(theta):
     f = cap.willett_force_simple(0.0, 1e-3 * R**3, R, SIG, theta)
-    assert f == pytest.approx(F0 * math.cos(theta), rel=1e-12)
+    assert f == pytest.approx(F0 * math.cos(theta), rel=1e-12, abs=0)
 
 
 def test_willett_full_small_volume_contact_limit():
@@ -181,7 +188,9 @@ def test_rabinovich_immersion_height_holds_the_volume(kind, h):
     k = 1.0 / R if kind == "sphere-sphere" else 0.5 / R
     vol, _ = quad(lambda rho: 2 * math.pi * rho * (h + k * rho**2), 0, math.sqrt(2 * R * d),
                   epsabs=0, epsrel=1e-12)
-    assert vol == pytest.approx(v, rel=1e-10)
+    # V = 2e-12 m3: abs=0, or approx's default abs 1e-12 accepts half the volume; rel 1e-10:
+    # quad's epsrel 1e-12 on a cubic polynomial (measured 4e-16)
+    assert vol == pytest.approx(v, rel=1e-10, abs=0)
 
 
 @pytest.mark.parametrize("vstar", [1e-6, 1e-3, 5e-2])
@@ -189,9 +198,9 @@ def test_lambert_zero_gap_limits_any_volume(vstar):
     # Derjaguin contact limits hold exactly at H = 0 for any volume
     v = vstar * R**3
     assert cap.lambert_force_sphere_sphere(0.0, v, R, SIG, 0.5) == \
-        pytest.approx(F0 * math.cos(0.5), rel=1e-12)
+        pytest.approx(F0 * math.cos(0.5), rel=1e-12, abs=0)
     assert cap.lambert_force_sphere_wall(0.0, v, R, SIG, 0.5, 0.2) == \
-        pytest.approx(F0 * (math.cos(0.5) + math.cos(0.2)), rel=1e-12)
+        pytest.approx(F0 * (math.cos(0.5) + math.cos(0.2)), rel=1e-12, abs=0)
 
 
 def test_lambert_sphere_wall_is_two_sphere_form_with_twice_the_radius():
@@ -243,7 +252,7 @@ def test_bagheri_vs_willett_full_at_zero_angle(vstar):
 
 def test_mean_contact_angle_keeps_the_derjaguin_limit():
     th = cap.mean_contact_angle(0.0, math.radians(60))
-    assert math.cos(th) == pytest.approx(0.75, rel=1e-12)
+    assert math.cos(th) == pytest.approx(0.75, rel=1e-12, abs=0)
 
 
 @pytest.mark.parametrize("call", [
@@ -316,7 +325,7 @@ def test_rupture_pairing():
                          ("willett", sc_will), ("willett-simple", sc_will),
                          ("bagheri", sc_will)):
         got = load_all()[name].force(s).extras["rupture_distance"][0]
-        assert got == pytest.approx(expect, rel=1e-12), name
+        assert got == pytest.approx(expect, rel=1e-12, abs=0), name
 
 
 def test_unequal_angles_use_the_cosine_mean():
