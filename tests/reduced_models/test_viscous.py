@@ -178,6 +178,44 @@ def test_cox_brenner_model_error_estimate_bounds_true_error():
     assert np.all(np.abs(cb.force_viscous / exact - 1) < cb.error_estimate)
 
 
+def test_cox_brenner_stated_errors_and_zero_crossings():
+    """The numbers in CoxBrenner.validity, its refusal message and README.md, measured
+    against the exact series (brenner_lambda, two_sphere_lambda; both checked above against
+    a 40-digit sum), each to half a unit in its last printed digit. The text once said 1e-4
+    at S/R = 1e-3, 7.3 % for both geometries at 1, and negative from S/R = 30."""
+    from scipy.optimize import brentq
+
+    for s, wall, spheres, half in [(1e-3, 4.9e-7, 1.1e-6, (0.05e-7, 0.05e-6)),
+                                   (1.0, 0.073, 0.095, (5e-4, 5e-4))]:
+        e_wall = abs(vc.cox_brenner_lambda(s) / vc.brenner_lambda(s) - 1)
+        e_spheres = abs(vc.jeffrey_onishi_lambda(s) / vc.two_sphere_lambda(s) - 1)
+        assert e_wall == pytest.approx(wall, rel=0, abs=half[0])
+        assert e_spheres == pytest.approx(spheres, rel=0, abs=half[1])
+    s0 = brentq(lambda s: vc.jeffrey_onishi_lambda(s), 1.0, 100.0, xtol=1e-12)
+    assert s0 == pytest.approx(20.97, rel=0, abs=0.005)
+    assert brentq(lambda s: vc.cox_brenner_lambda(s), 1.0, 1e4) == pytest.approx(133, abs=0.5)
+    text = MODELS["cox-brenner"].validity
+    for printed in ("4.9e-7", "1.1e-6", "7.3 %", "9.5 %", "20.97", "133"):
+        assert printed in text, printed
+
+
+@pytest.mark.parametrize("kind", ["sphere-wall", "sphere-sphere"])
+def test_cox_brenner_refuses_before_its_force_turns_negative(kind):
+    """A negative resistance must never be returned: the inner expansion crosses zero at
+    S/R = 20.97 (two spheres; 133 for a wall), the model refuses every S/R above
+    max_s_over_r = 1 and is positive on (0, 1]."""
+    r = 1e-3
+    geo = {"kind": kind, "radius": r, **({"radius2": r} if kind == "sphere-sphere" else {})}
+    sc = make_scene(geometry=geo, motion={"velocity": 0.1, "gaps": [1e-6]})
+    model = MODELS["cox-brenner"]
+    assert model.max_s_over_r <= 1.0
+    f = model.force(sc, gaps=np.geomspace(1e-5, 1.0, 50) * r).force_viscous
+    assert np.all(f > 0)
+    for s in (1.0 + 1e-9, 1.5, 20.97, 25.0, 30.0):
+        with pytest.raises(ValidityError, match="brenner"):
+            model.force(sc, gaps=[1e-6, s * r])
+
+
 def test_models_refuse_outside_validity():
     film = make_scene(amount={"film_thickness": 1e-4})
     with pytest.raises(ValidityError, match="thinfilm"):
