@@ -61,8 +61,9 @@ def test_held_out_points_are_off_the_training_grid_and_refit_beats_published(cal
     k = np.asarray(data["coefficients"])
     e_after = rel_errors(fam, k, held)
     e_before = rel_errors(fam, fam.published, held)
-    assert data["held_out"]["after"]["max"] == pytest.approx(e_after.max(), rel=1e-12)
-    assert data["held_out"]["before"]["max"] == pytest.approx(e_before.max(), rel=1e-12)
+    assert data["held_out"]["after"]["max"] == pytest.approx(e_after.max(), rel=1e-12, abs=0)
+    assert data["held_out"]["before"]["max"] == pytest.approx(e_before.max(), rel=1e-12,
+                                                             abs=0)
     # Pitois' (1 - S/H)^2 is a few % off lubrication; the refit at least 3x better
     assert e_before.max() > 0.01
     assert e_after.max() <= e_before.max() / 3.0
@@ -172,7 +173,8 @@ def test_shipped_calibration_studies_reproduce_the_default_designs(path):
     grid = {axes[k]: _range(str(path), k, v) for k, v in data["axes"].items()}
     configs = design(fam, 40)
     for name, values in grid.items():
-        assert sorted({c[name] for c in configs}) == pytest.approx(sorted(values), rel=1e-12)
+        assert sorted({c[name] for c in configs}) == pytest.approx(sorted(values), rel=1e-12,
+                                                                 abs=0)
     assert len(configs) == np.prod([len(v) for v in grid.values()])
     gaps = data["set"].get("motion.gap_over_rupture")
     if fam.target != "rupture":
@@ -207,8 +209,8 @@ def test_finite_liquid_studies_cover_the_family_domain(path):
         for k, v in domain_coords(fam, scene_inputs(fam, sc)).items():
             coords.setdefault(k, []).extend(np.atleast_1d(v).tolist())
     for k, (lo, hi, _) in fam.default_design.items():
-        assert min(coords[k]) == pytest.approx(lo, rel=1e-9)
-        assert max(coords[k]) == pytest.approx(hi, rel=1e-9)
+        assert min(coords[k]) == pytest.approx(lo, rel=1e-9, abs=0)
+        assert max(coords[k]) == pytest.approx(hi, rel=1e-9, abs=0)
 
 
 def test_committed_held_out_designs_point_at_existing_bases():

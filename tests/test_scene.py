@@ -44,10 +44,12 @@ def test_sphere_sphere_reduced_radius_and_default_radius2():
 def test_gap_range_log_and_linear():
     sc = make_scene(motion={"velocity": 1.0, "gaps": {"start": 1e-4, "stop": 1e-6,
                                                       "points": 3}})
-    assert np.allclose(sc.gap_array, [1e-4, 1e-5, 1e-6])
+    # atol=0: np.allclose's default atol 1e-8 is 1 % of a 1e-6 m gap; rtol 1e-12 is
+    # geomspace's round-off with margin
+    assert np.allclose(sc.gap_array, [1e-4, 1e-5, 1e-6], rtol=1e-12, atol=0)
     sc = make_scene(motion={"velocity": 1.0, "gaps": {"start": 1e-6, "stop": 3e-6, "points": 3,
                                                       "spacing": "linear"}})
-    assert np.allclose(sc.gap_array, [1e-6, 2e-6, 3e-6])
+    assert np.allclose(sc.gap_array, [1e-6, 2e-6, 3e-6], rtol=1e-12, atol=0)
 
 
 @pytest.mark.parametrize("table, value, field", [

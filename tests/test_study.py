@@ -1,4 +1,8 @@
-"""Study files: grids, Latin hypercubes, derived axes, and one-line errors for bad files."""
+"""Study files: grids, Latin hypercubes, derived axes, and one-line errors for bad files.
+
+Array comparisons pass ``atol=0`` (``abs=0`` to approx): np.allclose's default atol 1e-8
+(approx's 1e-12) would otherwise dominate the stated rtol for ratios of 0.001..1.
+"""
 
 from __future__ import annotations
 
@@ -30,14 +34,14 @@ def test_gaps_over_film_and_over_the_bridges_edge_gap(tmp_path):
     st = load_study(STUDIES / "calibrate-finite-liquid.toml")
     for _, sc in st.scenes:
         assert np.allclose(sc.gap_array / sc.film_thickness, np.linspace(0.01, 0.95, 10),
-                           rtol=1e-14)
+                           rtol=1e-14, atol=0)
     st = load_study(STUDIES / "calibrate-finite-liquid-bridge-ss.toml")
     assert {round(sc.radius2 / sc.radius, 9) for _, sc in st.scenes} == {
         round(x, 9) for x in np.geomspace(1.0, 10.0, 5)}
     for _, sc in st.scenes:
         rstar = sc.radius * sc.radius2 / (sc.radius + sc.radius2)
         h = np.sqrt(sc.gap_array**2 + sc.bridge_volume / (math.pi * rstar))
-        assert np.allclose(sc.gap_array / h, np.linspace(0.01, 0.95, 8), rtol=1e-12)
+        assert np.allclose(sc.gap_array / h, np.linspace(0.01, 0.95, 8), rtol=1e-12, atol=0)
         assert sc.contact_angle_sphere == 0.0
 
 
@@ -52,7 +56,7 @@ def test_grid_study_replaces_fields_and_fills_axes():
     for p in pts:  # each point's scene holds its own axis values; gaps are S/R x R
         assert p.scene.radius == p.axes["geometry.radius"]
         assert p.scene.viscosity == p.axes["liquid.viscosity"]
-        assert np.allclose(p.scene.gap_array / p.scene.radius, [0.01, 0.1, 1.0], rtol=1e-15)
+        assert np.allclose(p.scene.gap_array / p.scene.radius, [0.01, 0.1, 1.0], rtol=1e-15, atol=0)
     # first axis slowest
     assert [p.axes["liquid.viscosity"] for p in pts[:8:2]] == [1e-3, 0.1, 1.2, 10.0]
 
@@ -72,9 +76,10 @@ def test_range_axis_and_derived_dimensionless_axes(tmp_path):
                             ax["motion.capillary_number"], rel_tol=1e-14)
         assert math.isclose(sc.film_thickness, ax["amount.film_over_radius"] * sc.radius,
                             rel_tol=1e-14)
-        assert np.allclose(sc.gap_array / sc.radius, np.geomspace(0.04, 0.001, 4), rtol=1e-14)
+        assert np.allclose(sc.gap_array / sc.radius, np.geomspace(0.04, 0.001, 4), rtol=1e-14,
+                           atol=0)
     assert [ax["motion.capillary_number"] for ax, _ in st.scenes[::2]] == pytest.approx(
-        [1e-4, 1e-3, 1e-2], rel=1e-14)
+        [1e-4, 1e-3, 1e-2], rel=1e-14, abs=0)
 
 
 def test_amount_and_angle_fields_switch_cleanly(tmp_path):
@@ -107,7 +112,7 @@ def test_gaps_over_rupture_distance_against_the_meniscus_model(tmp_path):
     (_, sc), = load_study(p).scenes
     curve = get_model("meniscus").force(sc, preset="default")
     s_c = curve.extras["rupture_distance"][0]  # 128 elements; the study used 64
-    assert np.allclose(sc.gap_array / s_c, [0.25, 0.5, 0.99], rtol=1e-6)
+    assert np.allclose(sc.gap_array / s_c, [0.25, 0.5, 0.99], rtol=1e-6, atol=0)
     assert np.all(curve.extras["bridge_exists"] == 1.0)  # 0.99 S_c is still a bridge
 
 

@@ -67,7 +67,9 @@ Arrays = Mapping[str, np.ndarray]
 
 
 def mikami_form(k: np.ndarray, x: Arrays) -> np.ndarray:
-    """Mikami's attraction (N) with coefficients ``k`` (the 8 of ``_MIKAMI_PW``)."""
+    """Mikami's attraction (N) with coefficients ``k``, ordered as ``capillary._MIKAMI_PW``
+    and ``_MIKAMI_PP``. Evaluated by ``capillary._mikami`` itself: unlike the other forms
+    here it is not an independent transcription of the published closure."""
     return cap._mikami(x["gap"], x["volume"], x["r_closure"], x["sigma"], x["theta"],
                        tuple(k))
 

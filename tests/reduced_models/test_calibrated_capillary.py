@@ -52,7 +52,7 @@ def test_lobatto_coefficients_interpolate() -> None:
 def test_gap_coordinate_inverts() -> None:
     c = np.linspace(-1, 1, 11)
     s = cc.gap_from_coordinate(c, 0.3, 0.01)
-    assert s[0] == pytest.approx(0.3, rel=1e-14) and s[-1] == 0.0
+    assert s[0] == pytest.approx(0.3, rel=1e-14, abs=0) and s[-1] == 0.0
     np.testing.assert_allclose(cc.gap_coordinate(s, 0.3, 0.01), c, atol=1e-7)
 
 
@@ -576,7 +576,8 @@ def test_near_ridge_scenes_claim_no_less_than_the_near_ridge_errors() -> None:
         scene = make_scene("sphere-wall", {"bridge_volume": v * R**3}, [1e-6, 2e-5], None,
                            (ts, tw))
         floor = model.bound_floor(scene)  # both gaps far short of S_c
-        assert floor == pytest.approx(np.full(2, MARGIN * least), rel=1e-12)
+        # abs=0: floors of ~5e-5, where approx's default abs 1e-12 is 2e-8 relative
+        assert floor == pytest.approx(np.full(2, MARGIN * least), rel=1e-12, abs=0)
         assert cc.NEAR_RIDGE_MARGIN == MARGIN  # the bound tables' own margin
         est = model.force(scene).error_estimate
         assert est is not None and np.all(est >= floor)

@@ -20,22 +20,22 @@ from wetcontact.reduced_models.rupture import (
 
 def test_lian_hand_values():
     # (1 + 0/2) * (1e-9)^(1/3) = 1e-3 m; (1 + 0.25) * (8e-9)^(1/3) = 1.25 * 2e-3 m
-    assert lian_rupture_distance(1e-9, 0.0) == pytest.approx(1e-3, rel=1e-12)
-    assert lian_rupture_distance(8e-9, 0.5) == pytest.approx(2.5e-3, rel=1e-12)
+    assert lian_rupture_distance(1e-9, 0.0) == pytest.approx(1e-3, rel=1e-12, abs=0)
+    assert lian_rupture_distance(8e-9, 0.5) == pytest.approx(2.5e-3, rel=1e-12, abs=0)
 
 
 def test_willett_hand_values():
     # R = 1 mm, V = 1e-12 m3 -> V* = 1e-3, V*^(1/3) = 0.1, V*^(2/3) = 0.01:
     # theta = 0: S_c = 1e-3 * (0.1 + 0.001) = 1.01e-4 m; theta = 1 rad: 1.5 times that.
-    assert willett_rupture_distance(1e-12, 1e-3, 0.0) == pytest.approx(1.01e-4, rel=1e-12)
-    assert willett_rupture_distance(1e-12, 1e-3, 1.0) == pytest.approx(1.515e-4, rel=1e-12)
+    assert willett_rupture_distance(1e-12, 1e-3, 0.0) == pytest.approx(1.01e-4, rel=1e-12, abs=0)
+    assert willett_rupture_distance(1e-12, 1e-3, 1.0) == pytest.approx(1.515e-4, rel=1e-12, abs=0)
 
 
 def test_willett_tends_to_lian_for_small_volume():
     # Willett / Lian = 1 + 0.1 V*^(1/3): 1.001 at V* = 1e-6 (exact ratio of the two papers)
     r, v = 1e-3, 1e-6 * 1e-9
     ratio = willett_rupture_distance(v, r, 0.3) / lian_rupture_distance(v, 0.3)
-    assert ratio == pytest.approx(1.001, rel=1e-12)
+    assert ratio == pytest.approx(1.001, rel=1e-12, abs=0)
 
 
 def test_mikami_hand_values():
@@ -69,7 +69,7 @@ def test_pitois_reduces_to_lian_at_zero_capillary_number():
 
 def test_pitois_hand_value():
     # Ca = 0.25 -> factor 1 + 0.5; V = 1e-9 m3, theta = 0 -> 1.5e-3 m
-    assert pitois_rupture_distance(1e-9, 0.0, 0.25) == pytest.approx(1.5e-3, rel=1e-12)
+    assert pitois_rupture_distance(1e-9, 0.0, 0.25) == pytest.approx(1.5e-3, rel=1e-12, abs=0)
 
 
 @pytest.mark.parametrize("call", [

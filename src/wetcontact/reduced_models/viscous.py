@@ -443,8 +443,10 @@ class CoxBrenner(Model):
 
     name = "cox-brenner"
     component = "viscous"
-    validity = ("immersed; S/R <= 1 (error O((S/R) ln(R/S)): measured 1e-4 at S/R = 1e-3, "
-                "7.3 % at S/R = 1; the two-sphere form turns negative at S/R >= 30)")
+    validity = ("immersed; S/R <= 1 (error O((S/R) ln(R/S)), measured against the exact "
+                "series: 4.9e-7 (wall) and 1.1e-6 (two spheres) at S/R = 1e-3, 7.3 % and "
+                "9.5 % at S/R = 1; the two-sphere form crosses zero at S/R = 20.97, the wall "
+                "form at 133)")
     reference = "Cox & Brenner (1967); Cooley & O'Neill (1969); Jeffrey & Onishi (1984)"
     max_s_over_r = 1.0
 
@@ -453,8 +455,9 @@ class CoxBrenner(Model):
         s = float(_scene_s(scene).max())
         if s > self.max_s_over_r:
             raise ValidityError(self.name, f"S/R = {s:.4g} > {self.max_s_over_r:g}: the inner "
-                                "expansion is more than 7 % off there (and negative for two "
-                                "spheres at S/R >= 30)", "brenner")
+                                "expansion is more than 7.3 % (wall) or 9.5 % (two spheres) "
+                                "off there, and negative for two spheres from S/R = 20.97",
+                                "brenner")
 
     def _force(self, scene: Scene, preset: str, **opts: Any) -> ForceCurve:
         s = _scene_s(scene)
