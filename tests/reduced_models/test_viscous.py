@@ -230,12 +230,19 @@ def test_models_refuse_outside_validity():
 
 def test_reynolds_finite_says_when_it_is_outside_its_validity():
     """It never warned (an audit: S/R* = 1 and gaps past rupture in silence, where
-    'reynolds' warns from S/R* = 0.1); past Lian's S_c its H = sqrt(S^2 + V/(pi R*)) still
-    exceeds S, so a force is returned where there is no bridge."""
+    'reynolds' warns from S/R* = 0.1); past the rupture distance its H = sqrt(S^2 +
+    V/(pi R*)) still exceeds S, so a force is returned where there is no bridge. The
+    rupture distance is calibrated-capillary's inside its box (Lian's lay 4-34 % beyond
+    the FE fold on a wall: a failure-region map found forces past rupture unflagged),
+    Lian's outside it."""
     liquid = {"viscosity": 1e-3, "surface_tension": 0.07, "density": 1e3,
               "contact_angle": 20.0}
-    v, r = 1e-13, 1e-3  # V* = 1e-4: S_c/R = 0.054, inside the thin-gap limit
-    s_c = (1 + math.radians(20.0) / 2) * v ** (1 / 3)  # Lian et al. 1993
+    v, r = 1e-13, 1e-3  # V* = 1e-4: S_c/R about 0.05, inside the thin-gap limit
+    probe = make_scene(liquid=liquid, amount={"bridge_volume": v},
+                       motion={"velocity": 0.1, "gaps": [1e-6]})
+    s_c = float(MODELS["calibrated-capillary"].force(probe).extras["rupture_distance"][0])
+    lian = (1 + math.radians(20.0) / 2) * v ** (1 / 3)  # Lian et al. 1993
+    assert 1.02 < lian / s_c < 1.2  # the closure's fold lies well short of Lian's
     inside = make_scene(liquid=liquid, amount={"bridge_volume": v},
                         motion={"velocity": 0.1, "gaps": [1e-6, 0.5 * s_c]})
     assert "outside_stated_validity" not in MODELS["reynolds-finite"].force(inside).diagnostics
@@ -244,8 +251,24 @@ def test_reynolds_finite_says_when_it_is_outside_its_validity():
     curve = MODELS["reynolds-finite"].force(past)
     note = curve.diagnostics["outside_stated_validity"]
     assert "1 of 3 gaps at or past the bridge's rupture distance" in note
-    assert f"{s_c:.3g} m" in note and "thin-gap" not in note
+    assert f"calibrated-capillary: {s_c:.3g} m" in note and "thin-gap" not in note
     assert curve.force_viscous[-1] > 0  # returned, and said so
+    assert "1 of 3 gaps at or past" in MODELS["lubrication"].force(past).diagnostics[
+        "outside_stated_validity"]
+    v2 = 0.1 * r**3  # calibrated-viscous takes S/H <= 0.95: past S_c only at large V*
+    probe2 = make_scene(liquid=liquid, amount={"bridge_volume": v2},
+                        motion={"velocity": 0.1, "gaps": [1e-5]})
+    s_c2 = float(MODELS["calibrated-capillary"].force(probe2).extras["rupture_distance"][0])
+    on_h = make_scene(liquid=liquid, amount={"bridge_volume": v2},
+                      motion={"velocity": 0.1, "gaps": [1e-5, 1.05 * s_c2]})
+    assert "1 of 2 gaps at or past" in MODELS["calibrated-viscous"].force(
+        on_h).diagnostics["outside_stated_validity"]
+    big = 0.5 * r**3  # V* = 0.5: outside calibrated-capillary's box, Lian's distance
+    lian_big = (1 + math.radians(20.0) / 2) * big ** (1 / 3)
+    far = make_scene(liquid=liquid, amount={"bridge_volume": big},
+                     motion={"velocity": 0.1, "gaps": [1.01 * lian_big]})
+    assert f"Lian 1993: {lian_big:.3g} m" in MODELS["reynolds-finite"].force(far).diagnostics[
+        "outside_stated_validity"]
     wide = make_scene(liquid=liquid, amount={"film_thickness": 0.5 * r},
                       motion={"velocity": 0.1, "gaps": [1e-5, 0.2 * r]})
     assert "S/R* up to 0.2 > 0.1" in MODELS["reynolds-finite"].force(wide).diagnostics[

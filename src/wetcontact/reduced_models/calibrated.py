@@ -114,7 +114,7 @@ class CalibratedViscous(Model):
             raise ValidityError(self.name, "no slip calibrated", "vinogradova")
         if scene.amount == "immersed":
             if scene.kind == "sphere-sphere" and not scene.equal_spheres:
-                raise ValidityError(self.name, "equal spheres only", "reynolds")
+                raise ValidityError(self.name, "equal spheres only", "stokes")
             lo, hi = (math.exp(x) for x in table["immersed"][scene.kind]["log_range"])
             s = scene.gap_array / scene.radius
             if s.min() < lo * (1 - 1e-9) or s.max() > hi * (1 + 1e-9):
@@ -162,8 +162,11 @@ class CalibratedViscous(Model):
                 f[wet] *= film_correction(scene.film_thickness / r,
                                           s[wet] / scene.film_thickness,
                                           entry["stokes_correction"])
+        from wetcontact.reduced_models.viscous import past_rupture_note
+
         return closure_curve(scene, self.name, viscous=f,
-                             error_estimate=estimate_or_none(self.name, "viscous", scene))
+                             error_estimate=estimate_or_none(self.name, "viscous", scene),
+                             outside=past_rupture_note(scene))
 
 
 def film_correction(delta_over_r: float | np.ndarray, s_over_h: np.ndarray,
