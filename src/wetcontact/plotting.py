@@ -87,6 +87,8 @@ def signed_axis(ax: Any, values: Sequence[np.ndarray], decades: float = 2.0) -> 
     ax.axhline(0.0, color="0.25", lw=0.8, zorder=0)
     if lin is not None:
         ax.axhspan(-lin, lin, color="0.92", zorder=-1)
+    else:  # "-3.5e-4", not "-0.00035" with five zeros on the axis
+        ax.ticklabel_format(axis="y", style="sci", scilimits=(-2, 3))
     return lin
 
 
