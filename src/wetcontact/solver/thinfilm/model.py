@@ -249,12 +249,12 @@ class ThinFilm(Model):
                                 "approach (v > 0) is modelled", use_instead="stokes")
         assert scene.film_thickness is not None
         ca = scene.viscosity * scene.velocity / scene.surface_tension
-        reason = validity_reason(scene.film_thickness / scene.radius, ca,
-                                 reduced_capillary_number(scene))
+        cs = reduced_capillary_number(scene)
+        reason = validity_reason(scene.film_thickness / scene.radius, ca, cs)
         if reason:
             raise ValidityError(self.name, reason, use_instead="stokes")
         if opts.get("contact", "sharp") == "sharp":
-            if (cs := reduced_capillary_number(scene)) < CA_STAR_MIN_SHARP:
+            if cs < CA_STAR_MIN_SHARP:
                 raise ValidityError(
                     self.name, f"Ca* = 3 eta v R^2/(sigma delta^2) = {cs:.3g} < "
                     f"{CA_STAR_MIN_SHARP:g}: the film relaxes much faster than the sphere "
@@ -453,15 +453,9 @@ def _check_fine_zone(problem: FilmProblem, res: RunResult) -> None:
 
 def _sharp_problem(name: str, scene: Scene, film_cells: int, elements: int,
                    domain_factor: float, gap_shape: str) -> SharpFilm:
-    """The :class:`SharpFilm` of a film scene; a sphere angle >= 90 deg is refused (the
-    sharp contact joins a wetting, sucking meniscus to the film)."""
+    """The :class:`SharpFilm` of a film scene (its limits, a wetting sphere among them, are
+    refused by :meth:`ThinFilm.check_options` before it is built)."""
     assert scene.film_thickness is not None
-    if not scene.contact_angle_sphere < 0.5 * math.pi:
-        raise ValidityError(name, f"contact angle on the sphere "
-                            f"{math.degrees(scene.contact_angle_sphere):.4g} deg >= 90 deg: "
-                            "the sharp contact needs a wetting liquid (setting contact = "
-                            "'tangential' models a non-wetting sphere)",
-                            use_instead="lubrication")
     if not (isinstance(film_cells, int | np.integer) and film_cells >= 8):
         raise InputError(f"thinfilm: film_cells = {film_cells!r}; allowed: an integer >= 8")
     if not (isinstance(elements, int | np.integer) and 16 <= elements <= 1024):
