@@ -348,8 +348,8 @@ def finite_liquid_note(scene: Scene) -> str:
     a gap beyond :data:`THIN_GAP_LIMIT` R* (not a thin parabolic gap); a wetted radius
     ``r_w = sqrt(2 R* (H - S))`` beyond ``R sin 60 deg`` (R the smaller radius), where the
     sphere is steeper than 60 deg and the parabolic gap fails (``lubrication`` refuses
-    such a liquid amount); or for a bridge gaps past Lian's rupture distance
-    ``(1 + theta/2) V^(1/3)`` (no bridge there, but ``H = sqrt(S^2 + V/(pi R*))`` stays
+    such a liquid amount); or for a bridge gaps past its rupture distance
+    (:func:`past_rupture_note`: no bridge there, but ``H = sqrt(S^2 + V/(pi R*))`` stays
     above S, so the factor never reaches 0). Empty inside it."""
     notes = []
     gaps = scene.gap_array
