@@ -34,6 +34,7 @@ import fcntl
 import hashlib
 import json
 import os
+import re
 import shutil
 import tempfile
 import threading
@@ -180,8 +181,11 @@ class Store:
         """The lock file beside the store (``<file>.lock``)."""
         return self.path.with_name(self.path.name + ".lock")
 
-    def writer(self, timeout: float | None = None) -> contextlib.AbstractContextManager[None]:
+    @contextlib.contextmanager
+    def writer(self, timeout: float | None = None) -> Iterator[None]:
         """Hold the write lock for a block (a whole sweep): other writers wait or fail.
+        On taking the lock (not when already held) it removes the temporary copies a
+        killed writer left beside the store, each the size of the store.
 
         Parameters
         ----------
@@ -189,15 +193,18 @@ class Store:
             Seconds to wait for another writer to finish (default ``lock_timeout``); then
             :class:`StoreBusyError`.
         """
-        return _locked(self.lock_path, self.lock_timeout if timeout is None else timeout,
-                       str(self.path))
+        fresh = str(self.lock_path.resolve()) not in _HELD
+        with _locked(self.lock_path, self.lock_timeout if timeout is None else timeout,
+                     str(self.path)):
+            if fresh:
+                self._remove_stale_copies()
+            yield
 
     def check_writable(self) -> None:
         """Refuse, before any point is computed, a store this process could not write:
         a read-only file (refused by its mode, as root too), a folder that is not writable,
         a name too long for the temporary copy each write makes, or an HDF5 file that is
-        not a store. A writer holding the lock calls it; it also removes the temporary
-        copies a killed writer left (each the size of the store)."""
+        not a store. A writer holding the lock calls it."""
         name_max = 255
         with contextlib.suppress(OSError, ValueError):
             name_max = os.pathconf(self.path.parent if self.path.parent.exists() else "/",
@@ -217,11 +224,8 @@ class Store:
                                  "or another --store")
             with self._open():  # a damaged or foreign file: exit 2 before any work
                 pass
-        self._remove_stale_copies()
 
     def _remove_stale_copies(self) -> None:
-        import re
-
         if not self.path.parent.is_dir():
             return
         pat = re.compile(re.escape(self.path.name) + r"\.[A-Za-z0-9_]{8}\.tmp")
@@ -361,7 +365,6 @@ class Store:
             return keys
         make_folder(self.path.parent)
         with self.writer():
-            self._remove_stale_copies()
             self._write(keys, items, failures)
         return keys
 

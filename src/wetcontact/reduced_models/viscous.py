@@ -379,8 +379,7 @@ def bridge_rupture_distance(scene: Scene) -> tuple[float, str]:
 
     cal = get_model("calibrated-capillary")
     if _accepts(cal, scene):
-        sc = float(cal.force(scene).extras["rupture_distance"][0])
-        return sc, "calibrated-capillary"
+        return cal.rupture_distance(scene), "calibrated-capillary"  # type: ignore[attr-defined]
     return float(lian_rupture_distance(scene.bridge_volume, mean_contact_angle(
         scene.contact_angle_sphere, scene.contact_angle_wall))), "Lian 1993"
 

@@ -132,14 +132,7 @@ def _branch(d: _Disc, g: _Geo, V: float, n_steps: int = 40,
     bifurcation to its fold, the rupture criterion of the literature's symmetric solutions
     (Lian et al. 1993), kept only to measure the difference
     (benchmarks/bench_meniscus_rupture.py)."""
-    nw = _solve_at(d, g, 0.0, V, None)
-    if not nw.converged:
-        raise InputError(
-            f"meniscus: no liquid bridge found at contact (S = 0) for V/l^3 = {V:.4g} and "
-            f"contact angles {math.degrees(g.tht):.4g}, {math.degrees(g.thb):.4g} deg: the "
-            "contact angles or the volume admit no bridge")
-    x = nw.x
-    _check_filling(g, x, d)
+    x = _contact_bridge(d, g, V)
     wts = 1.0 / _scales(d, x) ** 2
     wts[:3 * d.n] /= d.n
     tau = _tangent(d, g, x, V, None, wts)
@@ -249,6 +242,19 @@ def _bisect_stability(d: _Disc, g: _Geo, V: float, xa: np.ndarray, xb: np.ndarra
         else:
             hi, x_hi = mid, w.x
     return x_lo
+
+
+def _contact_bridge(d: _Disc, g: _Geo, V: float) -> np.ndarray:
+    """The bridge at contact (S = 0), where every branch starts: an InputError if none
+    converges or it fills more than PHI_MAX of a sphere."""
+    nw = _solve_at(d, g, 0.0, V, None)
+    if not nw.converged:
+        raise InputError(
+            f"meniscus: no liquid bridge found at contact (S = 0) for V/l^3 = {V:.4g} and "
+            f"contact angles {math.degrees(g.tht):.4g}, {math.degrees(g.thb):.4g} deg: the "
+            "contact angles or the volume admit no bridge")
+    _check_filling(g, nw.x, d)
+    return nw.x
 
 
 def _check_filling(g: _Geo, x: np.ndarray, d: _Disc) -> None:

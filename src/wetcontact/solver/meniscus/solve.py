@@ -15,6 +15,7 @@ from wetcontact.errors import InputError, SolverError
 from wetcontact.solver.meniscus.continuation import (
     _branch,
     _check_filling,
+    _contact_bridge,
     _on_branch,
     _solve_at,
     _stability,
@@ -89,19 +90,15 @@ def contact_problem(bridge: Bridge, volume: float,
     """Why no bridge of ``volume`` (m^3) can be followed from contact, or None.
 
     The first step of every solve along a branch is the bridge at contact (S = 0); its
-    Newton solve and the half-filling-angle limit (``PHI_MAX``) are run here alone
+    Newton solve and the half-filling-angle limit (``PHI_MAX``, :func:`_contact_bridge`,
+    what the branch itself runs) are run here alone
     (about 10 ms, cached), so a model's ``check`` can refuse such a volume before a sweep
     or a refusal hint sends a user to it."""
     d, g, ell = _prep(bridge, volume, n_elements)
     if g.rt is None:  # two plates: no contact state
         return None
-    nw = _solve_at(d, g, 0.0, volume / ell**3, None)
-    if not nw.converged:
-        return (f"no liquid bridge found at contact (S = 0) for V/l^3 = {volume / ell**3:.4g} "
-                f"and contact angles {math.degrees(g.tht):.4g}, {math.degrees(g.thb):.4g} "
-                "deg: the contact angles or the volume admit no bridge")
     try:
-        _check_filling(g, nw.x, d)
+        _contact_bridge(d, g, volume / ell**3)
     except InputError as exc:
         return str(exc).removeprefix("meniscus: ")
     return None
