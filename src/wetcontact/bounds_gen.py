@@ -17,7 +17,13 @@ bounds on other seeded points):
   0-70 deg, binned in the larger contact angle and in S over the closure's own rupture
   distance (to 3 S_c: past rupture a zero force is exact only if the reference ruptured too);
   ``calibrated-capillary`` on its own domain: one contact angle on both solids, and two
-  independent angles on a wall.
+  independent angles on a wall or between spheres, in finer S/S_c bins toward rupture.
+
+Seeded scenes seldom land near a corner of a domain, where a closure errs most (a sampled
+maximum over a box misses its corners), so every bridge table also measures fixed corner
+scenes: the ends and middle of each axis (V*, each angle, the radius ratio), at gaps from
+contact to 0.999 S_c (capillary) or over the whole S/H range (viscous), as the film tables
+measure their corner films.
 
 Relative error per gap: ``|F - F_ref| / |F_ref|``; where the reference is zero (ruptured)
 it is 0 if the closure is zero too and :data:`SPURIOUS` otherwise.
@@ -28,6 +34,8 @@ from __future__ import annotations
 import json
 import math
 import time
+from collections.abc import Iterator
+from itertools import chain, product
 from pathlib import Path
 from typing import Any
 
@@ -166,6 +174,18 @@ it (the shipped water film sits there)."""
 FILM_CORNER_GAPS = tuple(float(x) for x in np.geomspace(0.01, FILM_X_MAX, 14))
 """S/delta of the corner films: log-spaced, six of them below 0.1."""
 
+BRIDGE_CORNERS = (1e-4, 10**-2.5, 0.1)
+"""V/R_small^3 of the bridges added at the edges and middle of the bridge tables' range (no
+random draw; between spheres at radius ratios :data:`CORNER_RATIOS`): the random bridges
+missed V* = 1e-4 at S/H = 0.95, where calibrated-viscous was 5 % above its bound."""
+CORNER_RATIOS = (1.0, 10**0.5, 10.0)
+"""Radius ratios of the corner scenes between spheres: both ends of the range and its
+(geometric) middle."""
+BRIDGE_CORNER_GAPS = tuple(sorted({*(float(x) for x in np.geomspace(1e-4, 1 - 1e-4, 14)),
+                                   0.01, 0.95}))
+"""S/H of the corner bridges: log-spaced over the tables' range, with calibrated-viscous's
+ends."""
+
 LARGE_BRIDGES = (0.1, 1.0)
 """V/R_small^3 range of the bridge tables' last bin, drawn from its own stream (no closure
 is calibrated there; ``lubrication`` and ``reynolds-finite`` are measured up to the
@@ -184,7 +204,9 @@ def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
     ``rng_large``, ``large_scenes`` more bridges of each kind with V/R_small^3 in
     :data:`LARGE_BRIDGES`, after the others (their own stream leaves the others' points
     as they were); with ``film_corners``, the films of :data:`FILM_CORNERS` at the gaps
-    :data:`FILM_CORNER_GAPS` after the random ones."""
+    :data:`FILM_CORNER_GAPS` after the random ones, and the bridges of
+    :data:`BRIDGE_CORNERS` (and ``LARGE_BRIDGES``' upper end with ``rng_large``; between
+    spheres at each of :data:`CORNER_RATIOS`) at the gaps :data:`BRIDGE_CORNER_GAPS`."""
     h_edges = np.linspace(0.0, 1.0, 11)
     lub = get_model("lubrication")
     out = []
@@ -198,10 +220,16 @@ def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
         if rng_large is not None and not film:
             draws += [(rng_large, LARGE_BRIDGES)] * large_scenes
         if film and film_corners:
-            draws += [(None, p) for p in FILM_CORNERS]
+            draws += [(None, (p, 1.0)) for p in FILM_CORNERS]
+        if not film and film_corners:
+            large = (LARGE_BRIDGES[1],) if rng_large is not None else ()
+            draws += [(None, (p, r)) for p in (*BRIDGE_CORNERS, *large)
+                      for r in ((1.0,) if kind == "sphere-wall" else CORNER_RATIOS)]
         for g, p_range in draws:
-            if g is None:  # a corner film: fixed thickness, the gaps of FILM_CORNER_GAPS
-                x, ratio, p = np.asarray(FILM_CORNER_GAPS), 1.0, float(p_range)
+            if g is None:  # a corner film or bridge: fixed thickness or volume and ratio,
+                # the gaps of FILM_CORNER_GAPS or BRIDGE_CORNER_GAPS
+                x = np.asarray(FILM_CORNER_GAPS if film else BRIDGE_CORNER_GAPS)
+                p, ratio = (float(q) for q in p_range)
             else:
                 p_lo, p_hi = p_range
                 x = np.concatenate([g.uniform(lo, hi, 1 if film else per_bin) for lo, hi
@@ -272,10 +300,49 @@ def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
     return out
 
 
+CORNER_X_EXTRA = (1e-6, 1e-4, 1e-3, 0.99, 0.999)
+"""S over the closure's S_c of every corner scene, besides each bin's middle: at contact
+(the random scenes' gaps start at 1e-3 S_c) and toward rupture (where an error of S_c is
+amplified by the fold's square root)."""
+
+
+def _random_bridges(rng: np.random.Generator, kind: str, n: int, edges: np.ndarray
+                    ) -> Iterator[tuple[float, float, tuple[float, float], np.ndarray]]:
+    """``n`` seeded bridges (radius ratio, V*, the two angles in deg, S/S_c one per bin of
+    ``edges``, at least 1e-3), drawn in this order from ``rng``."""
+    for _ in range(n):
+        ratio = 1.0 if kind == "sphere-wall" else float(np.exp(rng.uniform(0, np.log(10))))
+        vstar = float(np.exp(rng.uniform(np.log(1e-4), np.log(0.1))))
+        th = (float(rng.uniform(0, 70)), float(rng.uniform(0, 70)))
+        x = np.concatenate([rng.uniform(lo, hi, 1) for lo, hi in zip(edges[:-1], edges[1:],
+                                                                      strict=True)])
+        yield ratio, vstar, th, np.maximum(x, 1e-3)
+
+
+def corner_bridges(kind: str, angles: str, edges: np.ndarray
+                   ) -> Iterator[tuple[float, float, tuple[float, float], np.ndarray]]:
+    """The corner scenes (no random draw), as :func:`_random_bridges` yields them: every
+    combination of the ends and middle of V* in [1e-4, 0.1], of each angle in [0, 70] deg
+    and of the radius ratio in [1, 10] (:data:`CORNER_RATIOS`; 1 on a wall), at S/S_c =
+    each bin's middle and :data:`CORNER_X_EXTRA`. ``angles``: ``"one"`` (equal angles),
+    ``"two"`` (different ones) or ``"all"``."""
+    x = np.sort(np.concatenate([0.5 * (edges[:-1] + edges[1:]), CORNER_X_EXTRA]))
+    levels = (0.0, 35.0, 70.0)
+    for vstar in BRIDGE_CORNERS:
+        for a, b in product(levels, levels):
+            if (angles == "one" and a != b) or (angles == "two" and a == b):
+                continue
+            for ratio in ((1.0,) if kind == "sphere-wall" else CORNER_RATIOS):
+                yield ratio, float(vstar), (a, b), x
+
+
 def capillary_tables(rng: np.random.Generator, n_scenes: int = 90,
-                     progress: bool = False) -> list[dict[str, Any]]:
+                     progress: bool = False, corners: str | None = "all"
+                     ) -> list[dict[str, Any]]:
     """Capillary closures against ``meniscus`` over V/R_small^3 in [1e-4, 0.1], angles
-    0-70 deg, radius ratio 1-10; binned in theta_max and S/S_c(closure)."""
+    0-70 deg, radius ratio 1-10; binned in theta_max and S/S_c(closure). ``n_scenes``
+    seeded scenes per geometry, then (``corners``, :func:`corner_bridges`) the corner
+    scenes."""
     men = get_model("meniscus")
     closures = {n: get_model(n) for n in CAPILLARY_CLOSURES}
     se = np.asarray(S_OVER_SC_EDGES)
@@ -286,15 +353,11 @@ def capillary_tables(rng: np.random.Generator, n_scenes: int = 90,
         x_rows: dict[str, list] = {n: [] for n in closures}
         vr_rows: dict[str, list] = {n: [] for n in closures}
         t0 = time.perf_counter()
-        for i in range(n_scenes):
-            ratio = 1.0 if kind == "sphere-wall" else float(np.exp(rng.uniform(0, np.log(10))))
+        scenes = _random_bridges(rng, kind, n_scenes, se) if corners is None else chain(
+            _random_bridges(rng, kind, n_scenes, se), corner_bridges(kind, corners, se))
+        for i, (ratio, vstar, th, x) in enumerate(scenes):
             r2 = None if kind == "sphere-wall" else R * ratio
-            vstar = float(np.exp(rng.uniform(np.log(1e-4), np.log(0.1))))
-            th = (float(rng.uniform(0, 70)), float(rng.uniform(0, 70)))
             base = make_scene(kind, {"bridge_volume": vstar * R**3}, [1e-6], r2, th)
-            x = np.concatenate([rng.uniform(lo, hi, 1) for lo, hi in zip(se[:-1], se[1:],
-                                                                          strict=True)])
-            x = np.maximum(x, 1e-3)
             per_closure = {}
             gaps_all = []
             for n, m in closures.items():
@@ -323,7 +386,7 @@ def capillary_tables(rng: np.random.Generator, n_scenes: int = 90,
                 x_rows[n].append(g / _sc)
                 vr_rows[n].append(np.array([[vstar, ratio]] * g.size))
             if progress:
-                print(f"  {kind}: {i + 1}/{n_scenes} scenes, {time.perf_counter() - t0:.0f} s",
+                print(f"  {kind}: {i + 1} scenes, {time.perf_counter() - t0:.0f} s",
                       flush=True)
         for n in closures:
             if not rows[n]:
@@ -341,11 +404,34 @@ def capillary_tables(rng: np.random.Generator, n_scenes: int = 90,
     return out
 
 
+CC_S_OVER_SC_EDGES = [*S_OVER_SC_EDGES[:S_OVER_SC_EDGES.index(0.9) + 1], 0.95, 0.99, 0.999,
+                      *S_OVER_SC_EDGES[S_OVER_SC_EDGES.index(1.0):]]
+"""``calibrated-capillary``'s S/S_c bins: finer toward rupture, where its error grows as the
+fold's square root amplifies the error of its S_c (up to 5e-3 at 0.999 S_c in corners of
+its domain, 1e-5 at half of it)."""
+
+
+def _calibrated_draws(rng: np.random.Generator, kind: str, two: bool, n: int,
+                      edges: np.ndarray
+                      ) -> Iterator[tuple[float, float, tuple[float, float], np.ndarray]]:
+    """``n`` seeded bridges for :func:`calibrated_capillary_tables`, as
+    :func:`_random_bridges` yields them (radius ratio, V*, one angle on both solids or,
+    ``two``, two, S/S_c one per bin, at least 1e-3)."""
+    for _ in range(n):
+        ratio = 1.0 if kind == "sphere-wall" else float(np.exp(rng.uniform(0, np.log(10))))
+        vstar = float(np.exp(rng.uniform(np.log(1e-4), np.log(0.1))))
+        th = float(rng.uniform(0, 70))
+        th_w = float(rng.uniform(0, 70)) if two else th
+        x = np.concatenate([rng.uniform(lo, hi, 1) for lo, hi in zip(edges[:-1], edges[1:],
+                                                                      strict=True)])
+        yield ratio, vstar, (th, th_w), np.maximum(x, 1e-3)
+
+
 def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
                                 progress: bool = False,
                                 rng_two: np.random.Generator | None = None,
-                                rng_pair_two: np.random.Generator | None = None
-                                ) -> list[dict[str, Any]]:
+                                rng_pair_two: np.random.Generator | None = None,
+                                corners: bool = True) -> list[dict[str, Any]]:
     """``calibrated-capillary`` against ``meniscus`` on its own domain, binned like the
     other capillary closures: ``n_scenes`` per geometry with one contact angle on both
     solids (which the independent-angle scenes of :func:`capillary_tables` never draw)
@@ -354,10 +440,12 @@ def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
     table (its angle coordinate is the larger angle, as for every closure); from
     ``rng_pair_two`` (again its own stream) as many sphere pairs with two angles, into the
     pair table, where the model has a two-angle pair table (a scene it refuses is skipped,
-    as every scene outside its domain is)."""
+    as every scene outside its domain is). Each draw's scenes are followed, with
+    ``corners``, by its corner scenes (:func:`corner_bridges`). Binned in S/S_c by
+    :data:`CC_S_OVER_SC_EDGES`."""
     men = get_model("meniscus")
     model = get_model("calibrated-capillary")
-    se = np.asarray(S_OVER_SC_EDGES)
+    se = np.asarray(CC_S_OVER_SC_EDGES)
     out = []
     draws = [("sphere-wall", rng, False), ("sphere-sphere", rng, False)]
     if rng_two is not None:
@@ -368,19 +456,14 @@ def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
     for kind, stream, two in draws:
         errs, coords = found.setdefault(kind, ([], []))
         t0 = time.perf_counter()
-        for i in range(n_scenes):
-            ratio = (1.0 if kind == "sphere-wall"
-                     else float(np.exp(stream.uniform(0, np.log(10)))))
+        scenes = chain(_calibrated_draws(stream, kind, two, n_scenes, se),
+                       corner_bridges(kind, "two" if two else "one", se) if corners else ())
+        for i, (ratio, vstar, (th, th_w), x) in enumerate(scenes):
             r2 = None if kind == "sphere-wall" else R * ratio
-            vstar = float(np.exp(stream.uniform(np.log(1e-4), np.log(0.1))))
-            th = float(stream.uniform(0, 70))
-            th_w = float(stream.uniform(0, 70)) if two else th
             base = make_scene(kind, {"bridge_volume": vstar * R**3}, [1e-6], r2, (th, th_w))
             if model.applicable(base) is not None:
                 continue
             sc = model.rupture_distance(base)
-            x = np.maximum(np.concatenate([stream.uniform(lo, hi, 1) for lo, hi in
-                                           zip(se[:-1], se[1:], strict=True)]), 1e-3)
             gaps = x * sc
             ref = men.force(base, gaps=gaps).force_capillary
             f = model.force(base, gaps=gaps).force_capillary
@@ -389,14 +472,13 @@ def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
                                            np.full(x.size, vstar), np.full(x.size, ratio)]))
             if progress:
                 print(f"  calibrated-capillary {kind}{' (two angles)' if two else ''}: "
-                      f"{i + 1}/{n_scenes} scenes, {time.perf_counter() - t0:.0f} s",
-                      flush=True)
+                      f"{i + 1} scenes, {time.perf_counter() - t0:.0f} s", flush=True)
     for kind, (errs, coords) in found.items():
         if not errs:
             continue
         c = np.concatenate(coords)
         axes = ["theta_deg", "s_over_sc", "v_star"]
-        edges = [THETA_EDGES, S_OVER_SC_EDGES, [1e-4, 0.1]]
+        edges = [THETA_EDGES, CC_S_OVER_SC_EDGES, [1e-4, 0.1]]
         cols = [c[:, 0], c[:, 1], c[:, 2]]
         if kind == "sphere-sphere":
             axes.append("radius_ratio")

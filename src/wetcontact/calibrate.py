@@ -1191,13 +1191,29 @@ def main(argv: list[str] | None = None) -> int:
                    help="sphere-sphere-two-angles only: the node counts (nested: each "
                         "stage reuses what the ones before it solved; full is shipped)")
     c.add_argument("--out", type=Path, default=None,
-                   help="sphere-sphere-two-angles only: write into this copy of the table "
-                        "file (default: the package data)")
+                   help="sphere-sphere-two-angles or --corners only: write into this copy of "
+                        "the table file (default: the package data)")
     c.add_argument("--retrain", action="store_true",
                    help="the two-angle tables only: keep the fit the file holds, build "
                         "its tensor trains again and measure its held-out tables again "
                         "(no node solved; --stage is ignored)")
+    c.add_argument("--corners", action="store_true",
+                   help="measure only the corner stratum (held_out_corners: the domain's "
+                        "ends and middles at gaps up to 0.999 S_c) of every table the package "
+                        "data holds, or of --kind's, against meniscus; nothing is refitted")
     args = p.parse_args(argv)
+    if args.command == "capillary" and args.corners:
+        from wetcontact.calibrate_capillary import CORNER_KINDS, add_corner_strata
+
+        kinds = CORNER_KINDS if args.kind == "all" else (args.kind,)
+        data = add_corner_strata(args.out, kinds, args.workers)
+        for kind in kinds:
+            if kind in data:
+                ho = data[kind]["held_out_corners"]
+                print(f"{kind} held_out_corners: max rupture "
+                      f"{ho['rupture_distance']['max']:.3g}, force {ho['force']['max']:.3g} "
+                      f"({ho['force']['points']} points, {ho['bridges']} bridges)")
+        return 0
     if args.command == "capillary" and args.retrain and args.kind not in (
             cc.WALL_TWO_ANGLES, PAIR_KIND):
         p.error(f"--retrain: only with --kind {cc.WALL_TWO_ANGLES} or --kind {PAIR_KIND} "

@@ -19,6 +19,7 @@ spheres around the split angle (:data:`NEAR_EQUAL`).
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 import os
@@ -671,6 +672,40 @@ def held_out_design(kind: str, n: int, gaps_per: int, seed: int,
     return out
 
 
+CORNER_LEVELS = {"v": (cc.V_RANGE[0], math.sqrt(cc.V_RANGE[0] * cc.V_RANGE[1]), cc.V_RANGE[1]),
+                 "theta_deg": (cc.THETA_RANGE_DEG[0], 0.5 * sum(cc.THETA_RANGE_DEG),
+                               cc.THETA_RANGE_DEG[1]),
+                 "ratio": (cc.RATIO_RANGE[0], math.sqrt(cc.RATIO_RANGE[0] * cc.RATIO_RANGE[1]),
+                           cc.RATIO_RANGE[1])}
+"""The corner stratum's levels per axis: both ends of the domain and its (geometric) middle.
+A seeded uniform design seldom lands near a corner of the box, where a tensor interpolant
+errs most (a small sphere at 70 deg against a solid at 0 deg: S_c 1-2.5e-4 off, five times
+the uniform design's maximum on a wall)."""
+CORNER_FRACTIONS = (1e-6, 0.5, 0.9, 0.99, 0.999)
+"""Gaps of each corner bridge, in fractions of its rupture distance: at contact and toward
+rupture, where an error of S_c is amplified by the fold's square root."""
+
+
+def corner_design(kind: str) -> list[dict[str, Any]]:
+    """The corner stratum's bridges of a table: every combination of :data:`CORNER_LEVELS`
+    (volume, angle or angles, radius ratio between spheres) at the gaps
+    :data:`CORNER_FRACTIONS`; with two angles only combinations whose angles differ (equal
+    ones are the one-angle table's)."""
+    pair = kind in ("sphere-sphere", cc.PAIR_TWO_ANGLES)
+    two = kind in (cc.WALL_TWO_ANGLES, cc.PAIR_TWO_ANGLES)
+    lv = CORNER_LEVELS
+    out = []
+    for v, th, th2, ratio in itertools.product(lv["v"], lv["theta_deg"],
+                                               lv["theta_deg"] if two else (None,),
+                                               lv["ratio"] if pair else (None,)):
+        if two and th == th2:
+            continue
+        out.append({"v": float(v), "theta_deg": float(th), "ratio": ratio,
+                    "theta_wall_deg": None if th2 is None else float(th2),
+                    "fractions": list(CORNER_FRACTIONS)})
+    return out
+
+
 def _held_job(args: tuple) -> tuple[float, np.ndarray, np.ndarray]:
     from wetcontact.solver.meniscus import Bridge, force_separation_curve
 
@@ -685,17 +720,25 @@ def held_out(kind: str, n: int = 120, gaps_per: int = 8, seed: int = 2611,
              workers: int = 2, near_equal: bool = False, entry: dict[str, Any] | None = None,
              cache_dir: Path | None = None, near_ridge: bool = False,
              ridge_band: tuple[float, float] | None = None,
-             theta_range: tuple[float, float] | None = None) -> dict[str, Any]:
+             theta_range: tuple[float, float] | None = None, corners: bool = False
+             ) -> dict[str, Any]:
     """Held-out error table of a table (``entry``: one kind's, default the shipped one)
     against ``meniscus`` (relative errors of the rupture distance and of the force, max /
     mean / 95th percentile, where the maximum sits; ``force_attached``: the force at the
     points where the closure's own bridge exists, short of its rupture distance).
     ``near_ridge``: a wall with two angles, the wall angle near the table's ridge
     (``ridge_band``: in a band of distances from it; ``theta_range``: the sphere angle's
-    range; see :func:`held_out_design`)."""
+    range; see :func:`held_out_design`). ``corners``: the corner stratum's bridges
+    (:func:`corner_design`) instead of a seeded design (``n``, ``gaps_per`` and ``seed``
+    ignored)."""
     e = cc._entry(kind) if entry is None else entry
-    design = held_out_design(kind, n, gaps_per, seed, near_equal,
-                             e if near_ridge or ridge_band else None, ridge_band, theta_range)
+    if corners:
+        design, gaps_per, seed = corner_design(kind), len(CORNER_FRACTIONS), None
+        n = len(design)
+    else:
+        design = held_out_design(kind, n, gaps_per, seed, near_equal,
+                                 e if near_ridge or ridge_band else None, ridge_band,
+                                 theta_range)
 
     def rad(x: float | None) -> float | None:
         return None if x is None else math.radians(x)
@@ -729,7 +772,11 @@ def held_out(kind: str, n: int = 120, gaps_per: int = 8, seed: int = 2611,
 
     att = np.flatnonzero(attached)
     return {"seed": seed, "reference": "meniscus (default elements)",
-            "bridges": n, "rupture_distance": table(e_rup, where_r),
+            "bridges": n, **({"design": {"corners": {k: list(v) for k, v in
+                                                      CORNER_LEVELS.items()},
+                                          "s_over_sc": list(CORNER_FRACTIONS)}}
+                             if corners else {}),
+            "rupture_distance": table(e_rup, where_r),
             "force": table(e_f, where_f),
             "force_attached": table([e_f[i] for i in att], [where_f[i] for i in att])}
 
@@ -799,6 +846,8 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = KIND
                            theta_range=RIDGE_ONSET["theta_sphere_deg"]),
                 "stratum": {"theta_sphere_deg": list(RIDGE_ONSET["theta_sphere_deg"]),
                             "theta_wall_deg_from_ridge_abs_log_uniform": list(band)}}
+        data[kind]["held_out_corners"] = held_out(kind, workers=workers, entry=entry,
+                                                  cache_dir=cache_dir, corners=True)
         _write(out, data)
     branches = {k: BRANCHES[k] - start[k] for k in BRANCHES}
     if retrain:  # the fit's own record stays; the retrain's beside it
@@ -808,6 +857,30 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = KIND
     else:
         data.update(wall_time_s=round(time.perf_counter() - t0, 1), branches=branches)
     _write(out, data)
+    return data
+
+
+CORNER_KINDS = (*KINDS, cc.PAIR_TWO_ANGLES)
+"""The tables that carry a corner stratum (``held_out_corners``)."""
+
+
+def add_corner_strata(out: Path | None = None, kinds: tuple[str, ...] = CORNER_KINDS,
+                      workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
+    """Measure the corner stratum (:func:`corner_design`) of each table in ``kinds`` that
+    the file ``out`` (default the package data) holds, against ``meniscus``, and write it
+    as the table's ``held_out_corners`` (no node solved, nothing else changed); returns the
+    file's data. A table's held-out strata bound its rupture window
+    (:meth:`~wetcontact.reduced_models.calibrated_capillary.CalibratedCapillary
+    .bound_floor`), so the corner stratum widens it where S_c errs most."""
+    out = Path(out) if out else Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
+    data = json.loads(out.read_text())
+    for kind in kinds:
+        if kind not in data:
+            continue
+        entry = cc.as_arrays({kind: data[kind]})[kind]
+        data[kind]["held_out_corners"] = held_out(kind, workers=workers, entry=entry,
+                                                  cache_dir=cache_dir, corners=True)
+        _write(out, data)
     return data
 
 

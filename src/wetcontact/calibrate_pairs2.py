@@ -499,6 +499,8 @@ def pair_held_out(entry: dict[str, Any], n: int = 120, workers: int = 2,
                           cache_dir=cache_dir, near_ridge=st.get("near_ridge", False),
                           ridge_band=st.get("ridge_band"), theta_range=st.get("theta_range"))
         out[key] = {**ho, **({"stratum": st["stratum"]} if "stratum" in st else {})}
+    out["held_out_corners"] = gen.held_out(PAIR_TWO_ANGLES, workers=workers, entry=entry,
+                                           cache_dir=cache_dir, corners=True)
     return out
 
 
