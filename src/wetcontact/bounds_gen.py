@@ -44,6 +44,7 @@ import numpy as np
 from wetcontact.errors import InputError, SolverError
 from wetcontact.fileio import atomic_write_text
 from wetcontact.models import get_model, load_all
+from wetcontact.reduced_models.bounds import scene_coords
 from wetcontact.scene import Scene, scene_from_dict
 
 MARGIN = 1.25
@@ -243,10 +244,13 @@ def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
                 amt, gaps = {"film_thickness": p * R}, x * p * R
             else:
                 v = p * R**3
-                rstar = R * ratio / (1 + ratio)
+                rstar = R if kind == "sphere-wall" else R * ratio / (1 + ratio)
                 gaps = x * np.sqrt(v / (math.pi * rstar)) / np.sqrt(1 - x**2)
                 amt = {"bridge_volume": v}
             scene = make_scene(kind, amt, gaps, r2)
+            # the coordinate the bounds are looked up by (a wall's R* is R: the gaps were
+            # once placed with R/2, so a wall's errors landed in the bins of smaller S/H)
+            assert np.allclose(scene_coords(scene)["s_over_h"], x, rtol=1e-9, atol=0.0)
             try:
                 unc = np.zeros(x.size)
                 if film:
