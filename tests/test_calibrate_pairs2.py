@@ -16,6 +16,8 @@ from conftest import synthetic_rupture as _rupture
 
 from wetcontact import calibrate_capillary as gen
 from wetcontact import calibrate_pairs2 as p2
+from wetcontact.errors import InputError
+from wetcontact.reduced_models import calibrated_capillary as cc
 
 TOP = 33.3
 
@@ -426,3 +428,47 @@ def test_retrain_is_refused_for_other_kinds(capsys) -> None:
     assert exc.value.code == 2
     assert ("--retrain: only with --kind sphere-wall-two-angles or --kind "
             "sphere-sphere-two-angles" in capsys.readouterr().err)
+
+
+@pytest.mark.parametrize("argv,message", [
+    (["--kind", "sphere-wall", "--refine-band", "2"],
+     "--refine-band: only with --kind sphere-wall-two-angles or --kind "
+     "sphere-sphere-two-angles (given: --kind sphere-wall)"),
+    (["--kind", "sphere-wall-two-angles", "--refine-band", "3"],
+     "--refine-band = 3; allowed: 0, 1 or 2"),
+])
+def test_refine_band_is_refused_outside_the_two_angle_tables(argv, message, capsys) -> None:
+    from wetcontact import calibrate
+
+    with pytest.raises(SystemExit) as exc:
+        calibrate.main(["capillary", *argv])
+    assert exc.value.code == 2
+    assert message in capsys.readouterr().err
+
+
+def test_refine_band_names_the_file_and_field_of_a_table_it_cannot_refine(tmp_path) -> None:
+    out = tmp_path / "cap.json"
+    out.write_text(json.dumps({"sphere-wall": {}}))
+    with pytest.raises(InputError, match=r"cap.json: field 'sphere-wall-two-angles' missing"):
+        gen.refine_band(cc.WALL_TWO_ANGLES, 2, out)
+
+
+def test_refine_band_refits_only_the_pieces_whose_nodes_changed(tmp_path, monkeypatch) -> None:
+    """With the shipped node counts nothing is solved: the band's pieces, its ridge and
+    every other band stay as the file holds them; only the held-out tables are measured
+    again (stubbed here: they solve meniscus)."""
+    src = Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
+    out = tmp_path / "cap.json"
+    out.write_text(src.read_text())
+    old = json.loads(src.read_text())[cc.WALL_TWO_ANGLES]
+    fitted = []
+    monkeypatch.setattr(gen, "fit_piece", lambda *a, **k: fitted.append(a))
+    monkeypatch.setattr(gen, "_wall_two_held_out", lambda *a, **k: {"held_out": {"stub": 1}})
+    try:
+        entry = gen.refine_band(cc.WALL_TWO_ANGLES, 2, out)
+    finally:
+        cc.capillary_table.cache_clear()
+    assert fitted == []
+    assert entry["bands"] == old["bands"]
+    assert entry["held_out"] == {"stub": 1}
+    assert entry["refine_band"]["branches"]["solved"] == 0

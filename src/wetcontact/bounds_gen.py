@@ -193,6 +193,17 @@ is calibrated there; ``lubrication`` and ``reynolds-finite`` are measured up to 
 capillary closures' hard limit, V* = 1)."""
 
 
+def bridge_gaps(kind: str, v_star: float, ratio: float, x: np.ndarray) -> np.ndarray:
+    """Gaps (m) of a bridge of volume ``v_star`` R^3 at S/H = ``x``, H = sqrt(V/(pi R*))
+    the edge gap of :func:`wetcontact.reduced_models.bounds.scene_coords` (R* = R on a
+    wall, R R2/(R + R2) between spheres of radii R and ``ratio`` R): S = x H/sqrt(1 - x^2).
+    (Until 2026-11-27 a wall's gaps were placed with R/2, so its errors were binned at an
+    S/H up to 26 % smaller than the scene's own.)"""
+    rstar = R if kind == "sphere-wall" else R * ratio / (1 + ratio)
+    x = np.asarray(x, dtype=float)
+    return x * np.sqrt(v_star * R**3 / (math.pi * rstar)) / np.sqrt(1 - x**2)
+
+
 def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
                          per_bin: int = 4, film_scenes: int = 16,
                          rng_large: np.random.Generator | None = None,
@@ -243,13 +254,9 @@ def finite_liquid_tables(rng: np.random.Generator, n_scenes: int = 24,
             if amount == "film":
                 amt, gaps = {"film_thickness": p * R}, x * p * R
             else:
-                v = p * R**3
-                rstar = R if kind == "sphere-wall" else R * ratio / (1 + ratio)
-                gaps = x * np.sqrt(v / (math.pi * rstar)) / np.sqrt(1 - x**2)
-                amt = {"bridge_volume": v}
+                amt, gaps = {"bridge_volume": p * R**3}, bridge_gaps(kind, p, ratio, x)
             scene = make_scene(kind, amt, gaps, r2)
-            # the coordinate the bounds are looked up by (a wall's R* is R: the gaps were
-            # once placed with R/2, so a wall's errors landed in the bins of smaller S/H)
+            # the coordinate the bounds are looked up by
             assert np.allclose(scene_coords(scene)["s_over_h"], x, rtol=1e-9, atol=0.0)
             try:
                 unc = np.zeros(x.size)

@@ -1201,7 +1201,27 @@ def main(argv: list[str] | None = None) -> int:
                    help="measure only the corner stratum (held_out_corners: the domain's "
                         "ends and middles at gaps up to 0.999 S_c) of every table the package "
                         "data holds, or of --kind's, against meniscus; nothing is refitted")
+    c.add_argument("--refine-band", type=int, default=None, metavar="BAND",
+                   help="the two-angle tables only (--kind): fit again the pieces of this "
+                        "band (0-2) whose node counts differ from the generator's, from the "
+                        "band's own ridge series, and measure the table's held-out tables "
+                        "again")
     args = p.parse_args(argv)
+    if args.command == "capillary" and args.refine_band is not None:
+        from wetcontact.calibrate_capillary import refine_band
+
+        if args.kind not in (cc.WALL_TWO_ANGLES, PAIR_KIND):
+            p.error(f"--refine-band: only with --kind {cc.WALL_TWO_ANGLES} or --kind "
+                    f"{PAIR_KIND} (given: --kind {args.kind})")
+        if args.refine_band not in (0, 1, 2):
+            p.error(f"--refine-band = {args.refine_band}; allowed: 0, 1 or 2")
+        entry = refine_band(args.kind, args.refine_band, args.out, args.workers)
+        for key in sorted(k for k in entry if k.startswith("held_out")):
+            ho = entry[key]
+            print(f"{args.kind} {key}: max rupture {ho['rupture_distance']['max']:.3g}, "
+                  f"force {ho['force']['max']:.3g} ({ho['force']['points']} points)")
+        print(f"{entry['refine_band']['wall_time_s']} s")
+        return 0
     if args.command == "capillary" and args.corners:
         from wetcontact.calibrate_capillary import CORNER_KINDS, add_corner_strata
 

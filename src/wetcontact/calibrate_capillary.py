@@ -38,9 +38,9 @@ from wetcontact.reduced_models import calibrated_capillary as cc
 
 PIECES: dict[str, list[dict[str, Any]]] = {
     "sphere-wall": [{"theta_deg": [0.0, 70.0], "nodes": [10, 15, 19]}],
-    "sphere-sphere": [{"theta_deg": [0.0, None], "nodes": [9, 9, 11, 19]},
-                      {"theta_deg": [None, 70.0], "nodes": [9, 9, 13, 19]}],
-    cc.WALL_TWO_ANGLES: [{"theta_deg": [0.0, None], "nodes": [10, 9, 15, 19],
+    "sphere-sphere": [{"theta_deg": [0.0, None], "nodes": [13, 9, 11, 19]},
+                      {"theta_deg": [None, 70.0], "nodes": [13, 9, 13, 19]}],
+    cc.WALL_TWO_ANGLES: [{"theta_deg": [0.0, None], "nodes": [10, 9, 23, 19],
                           "theta_map": cc.RIDGE_QUADRATIC},
                          {"theta_deg": [None, cc.RIDGE_TOP_DEG], "nodes": [10, 9, 11, 19],
                           "theta_map": cc.RIDGE_QUADRATIC}],
@@ -48,7 +48,9 @@ PIECES: dict[str, list[dict[str, Any]]] = {
 """Theta pieces per kind (``None``: the split angle, or the ridge on a wall with two angles)
 and their Lobatto nodes per axis ((w,) a = ln v, b = theta within the piece, c = gap; two
 angles on a wall: a, b1 = the sphere's angle within its band, b2 = the wall's angle within
-the piece, c)."""
+the piece, c). Sphere pairs have 13 nodes in w (9 until 2026-11-27: S_c oscillated in the
+radius ratio by up to 1.7e-4 at V* = 0.1, the force at 0.999 S_c by 2.5e-3; along that line
+13 nodes interpolate S_c to 1.5e-5, 17 to 5e-7)."""
 TWO_ANGLE_BANDS_DEG: tuple[tuple[float | None, float | None], ...] = (
     (0.0, None), (None, 35.0), (35.0, 70.0))
 """The sphere angle's ranges (``bands``) of the two-angle wall table, each a
@@ -585,6 +587,92 @@ point) and would break the bands' join, where both tables interpolate the same n
 S_c is continuous to round-off (a train moved it by up to 1.5e-6 there)."""
 
 
+BAND_NODES: dict[str, dict[int, dict[int, list[int]]]] = {}
+"""Node counts that differ from :data:`PIECES` (or ``calibrate_pairs2.STAGES``' full
+stage) in one band of a two-angle table, ``{kind: {band: {piece: nodes}}}`` (none at
+present). A band refitted with other counts than its neighbour no longer interpolates the
+same nodes at their common break, so S_c steps there (by up to 4.4e-6 when only the upper
+two bands of the wall had 23 points below the ridge): refit every band.
+
+The wall's piece below the ridge has 23 Gauss points in the wall's angle since 2026-11-27
+(15 before): toward a wall angle of 0, S_c's curvature changes within 1-3 deg, which 15
+points (the first two at 0.47 and 4.2 deg) resolved to 2.5e-4 at theta_s = 70 deg,
+V* = 0.1 (the force at 0.999 S_c to 5e-3), 4.5e-5 at 35 deg; 19 points to 5.6e-5, 23 to
+1.4e-5, 27 to 3.5e-6 (the interpolant along the line at 70 deg). The sphere-pair table
+with two angles has the same defect (2.5e-4 at theta1 = 70, theta2 = 0 deg, V* = 0.1;
+23 points: 1.3e-5 along that line) and is not refitted yet: ``STAGES['full']['b2']`` =
+(23, 27) and ``python -m wetcontact.calibrate capillary --kind sphere-sphere-two-angles
+--refine-band B`` for B = 0, 1, 2, 16 767 branches each (about an hour on 2 cores)."""
+
+
+def band_pieces(kind: str, band: int) -> list[dict[str, Any]]:
+    """The pieces' specifications (:data:`PIECES`) of band ``band`` of a two-angle wall
+    table, with :data:`BAND_NODES`' node counts."""
+    over = BAND_NODES.get(kind, {}).get(band, {})
+    return [{**p, "nodes": list(over.get(i, p["nodes"]))} for i, p in enumerate(PIECES[kind])]
+
+
+def pair_band_nodes(band: int) -> list[list[int]]:
+    """The node counts of each piece of band ``band`` of the two-angle sphere-pair table at
+    ``calibrate_pairs2.STAGES``' full stage (w, a, b1, b2, c), with :data:`BAND_NODES`'."""
+    from wetcontact.calibrate_pairs2 import GAP_NODES, STAGES
+
+    st = STAGES["full"]
+    over = BAND_NODES.get(cc.PAIR_TWO_ANGLES, {}).get(band, {})
+    return [list(over.get(j, [st["w"], st["a"], st["b1"], nb2, GAP_NODES]))
+            for j, nb2 in enumerate(st["b2"])]
+
+
+def refine_band(kind: str, band: int, out: Path | None = None, workers: int = 2,
+                cache_dir: Path | None = None) -> dict[str, Any]:
+    """Fit again the pieces of band ``band`` of the two-angle table ``kind`` in the file
+    ``out`` (default the package data) whose node counts differ from their specification
+    (:func:`band_pieces`, :func:`pair_band_nodes`), from the band's own ridge series and
+    the table's onset series as the file holds them (no ridge or onset search: a fit from
+    scratch computes the same series), rebuild their tensor trains and write the table back
+    with its held-out tables measured again; returns the table's entry. What :func:`fit_kind` and
+    ``calibrate_pairs2.fit_pair_table`` would fit from scratch, without their searches."""
+    from wetcontact.calibrate_pairs2 import PAIR_PIECES, fit_pair_piece, pair_held_out, train_piece
+
+    out = Path(out) if out else Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
+    data = json.loads(out.read_text())
+    if kind not in (cc.WALL_TWO_ANGLES, cc.PAIR_TWO_ANGLES) or kind not in data:
+        raise InputError(f"{out}: field {kind!r} missing or not a two-angle table; allowed: "
+                         f"{cc.WALL_TWO_ANGLES}, {cc.PAIR_TWO_ANGLES}")
+    t0 = time.perf_counter()
+    start = dict(BRANCHES)
+    entry = data[kind]
+    b = entry["bands"][band]
+    rng = tuple(b["theta_sphere_deg"])
+    onset = entry.get(cc.ONSET_KEY)
+    pieces = list(b["pieces"])
+    if kind == cc.WALL_TWO_ANGLES:
+        for i, spec in enumerate(band_pieces(kind, band)):
+            if list(pieces[i]["nodes"]) != spec["nodes"]:
+                pieces[i] = train_piece(fit_piece(kind, spec, b["theta_split"], workers,
+                                                  cache_dir, rng, onset), fields=WALL_TRAINS)
+    else:
+        for i, (spec, nodes) in enumerate(zip(PAIR_PIECES, pair_band_nodes(band),
+                                              strict=True)):
+            if list(pieces[i]["nodes"]) != nodes:
+                pieces[i] = train_piece(fit_pair_piece(spec, nodes[3], onset,
+                                                       b["theta_split"], workers, cache_dir))
+    entry["bands"][band] = {**b, "pieces": pieces}
+    entry = {k: v for k, v in entry.items() if not k.startswith("held_out")}
+    data[kind] = entry
+    _write(out, data)
+    arrays = cc.as_arrays({kind: entry})[kind]
+    if kind == cc.PAIR_TWO_ANGLES:
+        entry.update(pair_held_out(arrays, 120, workers, cache_dir))
+    else:
+        entry.update(_wall_two_held_out(arrays, 120, workers, cache_dir))
+    entry["refine_band"] = {"band": band, "wall_time_s": round(time.perf_counter() - t0, 1),
+                            "branches": {k: BRANCHES[k] - start[k] for k in BRANCHES}}
+    data[kind] = entry
+    _write(out, data)
+    return entry
+
+
 def fit_kind(kind: str, workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
     """Every theta piece of one kind (and the split angle for sphere pairs); a wall with two
     angles: per band of the sphere's angle (:data:`TWO_ANGLE_BANDS_DEG`) its ridge and
@@ -596,13 +684,13 @@ def fit_kind(kind: str, workers: int = 2, cache_dir: Path | None = None) -> dict
         onset = (fit_onset(workers, cache_dir)
                  if any(None in rng for rng in TWO_ANGLE_BANDS_DEG) else None)
         bands = []
-        for rng in TWO_ANGLE_BANDS_DEG:
+        for i, rng in enumerate(TWO_ANGLE_BANDS_DEG):
             ridge = fit_ridge(workers, cache_dir, rng, onset)
             bands.append({"theta_sphere_deg": list(rng), "theta_split": ridge,
                            "pieces": [train_piece(fit_piece(kind, p, ridge, workers,
                                                             cache_dir, rng, onset),
                                                   fields=WALL_TRAINS)
-                                      for p in PIECES[kind]]})
+                                      for p in band_pieces(kind, i)]})
         return {**({cc.ONSET_KEY: onset} if onset else {}), "bands": bands}
     split = None
     if any(None in p["theta_deg"] for p in PIECES[kind]):
@@ -823,31 +911,18 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = KIND
             data[kind]["fit_time_s"] = round(time.perf_counter() - t1, 1)
         _write(out, data)
         entry = cc.as_arrays({kind: data[kind]})[kind]
-        data[kind]["held_out"] = held_out(kind, n=n_held_out, workers=workers, entry=entry,
-                                          cache_dir=cache_dir)
-        if kind == "sphere-sphere":
-            data[kind]["held_out_near_equal"] = {
-                **held_out(kind, n=max(n_held_out // 3, 8), seed=2612, workers=workers,
-                           near_equal=True, entry=entry, cache_dir=cache_dir),
-                "stratum": NEAR_EQUAL}
         if kind == cc.WALL_TWO_ANGLES:
-            data[kind]["held_out_near_ridge"] = {
-                **held_out(kind, n=max(n_held_out // 3, 8), seed=2613, workers=workers,
-                           entry=entry, cache_dir=cache_dir, near_ridge=True),
-                "stratum": {"theta_wall_deg_from_ridge": [-NEAR_RIDGE_DEG, NEAR_RIDGE_DEG]}}
-            data[kind]["held_out_ridge_top"] = {
-                **held_out(kind, n=max(n_held_out // 2, 8), seed=2614, workers=workers,
-                           entry=entry, cache_dir=cache_dir, ridge_band=RIDGE_TOP_BAND_DEG),
-                "stratum": {"theta_wall_deg_from_ridge_abs_log_uniform": list(RIDGE_TOP_BAND_DEG)}}
-            band = RIDGE_ONSET["theta_wall_deg_from_ridge"]
-            data[kind]["held_out_ridge_onset"] = {
-                **held_out(kind, n=max(2 * n_held_out, 8), seed=2615, workers=workers,
-                           entry=entry, cache_dir=cache_dir, ridge_band=band,
-                           theta_range=RIDGE_ONSET["theta_sphere_deg"]),
-                "stratum": {"theta_sphere_deg": list(RIDGE_ONSET["theta_sphere_deg"]),
-                            "theta_wall_deg_from_ridge_abs_log_uniform": list(band)}}
-        data[kind]["held_out_corners"] = held_out(kind, workers=workers, entry=entry,
-                                                  cache_dir=cache_dir, corners=True)
+            data[kind].update(_wall_two_held_out(entry, n_held_out, workers, cache_dir))
+        else:
+            data[kind]["held_out"] = held_out(kind, n=n_held_out, workers=workers,
+                                              entry=entry, cache_dir=cache_dir)
+            if kind == "sphere-sphere":
+                data[kind]["held_out_near_equal"] = {
+                    **held_out(kind, n=max(n_held_out // 3, 8), seed=2612, workers=workers,
+                               near_equal=True, entry=entry, cache_dir=cache_dir),
+                    "stratum": NEAR_EQUAL}
+            data[kind]["held_out_corners"] = held_out(kind, workers=workers, entry=entry,
+                                                      cache_dir=cache_dir, corners=True)
         _write(out, data)
     branches = {k: BRANCHES[k] - start[k] for k in BRANCHES}
     if retrain:  # the fit's own record stays; the retrain's beside it
@@ -858,6 +933,35 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = KIND
         data.update(wall_time_s=round(time.perf_counter() - t0, 1), branches=branches)
     _write(out, data)
     return data
+
+
+def _wall_two_held_out(entry: dict[str, Any], n_held_out: int, workers: int,
+                       cache_dir: Path | None) -> dict[str, dict[str, Any]]:
+    """The two-angle wall table's held-out tables (``entry``: its arrays): the uniform
+    design and the strata near the ridge, at its top, where its jump appears, and at the
+    domain's corners."""
+    kind = cc.WALL_TWO_ANGLES
+    band = RIDGE_ONSET["theta_wall_deg_from_ridge"]
+    return {
+        "held_out": held_out(kind, n=n_held_out, workers=workers, entry=entry,
+                             cache_dir=cache_dir),
+        "held_out_near_ridge": {
+            **held_out(kind, n=max(n_held_out // 3, 8), seed=2613, workers=workers,
+                       entry=entry, cache_dir=cache_dir, near_ridge=True),
+            "stratum": {"theta_wall_deg_from_ridge": [-NEAR_RIDGE_DEG, NEAR_RIDGE_DEG]}},
+        "held_out_ridge_top": {
+            **held_out(kind, n=max(n_held_out // 2, 8), seed=2614, workers=workers,
+                       entry=entry, cache_dir=cache_dir, ridge_band=RIDGE_TOP_BAND_DEG),
+            "stratum": {"theta_wall_deg_from_ridge_abs_log_uniform":
+                        list(RIDGE_TOP_BAND_DEG)}},
+        "held_out_ridge_onset": {
+            **held_out(kind, n=max(2 * n_held_out, 8), seed=2615, workers=workers,
+                       entry=entry, cache_dir=cache_dir, ridge_band=band,
+                       theta_range=RIDGE_ONSET["theta_sphere_deg"]),
+            "stratum": {"theta_sphere_deg": list(RIDGE_ONSET["theta_sphere_deg"]),
+                        "theta_wall_deg_from_ridge_abs_log_uniform": list(band)}},
+        "held_out_corners": held_out(kind, workers=workers, entry=entry,
+                                     cache_dir=cache_dir, corners=True)}
 
 
 CORNER_KINDS = (*KINDS, cc.PAIR_TWO_ANGLES)

@@ -449,12 +449,14 @@ def fit_pair_table(stage: str = "coarse", workers: int = 2,
     st = STAGES[stage]
     onset = fit_pair_onset(st["w"], st["a"], workers, cache_dir)
     bands = []
-    for rng, tol in zip(PAIR_BANDS_DEG, PAIR_RIDGE_TOL_DEG, strict=True):
+    for i, (rng, tol) in enumerate(zip(PAIR_BANDS_DEG, PAIR_RIDGE_TOL_DEG, strict=True)):
         ridge = fit_pair_ridge(onset, rng, st["b1"], tol, workers, cache_dir)
+        nb2 = ([n[3] for n in gen.pair_band_nodes(i)] if stage == "full"
+               else list(st["b2"]))
         bands.append({"theta_sphere_deg": list(rng), "theta_split": ridge,
                       "pieces": [train_piece(fit_pair_piece(p, n, onset, ridge, workers,
                                                             cache_dir))
-                                 for p, n in zip(PAIR_PIECES, st["b2"], strict=True)]})
+                                 for p, n in zip(PAIR_PIECES, nb2, strict=True)]})
     return {"stage": stage, cc.ONSET_KEY: onset, "bands": bands}
 
 
