@@ -471,4 +471,5 @@ def test_refine_band_refits_only_the_pieces_whose_nodes_changed(tmp_path, monkey
     assert fitted == []
     assert entry["bands"] == old["bands"]
     assert entry["held_out"] == {"stub": 1}
-    assert entry["refine_band"]["branches"]["solved"] == 0
+    assert entry["refine_band"]["2"]["branches"]["solved"] == 0
+    assert set(entry["refine_band"]) == {"0", "1", "2"}  # the earlier bands' records kept

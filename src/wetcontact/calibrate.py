@@ -1220,7 +1220,7 @@ def main(argv: list[str] | None = None) -> int:
             ho = entry[key]
             print(f"{args.kind} {key}: max rupture {ho['rupture_distance']['max']:.3g}, "
                   f"force {ho['force']['max']:.3g} ({ho['force']['points']} points)")
-        print(f"{entry['refine_band']['wall_time_s']} s")
+        print(f"{entry['refine_band'][str(args.refine_band)]['wall_time_s']} s")
         return 0
     if args.command == "capillary" and args.corners:
         from wetcontact.calibrate_capillary import CORNER_KINDS, add_corner_strata

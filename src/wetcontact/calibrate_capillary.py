@@ -630,7 +630,8 @@ def refine_band(kind: str, band: int, out: Path | None = None, workers: int = 2,
     (:func:`band_pieces`, :func:`pair_band_nodes`), from the band's own ridge series and
     the table's onset series as the file holds them (no ridge or onset search: a fit from
     scratch computes the same series), rebuild their tensor trains and write the table back
-    with its held-out tables measured again; returns the table's entry. What :func:`fit_kind` and
+    with its held-out tables measured again; returns the table's entry (``refine_band``:
+    each refitted band's wall time and branches). What :func:`fit_kind` and
     ``calibrate_pairs2.fit_pair_table`` would fit from scratch, without their searches."""
     from wetcontact.calibrate_pairs2 import PAIR_PIECES, fit_pair_piece, pair_held_out, train_piece
 
@@ -666,8 +667,9 @@ def refine_band(kind: str, band: int, out: Path | None = None, workers: int = 2,
         entry.update(pair_held_out(arrays, 120, workers, cache_dir))
     else:
         entry.update(_wall_two_held_out(arrays, 120, workers, cache_dir))
-    entry["refine_band"] = {"band": band, "wall_time_s": round(time.perf_counter() - t0, 1),
-                            "branches": {k: BRANCHES[k] - start[k] for k in BRANCHES}}
+    entry.setdefault("refine_band", {})[str(band)] = {
+        "wall_time_s": round(time.perf_counter() - t0, 1),
+        "branches": {k: BRANCHES[k] - start[k] for k in BRANCHES}}
     data[kind] = entry
     _write(out, data)
     return entry
