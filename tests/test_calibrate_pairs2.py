@@ -473,3 +473,11 @@ def test_refine_band_refits_only_the_pieces_whose_nodes_changed(tmp_path, monkey
     assert entry["held_out"] == {"stub": 1}
     assert entry["refine_band"]["2"]["branches"]["solved"] == 0
     assert set(entry["refine_band"]) == {"0", "1", "2"}  # the earlier bands' records kept
+
+
+def test_table_commands_name_a_missing_out_folder(tmp_path) -> None:
+    from wetcontact import calibrate
+
+    with pytest.raises(InputError, match=r"--out .*x.json: folder .*nowhere does not exist"):
+        calibrate.main(["capillary", "--kind", "sphere-wall-two-angles", "--refine-band",
+                        "1", "--out", str(tmp_path / "nowhere" / "x.json")])

@@ -1154,6 +1154,27 @@ def generate_calibrated_viscous(out: Path | None = None, n_train: int = 40,
     return data
 
 
+
+def _table_copy(out: Path | None) -> Path | None:
+    """``--out`` for the capillary table commands: a copy of the package data's table file
+    made there if it does not exist yet (``None``: the package data itself)."""
+    if out is not None and not out.is_file():
+        import shutil
+
+        if not out.parent.is_dir():
+            raise InputError(f"--out {out}: folder {out.parent} does not exist; allowed: a "
+                             "file in an existing folder")
+        shutil.copy(Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE, out)
+    return out
+
+
+def _print_held_out(kind: str, entry: dict[str, Any]) -> None:
+    """One line per held-out table of a capillary table's entry."""
+    for key in sorted(k for k in entry if k.startswith("held_out")):
+        ho = entry[key]
+        print(f"{kind} {key}: max rupture {ho['rupture_distance']['max']:.3g}, "
+              f"force {ho['force']['max']:.3g} ({ho['force']['points']} points)")
+
 def main(argv: list[str] | None = None) -> int:
     """``python -m wetcontact.calibrate bounds|fit ...``."""
     p = argparse.ArgumentParser(prog="python -m wetcontact.calibrate")
@@ -1215,18 +1236,15 @@ def main(argv: list[str] | None = None) -> int:
                     f"{PAIR_KIND} (given: --kind {args.kind})")
         if args.refine_band not in (0, 1, 2):
             p.error(f"--refine-band = {args.refine_band}; allowed: 0, 1 or 2")
-        entry = refine_band(args.kind, args.refine_band, args.out, args.workers)
-        for key in sorted(k for k in entry if k.startswith("held_out")):
-            ho = entry[key]
-            print(f"{args.kind} {key}: max rupture {ho['rupture_distance']['max']:.3g}, "
-                  f"force {ho['force']['max']:.3g} ({ho['force']['points']} points)")
+        entry = refine_band(args.kind, args.refine_band, _table_copy(args.out), args.workers)
+        _print_held_out(args.kind, entry)
         print(f"{entry['refine_band'][str(args.refine_band)]['wall_time_s']} s")
         return 0
     if args.command == "capillary" and args.corners:
         from wetcontact.calibrate_capillary import CORNER_KINDS, add_corner_strata
 
         kinds = CORNER_KINDS if args.kind == "all" else (args.kind,)
-        data = add_corner_strata(args.out, kinds, args.workers)
+        data = add_corner_strata(_table_copy(args.out), kinds, args.workers)
         for kind in kinds:
             if kind in data:
                 ho = data[kind]["held_out_corners"]
@@ -1241,17 +1259,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "capillary" and args.kind == PAIR_KIND:
         from wetcontact.calibrate_pairs2 import generate_pair_table
 
-        out = args.out
-        if out is not None and not out.is_file():
-            import shutil
-
-            shutil.copy(Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE, out)
-        entry = generate_pair_table(args.stage, out, args.workers, args.held_out,
-                                    retrain=args.retrain)
-        for key in sorted(k for k in entry if k.startswith("held_out")):
-            ho = entry[key]
-            print(f"{args.kind} {key}: max rupture {ho['rupture_distance']['max']:.3g}, "
-                  f"force {ho['force']['max']:.3g} ({ho['force']['points']} points)")
+        entry = generate_pair_table(args.stage, _table_copy(args.out), args.workers,
+                                    args.held_out, retrain=args.retrain)
+        _print_held_out(args.kind, entry)
         print(f"{entry['retrain_wall_time_s' if args.retrain else 'wall_time_s']} s")
         return 0
     if args.command == "capillary":
@@ -1295,4 +1305,8 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        sys.exit(main())
+    except InputError as exc:  # bad input: one line, exit 2, no traceback
+        print(f"python -m wetcontact.calibrate: error: {exc}", file=sys.stderr)
+        sys.exit(2)
