@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from wetcontact.calibrate_capillary import CORNER_LEVELS
 from wetcontact.errors import InputError, SolverError
 from wetcontact.fileio import atomic_write_text
 from wetcontact.models import get_model, load_all
@@ -175,11 +176,12 @@ it (the shipped water film sits there)."""
 FILM_CORNER_GAPS = tuple(float(x) for x in np.geomspace(0.01, FILM_X_MAX, 14))
 """S/delta of the corner films: log-spaced, six of them below 0.1."""
 
-BRIDGE_CORNERS = (1e-4, 10**-2.5, 0.1)
+BRIDGE_CORNERS = CORNER_LEVELS["v"]
 """V/R_small^3 of the bridges added at the edges and middle of the bridge tables' range (no
-random draw; between spheres at radius ratios :data:`CORNER_RATIOS`): the random bridges
-missed V* = 1e-4 at S/H = 0.95, where calibrated-viscous was 5 % above its bound."""
-CORNER_RATIOS = (1.0, 10**0.5, 10.0)
+random draw; between spheres at radius ratios :data:`CORNER_RATIOS`), the levels of
+``calibrated-capillary``'s corner strata: the random bridges missed V* = 1e-4 at
+S/H = 0.95, where calibrated-viscous was 5 % above its bound."""
+CORNER_RATIOS = CORNER_LEVELS["ratio"]
 """Radius ratios of the corner scenes between spheres: both ends of the range and its
 (geometric) middle."""
 BRIDGE_CORNER_GAPS = tuple(sorted({*(float(x) for x in np.geomspace(1e-4, 1 - 1e-4, 14)),
@@ -317,17 +319,20 @@ CORNER_X_EXTRA = (1e-6, 1e-4, 1e-3, 0.99, 0.999)
 amplified by the fold's square root)."""
 
 
-def _random_bridges(rng: np.random.Generator, kind: str, n: int, edges: np.ndarray
+def _random_bridges(rng: np.random.Generator, kind: str, n: int, edges: np.ndarray,
+                    two: bool = True
                     ) -> Iterator[tuple[float, float, tuple[float, float], np.ndarray]]:
-    """``n`` seeded bridges (radius ratio, V*, the two angles in deg, S/S_c one per bin of
-    ``edges``, at least 1e-3), drawn in this order from ``rng``."""
+    """``n`` seeded bridges (radius ratio (1 on a wall), V* log-uniform in [1e-4, 0.1], two
+    angles in deg uniform in [0, 70], or one on both solids unless ``two``, S/S_c one per
+    bin of ``edges``, at least 1e-3), drawn in this order from ``rng``."""
     for _ in range(n):
         ratio = 1.0 if kind == "sphere-wall" else float(np.exp(rng.uniform(0, np.log(10))))
         vstar = float(np.exp(rng.uniform(np.log(1e-4), np.log(0.1))))
-        th = (float(rng.uniform(0, 70)), float(rng.uniform(0, 70)))
+        th = float(rng.uniform(0, 70))
+        th_w = float(rng.uniform(0, 70)) if two else th
         x = np.concatenate([rng.uniform(lo, hi, 1) for lo, hi in zip(edges[:-1], edges[1:],
                                                                       strict=True)])
-        yield ratio, vstar, th, np.maximum(x, 1e-3)
+        yield ratio, vstar, (th, th_w), np.maximum(x, 1e-3)
 
 
 def corner_bridges(kind: str, angles: str, edges: np.ndarray
@@ -338,7 +343,7 @@ def corner_bridges(kind: str, angles: str, edges: np.ndarray
     each bin's middle and :data:`CORNER_X_EXTRA`. ``angles``: ``"one"`` (equal angles),
     ``"two"`` (different ones) or ``"all"``."""
     x = np.sort(np.concatenate([0.5 * (edges[:-1] + edges[1:]), CORNER_X_EXTRA]))
-    levels = (0.0, 35.0, 70.0)
+    levels = CORNER_LEVELS["theta_deg"]
     for vstar in BRIDGE_CORNERS:
         for a, b in product(levels, levels):
             if (angles == "one" and a != b) or (angles == "two" and a == b):
@@ -422,22 +427,6 @@ fold's square root amplifies the error of its S_c (up to 5e-3 at 0.999 S_c in co
 its domain, 1e-5 at half of it)."""
 
 
-def _calibrated_draws(rng: np.random.Generator, kind: str, two: bool, n: int,
-                      edges: np.ndarray
-                      ) -> Iterator[tuple[float, float, tuple[float, float], np.ndarray]]:
-    """``n`` seeded bridges for :func:`calibrated_capillary_tables`, as
-    :func:`_random_bridges` yields them (radius ratio, V*, one angle on both solids or,
-    ``two``, two, S/S_c one per bin, at least 1e-3)."""
-    for _ in range(n):
-        ratio = 1.0 if kind == "sphere-wall" else float(np.exp(rng.uniform(0, np.log(10))))
-        vstar = float(np.exp(rng.uniform(np.log(1e-4), np.log(0.1))))
-        th = float(rng.uniform(0, 70))
-        th_w = float(rng.uniform(0, 70)) if two else th
-        x = np.concatenate([rng.uniform(lo, hi, 1) for lo, hi in zip(edges[:-1], edges[1:],
-                                                                      strict=True)])
-        yield ratio, vstar, (th, th_w), np.maximum(x, 1e-3)
-
-
 def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
                                 progress: bool = False,
                                 rng_two: np.random.Generator | None = None,
@@ -467,7 +456,7 @@ def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
     for kind, stream, two in draws:
         errs, coords = found.setdefault(kind, ([], []))
         t0 = time.perf_counter()
-        scenes = chain(_calibrated_draws(stream, kind, two, n_scenes, se),
+        scenes = chain(_random_bridges(stream, kind, n_scenes, se, two),
                        corner_bridges(kind, "two" if two else "one", se) if corners else ())
         for i, (ratio, vstar, (th, th_w), x) in enumerate(scenes):
             r2 = None if kind == "sphere-wall" else R * ratio
