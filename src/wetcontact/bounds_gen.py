@@ -369,8 +369,8 @@ def capillary_tables(rng: np.random.Generator, n_scenes: int = 90,
         x_rows: dict[str, list] = {n: [] for n in closures}
         vr_rows: dict[str, list] = {n: [] for n in closures}
         t0 = time.perf_counter()
-        scenes = _random_bridges(rng, kind, n_scenes, se) if corners is None else chain(
-            _random_bridges(rng, kind, n_scenes, se), corner_bridges(kind, corners, se))
+        scenes = chain(_random_bridges(rng, kind, n_scenes, se),
+                       corner_bridges(kind, corners, se) if corners else ())
         for i, (ratio, vstar, th, x) in enumerate(scenes):
             r2 = None if kind == "sphere-wall" else R * ratio
             base = make_scene(kind, {"bridge_volume": vstar * R**3}, [1e-6], r2, th)
