@@ -346,7 +346,7 @@ def test_bounds_quick_never_replaces_the_shipped_tables(monkeypatch, tmp_path, c
 
     seen = []
     monkeypatch.setattr(bg, "measure_bounds",
-                        lambda seed, out, quick, progress: seen.append((out, quick))
+                        lambda seed, out, quick, progress, closure: seen.append((out, quick))
                         or {"tables": [], "wall_time_s": 0.0})
     monkeypatch.chdir(tmp_path)
     assert cal.main(["bounds", "--quick"]) == 0
@@ -355,6 +355,70 @@ def test_bounds_quick_never_replaces_the_shipped_tables(monkeypatch, tmp_path, c
     assert seen == [(Path("bounds-quick.json"), True), (bg.DATA_PATH, False),
                     (tmp_path / "q.json", True)]
     assert "wrote bounds-quick.json" in capsys.readouterr().out
+
+
+def _fake_bound_tables(monkeypatch):
+    """Replace every table measurement of ``bounds_gen`` by a draw from the stream it is
+    given (no solve): a table per stream, which records the stream's first numbers."""
+    import wetcontact.bounds_gen as bg
+
+    def fake(model, kind, *streams):
+        return {"model": model, "kind": kind,
+                "draws": [float(x) for r in streams if r is not None for x in r.random(3)]}
+
+    monkeypatch.setattr(bg, "immersed_tables", lambda rng, per_bin: [fake("a", "w", rng)])
+    monkeypatch.setattr(bg, "finite_liquid_tables", lambda rng, **kw: [
+        fake("b", "w", rng, kw["rng_large"])])
+    monkeypatch.setattr(bg, "capillary_tables", lambda rng, **kw: [fake("c", "w", rng)])
+    monkeypatch.setattr(bg, "calibrated_capillary_tables", lambda rng, **kw: [
+        fake("calibrated-capillary", k, rng, kw["rng_two"], kw["rng_pair_two"])
+        for k in ("sphere-wall", "sphere-sphere")])
+    return bg
+
+
+def test_bounds_of_one_closure_are_a_whole_runs(monkeypatch, tmp_path, capsys):
+    """``bounds --closure calibrated-capillary`` measures that closure's tables from the
+    streams a whole run gives them, in their places: the file equals a whole run's but for
+    its record of the partial run; the other tables are not measured again."""
+    bg = _fake_bound_tables(monkeypatch)
+    whole = bg.measure_bounds(seed=7, out=tmp_path / "whole.json", quick=True)
+    part = tmp_path / "part.json"
+    stale = json.loads((tmp_path / "whole.json").read_text())
+    for t in stale["tables"]:
+        t["draws"] = [0.0]  # what the new measurement must replace, and only there
+    part.write_text(json.dumps(stale))
+    assert cal.main(["bounds", "--quick", "--seed", "7", "--out", str(part),
+                     "--closure", "calibrated-capillary"]) == 0
+    assert "2 calibrated-capillary tables measured again" in capsys.readouterr().out
+    got = json.loads(part.read_text())
+    assert got.pop("remeasured")["calibrated-capillary"]["tables"] == 2
+    assert [t["model"] for t in got["tables"]] == ["a", "b", "c", "calibrated-capillary",
+                                                   "calibrated-capillary"]
+    assert got["tables"][3:] == whole["tables"][3:]
+    assert all(t["draws"] == [0.0] for t in got["tables"][:3])
+    assert {k: v for k, v in got.items() if k != "tables"} == {
+        k: v for k, v in whole.items() if k != "tables"}
+
+
+@pytest.mark.parametrize("edit,message", [
+    (None, r"missing\.json: not a bound-table file to measure calibrated-capillary into"),
+    ({"seed": 8}, r"field 'seed' = 8; allowed: 7"),
+    ({"quick": False}, r"field 'quick' = False; allowed: True"),
+])
+def test_bounds_of_one_closure_refuse_another_run(monkeypatch, tmp_path, edit, message):
+    """A partial measurement needs the whole run it replaces tables of: a missing file, or
+    one of another seed or size, is an InputError naming the file, field and value."""
+    from wetcontact.errors import InputError
+
+    bg = _fake_bound_tables(monkeypatch)
+    out = tmp_path / "b.json"
+    bg.measure_bounds(seed=7, out=out, quick=True)
+    if edit is None:
+        out = tmp_path / "missing.json"
+    else:
+        out.write_text(json.dumps({**json.loads(out.read_text()), **edit}))
+    with pytest.raises(InputError, match=message):
+        bg.measure_bounds(seed=7, out=out, quick=True, closure="calibrated-capillary")
 
 
 def test_calibration_figures_name_the_family_reference_and_units(finite_liquid_run) -> None:

@@ -419,15 +419,25 @@ def test_capillary_generator_keeps_the_pair_table(tmp_path) -> None:
     assert all(new[k] == old[k] for k in gen.KINDS)
 
 
-def test_retrain_is_refused_for_other_kinds(capsys) -> None:
+@pytest.mark.parametrize("kind", ["sphere-wall", "sphere-sphere"])
+def test_one_angle_retrain_keeps_the_fit(tmp_path, kind) -> None:
+    """A one-angle table's retrain (``calibrate capillary --kind sphere-wall --retrain``,
+    what a change of the closure's evaluation calls for) keeps the fit as the file holds it,
+    with its fit time, and drops only the held-out tables, which the caller measures again;
+    a file without the table is refused by name."""
     from wetcontact import calibrate
+    from wetcontact.errors import InputError
+    from wetcontact.reduced_models import calibrated_capillary as cc
 
     assert calibrate.PAIR_KIND == p2.PAIR_TWO_ANGLES  # the CLI's copy of the name
-    with pytest.raises(SystemExit) as exc:
-        calibrate.main(["capillary", "--kind", "sphere-wall", "--retrain"])
-    assert exc.value.code == 2
-    assert ("--retrain: only with --kind sphere-wall-two-angles or --kind "
-            "sphere-sphere-two-angles" in capsys.readouterr().err)
+    path = Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
+    old = json.loads(path.read_text())
+    new = gen._retrained(path, old, kind)
+    assert {k for k in old[kind] if k.startswith("held_out")}  # there were some to drop
+    assert new == {k: v for k, v in old[kind].items() if not k.startswith("held_out")}
+    assert "fit_time_s" in new
+    with pytest.raises(InputError, match=rf"x\.json: field '{kind}' missing"):
+        gen._retrained(tmp_path / "x.json", {}, kind)
 
 
 @pytest.mark.parametrize("argv,message", [

@@ -489,10 +489,32 @@ def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
     return out
 
 
+def _calibrated_capillary(seed: int, quick: bool, progress: bool) -> list[dict[str, Any]]:
+    """``calibrated-capillary``'s tables, from the streams a whole run gives them."""
+    return calibrated_capillary_tables(np.random.default_rng([seed, 11]),
+                                       n_scenes=8 if quick else 40, progress=progress,
+                                       rng_two=np.random.default_rng([seed, 12]),
+                                       rng_pair_two=np.random.default_rng([seed, 13]))
+
+
+ALONE = {"calibrated-capillary": _calibrated_capillary}
+"""Closures whose tables :func:`measure_bounds` can measure again alone (``closure``), and
+how: they draw from their own random streams, so that the tables come out as a whole
+run's would."""
+
+
 def measure_bounds(seed: int = 20261123, out: Path = DATA_PATH, quick: bool = False,
-                   progress: bool = False) -> dict[str, Any]:
-    """Measure every table and write the JSON (``out``); returns the JSON object."""
+                   progress: bool = False, closure: str | None = None) -> dict[str, Any]:
+    """Measure every table and write the JSON (``out``); returns the JSON object.
+
+    ``closure`` (one of :data:`ALONE`): measure only that closure's tables again and put
+    them in place of its tables in ``out``, which must have been written by a whole run
+    with the same ``seed`` and ``quick`` (what that closure's own change, not the
+    references', calls for; the file records it under ``"remeasured"``, beside the whole
+    run's ``wall_time_s``)."""
     load_all()
+    if closure is not None:
+        return _remeasure(closure, seed, out, quick, progress)
     rng = np.random.default_rng(seed)
     t0 = time.perf_counter()
     tabs = immersed_tables(rng, per_bin=6 if quick else 24)
@@ -502,13 +524,42 @@ def measure_bounds(seed: int = 20261123, out: Path = DATA_PATH, quick: bool = Fa
                                  large_scenes=2 if quick else 8)
     tabs += capillary_tables(rng, n_scenes=8 if quick else 90, progress=progress)
     # its own stream, so that adding it left the other tables' points unchanged
-    tabs += calibrated_capillary_tables(np.random.default_rng([seed, 11]),
-                                        n_scenes=8 if quick else 40, progress=progress,
-                                        rng_two=np.random.default_rng([seed, 12]),
-                                        rng_pair_two=np.random.default_rng([seed, 13]))
+    tabs += _calibrated_capillary(seed, quick, progress)
     data = {"generated_by": "python -m wetcontact.calibrate bounds", "seed": seed,
             "margin": MARGIN, "spurious": SPURIOUS, "quick": quick,
             "wall_time_s": round(time.perf_counter() - t0, 1), "tables": tabs}
     out.parent.mkdir(parents=True, exist_ok=True)
     atomic_write_text(out, json.dumps(data, indent=1) + "\n")  # a killed run keeps the old
+    return data
+
+
+def _remeasure(closure: str, seed: int, out: Path, quick: bool, progress: bool
+               ) -> dict[str, Any]:
+    """:func:`measure_bounds` for one closure of :data:`ALONE`: its tables measured again
+    in place in ``out``."""
+    if closure not in ALONE:
+        raise InputError(f"bounds: closure = {closure!r}; allowed: {', '.join(ALONE)} (the "
+                         "others' tables are measured by a whole run)")
+    try:
+        data = json.loads(Path(out).read_text())
+    except (OSError, ValueError) as exc:
+        raise InputError(f"{out}: not a bound-table file to measure {closure} into "
+                         f"({exc}); run a whole measurement first") from None
+    for field, want in (("seed", seed), ("quick", quick)):
+        if data.get(field) != want:
+            raise InputError(f"{out}: field {field!r} = {data.get(field)!r}; allowed: "
+                             f"{want!r} (the run whose tables {closure}'s replace)")
+    t0 = time.perf_counter()
+    new = ALONE[closure](seed, quick, progress)
+    old = [i for i, t in enumerate(data["tables"]) if t["model"] == closure]
+    if [data["tables"][i]["kind"] for i in old] != [t["kind"] for t in new]:
+        raise InputError(f"{out}: {closure}'s tables are for "
+                         f"{[data['tables'][i]['kind'] for i in old]}, the new ones for "
+                         f"{[t['kind'] for t in new]}; measure every table (no closure)")
+    for i, table in zip(old, new, strict=True):
+        data["tables"][i] = table
+    data.setdefault("remeasured", {})[closure] = {
+        "wall_time_s": round(time.perf_counter() - t0, 1),
+        "tables": len(new)}
+    atomic_write_text(Path(out), json.dumps(data, indent=1) + "\n")
     return data

@@ -886,9 +886,11 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = KIND
     """Write ``data/calibrated_capillary.json``: per kind the tensor coefficients, their
     nodes and the held-out error table, and the wall time. Solved nodes are kept in a
     :class:`NodeCache` (``cache_dir``, default the user cache) and reused by a rerun.
-    ``retrain`` (``kinds`` only :data:`~wetcontact.reduced_models.calibrated_capillary
-    .WALL_TWO_ANGLES`): keep the fit ``out`` holds (no node solved), build its pieces'
-    tensor trains again and measure its held-out tables again."""
+    ``retrain``: keep the fit ``out`` holds for each of ``kinds`` (no node solved), build
+    the two-angle wall table's tensor trains again (:data:`~wetcontact.reduced_models
+    .calibrated_capillary.WALL_TWO_ANGLES`; the one-angle tables have none) and measure
+    the held-out tables again (what a change of the closure's evaluation, not of its fit,
+    calls for)."""
     t0 = time.perf_counter()
     start = dict(BRANCHES)
     out = Path(out) if out else Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
@@ -907,7 +909,8 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = KIND
         t1 = time.perf_counter()
         if retrain:
             data[kind] = _retrained(out, old, kind)
-            data[kind]["train_time_s"] = round(time.perf_counter() - t1, 1)
+            if kind == cc.WALL_TWO_ANGLES:
+                data[kind]["train_time_s"] = round(time.perf_counter() - t1, 1)
         else:
             data[kind] = fit_kind(kind, workers=workers, cache_dir=cache_dir)
             data[kind]["fit_time_s"] = round(time.perf_counter() - t1, 1)
@@ -991,15 +994,17 @@ def add_corner_strata(out: Path | None = None, kinds: tuple[str, ...] = CORNER_K
 
 
 def _retrained(out: Path, old: dict[str, Any], kind: str) -> dict[str, Any]:
-    """The two-angle wall table ``old`` holds, its pieces' tensor trains (:data:`WALL_TRAINS`)
-    built again beside its fit, without its held-out tables (measured again by the
-    caller)."""
+    """The table ``kind`` that ``old`` holds without its held-out tables (measured again by
+    the caller): a one-angle table as it is (it has no tensor trains), the two-angle wall
+    table with its pieces' tensor trains (:data:`WALL_TRAINS`) built again beside its fit."""
     from wetcontact.calibrate_pairs2 import train_piece
 
-    if kind != cc.WALL_TWO_ANGLES or kind not in old:
+    if kind not in KINDS or kind not in old:
         raise InputError(f"{out}: field {kind!r} missing or not retrainable; allowed: a "
-                         f"table file that holds the {cc.WALL_TWO_ANGLES} table")
+                         f"table file that holds the {kind} table")
     e = {k: v for k, v in old[kind].items() if not k.startswith("held_out")}
+    if kind != cc.WALL_TWO_ANGLES:
+        return e
     e["bands"] = [{**b, "pieces": [train_piece({k: v for k, v in p.items()
                                                 if k not in cc.TRAIN_FIELDS},
                                                fields=WALL_TRAINS) for p in b["pieces"]]}
