@@ -27,6 +27,22 @@ def median_time(fn: Callable[[], Any], repeats: int = 5, warmup: int = 1) -> tup
     return statistics.median(times), out
 
 
+def alternating_medians(fns: dict[str, Callable[[], Any]], rounds: int = 7
+                        ) -> dict[str, float]:
+    """Median wall time (s) of each callable over ``rounds`` alternating rounds, after one
+    warm-up call each: forms compared in one run see the same drifts of a shared machine's
+    speed (which varies by up to 1.5x within minutes)."""
+    got: dict[str, list[float]] = {k: [] for k in fns}
+    for fn in fns.values():
+        fn()
+    for _ in range(rounds):
+        for k, fn in fns.items():
+            t0 = time.perf_counter()
+            fn()
+            got[k].append(time.perf_counter() - t0)
+    return {k: statistics.median(v) for k, v in got.items()}
+
+
 def main_or_chart(name: str, main: Callable[[], Any],
                   chart: Callable[[dict[str, Any]], Any]) -> None:
     """Run a benchmark's ``main``, or with ``--chart`` on the command line redraw its chart

@@ -55,7 +55,13 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _common import cost_bars, main_or_chart, save_chart, write_json  # noqa: E402
+from _common import (  # noqa: E402
+    alternating_medians,
+    cost_bars,
+    main_or_chart,
+    save_chart,
+    write_json,
+)
 from bench_pair_tt import N, points, shipped_pair_table  # noqa: E402
 
 from wetcontact import calibrate_pairs2 as p2  # noqa: E402
@@ -218,21 +224,6 @@ def gap_halved_macs(piece: dict[str, Any]) -> float:
                                      for g in piece["rupture_train"]["cores"])
 
 
-def timed(fns: dict[str, Any], rounds: int = 7) -> dict[str, float]:
-    """Median seconds of each callable over ``rounds`` alternating rounds (one warm-up)."""
-    import time
-
-    got: dict[str, list[float]] = {k: [] for k in fns}
-    for fn in fns.values():
-        fn()
-    for _ in range(rounds):
-        for k, fn in fns.items():
-            t0 = time.perf_counter()
-            fn()
-            got[k].append(time.perf_counter() - t0)
-    return {k: float(np.median(v)) for k, v in got.items()}
-
-
 def main() -> None:
     entry = shipped_pair_table("bench_pair_split")
     pts = points()
@@ -258,10 +249,11 @@ def main() -> None:
                 for k in SPLITS})
     fns.update({name: (lambda t=t: in_core_precision(t, pts)) for name, t in low.items()})
     inner = cc.train_sum
-    cost = timed(fns)
+    cost = alternating_medians(fns)
     cc.train_sum = lambda train, rows: np.zeros(rows[0].shape[1])
     try:
-        cost["no train sums"] = timed({"x": lambda: evaluate(entry, None, pts)})["x"]
+        cost["no train sums"] = alternating_medians(
+            {"x": lambda: evaluate(entry, None, pts)})["x"]
     finally:
         cc.train_sum = inner
     forms: dict[str, Any] = {}
