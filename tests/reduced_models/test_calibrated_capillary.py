@@ -298,17 +298,18 @@ def test_two_angle_table_joins_the_one_angle_table() -> None:
 
 
 PRECISION_FORCE = 2e-5
-"""What summing the force's tensor train in single precision (the default, ``"mixed"``)
-may move the force, relative: 1/50 of the force goal (measured: 6.0e-6 between spheres,
-5.3e-6 on a wall, 1e5 points each, ``benchmarks/bench_calibrate.py``)."""
+"""What summing the force's table in single precision (the default, ``"mixed"``) may move
+the force, relative: 1/50 of the force goal (measured on 1e5 points each: 6.0e-6 between
+spheres and 5.3e-6 on a wall with two angles, 6.7e-6 and 4.4e-6 with one)."""
 
 
 @pytest.mark.parametrize("kind", ["sphere-wall", "sphere-sphere"])
-def test_single_precision_moves_only_the_two_angle_force(kind: str) -> None:
+def test_single_precision_moves_only_the_force(kind: str) -> None:
     """``precision="mixed"`` (the default) against ``"double"`` on the shipped tables, one
     batch with one and two angles: S_c is bitwise the same (its tables are summed in double
-    either way), so are one-angle forces (their tables have no trains); two-angle forces
-    move by rounding only, and do move (the sum is single precision)."""
+    either way), and so is which gaps a bridge spans; the forces, one angle (low-rank sum)
+    and two (tensor train), move by rounding only, and do move in both (the sums are single
+    precision)."""
     rng = np.random.default_rng(58)
     n = 20_000
     v = np.exp(rng.uniform(*np.log(cc.V_RANGE), n))
@@ -322,12 +323,12 @@ def test_single_precision_moves_only_the_two_angle_force(kind: str) -> None:
     f_d, sc_d = cc.force_star(kind, v, th, gap, ratio, theta_wall=tw, precision="double")
     f_m, sc_m = cc.force_star(kind, v, th, gap, ratio, theta_wall=tw)
     np.testing.assert_array_equal(sc_m, sc_d)
-    np.testing.assert_array_equal(f_m[one], f_d[one])
     inside = f_d > 0
     np.testing.assert_array_equal(f_m > 0, inside)
     rel = np.abs(f_m[inside] / f_d[inside] - 1.0)
     assert rel.max() < PRECISION_FORCE
-    assert rel[~one[inside]].max() > 1e-9
+    for part in (one[inside], ~one[inside]):
+        assert rel[part].max() > 1e-9
 
 
 def test_presets_name_their_precision() -> None:

@@ -109,17 +109,20 @@ evaluate each piece's rupture table and this low-rank force as their tensor trai
 on a wall 0.56-0.74 of the low-rank form's multiply-adds, between spheres 0.23-0.40.
 
 Precision. By default (``precision="mixed"``, the fast and default presets) the force's
-tensor train is summed in single precision: its cores and Chebyshev rows are rounded to
-float32 as it is summed (:func:`train_sum`), so that the
+table is summed in single precision: the two-angle tables' tensor train and the one-angle
+tables' low-rank sum (since 2026-11-27), their cores or factors and Chebyshev rows rounded
+to float32 as they are summed (:func:`train_sum`, :func:`low_rank_rows`), so that the
 products and elementwise sums move half the bytes and fill twice the SIMD lanes. The
-rupture distance's tables, the one-angle tables, the ridge and onset series (which decide
-a point's band and piece), the coordinates and exp stay in float64, so S_c and every
-one-angle value are bitwise those of ``precision="double"`` (the accurate preset, what the
-C header and the numpy module compute). The force moves by at most 6.0e-6 (sphere pairs)
-and 5.3e-6 (a wall) relative on 1e5 seeded points, 1/170 of the 1e-3 force goal, and the
-held-out tables above are measured at the default. Summing the rupture trains in float32
-too saved about 0.06 us more a point but moved S_c by up to 3.3e-7, and with it which gaps
-a bridge still spans, so it is not done (``docs/notes/sphere_pair_two_angles.md``,
+rupture distance's tables, the ridge and onset series (which decide a point's band and
+piece), the coordinates and exp stay in float64, so S_c, and with it which gaps a bridge
+spans, is bitwise that of ``precision="double"`` (the accurate preset, what the C header
+and the numpy module compute). The force moves by at most 6.0e-6 (sphere pairs) and
+5.3e-6 (a wall) relative with two angles, 6.7e-6 and 4.4e-6 with one, on 1e5 seeded
+points: 1/150 of the 1e-3 force goal; the held-out tables above are measured at the
+default. Single precision costs the one-angle tables 0.75 (wall) and 0.85 (sphere pairs)
+of double in the same run (``benchmarks/bench_calibrate.py``). Summing the rupture trains
+in float32 too saved about 0.06 us more a point but moved S_c by up to 3.3e-7, and with it
+which gaps a bridge still spans, so it is not done (``docs/notes/sphere_pair_two_angles.md``,
 "The force's train in single precision").
 """
 
@@ -183,14 +186,16 @@ whose ``stratum`` names a ``theta_sphere_deg`` range only at sphere angles insid
 ANGLE_TOL = 1e-9
 """Two contact angles closer than this (rad) count as one."""
 PRECISIONS = ("mixed", "double")
-"""How :func:`force_star` sums the force's tensor train (:data:`TRAIN_FIELDS`; the
-two-angle tables have one): ``"mixed"`` (the default) in single precision, from its
-Chebyshev rows and cores rounded to it, ``"double"`` in double. Everything else (the
-coordinates, the rupture distance's tables, the one-angle tables, the ridge and onset
-series, exp, the result) is double either way, so S_c is the same in both. Single
-precision moves the force by at most 6.0e-6 relative (measured; the tests hold it under
-2e-5, 1/50 of the force goal) and cuts the two-angle tables' cost by about a fifth (wall)
-and a third (sphere pairs): the module's notes, "Precision"."""
+"""How :func:`force_star` sums the force's table (a two-angle table's tensor train,
+:data:`TRAIN_FIELDS`, a one-angle table's low-rank sum, :func:`low_rank_rows`):
+``"mixed"`` (the default) in single precision, from its Chebyshev rows and cores or
+factors rounded to it, ``"double"`` in double. Everything else (the coordinates, the
+rupture distance's tables, the ridge and onset series, exp, the result) is double either
+way, so S_c is the same in both. Single precision moves the force by at most 6.7e-6
+relative (measured; the tests hold it under 2e-5, 1/50 of the force goal) and cuts the
+cost by about a fifth (wall, two angles), a third (sphere pairs, two angles), a quarter
+(wall, one angle) and a seventh (sphere pairs, one angle): the module's notes,
+"Precision"."""
 
 
 @cache
@@ -518,7 +523,8 @@ def low_rank_rows(left: np.ndarray, right: np.ndarray, rows_left: np.ndarray,
     Chebyshev sum with coefficients ``C_{IJ} = sum_k L_{Ik} R_{kJ}`` (a truncated SVD of
     the table's (left axes) x (right axes) unfolding, :func:`wetcontact.calibrate_capillary
     .factor_table`), from the points' outer Chebyshev rows over the left and right axes
-    (coefficient-major, :func:`_outer`: shapes (P, n) and (Q, n))."""
+    (coefficient-major, :func:`_outer`: shapes (P, n) and (Q, n)), in their precision
+    (the factors given in it: :func:`_piece` rounds both to float32 by default)."""
     lf = left.reshape(-1, left.shape[-1])
     rf = right.reshape(right.shape[0], -1)
     return np.einsum("kj,kj->j", lf.T @ rows_left, rf @ rows_right)
@@ -730,8 +736,9 @@ def _piece(piece: dict[str, Any], lo: np.ndarray, hi: np.ndarray, idx: np.ndarra
            ) -> tuple[np.ndarray, np.ndarray]:
     """``rho q`` and ``S_c/R_s`` of the points ``idx`` from one piece's tables, ``chunk``
     points at a time (default :func:`piece_chunk`); by its tensor trains
-    (:data:`TRAIN_FIELDS`, :func:`train_sum`) where it has them, the force's train summed
-    in ``dtype`` (everything else, S_c included, in double precision)."""
+    (:data:`TRAIN_FIELDS`, :func:`train_sum`) where it has them, else by the low-rank
+    factors (:func:`low_rank_rows`); the force's sum in ``dtype`` (everything else, S_c
+    included, in double precision)."""
     f, s_c = np.empty(idx.size), np.empty(idx.size)
     rup_train, force_train = (piece.get(n) for n in TRAIN_FIELDS)
     rup = np.asarray(piece["rupture"])
@@ -739,6 +746,8 @@ def _piece(piece: dict[str, Any], lo: np.ndarray, hi: np.ndarray, idx: np.ndarra
     dims = (*left.shape[:-1], *right.shape[1:])  # the force table's axes
     k = left.ndim - 1
     rup2 = rup.reshape(-1, rup.shape[-1]).T
+    if force_train is None:
+        left_d, right_d = left.astype(dtype, copy=False), right.astype(dtype, copy=False)
     if chunk is None:
         chunk = 16 * TRAIN_CHUNK if force_train is not None else piece_chunk(dims, k)
     for j in range(0, idx.size, chunk):
@@ -754,10 +763,13 @@ def _piece(piece: dict[str, Any], lo: np.ndarray, hi: np.ndarray, idx: np.ndarra
             sc = np.cbrt(v[sl]) * np.exp(train_sum(rup_train, rows))
         inside = s[sl] < sc
         c = gap_coordinate(np.where(inside, s[sl], 0.0), sc, eps[sl])
-        if force_train is None:
-            rows.append(_cheb_rows(c, dims[-1]))
-            r_left = r_lead if k == len(lead) and rup_train is None else _outer(rows[:k])
-            q = np.exp(low_rank_rows(left, right, r_left, _outer(rows[k:])))
+        if force_train is None:  # the low-rank force in ``dtype``: rows and factors rounded
+            rows.append(_cheb_rows(c, dims[-1], dtype))
+            low = [r.astype(dtype, copy=False) for r in rows]
+            r_left = (r_lead.astype(dtype, copy=False) if k == len(lead) and rup_train is None
+                      else _outer(low[:k]))
+            q = np.exp(low_rank_rows(left_d, right_d, r_left, _outer(low[k:]))
+                       .astype(np.float64))
         else:  # the force's train in ``dtype``: its rows rounded to it
             q = np.exp(train_sum(force_train, [*(r.astype(dtype, copy=False) for r in rows),
                                                _cheb_rows(c, dims[-1], dtype)]))
@@ -801,9 +813,10 @@ class CalibratedCapillary(Model):
     cost = 1e-6
     presets = {"fast": {"precision": "mixed"}, "default": {"precision": "mixed"},
                "accurate": {"precision": "double"}}
-    """``precision`` (:data:`PRECISIONS`): how the force's tensor train (two angles) is
-    summed; ``accurate`` sums every table in double precision (what the exported closures
-    compute), the others the force's train in single precision."""
+    """``precision`` (:data:`PRECISIONS`): how the force's table (a tensor train with two
+    angles, a low-rank sum with one) is summed; ``accurate`` sums every table in double
+    precision (what the exported closures compute), the others the force's in single
+    precision."""
 
     def check(self, scene: Scene) -> None:
         if scene.amount != "bridge":
