@@ -180,18 +180,22 @@ PAIR_TWO_ANGLES = cc.PAIR_TWO_ANGLES
 STAGES: dict[str, dict[str, Any]] = {
     "coarse": {"w": 5, "a": 5, "b1": 5, "b2": (5, 3)},
     "medium": {"w": 9, "a": 9, "b1": 9, "b2": (15, 9)},
-    "full": {"w": 9, "a": 9, "b1": 9, "b2": (15, 27)},
+    "full": {"w": 9, "a": 9, "b1": 9, "b2": (23, 27)},
 }
 """Node counts per stage: w, a, b1 on Chebyshev-Lobatto points (5 of them are every other
 of 9: nested), b2 on Chebyshev-Gauss points below and above the ridge (5 of them are every
 third of 15, 3 every third of 9 and 9 every third of 27: nested). The full stage is the
-shipped table: the medium stage's 9 b2 nodes above the ridge left one held-out force point
-1.06e-3 off (theta2 0.023 deg past the ridge on the top's jump side, between its first two
-nodes; docs/notes/sphere_pair_two_angles.md). Every node of a stage is a node of the next, with the
-same floats (:func:`ratio_nodes`, :func:`~wetcontact.calibrate_capillary._volume_nodes`,
-and the band ends and ridge taken at their own nodes, not from a series), so that the
-node cache keeps what a coarser stage solved. The gap axis has :data:`GAP_NODES` Lobatto
-nodes at every stage, as every shipped table."""
+shipped table (with ``calibrate_capillary.BAND_NODES``' exceptions): the medium stage's 9
+b2 nodes above the ridge left one held-out force point 1.06e-3 off (theta2 0.023 deg past
+the ridge on the top's jump side, between its first two nodes), and its 15 below the
+ridge S_c 2.5e-4 off toward theta2 = 0 at theta1 = 70 deg (the force 4.9e-3 at 0.999 S_c;
+23 since 2026-11-27; docs/notes/sphere_pair_two_angles.md). Every node of a stage is a
+node of the next, with the same floats (:func:`ratio_nodes`,
+:func:`~wetcontact.calibrate_capillary._volume_nodes`, and the band ends and ridge taken
+at their own nodes, not from a series), so that the node cache keeps what a coarser
+stage solved; except the full stage's 23 b2 nodes below the ridge, which do not nest the
+medium stage's 15 (a full stage solves its lower pieces afresh). The gap axis has
+:data:`GAP_NODES` Lobatto nodes at every stage, as every shipped table."""
 GAP_NODES = 19
 PAIR_BANDS_DEG = gen.TWO_ANGLE_BANDS_DEG
 """The small sphere's angle ranges (deg), as on the wall: [0, theta_on(r, V)],
