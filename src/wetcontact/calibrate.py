@@ -1177,6 +1177,8 @@ def _print_held_out(kind: str, entry: dict[str, Any]) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     """``python -m wetcontact.calibrate bounds|fit ...``."""
+    from wetcontact.bounds_gen import ALONE
+
     p = argparse.ArgumentParser(prog="python -m wetcontact.calibrate")
     sub = p.add_subparsers(dest="command", required=True)
     b = sub.add_parser("bounds", help="measure the closures' error-bound tables")
@@ -1189,7 +1191,7 @@ def main(argv: list[str] | None = None) -> int:
                    help="JSON file to write (default: the package data; with --quick: "
                         "bounds-quick.json in the current folder, so that a smoke run never "
                         "replaces the shipped tables)")
-    b.add_argument("--closure", choices=["calibrated-capillary"], default=None,
+    b.add_argument("--closure", choices=list(ALONE), default=None,
                    help="measure only this closure's tables again, in place in the file a "
                         "whole run wrote (same --seed and --quick): what a change of the "
                         "closure itself calls for")
