@@ -588,7 +588,7 @@ S_c is continuous to round-off (a train moved it by up to 1.5e-6 there)."""
 
 
 BAND_NODES: dict[str, dict[int, dict[int, list[int]]]] = {
-    cc.PAIR_TWO_ANGLES: {0: {0: [9, 9, 9, 15, 19]}, 1: {0: [9, 9, 9, 15, 19]}}}
+    cc.PAIR_TWO_ANGLES: {0: {0: [9, 9, 9, 15, 19]}}}
 """Node counts that differ from :data:`PIECES` (or ``calibrate_pairs2.STAGES``' full
 stage) in one band of a two-angle table, ``{kind: {band: {piece: nodes}}}``. A band refitted
 with other counts than its neighbour no longer interpolates the same nodes at their common
@@ -603,14 +603,16 @@ V* = 0.1 (the force at 0.999 S_c to 5e-3), 4.5e-5 at 35 deg; 19 points to 5.6e-5
 1.4e-5, 27 to 3.5e-6 (the interpolant along the line at 70 deg).
 
 The sphere-pair table with two angles had the same defect (2.5e-4 at theta1 = 70,
-theta2 = 0 deg, V* = 0.1; 23 points: 1.3e-5 along that line). Its band over theta1 in
-[35, 70] deg has 23 points below the ridge since 2026-11-27 (``python -m
-wetcontact.calibrate capillary --kind sphere-sphere-two-angles --refine-band 2``, 16 767
-branches); the two bands below it still have 15 there: the corners they hold (theta1 = 0
-and 35 deg) are within the goals with them (force 1.5e-4 and 9.1e-4 at 0.999 S_c), and
-their pair band-join test holds S_c across the breaks to the rupture goal. Refitting them
-(``--refine-band 1`` and ``0`` after removing their entries here, about an hour each on 2
-processes) is what remains."""
+theta2 = 0 deg, V* = 0.1; 23 points: 1.3e-5 along that line). Its bands over theta1 in
+[35, 70] deg and from the onset to 35 deg have 23 points below the ridge since 2026-11-27
+(``python -m wetcontact.calibrate capillary --kind sphere-sphere-two-angles
+--refine-band 2``, then ``1``: 16 767 and 14 904 branches); the corners they hold fell from
+S_c 2.5e-4 / force 4.9e-3 (theta1 = 70 deg) and 5.4e-5 / 9.1e-4 (35 deg) to 3.4e-5 /
+6.3e-4 and 2.4e-5 / 4.4e-4 (at 0.999 S_c). The band below the onset still has 15: its
+corners (theta1 = 0) are within the goals with them (1.3e-5 / 1.5e-4), and the pair
+band-join test holds S_c across its break to the rupture goal. Refitting it
+(``--refine-band 0`` after removing its entry here, about 75 min on 2 processes) is what
+remains."""
 
 
 def band_pieces(kind: str, band: int) -> list[dict[str, Any]]:

@@ -189,8 +189,8 @@ shipped table (with ``calibrate_capillary.BAND_NODES``' exceptions): the medium 
 b2 nodes above the ridge left one held-out force point 1.06e-3 off (theta2 0.023 deg past
 the ridge on the top's jump side, between its first two nodes), and its 15 below the
 ridge S_c 2.5e-4 off toward theta2 = 0 at theta1 = 70 deg (the force 4.9e-3 at 0.999 S_c;
-23 since 2026-11-27; docs/notes/sphere_pair_two_angles.md). Every node of a stage is a
-node of the next, with the same floats (:func:`ratio_nodes`,
+23 since 2026-11-27 above the onset; docs/notes/sphere_pair_two_angles.md). Every node of
+a stage is a node of the next, with the same floats (:func:`ratio_nodes`,
 :func:`~wetcontact.calibrate_capillary._volume_nodes`, and the band ends and ridge taken
 at their own nodes, not from a series), so that the node cache keeps what a coarser
 stage solved; except the full stage's 23 b2 nodes below the ridge, which do not nest the

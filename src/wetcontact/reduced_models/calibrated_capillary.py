@@ -94,10 +94,10 @@ Two angles between spheres (table ``sphere-sphere-two-angles``, :data:`PAIR_TWO_
 a), a 3-D ridge series theta2*(w, a, b1) per band, and the piece above the ridge ending at
 ``70.5 + theta2* - theta1`` deg (:data:`UPPER_PAST_RIDGE`). Held-out maxima (rupture
 distance / force): 2.5e-4 / 2.6e-4 uniformly, 7.4e-5 / 1.1e-4 within
-:data:`RIDGE_ZONE_DEG` of the ridge, 1.1e-4 / 1.3e-4 at its top, 2.5e-4 / 4.2e-4 where
-the jump appears, 1.1e-4 / 5.0e-5 between nearly equal spheres and 5.4e-5 / 9.1e-4 at the
+:data:`RIDGE_ZONE_DEG` of the ridge, 1.1e-4 / 1.1e-4 at its top, 2.5e-4 / 4.2e-4 where
+the jump appears, 1.1e-4 / 5.0e-5 between nearly equal spheres and 3.4e-5 / 6.3e-4 at the
 domain's corners (to 0.999 S_c; the full stage of :data:`~wetcontact.calibrate_pairs2.STAGES`:
-27 b2 nodes above the ridge, 23 below it where theta1 is 35-70 deg, 15 below 35 deg,
+27 b2 nodes above the ridge, 23 below it from the onset to 70 deg, 15 below the onset,
 ``calibrate_capillary.BAND_NODES``).
 
 The force table is stored in low-rank form: its unfolding over the first two axes
