@@ -424,7 +424,7 @@ CC_S_OVER_SC_EDGES = [*S_OVER_SC_EDGES[:S_OVER_SC_EDGES.index(0.9) + 1], 0.95, 0
                       *S_OVER_SC_EDGES[S_OVER_SC_EDGES.index(1.0):]]
 """``calibrated-capillary``'s S/S_c bins: finer toward rupture, where its error grows as the
 fold's square root amplifies the error of its S_c (up to 5e-3 at 0.999 S_c in corners of
-its domain before the refits of 2026-11-27, 9e-4 since; 1e-5 at half of it)."""
+its domain before the refits of 2026-11-27, 6.3e-4 since; 1e-5 at half of it)."""
 
 
 def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
