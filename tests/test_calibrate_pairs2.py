@@ -227,14 +227,25 @@ def test_pair_held_out_strata_draw_where_they_say(synthetic_table) -> None:
         design = gen.held_out_design(cc.PAIR_TWO_ANGLES, 60, 4, st["seed"],
                                      st.get("near_equal", False),
                                      entry if st.get("near_ridge") or "ridge_band" in st
-                                     else None, st.get("ridge_band"), st.get("theta_range"))
+                                     else None, st.get("ridge_band"), st.get("theta_range"),
+                                     st.get("theta2_range"), st.get("v_range"),
+                                     st.get("fractions"))
         r = np.array([d["ratio"] for d in design])
         t1 = np.array([d["theta_deg"] for d in design])
         t2 = np.array([d["theta_wall_deg"] for d in design])
+        v = np.array([d["v"] for d in design])
         assert r.min() >= 1.0 and r.max() <= (1.1 if st.get("near_equal") else 10.0), key
-        assert t2.min() >= 0.0 and t2.max() <= 70.0, key
+        lo2, hi2 = st.get("stratum", {}).get("theta2_deg", (0.0, 70.0))
+        assert t2.min() >= lo2 and t2.max() <= hi2, key
         lo, hi = st.get("stratum", {}).get("theta_sphere_deg", (0.0, 70.0))
         assert t1.min() >= lo and t1.max() <= hi, key
+        lo_v, hi_v = st.get("stratum", {}).get("v", (1e-4, 0.1))
+        assert v.min() >= lo_v and v.max() <= hi_v, key
+        fr = [d["fractions"] for d in design]
+        if "fractions" in st:  # the corner stratum's gaps, to 0.999 S_c, on every bridge
+            assert all(f == list(gen.CORNER_FRACTIONS) for f in fr), key
+        else:
+            assert len({tuple(f) for f in fr}) == len(fr) and len(fr[0]) == 4, key
         d = np.abs(t2 - cc.ridge_deg([x["v"] for x in design], t1, entry, r))
         if "ridge_band" in st:
             assert d.min() >= st["ridge_band"][0] * (1 - 1e-9), key
@@ -243,6 +254,56 @@ def test_pair_held_out_strata_draw_where_they_say(synthetic_table) -> None:
             assert d.max() <= gen.NEAR_RIDGE_DEG, key
         else:
             assert d.max() > gen.NEAR_RIDGE_DEG, key  # uniform: not only near the ridge
+
+
+def test_a_piece_with_other_ratio_nodes_than_its_ridge_interpolates_exactly(
+        synthetic_table, tmp_path, monkeypatch) -> None:
+    """A piece fitted at more ratio nodes than its band's onset and ridge series (band 0's
+    lower piece at 9 against the coarse stage's 5) takes its small sphere's angles and its
+    ridge from those series at its own nodes (:func:`lead_grid`), as the model maps a
+    point: the table still returns the synthetic S_c and force to rounding there; at the
+    series' own node count :func:`lead_grid` gives the ridge's node values."""
+    from conftest import synthetic_pair_table  # noqa: F401  (the fixture's bridge)
+
+    entry = synthetic_table
+    band = entry["bands"][0]
+    ridge, onset = band["theta_split"], entry[cc.ONSET_KEY]
+    rs, vs, t1, top = p2.lead_grid(onset, ridge, tuple(band["theta_sphere_deg"]), 5)
+    np.testing.assert_allclose(t1, ridge["theta_small_nodes_deg"], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(top, ridge["at_nodes_deg"], rtol=0, atol=1e-12)
+    assert list(rs) == list(onset["ratio_nodes"])
+
+    def fake_branch(kind, ratio, v, theta, c_nodes, theta2=None):
+        t1_, t2_ = math.degrees(theta), math.degrees(theta2)
+        return _rupture(ratio, v, t1_, t2_), _q(ratio, t2_, np.asarray(c_nodes))
+
+    monkeypatch.setattr(gen, "solve_branch", fake_branch)
+    nb2 = band["pieces"][0]["nodes"][3]
+    with pytest.raises(ValueError, match="band_deg"):
+        p2.fit_pair_piece(p2.PAIR_PIECES[0], nb2, onset, ridge, 1, tmp_path, nw=9)
+    piece = p2.fit_pair_piece(p2.PAIR_PIECES[0], nb2, onset, ridge, 1, tmp_path, nw=9,
+                              band_deg=tuple(band["theta_sphere_deg"]))
+    assert piece["nodes"][0] == 9 and band["pieces"][1]["nodes"][0] == 5
+    bands = [{**band, "pieces": [piece, band["pieces"][1]]}, *entry["bands"][1:]]
+    table = cc.as_arrays({"e": {**entry, "bands": bands}})["e"]
+    rng = np.random.default_rng(11)
+    n = 200
+    r = np.exp(rng.uniform(0.0, math.log(10.0), n))
+    v = np.exp(rng.uniform(math.log(1e-4), math.log(0.1), n))
+    t1p = rng.uniform(0.0, 1.0, n) * np.array([_onset(*p) for p in zip(r, v, strict=True)])
+    t2 = rng.uniform(0.0, 1.0, n) * np.array([_ridge(*p) for p in zip(r, v, t1p,
+                                                                      strict=True)])
+    sc = np.array([_rupture(*p) for p in zip(r, v, t1p, t2, strict=True)])
+    f, s_c = cc.force_star(cc.PAIR_TWO_ANGLES, v, np.radians(t1p), 0.5 * sc, r,
+                           entry=table, theta_wall=np.radians(t2), precision="double")
+    np.testing.assert_allclose(s_c, sc, rtol=1e-11)
+    rho = r / (1.0 + r)
+    c = np.array([cc.gap_coordinate(np.array([0.5 * s]), np.array([s]),
+                                    np.array([math.sqrt(vv / (math.pi * rr))]))[0]
+                  for s, vv, rr in zip(sc, v, rho, strict=True)])
+    q = np.array([_q(rr, tt, np.array([cx]))[0] for rr, tt, cx in zip(r, t2, c, strict=True)])
+    np.testing.assert_allclose(f, rho * q * (np.cos(np.radians(t1p)) + np.cos(np.radians(t2))),
+                               rtol=1e-9)
 
 
 def test_pair_onset_job_widens_a_bracket_that_does_not_hold(monkeypatch) -> None:

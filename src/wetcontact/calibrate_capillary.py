@@ -588,7 +588,7 @@ S_c is continuous to round-off (a train moved it by up to 1.5e-6 there)."""
 
 
 BAND_NODES: dict[str, dict[int, dict[int, list[int]]]] = {
-    cc.PAIR_TWO_ANGLES: {0: {0: [9, 9, 9, 15, 19]}}}
+    cc.PAIR_TWO_ANGLES: {0: {0: [13, 9, 9, 15, 19]}}}
 """Node counts that differ from :data:`PIECES` (or ``calibrate_pairs2.STAGES``' full
 stage) in one band of a two-angle table, ``{kind: {band: {piece: nodes}}}``. A band refitted
 with other counts than its neighbour no longer interpolates the same nodes at their common
@@ -608,11 +608,17 @@ theta2 = 0 deg, V* = 0.1; 23 points: 1.3e-5 along that line). Its bands over the
 (``python -m wetcontact.calibrate capillary --kind sphere-sphere-two-angles
 --refine-band 2``, then ``1``: 16 767 and 14 904 branches); the corners they hold fell from
 S_c 2.5e-4 / force 4.9e-3 (theta1 = 70 deg) and 5.4e-5 / 9.1e-4 (35 deg) to 3.4e-5 /
-6.3e-4 and 2.4e-5 / 4.4e-4 (at 0.999 S_c). The band below the onset still has 15: its
-corners (theta1 = 0) are within the goals with them (1.3e-5 / 1.5e-4), and the pair
-band-join test holds S_c across its break to the rupture goal. Refitting it
-(``--refine-band 0`` after removing its entry here, about 75 min on 2 processes) is what
-remains."""
+6.3e-4 and 2.4e-5 / 4.4e-4 (at 0.999 S_c). The band below the onset keeps 15 there (S_c
+is flat in theta2 toward 0 there: 15 points resolve it), but its piece below the ridge
+has 13 ratio nodes since 2026-11-28 (``--refine-band 0``: 15 789 branches, 61 min on 2
+processes): with 9, S_c oscillated in the radius ratio at both angles low and V* near 0.1
+by up to 2.1e-4 (r = 1.63, theta = 0 and 3 deg; the force 3e-3 at 0.999 S_c), as the
+one-angle pair table had before its 13 (:data:`PIECES`); now 1.9e-5 at most along those
+lines (the force 8.6e-5). Its small sphere's angles and ridge at the new nodes come from
+the band's onset and ridge series (``calibrate_pairs2.lead_grid``), as the model maps a
+point; the piece above the ridge and the other bands keep 9, so S_c steps at the ridge and
+at the onset by their interpolation error there (the pair band-join test holds it to the
+rupture goal)."""
 
 
 def band_pieces(kind: str, band: int) -> list[dict[str, Any]]:
@@ -667,7 +673,8 @@ def refine_band(kind: str, band: int, out: Path | None = None, workers: int = 2,
                                               strict=True)):
             if list(pieces[i]["nodes"]) != nodes:
                 pieces[i] = train_piece(fit_pair_piece(spec, nodes[3], onset,
-                                                       b["theta_split"], workers, cache_dir))
+                                                       b["theta_split"], workers, cache_dir,
+                                                       nodes[0], rng))
     entry["bands"][band] = {**b, "pieces": pieces}
     entry = {k: v for k, v in entry.items() if not k.startswith("held_out")}
     data[kind] = entry
@@ -738,28 +745,35 @@ that sliver. Its maximum has a long tail (of that table: the worst of 60 bridges
 def held_out_design(kind: str, n: int, gaps_per: int, seed: int,
                     near_equal: bool = False, near_ridge: dict[str, Any] | None = None,
                     ridge_band: tuple[float, float] | None = None,
-                    theta_range: tuple[float, float] | None = None) -> list[dict[str, Any]]:
+                    theta_range: tuple[float, float] | None = None,
+                    theta2_range: tuple[float, float] | None = None,
+                    v_range: tuple[float, float] | None = None,
+                    fractions: tuple[float, ...] | None = None) -> list[dict[str, Any]]:
     """Seeded bridges (v log-uniform, theta uniform, ratio log-uniform; in the
     :data:`NEAR_EQUAL` ranges if ``near_equal``) with ``gaps_per`` uniform fractions of the
     rupture distance in [0, 0.999] each. With two angles (a wall's, or the large sphere's)
     the other angle is uniform too, or, given a table ``near_ridge``, within
     :data:`NEAR_RIDGE_DEG` of its ridge, uniformly, or (``ridge_band``, deg) at a distance
     log-uniform in that band on either side (redrawn until inside the domain).
-    ``theta_range`` (deg): the (small sphere's) angle's range, default the whole domain's."""
+    ``theta_range`` (deg): the (small sphere's) angle's range, default the whole domain's;
+    ``theta2_range`` (deg) the other angle's, ``v_range`` the volume's (V/R_s^3);
+    ``fractions``: these fractions of the rupture distance on every bridge instead of
+    random ones (``gaps_per`` ignored)."""
     rng = np.random.default_rng(seed)
     r_hi = NEAR_EQUAL["radius_ratio"][1] if near_equal else cc.RATIO_RANGE[1]
     th = (NEAR_EQUAL["theta_deg"] if near_equal else
           cc.THETA_RANGE_DEG if theta_range is None else theta_range)
     out = []
     while len(out) < n:
-        row = {"v": float(np.exp(rng.uniform(*np.log(cc.V_RANGE)))),
+        row = {"v": float(np.exp(rng.uniform(*np.log(v_range or cc.V_RANGE)))),
                "theta_deg": float(rng.uniform(*th)),
                "ratio": (float(np.exp(rng.uniform(0.0, math.log(r_hi))))
                          if kind in ("sphere-sphere", cc.PAIR_TWO_ANGLES) else None),
                "theta_wall_deg": None,
-               "fractions": np.sort(rng.uniform(0.0, 0.999, gaps_per)).tolist()}
+               "fractions": (list(fractions) if fractions is not None else
+                             np.sort(rng.uniform(0.0, 0.999, gaps_per)).tolist())}
         if kind in (cc.WALL_TWO_ANGLES, cc.PAIR_TWO_ANGLES):
-            tw = rng.uniform(*cc.THETA_RANGE_DEG)
+            tw = rng.uniform(*(theta2_range or cc.THETA_RANGE_DEG))
             if near_ridge is not None:
                 d = (rng.choice([-1.0, 1.0]) * math.exp(rng.uniform(*np.log(ridge_band)))
                      if ridge_band else rng.uniform(-NEAR_RIDGE_DEG, NEAR_RIDGE_DEG))
@@ -820,17 +834,19 @@ def held_out(kind: str, n: int = 120, gaps_per: int = 8, seed: int = 2611,
              workers: int = 2, near_equal: bool = False, entry: dict[str, Any] | None = None,
              cache_dir: Path | None = None, near_ridge: bool = False,
              ridge_band: tuple[float, float] | None = None,
-             theta_range: tuple[float, float] | None = None, corners: bool = False
-             ) -> dict[str, Any]:
+             theta_range: tuple[float, float] | None = None, corners: bool = False,
+             theta2_range: tuple[float, float] | None = None,
+             v_range: tuple[float, float] | None = None,
+             fractions: tuple[float, ...] | None = None) -> dict[str, Any]:
     """Held-out error table of a table (``entry``: one kind's, default the shipped one)
     against ``meniscus`` (relative errors of the rupture distance and of the force, max /
     mean / 95th percentile, where the maximum sits; ``force_attached``: the force at the
     points where the closure's own bridge exists, short of its rupture distance).
     ``near_ridge``: a wall with two angles, the wall angle near the table's ridge
     (``ridge_band``: in a band of distances from it; ``theta_range``: the sphere angle's
-    range; see :func:`held_out_design`). ``corners``: the corner stratum's bridges
-    (:func:`corner_design`) instead of a seeded design (``n``, ``gaps_per`` and ``seed``
-    ignored)."""
+    range; ``theta2_range``, ``v_range``, ``fractions``: see :func:`held_out_design`).
+    ``corners``: the corner stratum's bridges (:func:`corner_design`) instead of a seeded
+    design (``n``, ``gaps_per`` and ``seed`` ignored)."""
     e = cc._entry(kind) if entry is None else entry
     if corners:
         design, gaps_per, seed = corner_design(kind), len(CORNER_FRACTIONS), None
@@ -838,7 +854,8 @@ def held_out(kind: str, n: int = 120, gaps_per: int = 8, seed: int = 2611,
     else:
         design = held_out_design(kind, n, gaps_per, seed, near_equal,
                                  e if near_ridge or ridge_band else None, ridge_band,
-                                 theta_range)
+                                 theta_range, theta2_range, v_range, fractions)
+        gaps_per = len(design[0]["fractions"])
 
     def rad(x: float | None) -> float | None:
         return None if x is None else math.radians(x)

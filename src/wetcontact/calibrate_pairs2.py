@@ -189,7 +189,8 @@ shipped table (with ``calibrate_capillary.BAND_NODES``' exceptions): the medium 
 b2 nodes above the ridge left one held-out force point 1.06e-3 off (theta2 0.023 deg past
 the ridge on the top's jump side, between its first two nodes), and its 15 below the
 ridge S_c 2.5e-4 off toward theta2 = 0 at theta1 = 70 deg (the force 4.9e-3 at 0.999 S_c;
-23 since 2026-11-27 above the onset; docs/notes/sphere_pair_two_angles.md). Every node of
+23 since 2026-11-27 above the onset; below it, 13 w nodes in the piece below the ridge
+since 2026-11-28; docs/notes/sphere_pair_two_angles.md). Every node of
 a stage is a node of the next, with the same floats (:func:`ratio_nodes`,
 :func:`~wetcontact.calibrate_capillary._volume_nodes`, and the band ends and ridge taken
 at their own nodes, not from a series), so that the node cache keeps what a coarser
@@ -332,16 +333,45 @@ PAIR_FACTOR_LEFT_AXES = 3
 729 + 285 (or 171) per rank, against 81 + 2 565 for (w, a) against the rest."""
 
 
+def lead_grid(onset: dict[str, Any], ridge: dict[str, Any], band_deg: gen.SphereRange,
+              nw: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The radius ratios, volumes, small sphere's angles (deg, (nw, na, nb1)) and ridge
+    (deg, the same shape) at a piece's (w, a, b1) nodes when it has ``nw`` ratio nodes
+    where the band's ridge series has others: the band's range (``band_deg``) and the
+    ridge from the onset's and the ridge's series at the ``nw`` Lobatto nodes of w, as the
+    model maps a point (so that the piece interpolates what the model evaluates), the
+    volumes and b1 nodes the ridge's."""
+    rs, vs = ratio_nodes(nw), np.asarray(onset["v_nodes"])
+    nb1 = np.shape(ridge["theta_small_nodes_deg"])[2]
+    w, a = np.meshgrid(cc.ratio_coordinate(rs), cc.volume_coordinate(vs), indexing="ij")
+    on = cc.onset_deg({cc.ONSET_KEY: onset}, [w, a])
+    t1 = small_angle_grid({"at_nodes_deg": on}, band_deg, nb1)
+    shape = t1.shape
+    b1 = np.broadcast_to(gen.lobatto(nb1), shape)
+    top = cc.theta_split_deg({"theta_split": ridge},
+                             [np.broadcast_to(w[..., None], shape),
+                              np.broadcast_to(a[..., None], shape)], b1)
+    return rs, vs, t1, np.asarray(top).reshape(shape)
+
+
 def fit_pair_piece(piece: dict[str, Any], nb2: int, onset: dict[str, Any],
                    ridge: dict[str, Any], workers: int = 2,
-                   cache_dir: Path | None = None) -> dict[str, Any]:
+                   cache_dir: Path | None = None, nw: int | None = None,
+                   band_deg: gen.SphereRange | None = None) -> dict[str, Any]:
     """One piece's rupture and force tables over (w, a, b1, b2, c) from ``meniscus`` at
     its nodes: b2 at ``nb2`` :func:`nested_gauss` points of the large sphere's angle,
     mapped within the piece at each (w, a, b1) node from the ridge's own value there
-    (:func:`~wetcontact.reduced_models.calibrated_capillary.piece_angle`)."""
+    (:func:`~wetcontact.reduced_models.calibrated_capillary.piece_angle`). ``nw``: ratio
+    nodes other than the onset's and the ridge's, in the band ``band_deg``
+    (:func:`lead_grid`)."""
     rs, vs = np.asarray(onset["ratio_nodes"]), np.asarray(onset["v_nodes"])
     t1 = np.asarray(ridge["theta_small_nodes_deg"])
     top = np.asarray(ridge["at_nodes_deg"])
+    if nw is not None and nw != rs.size:
+        if band_deg is None:
+            raise ValueError("fit_pair_piece: other ratio nodes than the ridge's need the "
+                             "band's range (band_deg)")
+        rs, vs, t1, top = lead_grid(onset, ridge, band_deg, nw)
     b2, c_nodes = nested_gauss(nb2), gen.lobatto(GAP_NODES)
     lo, hi = ((top if e is None else np.full(top.shape, float(e)))
               for e in piece["theta_deg"])
@@ -455,17 +485,29 @@ def fit_pair_table(stage: str = "coarse", workers: int = 2,
     bands = []
     for i, (rng, tol) in enumerate(zip(PAIR_BANDS_DEG, PAIR_RIDGE_TOL_DEG, strict=True)):
         ridge = fit_pair_ridge(onset, rng, st["b1"], tol, workers, cache_dir)
-        nb2 = ([n[3] for n in gen.pair_band_nodes(i)] if stage == "full"
-               else list(st["b2"]))
+        nodes = (gen.pair_band_nodes(i) if stage == "full"
+                 else [[st["w"], st["a"], st["b1"], n, GAP_NODES] for n in st["b2"]])
         bands.append({"theta_sphere_deg": list(rng), "theta_split": ridge,
-                      "pieces": [train_piece(fit_pair_piece(p, n, onset, ridge, workers,
-                                                            cache_dir))
-                                 for p, n in zip(PAIR_PIECES, nb2, strict=True)]})
+                      "pieces": [train_piece(fit_pair_piece(p, n[3], onset, ridge, workers,
+                                                            cache_dir, n[0], rng))
+                                 for p, n in zip(PAIR_PIECES, nodes, strict=True)]})
     return {"stage": stage, cc.ONSET_KEY: onset, "bands": bands}
 
 
 _NEAR = {"theta2_deg_from_ridge": [-gen.NEAR_RIDGE_DEG, gen.NEAR_RIDGE_DEG]}
 _ONSET_SPHERE_DEG = (17.5, 35.0)
+LOW_ANGLES_DEG = (0.0, 15.0)
+LOW_ANGLES_V = (0.01, 0.1)
+"""The low-angle stratum of the two-angle pair table: both angles in ``LOW_ANGLES_DEG``
+(deg), V/R_s^3 log-uniform in ``LOW_ANGLES_V``. Found on 2026-11-28 by scanning S_c along
+the radius ratio between the table's 9 ratio nodes: below the onset and the ridge (band 0's
+lower piece) S_c oscillates in r by up to 2.1e-4 (r = 1.63, V* = 0.1, theta = 0 and 3 deg;
+1.4e-4 at r = 3.16), the force at 0.999 S_c by up to 3e-3, three times its goal; at
+theta1 >= 15 deg or V* = 0.02 at most 5e-5. Neither the uniform design (its 0.999 S_c
+gaps rare) nor the corners (angles 0, 35, 70 deg) had landed there. The one-angle pair
+table had the same defect until it got 13 ratio nodes; so has this piece since (this
+stratum: S_c 8.0e-5 -> 3.5e-5, the force 1.43e-3 -> 7.8e-4, at r = 1.02, nearly equal
+angles 12.5 and 14.4 deg, 0.999 S_c)."""
 PAIR_STRATA: dict[str, dict[str, Any]] = {
     "held_out": {"seed": 2621},
     "held_out_near_ridge": {"seed": 2622, "near_ridge": True, "part": 3, "stratum": _NEAR},
@@ -481,6 +523,12 @@ PAIR_STRATA: dict[str, dict[str, Any]] = {
         "seed": 2625, "near_equal": True, "near_ridge": True, "part": 3,
         "stratum": {"radius_ratio": list(gen.NEAR_EQUAL["radius_ratio"]),
                     "theta_sphere_deg": list(gen.NEAR_EQUAL["theta_deg"]), **_NEAR}},
+    "held_out_low_angles": {
+        "seed": 2626, "part": 2, "theta_range": LOW_ANGLES_DEG,
+        "theta2_range": LOW_ANGLES_DEG, "v_range": LOW_ANGLES_V,
+        "fractions": gen.CORNER_FRACTIONS,
+        "stratum": {"theta_sphere_deg": list(LOW_ANGLES_DEG),
+                    "theta2_deg": list(LOW_ANGLES_DEG), "v": list(LOW_ANGLES_V)}},
 }
 """The two-angle pair table's held-out design (against ``meniscus``), as the wall's: a
 uniform one and its stress strata, the large sphere's angle within
@@ -488,9 +536,12 @@ uniform one and its stress strata, the large sphere's angle within
 log-uniform distance from it (its top), at the small sphere's angles where the top's jump
 appears (the onset runs from 31 deg at r = 1 to 16.6 at r = 10, v = 0.1), and nearly
 equal spheres (r < 1.1, theta1 20-45 deg) near the ridge, where both sides of the top are
-a cusp's (|delta|^(2/3)) rather than a jump's. ``part``: the uniform count over this,
-``scale``: times it; ``stratum``: what the table records (the wall's names; the model
-applies a stratum with ``theta_sphere_deg`` only to small-sphere angles inside it)."""
+a cusp's (|delta|^(2/3)) rather than a jump's; and both angles low at large volumes
+(:data:`LOW_ANGLES_DEG`), at the corner stratum's gaps up to 0.999 S_c (where the lower
+piece below the onset had 9 ratio nodes). ``part``: the
+uniform count over this, ``scale``: times it; ``stratum``: what the table records (the
+wall's names; the model applies a stratum with ``theta_sphere_deg`` only to small-sphere
+angles inside it)."""
 
 
 def pair_held_out(entry: dict[str, Any], n: int = 120, workers: int = 2,
@@ -503,8 +554,12 @@ def pair_held_out(entry: dict[str, Any], n: int = 120, workers: int = 2,
         ho = gen.held_out(PAIR_TWO_ANGLES, n=m, seed=st["seed"], workers=workers,
                           near_equal=st.get("near_equal", False), entry=entry,
                           cache_dir=cache_dir, near_ridge=st.get("near_ridge", False),
-                          ridge_band=st.get("ridge_band"), theta_range=st.get("theta_range"))
-        out[key] = {**ho, **({"stratum": st["stratum"]} if "stratum" in st else {})}
+                          ridge_band=st.get("ridge_band"), theta_range=st.get("theta_range"),
+                          theta2_range=st.get("theta2_range"), v_range=st.get("v_range"),
+                          fractions=st.get("fractions"))
+        out[key] = {**ho, **({"stratum": st["stratum"]} if "stratum" in st else {}),
+                    **({"design": {"s_over_sc": list(st["fractions"])}}
+                       if "fractions" in st else {})}
     out["held_out_corners"] = gen.held_out(PAIR_TWO_ANGLES, workers=workers, entry=entry,
                                            cache_dir=cache_dir, corners=True)
     return out
@@ -538,8 +593,9 @@ def generate_pair_table(stage: str = "coarse", out: Path | None = None, workers:
     t = round(time.perf_counter() - t0, 1)
     branches = {k: gen.BRANCHES[k] - start[k] for k in gen.BRANCHES}
     if retrain:  # the fit's own record stays; the retrain's beside it
-        entry.update({k: old[k] for k in ("fit_time_s", "wall_time_s", "branches")
-                      if k in old}, retrain_wall_time_s=t, retrain_branches=branches)
+        entry.update({k: old[k] for k in ("fit_time_s", "wall_time_s", "branches",
+                                          "refine_band") if k in old},
+                     retrain_wall_time_s=t, retrain_branches=branches)
     else:
         entry.update(wall_time_s=t, branches=branches)
     data[PAIR_TWO_ANGLES] = entry

@@ -698,11 +698,13 @@ def test_shipped_tables_meet_the_goals_at_their_corners(kind: str) -> None:
     ("sphere-sphere", 2.8, 0.09, (1.0, 1.0), 5e-5),  # between the former w nodes
     (cc.PAIR_TWO_ANGLES, 7.0, 0.09, (68.0, 2.0), 5e-5),  # the refitted band's worst line
     (cc.PAIR_TWO_ANGLES, math.sqrt(10.0), 0.1, (35.0, 0.0), 3.5e-5),  # band 1's corner
+    (cc.PAIR_TWO_ANGLES, 1.63, 0.1, (0.0, 3.0), 3e-5),  # band 0: between 9 ratio nodes
 ])
 def test_rupture_distance_near_the_refitted_corners(kind, ratio, v, th, tol) -> None:
     """Solved here: S_c within ``tol`` where the former tables were off by 1.5-2.5e-4 (the
-    first three) and 5.4e-5 (the two-angle pair table's corner at theta1 = 35 deg, before
-    its band 1 had 23 points below the ridge; 2.4e-5 after)."""
+    first three), 5.4e-5 (the two-angle pair table's corner at theta1 = 35 deg, before
+    its band 1 had 23 points below the ridge; 2.4e-5 after) and 2.1e-4 (both angles low
+    between its band 0's 9 ratio nodes; 8e-6 with 13)."""
     t1, t2 = (math.radians(t) for t in th)
     br = Bridge(radius=1.0, radius2=ratio, contact_angle1=t1, contact_angle2=t2,
                 surface_tension=1.0)

@@ -95,10 +95,11 @@ a), a 3-D ridge series theta2*(w, a, b1) per band, and the piece above the ridge
 ``70.5 + theta2* - theta1`` deg (:data:`UPPER_PAST_RIDGE`). Held-out maxima (rupture
 distance / force): 2.5e-4 / 2.6e-4 uniformly, 7.4e-5 / 1.1e-4 within
 :data:`RIDGE_ZONE_DEG` of the ridge, 1.1e-4 / 1.1e-4 at its top, 2.5e-4 / 4.2e-4 where
-the jump appears, 1.1e-4 / 5.0e-5 between nearly equal spheres and 3.4e-5 / 6.3e-4 at the
-domain's corners (to 0.999 S_c; the full stage of :data:`~wetcontact.calibrate_pairs2.STAGES`:
-27 b2 nodes above the ridge, 23 below it from the onset to 70 deg, 15 below the onset,
-``calibrate_capillary.BAND_NODES``).
+the jump appears, 1.1e-4 / 5.0e-5 between nearly equal spheres, 3.5e-5 / 7.8e-4 at both
+angles 0-15 deg and V* 0.01-0.1 and 3.4e-5 / 6.3e-4 at the domain's corners (the last two
+to 0.999 S_c; the full stage of :data:`~wetcontact.calibrate_pairs2.STAGES`: 27 b2 nodes
+above the ridge, 23 below it from the onset to 70 deg, 15 below the onset, where the
+piece below the ridge has 13 w nodes, ``calibrate_capillary.BAND_NODES``).
 
 The force table is stored in low-rank form: its unfolding over the first two axes
 ((a, b) on a wall, (w, a) for sphere pairs) against the rest is a truncated SVD,
