@@ -342,6 +342,11 @@ NEAR_CORNERS = [
     ("bagheri", "sphere-sphere", 9.0, 1.2e-4, (33.0, 33.0), (0.05,)),
     ("toroidal", "sphere-sphere", 1.0, 0.09, (1.0, 1.0), (0.05,)),
     ("willett", "sphere-sphere", 9.0, 1.2e-4, (33.0, 33.0), (0.3,)),
+    # two low angles at a large volume, between the two-angle pair table's ratio nodes
+    # (bounds_gen.PAIR_LOW_ANGLES): 3e-3 off at 0.999 S_c against a bound of 1.6e-4 with
+    # 9 of them in band 0 (8.6e-5 with 13); the bound table now measures such pairs
+    ("calibrated-capillary", "sphere-sphere", 1.63, 0.1, (0.0, 3.0), (0.5, 0.99, 0.999)),
+    ("calibrated-capillary", "sphere-sphere", 3.16, 0.1, (3.0, 0.0), (0.99, 0.999)),
 ]
 
 

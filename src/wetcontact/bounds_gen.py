@@ -23,7 +23,9 @@ Seeded scenes seldom land near a corner of a domain, where a closure errs most (
 maximum over a box misses its corners), so every bridge table also measures fixed corner
 scenes: the ends and middle of each axis (V*, each angle, the radius ratio), at gaps from
 contact to 0.999 S_c (capillary) or over the whole S/H range (viscous), as the film tables
-measure their corner films.
+measure their corner films; ``calibrated-capillary``'s sphere-pair table measures seeded
+pairs with both angles low at large volumes too (:data:`PAIR_LOW_ANGLES`), where its
+two-angle table had oscillated in the radius ratio unseen by either.
 
 Relative error per gap: ``|F - F_ref| / |F_ref|``; where the reference is zero (ruptured)
 it is 0 if the closure is zero too and :data:`SPURIOUS` otherwise.
@@ -42,6 +44,7 @@ from typing import Any
 import numpy as np
 
 from wetcontact.calibrate_capillary import CORNER_LEVELS
+from wetcontact.calibrate_pairs2 import LOW_ANGLES_DEG, LOW_ANGLES_V
 from wetcontact.errors import InputError, SolverError
 from wetcontact.fileio import atomic_write_text
 from wetcontact.models import get_model, load_all
@@ -320,19 +323,22 @@ amplified by the fold's square root)."""
 
 
 def _random_bridges(rng: np.random.Generator, kind: str, n: int, edges: np.ndarray,
-                    two: bool = True
+                    two: bool = True, v_range: tuple[float, float] = (1e-4, 0.1),
+                    theta_range: tuple[float, float] = (0.0, 70.0),
+                    x_extra: tuple[float, ...] = ()
                     ) -> Iterator[tuple[float, float, tuple[float, float], np.ndarray]]:
-    """``n`` seeded bridges (radius ratio (1 on a wall), V* log-uniform in [1e-4, 0.1], two
-    angles in deg uniform in [0, 70], or one on both solids unless ``two``, S/S_c one per
-    bin of ``edges``, at least 1e-3), drawn in this order from ``rng``."""
+    """``n`` seeded bridges (radius ratio (1 on a wall), V* log-uniform in ``v_range``, two
+    angles in deg uniform in ``theta_range``, or one on both solids unless ``two``, S/S_c
+    one per bin of ``edges``, at least 1e-3, and ``x_extra``), drawn in this order from
+    ``rng``."""
     for _ in range(n):
         ratio = 1.0 if kind == "sphere-wall" else float(np.exp(rng.uniform(0, np.log(10))))
-        vstar = float(np.exp(rng.uniform(np.log(1e-4), np.log(0.1))))
-        th = float(rng.uniform(0, 70))
-        th_w = float(rng.uniform(0, 70)) if two else th
+        vstar = float(np.exp(rng.uniform(*np.log(v_range))))
+        th = float(rng.uniform(*theta_range))
+        th_w = float(rng.uniform(*theta_range)) if two else th
         x = np.concatenate([rng.uniform(lo, hi, 1) for lo, hi in zip(edges[:-1], edges[1:],
                                                                       strict=True)])
-        yield ratio, vstar, (th, th_w), np.maximum(x, 1e-3)
+        yield ratio, vstar, (th, th_w), np.sort(np.append(np.maximum(x, 1e-3), x_extra))
 
 
 def corner_bridges(kind: str, angles: str, edges: np.ndarray
@@ -427,11 +433,22 @@ fold's square root amplifies the error of its S_c (up to 5e-3 at 0.999 S_c in co
 its domain before the refits of 2026-11-27, 6.3e-4 since; 1e-5 at half of it)."""
 
 
+PAIR_LOW_ANGLES = {"v_range": LOW_ANGLES_V, "theta_range": LOW_ANGLES_DEG,
+                   "x_extra": CORNER_X_EXTRA}
+"""The low-angle sphere pairs of ``calibrated-capillary``'s bound table: both angles in
+``calibrate_pairs2.LOW_ANGLES_DEG``, V* in ``LOW_ANGLES_V``, where its two-angle pair table
+oscillates in the radius ratio (S_c up to 2.1e-4 off, the force at 0.999 S_c 3e-3; the
+held-out stratum ``held_out_low_angles``). The random and corner scenes had not landed
+there: the bound of its cell (theta below 20 deg, S/S_c 0.999-1) was 1.6e-4."""
+
+
 def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
                                 progress: bool = False,
                                 rng_two: np.random.Generator | None = None,
                                 rng_pair_two: np.random.Generator | None = None,
-                                corners: bool = True) -> list[dict[str, Any]]:
+                                corners: bool = True,
+                                rng_pair_low: np.random.Generator | None = None
+                                ) -> list[dict[str, Any]]:
     """``calibrated-capillary`` against ``meniscus`` on its own domain, binned like the
     other capillary closures: ``n_scenes`` per geometry with one contact angle on both
     solids (which the independent-angle scenes of :func:`capillary_tables` never draw)
@@ -441,23 +458,28 @@ def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
     ``rng_pair_two`` (again its own stream) as many sphere pairs with two angles, into the
     pair table, where the model has a two-angle pair table (a scene it refuses is skipped,
     as every scene outside its domain is). Each draw's scenes are followed, with
-    ``corners``, by its corner scenes (:func:`corner_bridges`). Binned in S/S_c by
-    :data:`CC_S_OVER_SC_EDGES`."""
+    ``corners``, by its corner scenes (:func:`corner_bridges`). From ``rng_pair_low`` (its
+    own stream) as many sphere pairs with two low angles at large volumes
+    (:data:`PAIR_LOW_ANGLES`), into the pair table, at :data:`CORNER_X_EXTRA` too. Binned in
+    S/S_c by :data:`CC_S_OVER_SC_EDGES`."""
     men = get_model("meniscus")
     model = get_model("calibrated-capillary")
     se = np.asarray(CC_S_OVER_SC_EDGES)
     out = []
-    draws = [("sphere-wall", rng, False), ("sphere-sphere", rng, False)]
+    draws = [("sphere-wall", rng, False, {}), ("sphere-sphere", rng, False, {})]
     if rng_two is not None:
-        draws.insert(1, ("sphere-wall", rng_two, True))
+        draws.insert(1, ("sphere-wall", rng_two, True, {}))
     if rng_pair_two is not None:
-        draws.append(("sphere-sphere", rng_pair_two, True))
+        draws.append(("sphere-sphere", rng_pair_two, True, {}))
+    if rng_pair_low is not None:
+        draws.append(("sphere-sphere", rng_pair_low, True, PAIR_LOW_ANGLES))
     found: dict[str, tuple[list, list]] = {}
-    for kind, stream, two in draws:
+    for kind, stream, two, ranges in draws:
         errs, coords = found.setdefault(kind, ([], []))
         t0 = time.perf_counter()
-        scenes = chain(_random_bridges(stream, kind, n_scenes, se, two),
-                       corner_bridges(kind, "two" if two else "one", se) if corners else ())
+        scenes = chain(_random_bridges(stream, kind, n_scenes, se, two, **ranges),
+                       corner_bridges(kind, "two" if two else "one", se)
+                       if corners and not ranges else ())
         for i, (ratio, vstar, (th, th_w), x) in enumerate(scenes):
             r2 = None if kind == "sphere-wall" else R * ratio
             base = make_scene(kind, {"bridge_volume": vstar * R**3}, [1e-6], r2, (th, th_w))
@@ -494,7 +516,8 @@ def _calibrated_capillary(seed: int, quick: bool, progress: bool) -> list[dict[s
     return calibrated_capillary_tables(np.random.default_rng([seed, 11]),
                                        n_scenes=8 if quick else 40, progress=progress,
                                        rng_two=np.random.default_rng([seed, 12]),
-                                       rng_pair_two=np.random.default_rng([seed, 13]))
+                                       rng_pair_two=np.random.default_rng([seed, 13]),
+                                       rng_pair_low=np.random.default_rng([seed, 15]))
 
 
 ALONE = {"calibrated-capillary": _calibrated_capillary}
