@@ -501,7 +501,7 @@ LOW_ANGLES_V = (0.01, 0.1)
 """The low-angle stratum of the two-angle pair table: both angles in ``LOW_ANGLES_DEG``
 (deg), V/R_s^3 log-uniform in ``LOW_ANGLES_V``. Found on 2026-11-28 by scanning S_c along
 the radius ratio between the table's 9 ratio nodes: below the onset and the ridge (band 0's
-lower piece) S_c oscillates in r by up to 2.1e-4 (r = 1.63, V* = 0.1, theta = 0 and 3 deg;
+lower piece) S_c oscillated in r by up to 2.1e-4 (r = 1.63, V* = 0.1, theta = 0 and 3 deg;
 1.4e-4 at r = 3.16), the force at 0.999 S_c by up to 3e-3, three times its goal; at
 theta1 >= 15 deg or V* = 0.02 at most 5e-5. Neither the uniform design (its 0.999 S_c
 gaps rare) nor the corners (angles 0, 35, 70 deg) had landed there. The one-angle pair
