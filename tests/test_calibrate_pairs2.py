@@ -263,8 +263,6 @@ def test_a_piece_with_other_ratio_nodes_than_its_ridge_interpolates_exactly(
     ridge from those series at its own nodes (:func:`lead_grid`), as the model maps a
     point: the table still returns the synthetic S_c and force to rounding there; at the
     series' own node count :func:`lead_grid` gives the ridge's node values."""
-    from conftest import synthetic_pair_table  # noqa: F401  (the fixture's bridge)
-
     entry = synthetic_table
     band = entry["bands"][0]
     ridge, onset = band["theta_split"], entry[cc.ONSET_KEY]
