@@ -846,7 +846,8 @@ def held_out(kind: str, n: int = 120, gaps_per: int = 8, seed: int = 2611,
     (``ridge_band``: in a band of distances from it; ``theta_range``: the sphere angle's
     range; ``theta2_range``, ``v_range``, ``fractions``: see :func:`held_out_design`).
     ``corners``: the corner stratum's bridges (:func:`corner_design`) instead of a seeded
-    design (``n``, ``gaps_per`` and ``seed`` ignored)."""
+    design (``n``, ``gaps_per`` and ``seed`` ignored). The table records fixed gaps (the
+    corners', or ``fractions``) under ``design``."""
     e = cc._entry(kind) if entry is None else entry
     if corners:
         design, gaps_per, seed = corner_design(kind), len(CORNER_FRACTIONS), None
@@ -889,10 +890,10 @@ def held_out(kind: str, n: int = 120, gaps_per: int = 8, seed: int = 2611,
 
     att = np.flatnonzero(attached)
     return {"seed": seed, "reference": "meniscus (default elements)",
-            "bridges": n, **({"design": {"corners": {k: list(v) for k, v in
-                                                      CORNER_LEVELS.items()},
-                                          "s_over_sc": list(CORNER_FRACTIONS)}}
-                             if corners else {}),
+            "bridges": n,
+            **({"design": {"corners": {k: list(v) for k, v in CORNER_LEVELS.items()},
+                           "s_over_sc": list(CORNER_FRACTIONS)}} if corners else
+               {"design": {"s_over_sc": list(fractions)}} if fractions is not None else {}),
             "rupture_distance": table(e_rup, where_r),
             "force": table(e_f, where_f),
             "force_attached": table([e_f[i] for i in att], [where_f[i] for i in att])}

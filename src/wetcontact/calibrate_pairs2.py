@@ -557,9 +557,7 @@ def pair_held_out(entry: dict[str, Any], n: int = 120, workers: int = 2,
                           ridge_band=st.get("ridge_band"), theta_range=st.get("theta_range"),
                           theta2_range=st.get("theta2_range"), v_range=st.get("v_range"),
                           fractions=st.get("fractions"))
-        out[key] = {**ho, **({"stratum": st["stratum"]} if "stratum" in st else {}),
-                    **({"design": {"s_over_sc": list(st["fractions"])}}
-                       if "fractions" in st else {})}
+        out[key] = {**ho, **({"stratum": st["stratum"]} if "stratum" in st else {})}
     out["held_out_corners"] = gen.held_out(PAIR_TWO_ANGLES, workers=workers, entry=entry,
                                            cache_dir=cache_dir, corners=True)
     return out
