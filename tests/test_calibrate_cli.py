@@ -222,3 +222,27 @@ def test_committed_held_out_designs_point_at_existing_bases():
         data = tomllib.loads(f.read_text())
         assert (f.parent / data["base"]).is_file(), f
         assert data["sample"]["seed"] == 7919
+
+
+@pytest.mark.parametrize("kind", ["sphere-wall", "sphere-wall-two-angles"])
+def test_capillary_table_commands_write_into_out(tmp_path, monkeypatch, kind) -> None:
+    """``python -m wetcontact.calibrate capillary --kind K --retrain --out F`` wrote into
+    the package data whatever F was, for every kind but the two-angle pairs' (found when a
+    retrain meant for a copy replaced the shipped table); now F, a copy of the package
+    data's file made there first, for every kind."""
+    import wetcontact.calibrate_capillary as gen
+    from wetcontact.calibrate import main as calibrate_main
+
+    got = {}
+
+    def fake(out=None, kinds=(), **kw):
+        got.update(out=out, kinds=kinds, **kw)
+        return {k: {"held_out": {"rupture_distance": {"max": 0.0}, "force": {
+            "max": 0.0, "points": 0}}} for k in kinds} | {"retrain_wall_time_s": 0.0}
+
+    monkeypatch.setattr(gen, "generate_calibrated_capillary", fake)
+    out = tmp_path / "cc.json"
+    assert calibrate_main(["capillary", "--kind", kind, "--retrain", "--out", str(out)]) == 0
+    assert got["out"] == out and got["kinds"] == (kind,) and got["retrain"]
+    shipped = Path(gen.cc.__file__).parent / "data" / gen.cc.CAPILLARY_FILE
+    assert out.read_bytes() == shipped.read_bytes()

@@ -1218,8 +1218,8 @@ def main(argv: list[str] | None = None) -> int:
                    help="sphere-sphere-two-angles only: the node counts (nested: each "
                         "stage reuses what the ones before it solved; full is shipped)")
     c.add_argument("--out", type=Path, default=None,
-                   help="sphere-sphere-two-angles or --corners only: write into this copy of "
-                        "the table file (default: the package data)")
+                   help="write into this copy of the table file, made from the package "
+                        "data's if it does not exist (default: the package data itself)")
     c.add_argument("--retrain", action="store_true",
                    help="keep the fit the file holds, build its tensor trains again (the "
                         "two-angle tables) and measure its held-out tables again (no node "
@@ -1270,8 +1270,9 @@ def main(argv: list[str] | None = None) -> int:
         from wetcontact.calibrate_capillary import KINDS, generate_calibrated_capillary
 
         kinds = KINDS if args.kind == "all" else (args.kind,)
-        data = generate_calibrated_capillary(kinds=kinds, workers=args.workers,
-                                             n_held_out=args.held_out, retrain=args.retrain)
+        data = generate_calibrated_capillary(_table_copy(args.out), kinds=kinds,
+                                             workers=args.workers, n_held_out=args.held_out,
+                                             retrain=args.retrain)
         for kind in kinds:
             ho = data[kind]["held_out"]
             print(f"{kind}: held-out max rupture {ho['rupture_distance']['max']:.3g}, "
