@@ -366,6 +366,41 @@ def test_capillary_bounds_cover_the_error_near_domain_corners(name, kind, ratio,
     assert np.all(np.asarray(curve.error_estimate) >= err), (err, curve.error_estimate)
 
 
+# within the ridge series' error of the true ridge the two-angle tables may evaluate the
+# other side of S_c's jump (found 2026-11-28): S_c 8e-4 too large (pairs, 1e-4 deg below
+# the series, the true ridge 3e-4 to 1e-3 deg below it) and 2.2e-4 too small (wall,
+# 4e-6 deg above it, the true ridge 8e-6 above it), where the rupture window was 3e-4 and
+# 7e-5 wide before the ridge's window (the force spurious or missed near rupture)
+RIDGE_WINDOW = [
+    # (kind, R2/R1, V*, (small) sphere angle (deg), offset from the table's ridge (deg),
+    #  gaps in S/S_c(closure), least S_c error)
+    ("sphere-sphere", 3.16, 0.1, 50.0, -1e-4, (0.5, 0.99, 0.999, 0.9995), 5e-4),
+    ("sphere-wall", None, 0.0601593033, 26.2383066796, 4e-6, (0.5, 0.99, 0.999, 1.00015),
+     1.5e-4),
+]
+
+
+@pytest.mark.parametrize("kind,ratio,v,ts,offset,x,least", RIDGE_WINDOW,
+                         ids=[c[0] for c in RIDGE_WINDOW])
+def test_capillary_bounds_cover_the_error_in_the_ridge_window(kind, ratio, v, ts, offset, x,
+                                                              least) -> None:
+    from wetcontact.reduced_models.calibrated_capillary import ridge_deg
+
+    model = get_model("calibrated-capillary")
+    tw = float(ridge_deg(v, ts, ratio=ratio)) + offset
+    base = make_scene(kind, {"bridge_volume": v * R**3}, [1e-6 * R],
+                      None if ratio is None else ratio * R, (ts, tw))
+    assert model.in_ridge_window(base)
+    scene = base.with_gaps((np.asarray(x) * model.rupture_distance(base)).tolist())
+    curve = model.force(scene)
+    ref = get_model("meniscus").force(scene)
+    sc_true = float(ref.extras["rupture_distance"][0])
+    assert abs(model.rupture_distance(base) / sc_true - 1.0) > least  # the other side
+    err = rel_error(curve.force_capillary, ref.force_capillary)
+    assert curve.error_estimate is not None
+    assert np.all(np.asarray(curve.error_estimate) >= err), (err, curve.error_estimate)
+
+
 @pytest.mark.parametrize("kind,ratio", [("sphere-wall", None), ("sphere-sphere", 9.0)])
 def test_viscous_bridge_bounds_cover_the_error_near_domain_corners(kind, ratio) -> None:
     """calibrated-viscous at the small end of its volumes and the wide end of its gaps

@@ -730,6 +730,19 @@ RIDGE_TOP_BAND_DEG = (1e-4, cc.RIDGE_TOP_ZONE_DEG)
 """The ridge-top stratum of a wall with two angles: the wall angle's distance from the
 ridge log-uniform in this range (deg), on either side: the sharp top of S_c, which a
 uniform draw over :data:`NEAR_RIDGE_DEG` rarely comes close to."""
+RIDGE_WINDOW_FLOOR_DEG = 1e-7
+"""The ridge-window stratum's least distance from the ridge series (deg)."""
+
+
+def ridge_window_band(kind: str) -> tuple[float, float]:
+    """The ridge-window stratum's range of distances (deg) from a two-angle table's ridge
+    series, log-uniform on either side: :data:`RIDGE_WINDOW_FLOOR_DEG` to the table's
+    :data:`~wetcontact.reduced_models.calibrated_capillary.RIDGE_WINDOW_DEG`, where the true
+    ridge may lie on the other side of the point, so that the table evaluates the other
+    side of S_c's jump (found on 2026-11-28; the ridge-top stratum starts at 1e-4 deg)."""
+    return (RIDGE_WINDOW_FLOOR_DEG, cc.RIDGE_WINDOW_DEG[kind])
+
+
 RIDGE_ONSET = {"theta_sphere_deg": (17.5, 35.0), "theta_wall_deg_from_ridge": (1e-4, 3e-2)}
 """The ridge-onset stratum of a wall with two angles: the sphere angles where the jump of
 S_c at the ridge's top appears (the onset angle theta_on(V) runs from 29.9 to 18.1 deg),
@@ -971,8 +984,9 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = KIND
 def _wall_two_held_out(entry: dict[str, Any], n_held_out: int, workers: int,
                        cache_dir: Path | None) -> dict[str, dict[str, Any]]:
     """The two-angle wall table's held-out tables (``entry``: its arrays): the uniform
-    design and the strata near the ridge, at its top, where its jump appears, and at the
-    domain's corners."""
+    design and the strata near the ridge, at its top, where its jump appears, within the
+    ridge's window (:func:`ridge_window_band`, at the corners' gaps) and at the domain's
+    corners."""
     kind = cc.WALL_TWO_ANGLES
     band = RIDGE_ONSET["theta_wall_deg_from_ridge"]
     return {
@@ -993,6 +1007,12 @@ def _wall_two_held_out(entry: dict[str, Any], n_held_out: int, workers: int,
                        theta_range=RIDGE_ONSET["theta_sphere_deg"]),
             "stratum": {"theta_sphere_deg": list(RIDGE_ONSET["theta_sphere_deg"]),
                         "theta_wall_deg_from_ridge_abs_log_uniform": list(band)}},
+        "held_out_ridge_window": {
+            **held_out(kind, n=max(n_held_out // 2, 8), seed=2616, workers=workers,
+                       entry=entry, cache_dir=cache_dir, ridge_band=ridge_window_band(kind),
+                       fractions=CORNER_FRACTIONS),
+            "stratum": {"theta_wall_deg_from_ridge_abs_log_uniform":
+                        list(ridge_window_band(kind))}},
         "held_out_corners": held_out(kind, workers=workers, entry=entry,
                                      cache_dir=cache_dir, corners=True)}
 

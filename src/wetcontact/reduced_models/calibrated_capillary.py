@@ -83,7 +83,21 @@ force; goals 5e-4 / 1e-3) are 4.6e-5 / 2.8e-4 uniformly, 4.3e-5 / 4.2e-5 within
 :data:`RIDGE_ZONE_DEG` of the ridge, 6.1e-5 / 1.7e-4 within :data:`RIDGE_TOP_ZONE_DEG`, and
 5.6e-5 / 3.8e-4 where the jump appears (theta_s 17.5-35 deg, 1e-4 to 3e-2 deg from the
 series); the closure's :meth:`CalibratedCapillary.bound_floor` still claims no less than
-its held-out maxima near the ridge. Below the onset the ridge series converges slowly in b1
+its held-out maxima near the ridge.
+
+The ridge's window. A jump sits where the true top is, the table's where its series is; a
+point between the two is evaluated on the other side of the jump, its S_c off by up to the
+jump (:data:`RIDGE_JUMP_MAX`). The series' error, measured on 2026-11-28, sets the
+window's half-width per table (:data:`RIDGE_WINDOW_DEG`: 5e-5 deg on a wall, 2e-3 deg
+between spheres, whose series is off by up to 6.3e-4 deg where the jump matters). Its
+held-out stratum ``held_out_ridge_window`` (log-uniform from 1e-7 deg to the edge, to
+0.999 S_c): on a wall 1.1e-4 / 1.8e-3 (rupture distance / force; the force goal is missed
+there), between spheres 3.8e-4 / 7.7e-4 (a sample: 1e-4 deg below the series at r = 3.16,
+V* = 0.1, theta1 = 50 deg, S_c is 8.1e-4 off). Within the window
+:meth:`CalibratedCapillary.bound_floor` widens the rupture window to the largest jump and
+floors the bound at the window stratum's maxima, times the margin.
+
+Below the onset the ridge series converges slowly in b1
 (last coefficients about 5e-4 deg), harmless where every top is a smooth maximum: S_c is
 flat across it.
 
@@ -96,10 +110,11 @@ a), a 3-D ridge series theta2*(w, a, b1) per band, and the piece above the ridge
 distance / force): 2.5e-4 / 2.6e-4 uniformly, 7.4e-5 / 1.1e-4 within
 :data:`RIDGE_ZONE_DEG` of the ridge, 1.1e-4 / 1.1e-4 at its top, 2.5e-4 / 4.2e-4 where
 the jump appears, 1.1e-4 / 5.0e-5 between nearly equal spheres, 3.5e-5 / 7.8e-4 at both
-angles 0-15 deg and V* 0.01-0.1 and 3.4e-5 / 6.3e-4 at the domain's corners (the last two
-to 0.999 S_c; the full stage of :data:`~wetcontact.calibrate_pairs2.STAGES`: 27 b2 nodes
-above the ridge, 23 below it from the onset to 70 deg, 15 below the onset, where the
-piece below the ridge has 13 w nodes, ``calibrate_capillary.BAND_NODES``).
+angles 0-15 deg and V* 0.01-0.1, 3.4e-5 / 6.3e-4 at the domain's corners and 3.8e-4 /
+7.7e-4 within :data:`RIDGE_WINDOW_DEG` of the series (the last three to 0.999 S_c; the
+full stage of :data:`~wetcontact.calibrate_pairs2.STAGES`: 27 b2 nodes above the ridge, 23
+below it from the onset to 70 deg, 15 below the onset, where the piece below the ridge has
+13 w nodes, ``calibrate_capillary.BAND_NODES``).
 
 The force table is stored in low-rank form: its unfolding over the first two axes
 ((a, b) on a wall, (w, a) for sphere pairs) against the rest is a truncated SVD,
@@ -179,6 +194,22 @@ SPURIOUS = 1.0e3
 """The relative error claimed where the closure's force may exist while the reference's
 does not (its rupture window, below its S_c): the bound tables' own
 (``wetcontact.bounds_gen.SPURIOUS``)."""
+RIDGE_WINDOW_DEG = {WALL_TWO_ANGLES: 5e-5, PAIR_TWO_ANGLES: 2e-3}
+"""Per two-angle table, the half-width (deg) of the ridge's window: how far from the
+table's ridge series the true ridge may lie, so that a point within it may be evaluated on
+the wrong side of S_c's jump (above the onset angle). Measured on 2026-11-28 by
+golden-section searches for the true top (to 1e-6 deg) at 112 points between the series'
+nodes: the wall's series (10 x 9 nodes, each to 1e-6 deg) is off by up to 1.3e-5 deg (in
+the band from the onset to 35 deg; within 1e-6 above it). The sphere pairs' (9 x 9 x 9
+nodes in (w, a, b1), each to 1e-5 deg) is off by up to 6.3e-4 deg where the jump exceeds
+1e-4 of S_c (V* = 0.1, radius ratio 1.6-2.9), by up to 1.65e-3 deg near the onset angle,
+where the jump is below 2e-5, and by 4e-5 at most at V* <= 0.02. The half-widths are four
+and three times the first two. See the module's notes."""
+RIDGE_JUMP_MAX = 1.2e-3
+"""The largest jump of S_c at the ridge's top over the two-angle domain, relative: 1.15e-3
+measured on a wall (V* = 0.1, theta_s = 44 deg), 9.2e-4 between spheres (r = 10, V* = 0.1,
+theta1 = 44 deg), rounded up. Within :data:`RIDGE_WINDOW_DEG` of the ridge the rupture
+distance may be off by this much."""
 RIDGE_STRATA = {RIDGE_ZONE_DEG: ("held_out_near_ridge",),
                 RIDGE_TOP_ZONE_DEG: ("held_out_near_ridge", "held_out_ridge_top",
                                      "held_out_ridge_onset")}
@@ -869,6 +900,22 @@ class CalibratedCapillary(Model):
                                   theta_wall=other)
                      * self.small_radius(scene))
 
+    def ridge_distance(self, scene: Scene) -> float | None:
+        """How far (deg) the other solid's angle lies from the two-angle table's ridge
+        series (:func:`ridge_deg`) at the scene's volume, ratio and (small) sphere angle;
+        ``None`` with one angle."""
+        th_s, th_w = self._angles(scene)
+        if th_w is None or abs(th_s - th_w) <= ANGLE_TOL:
+            return None
+        v, ratio = self._v_ratio(scene)
+        return abs(math.degrees(th_w) - float(ridge_deg(v, math.degrees(th_s), ratio=ratio)))
+
+    def in_ridge_window(self, scene: Scene) -> bool:
+        """Whether the scene lies within :data:`RIDGE_WINDOW_DEG` of its table's ridge,
+        where the table may evaluate the other side of S_c's jump."""
+        dist = self.ridge_distance(scene)
+        return dist is not None and dist <= RIDGE_WINDOW_DEG[TWO_ANGLE_TABLES[scene.kind]]
+
     def held_out_tables(self, scene: Scene
                         ) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
         """The package data's held-out tables that describe ``scene``: the geometry's (its
@@ -877,9 +924,11 @@ class CalibratedCapillary(Model):
         angles (a wall, or sphere pairs) within :data:`RIDGE_ZONE_DEG` of the ridge, the strata
         of the narrowest zone of :data:`RIDGE_STRATA` that contains it and hold its sphere
         angle (within :data:`RIDGE_TOP_ZONE_DEG`: the ridge's top, and at 17.5-35 deg where
-        its jump appears); empty elsewhere."""
-        th_s, th_w = self._angles(scene)
-        two = th_w is not None and abs(th_s - th_w) > ANGLE_TOL
+        its jump appears; within :data:`RIDGE_WINDOW_DEG`: those and the table's
+        ``held_out_ridge_window``); empty elsewhere."""
+        th_s, _ = self._angles(scene)
+        dist = self.ridge_distance(scene)
+        two = dist is not None
         e = _entry(TWO_ANGLE_TABLES[scene.kind] if two else scene.kind)
         ts = math.degrees(th_s)
 
@@ -891,14 +940,14 @@ class CalibratedCapillary(Model):
 
         geometry = [e["held_out"], *(e[k] for k in sorted(e)
                                      if k.startswith("held_out_") and applies(k))]
-        if not two:
+        if dist is None:
             return geometry, []
-        v, ratio = self._v_ratio(scene)
-        assert th_w is not None
-        dist = abs(math.degrees(th_w) - float(ridge_deg(v, ts, ratio=ratio)))
         zones = [z for z in RIDGE_STRATA if dist <= z]
-        return geometry, ([e[k] for k in RIDGE_STRATA[min(zones)] if k in e and applies(k)]
-                          if zones else [])
+        if not zones:
+            return geometry, []
+        names = RIDGE_STRATA[min(zones)] + (("held_out_ridge_window",)
+                                            if self.in_ridge_window(scene) else ())
+        return geometry, [e[k] for k in names if k in e and applies(k)]
 
     def bound_floor(self, scene: Scene, rupture_distance: float | None = None
                     ) -> np.ndarray:
@@ -915,11 +964,16 @@ class CalibratedCapillary(Model):
           held-out force error of the zone's strata among points where the closure's
           bridge exists
           (``force_attached``), and its rupture distance's maximum, times the margin.
+        - Within :data:`RIDGE_WINDOW_DEG` of the ridge, where the table may evaluate the
+          other side of S_c's jump, ``w`` is at least :data:`RIDGE_JUMP_MAX` times the
+          margin.
         """
         gap = scene.gap_array
         sc = self.rupture_distance(scene) if rupture_distance is None else rupture_distance
         geometry, ridge = self.held_out_tables(scene)
-        w = NEAR_RIDGE_MARGIN * max(ho["rupture_distance"]["max"] for ho in geometry + ridge)
+        w = NEAR_RIDGE_MARGIN * max(
+            [ho["rupture_distance"]["max"] for ho in geometry + ridge]
+            + ([RIDGE_JUMP_MAX] if self.in_ridge_window(scene) else []))
         out = np.zeros(gap.shape)
         if ridge:
             out[:] = NEAR_RIDGE_MARGIN * max(
