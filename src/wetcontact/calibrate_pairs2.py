@@ -545,7 +545,7 @@ a cusp's (|delta|^(2/3)) rather than a jump's; and both angles low at large volu
 (:data:`LOW_ANGLES_DEG`), at the corner stratum's gaps up to 0.999 S_c (where the lower
 piece below the onset had 9 ratio nodes); and within the ridge's window
 (:func:`~wetcontact.calibrate_capillary.ridge_window_band`), at the same gaps, where the
-ridge series (off by up to 6.1e-4 deg at V* = 0.1 between its nodes) may put a point on
+ridge series (off by up to 6.3e-4 deg at V* = 0.1 between its nodes) may put a point on
 the other side of S_c's jump. ``part``: the
 uniform count over this, ``scale``: times it; ``stratum``: what the table records (the
 wall's names; the model applies a stratum with ``theta_sphere_deg`` only to small-sphere

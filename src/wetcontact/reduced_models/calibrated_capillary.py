@@ -912,7 +912,8 @@ class CalibratedCapillary(Model):
 
     def in_ridge_window(self, scene: Scene) -> bool:
         """Whether the scene lies within :data:`RIDGE_WINDOW_DEG` of its table's ridge,
-        where the table may evaluate the other side of S_c's jump."""
+        where the table may evaluate the other side of S_c's jump (at any sphere angle:
+        below the onset angle, where the top is smooth, the window costs only bound)."""
         dist = self.ridge_distance(scene)
         return dist is not None and dist <= RIDGE_WINDOW_DEG[TWO_ANGLE_TABLES[scene.kind]]
 
