@@ -393,6 +393,7 @@ def test_capillary_bounds_cover_the_error_in_the_ridge_window(kind, ratio, v, ts
     assert model.in_ridge_window(base)
     scene = base.with_gaps((np.asarray(x) * model.rupture_distance(base)).tolist())
     curve = model.force(scene)
+    assert "ridge series" in curve.diagnostics["ridge_window"]
     ref = get_model("meniscus").force(scene)
     sc_true = float(ref.extras["rupture_distance"][0])
     assert abs(model.rupture_distance(base) / sc_true - 1.0) > least  # the other side

@@ -1010,7 +1010,17 @@ class CalibratedCapillary(Model):
         est = estimate_or_none(self.name, "capillary", scene, sc)
         if est is not None:
             est = np.maximum(est, self.bound_floor(scene, sc))
+        diag = {}
+        if self.in_ridge_window(scene):
+            dist = self.ridge_distance(scene)
+            window = RIDGE_WINDOW_DEG[TWO_ANGLE_TABLES[scene.kind]]
+            diag["ridge_window"] = (
+                f"the other solid's angle is {dist:.3g} deg from the table's ridge series, "
+                f"within its error ({window:g} deg): the table may evaluate the other side "
+                f"of S_c's jump, so S_c may be off by up to {RIDGE_JUMP_MAX:g} and the force "
+                "near rupture spurious or missing; the error bound says so (meniscus "
+                "resolves it)")
         return ForceCurve(case=scene.name, model=self.name, gap=gap, force_viscous=None,
                           force_capillary=-force,
                           extras={"rupture_distance": np.full(gap.shape, sc)},
-                          error_estimate=est)
+                          error_estimate=est, diagnostics=diag)
