@@ -42,7 +42,7 @@ PIECES: dict[str, list[dict[str, Any]]] = {
                       {"theta_deg": [None, 70.0], "nodes": [13, 9, 13, 19]}],
     cc.WALL_TWO_ANGLES: [{"theta_deg": [0.0, None], "nodes": [10, 9, 23, 19],
                           "theta_map": cc.RIDGE_QUADRATIC},
-                         {"theta_deg": [None, cc.RIDGE_TOP_DEG], "nodes": [10, 9, 11, 19],
+                         {"theta_deg": [None, cc.RIDGE_TOP_DEG], "nodes": [10, 9, 27, 19],
                           "theta_map": cc.RIDGE_QUADRATIC}],
 }
 """Theta pieces per kind (``None``: the split angle, or the ridge on a wall with two angles)
@@ -50,7 +50,12 @@ and their Lobatto nodes per axis ((w,) a = ln v, b = theta within the piece, c =
 angles on a wall: a, b1 = the sphere's angle within its band, b2 = the wall's angle within
 the piece, c). Sphere pairs have 13 nodes in w (9 until 2026-11-27: S_c oscillated in the
 radius ratio by up to 1.7e-4 at V* = 0.1, the force at 0.999 S_c by 2.5e-3; along that line
-13 nodes interpolate S_c to 1.5e-5, 17 to 5e-7)."""
+13 nodes interpolate S_c to 1.5e-5, 17 to 5e-7). The two-angle wall table's piece above the
+ridge has 27 Gauss nodes in b2 (11 until 2026-11-28, in every band: ``--refine-band``):
+past the ridge near the onset angle the force's approach to rupture changes within
+hundredths of a degree, and with 11 it alternated between the nodes at 0.999 S_c by up to
+1.2e-3 (V* = 0.1 on the onset, 0.031 deg past the ridge; 1.34e-3 in the stratum
+``held_out_ridge_onset_rupture``, 4.5e-4 with 27), S_c within 4e-8 there."""
 TWO_ANGLE_BANDS_DEG: tuple[tuple[float | None, float | None], ...] = (
     (0.0, None), (None, 35.0), (35.0, 70.0))
 """The sphere angle's ranges (``bands``) of the two-angle wall table, each a
@@ -984,9 +989,9 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = KIND
 def _wall_two_held_out(entry: dict[str, Any], n_held_out: int, workers: int,
                        cache_dir: Path | None) -> dict[str, dict[str, Any]]:
     """The two-angle wall table's held-out tables (``entry``: its arrays): the uniform
-    design and the strata near the ridge, at its top, where its jump appears, within the
-    ridge's window (:func:`ridge_window_band`, at the corners' gaps) and at the domain's
-    corners."""
+    design and the strata near the ridge, at its top, where its jump appears (at random
+    gaps, and at the corners' gaps to 0.999 S_c over the ridge's top), within the ridge's
+    window (:func:`ridge_window_band`, at the corners' gaps) and at the domain's corners."""
     kind = cc.WALL_TWO_ANGLES
     band = RIDGE_ONSET["theta_wall_deg_from_ridge"]
     return {
@@ -1007,6 +1012,14 @@ def _wall_two_held_out(entry: dict[str, Any], n_held_out: int, workers: int,
                        theta_range=RIDGE_ONSET["theta_sphere_deg"]),
             "stratum": {"theta_sphere_deg": list(RIDGE_ONSET["theta_sphere_deg"]),
                         "theta_wall_deg_from_ridge_abs_log_uniform": list(band)}},
+        "held_out_ridge_onset_rupture": {
+            **held_out(kind, n=max(n_held_out, 8), seed=2617, workers=workers,
+                       entry=entry, cache_dir=cache_dir, ridge_band=RIDGE_TOP_BAND_DEG,
+                       theta_range=RIDGE_ONSET["theta_sphere_deg"],
+                       fractions=CORNER_FRACTIONS),
+            "stratum": {"theta_sphere_deg": list(RIDGE_ONSET["theta_sphere_deg"]),
+                        "theta_wall_deg_from_ridge_abs_log_uniform":
+                        list(RIDGE_TOP_BAND_DEG)}},
         "held_out_ridge_window": {
             **held_out(kind, n=max(n_held_out // 2, 8), seed=2616, workers=workers,
                        entry=entry, cache_dir=cache_dir, ridge_band=ridge_window_band(kind),

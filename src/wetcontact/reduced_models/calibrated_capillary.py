@@ -78,12 +78,13 @@ the ridge's locus has a kink of its curvature (v = 0.08: the second derivative d
 one table over [0, 35] deg missed the true top by up to 1.2e-2 deg (v = 0.08, theta_s = 21
 deg), so that between its series and the true top it evaluated the other side's arm
 (held-out where the jump appears, 240 bridges: 1.5e-3 rupture distance, 9.8e-4 force);
-one over [0, 70] deg by 1.6e-2. Split at the onset, held-out maxima (rupture distance /
-force; goals 5e-4 / 1e-3) are 4.6e-5 / 2.8e-4 uniformly, 4.3e-5 / 4.2e-5 within
-:data:`RIDGE_ZONE_DEG` of the ridge, 6.1e-5 / 1.7e-4 within :data:`RIDGE_TOP_ZONE_DEG`, and
-5.6e-5 / 3.8e-4 where the jump appears (theta_s 17.5-35 deg, 1e-4 to 3e-2 deg from the
-series); the closure's :meth:`CalibratedCapillary.bound_floor` still claims no less than
-its held-out maxima near the ridge.
+one over [0, 70] deg by 1.6e-2. Split at the onset (and with 23 and 27 b2 nodes below
+and above the ridge since 2026-11-27/28), held-out maxima (rupture distance / force; goals
+5e-4 / 1e-3) are 1.2e-5 / 2.0e-5 uniformly, 4.4e-5 / 4.0e-5 within :data:`RIDGE_ZONE_DEG`
+of the ridge, 2.0e-5 / 6.2e-5 within :data:`RIDGE_TOP_ZONE_DEG`, 2.2e-5 / 3.1e-4 where the
+jump appears (theta_s 17.5-35 deg, 1e-4 to 3e-2 deg from the series; 9.1e-5 / 4.5e-4 out
+to 0.3 deg at gaps to 0.999 S_c); the closure's :meth:`CalibratedCapillary.bound_floor`
+still claims no less than its held-out maxima near the ridge.
 
 The ridge's window. A jump sits where the true top is, the table's where its series is; a
 point between the two is evaluated on the other side of the jump, its S_c off by up to the
@@ -91,9 +92,10 @@ jump (:data:`RIDGE_JUMP_MAX`). The series' error, measured on 2026-11-28, sets t
 window's half-width per table (:data:`RIDGE_WINDOW_DEG`: 5e-5 deg on a wall, 2e-3 deg
 between spheres, whose series is off by up to 6.3e-4 deg where the jump matters). Its
 held-out stratum ``held_out_ridge_window`` (log-uniform from 1e-7 deg to the edge, to
-0.999 S_c): on a wall 1.1e-4 / 1.8e-3 (rupture distance / force; the force goal is missed
-there), between spheres 3.8e-4 / 7.7e-4 (a sample: 1e-4 deg below the series at r = 3.16,
-V* = 0.1, theta1 = 50 deg, S_c is 8.1e-4 off). Within the window
+0.999 S_c): on a wall 1.5e-4 / 9.7e-4 (rupture distance / force; 1.1e-4 / 1.8e-3 before
+its piece above the ridge had 27 b2 nodes), between spheres 3.8e-4 / 7.7e-4 (a sample:
+1e-4 deg below the series at r = 3.16, V* = 0.1, theta1 = 50 deg, S_c is 8.1e-4 off).
+Within the window
 :meth:`CalibratedCapillary.bound_floor` widens the rupture window to the largest jump and
 floors the bound at the window stratum's maxima, times the margin.
 
@@ -186,7 +188,8 @@ bound table says (see the module's notes)."""
 RIDGE_TOP_ZONE_DEG = 0.3
 """Two angles on a wall: within this of the ridge series lies the ridge's top (a jump of S_c
 above the onset angle), the table's own held-out stratum ``held_out_ridge_top`` (and, at
-sphere angles of 17.5-35 deg, ``held_out_ridge_onset``), see the module's notes."""
+sphere angles of 17.5-35 deg, ``held_out_ridge_onset`` and, at gaps to 0.999 S_c,
+``held_out_ridge_onset_rupture``), see the module's notes."""
 NEAR_RIDGE_MARGIN = 1.25
 """Factor on the near-ridge held-out maxima in :meth:`CalibratedCapillary.bound_floor`:
 the bound tables' own margin (``wetcontact.bounds_gen.MARGIN``)."""
@@ -212,7 +215,7 @@ theta1 = 44 deg), rounded up. Within :data:`RIDGE_WINDOW_DEG` of the ridge the r
 distance may be off by this much."""
 RIDGE_STRATA = {RIDGE_ZONE_DEG: ("held_out_near_ridge",),
                 RIDGE_TOP_ZONE_DEG: ("held_out_near_ridge", "held_out_ridge_top",
-                                     "held_out_ridge_onset")}
+                                     "held_out_ridge_onset", "held_out_ridge_onset_rupture")}
 """Per zone around the ridge (its half-width, deg), the held-out strata whose maxima floor
 the closure's bound there (the narrowest zone that contains the point applies; a stratum
 whose ``stratum`` names a ``theta_sphere_deg`` range only at sphere angles inside it:

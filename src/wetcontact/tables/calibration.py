@@ -149,6 +149,8 @@ def capillary_rows(path: str, data: dict[str, Any]) -> list[dict[str, Any]]:
                            ("held_out_ridge_top", " (at the ridge top)"),
                            ("held_out_ridge_onset", " (at the ridge top where its jump "
                                                     "appears)"),
+                           ("held_out_ridge_onset_rupture", " (at the ridge top where its "
+                                                            "jump appears, gaps to 0.999 S_c)"),
                            ("held_out_ridge_window", " (within the ridge series' error of "
                                                      "the ridge, gaps to 0.999 S_c)"),
                            ("held_out_low_angles", " (both angles 0-15 deg, V* 0.01-0.1, "
