@@ -913,11 +913,13 @@ class CalibratedCapillary(Model):
         v, ratio = self._v_ratio(scene)
         return abs(math.degrees(th_w) - float(ridge_deg(v, math.degrees(th_s), ratio=ratio)))
 
-    def in_ridge_window(self, scene: Scene) -> bool:
+    def in_ridge_window(self, scene: Scene, dist: float | None = None) -> bool:
         """Whether the scene lies within :data:`RIDGE_WINDOW_DEG` of its table's ridge,
         where the table may evaluate the other side of S_c's jump (at any sphere angle:
-        below the onset angle, where the top is smooth, the window costs only bound)."""
-        dist = self.ridge_distance(scene)
+        below the onset angle, where the top is smooth, the window costs only bound);
+        ``dist``: its :meth:`ridge_distance`, if known."""
+        if dist is None:
+            dist = self.ridge_distance(scene)
         return dist is not None and dist <= RIDGE_WINDOW_DEG[TWO_ANGLE_TABLES[scene.kind]]
 
     def held_out_tables(self, scene: Scene
@@ -950,7 +952,7 @@ class CalibratedCapillary(Model):
         if not zones:
             return geometry, []
         names = RIDGE_STRATA[min(zones)] + (("held_out_ridge_window",)
-                                            if self.in_ridge_window(scene) else ())
+                                            if self.in_ridge_window(scene, dist) else ())
         return geometry, [e[k] for k in names if k in e and applies(k)]
 
     def bound_floor(self, scene: Scene, rupture_distance: float | None = None
@@ -1014,8 +1016,8 @@ class CalibratedCapillary(Model):
         if est is not None:
             est = np.maximum(est, self.bound_floor(scene, sc))
         diag = {}
-        if self.in_ridge_window(scene):
-            dist = self.ridge_distance(scene)
+        dist = self.ridge_distance(scene)
+        if self.in_ridge_window(scene, dist):
             window = RIDGE_WINDOW_DEG[TWO_ANGLE_TABLES[scene.kind]]
             diag["ridge_window"] = (
                 f"the other solid's angle is {dist:.3g} deg from the table's ridge series, "
