@@ -986,48 +986,66 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = KIND
     return data
 
 
+WALL_STRATA: dict[str, dict[str, Any]] = {
+    "held_out": {"seed": 2611, "least": 1},
+    "held_out_near_ridge": {
+        "seed": 2613, "near_ridge": True, "part": 3,
+        "stratum": {"theta_wall_deg_from_ridge": [-NEAR_RIDGE_DEG, NEAR_RIDGE_DEG]}},
+    "held_out_ridge_top": {
+        "seed": 2614, "ridge_band": RIDGE_TOP_BAND_DEG, "part": 2,
+        "stratum": {"theta_wall_deg_from_ridge_abs_log_uniform": list(RIDGE_TOP_BAND_DEG)}},
+    "held_out_ridge_onset": {
+        "seed": 2615, "ridge_band": RIDGE_ONSET["theta_wall_deg_from_ridge"], "scale": 2,
+        "theta_range": RIDGE_ONSET["theta_sphere_deg"],
+        "stratum": {"theta_sphere_deg": list(RIDGE_ONSET["theta_sphere_deg"]),
+                    "theta_wall_deg_from_ridge_abs_log_uniform":
+                    list(RIDGE_ONSET["theta_wall_deg_from_ridge"])}},
+    "held_out_ridge_onset_rupture": {
+        "seed": 2617, "ridge_band": RIDGE_TOP_BAND_DEG,
+        "theta_range": RIDGE_ONSET["theta_sphere_deg"], "fractions": CORNER_FRACTIONS,
+        "stratum": {"theta_sphere_deg": list(RIDGE_ONSET["theta_sphere_deg"]),
+                    "theta_wall_deg_from_ridge_abs_log_uniform": list(RIDGE_TOP_BAND_DEG)}},
+    "held_out_ridge_window": {
+        "seed": 2616, "ridge_band": ridge_window_band(cc.WALL_TWO_ANGLES), "part": 2,
+        "fractions": CORNER_FRACTIONS,
+        "stratum": {"theta_wall_deg_from_ridge_abs_log_uniform":
+                    list(ridge_window_band(cc.WALL_TWO_ANGLES))}},
+}
+"""The two-angle wall table's held-out design (against ``meniscus``): the uniform design
+and the strata near the ridge, at its top, where its jump appears (at random gaps, and at
+the corners' gaps to 0.999 S_c over the ridge's top) and within the ridge's window
+(:func:`ridge_window_band`, at the corners' gaps); the corner stratum besides
+(:func:`strata_held_out`)."""
+
+
+def strata_held_out(kind: str, strata: dict[str, dict[str, Any]], entry: dict[str, Any],
+                    n: int, workers: int, cache_dir: Path | None) -> dict[str, dict[str, Any]]:
+    """The held-out tables of a two-angle table (``entry``: its arrays) per stratum of
+    ``strata`` (:data:`WALL_STRATA`, ``calibrate_pairs2.PAIR_STRATA``: :func:`held_out`'s
+    design arguments, with ``part``: the uniform count ``n`` over this, ``scale``: times it,
+    ``least``: at least this many bridges (default 8), ``stratum``: what the table
+    records), and its corner stratum (``held_out_corners``)."""
+    out = {}
+    for key, st in strata.items():
+        m = max(st.get("least", 8), n // st.get("part", 1) * st.get("scale", 1))
+        ho = held_out(kind, n=m, seed=st["seed"], workers=workers, entry=entry,
+                      cache_dir=cache_dir, near_equal=st.get("near_equal", False),
+                      near_ridge=st.get("near_ridge", False),
+                      ridge_band=st.get("ridge_band"), theta_range=st.get("theta_range"),
+                      theta2_range=st.get("theta2_range"), v_range=st.get("v_range"),
+                      fractions=st.get("fractions"))
+        out[key] = {**ho, **({"stratum": st["stratum"]} if "stratum" in st else {})}
+    out["held_out_corners"] = held_out(kind, workers=workers, entry=entry,
+                                       cache_dir=cache_dir, corners=True)
+    return out
+
+
 def _wall_two_held_out(entry: dict[str, Any], n_held_out: int, workers: int,
                        cache_dir: Path | None) -> dict[str, dict[str, Any]]:
-    """The two-angle wall table's held-out tables (``entry``: its arrays): the uniform
-    design and the strata near the ridge, at its top, where its jump appears (at random
-    gaps, and at the corners' gaps to 0.999 S_c over the ridge's top), within the ridge's
-    window (:func:`ridge_window_band`, at the corners' gaps) and at the domain's corners."""
-    kind = cc.WALL_TWO_ANGLES
-    band = RIDGE_ONSET["theta_wall_deg_from_ridge"]
-    return {
-        "held_out": held_out(kind, n=n_held_out, workers=workers, entry=entry,
-                             cache_dir=cache_dir),
-        "held_out_near_ridge": {
-            **held_out(kind, n=max(n_held_out // 3, 8), seed=2613, workers=workers,
-                       entry=entry, cache_dir=cache_dir, near_ridge=True),
-            "stratum": {"theta_wall_deg_from_ridge": [-NEAR_RIDGE_DEG, NEAR_RIDGE_DEG]}},
-        "held_out_ridge_top": {
-            **held_out(kind, n=max(n_held_out // 2, 8), seed=2614, workers=workers,
-                       entry=entry, cache_dir=cache_dir, ridge_band=RIDGE_TOP_BAND_DEG),
-            "stratum": {"theta_wall_deg_from_ridge_abs_log_uniform":
-                        list(RIDGE_TOP_BAND_DEG)}},
-        "held_out_ridge_onset": {
-            **held_out(kind, n=max(2 * n_held_out, 8), seed=2615, workers=workers,
-                       entry=entry, cache_dir=cache_dir, ridge_band=band,
-                       theta_range=RIDGE_ONSET["theta_sphere_deg"]),
-            "stratum": {"theta_sphere_deg": list(RIDGE_ONSET["theta_sphere_deg"]),
-                        "theta_wall_deg_from_ridge_abs_log_uniform": list(band)}},
-        "held_out_ridge_onset_rupture": {
-            **held_out(kind, n=max(n_held_out, 8), seed=2617, workers=workers,
-                       entry=entry, cache_dir=cache_dir, ridge_band=RIDGE_TOP_BAND_DEG,
-                       theta_range=RIDGE_ONSET["theta_sphere_deg"],
-                       fractions=CORNER_FRACTIONS),
-            "stratum": {"theta_sphere_deg": list(RIDGE_ONSET["theta_sphere_deg"]),
-                        "theta_wall_deg_from_ridge_abs_log_uniform":
-                        list(RIDGE_TOP_BAND_DEG)}},
-        "held_out_ridge_window": {
-            **held_out(kind, n=max(n_held_out // 2, 8), seed=2616, workers=workers,
-                       entry=entry, cache_dir=cache_dir, ridge_band=ridge_window_band(kind),
-                       fractions=CORNER_FRACTIONS),
-            "stratum": {"theta_wall_deg_from_ridge_abs_log_uniform":
-                        list(ridge_window_band(kind))}},
-        "held_out_corners": held_out(kind, workers=workers, entry=entry,
-                                     cache_dir=cache_dir, corners=True)}
+    """The two-angle wall table's held-out tables (``entry``: its arrays): its
+    :data:`WALL_STRATA` and its corner stratum."""
+    return strata_held_out(cc.WALL_TWO_ANGLES, WALL_STRATA, entry, n_held_out, workers,
+                           cache_dir)
 
 
 CORNER_KINDS = (*KINDS, cc.PAIR_TWO_ANGLES)

@@ -562,20 +562,9 @@ angles inside it)."""
 def pair_held_out(entry: dict[str, Any], n: int = 120, workers: int = 2,
                   cache_dir: Path | None = None) -> dict[str, dict[str, Any]]:
     """The held-out tables of a two-angle pair table (``entry``) per stratum of
-    :data:`PAIR_STRATA` (:func:`~wetcontact.calibrate_capillary.held_out`)."""
-    out = {}
-    for key, st in PAIR_STRATA.items():
-        m = max(8, n // st.get("part", 1) * st.get("scale", 1))
-        ho = gen.held_out(PAIR_TWO_ANGLES, n=m, seed=st["seed"], workers=workers,
-                          near_equal=st.get("near_equal", False), entry=entry,
-                          cache_dir=cache_dir, near_ridge=st.get("near_ridge", False),
-                          ridge_band=st.get("ridge_band"), theta_range=st.get("theta_range"),
-                          theta2_range=st.get("theta2_range"), v_range=st.get("v_range"),
-                          fractions=st.get("fractions"))
-        out[key] = {**ho, **({"stratum": st["stratum"]} if "stratum" in st else {})}
-    out["held_out_corners"] = gen.held_out(PAIR_TWO_ANGLES, workers=workers, entry=entry,
-                                           cache_dir=cache_dir, corners=True)
-    return out
+    :data:`PAIR_STRATA` and its corner stratum
+    (:func:`~wetcontact.calibrate_capillary.strata_held_out`)."""
+    return gen.strata_held_out(PAIR_TWO_ANGLES, PAIR_STRATA, entry, n, workers, cache_dir)
 
 
 def generate_pair_table(stage: str = "coarse", out: Path | None = None, workers: int = 2,
