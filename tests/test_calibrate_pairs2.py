@@ -304,6 +304,82 @@ def test_a_piece_with_other_ratio_nodes_than_its_ridge_interpolates_exactly(
                                rtol=1e-9)
 
 
+def test_a_ridge_at_nested_ratio_nodes_keeps_the_coarse_nodes_and_the_pieces(
+        synthetic_table, tmp_path, monkeypatch) -> None:
+    """A band's ridge at more w nodes than the onset's (9 nesting the coarse stage's 5, as
+    the shipped bands above the onset have 17 over 9): at the onset's nodes the coarse
+    series' own values (bit for bit: no search there), at the others the synthetic ridge
+    sought within RIDGE_NEAR_DEG of the coarse series (a top at that bracket's end sought
+    again over the whole bracket); the series interpolates the synthetic ridge between all
+    nodes; the pieces fitted with it at the onset's nodes are the ones fitted with the
+    coarse ridge (the same bridges: their angles are the same floats); counts that do not
+    nest are refused."""
+    entry = synthetic_table
+    band = entry["bands"][1]
+    rng_deg = tuple(band["theta_sphere_deg"])
+    coarse, onset = band["theta_split"], entry[cc.ONSET_KEY]
+    nb1 = np.shape(coarse["at_nodes_deg"])[2]
+    calls = []
+
+    def fake_ridge(r, v, t1, bracket, tol):
+        calls.append(bracket)
+        lo, hi = t1 + bracket[0], t1 + bracket[1]
+        top = _ridge(r, v, t1)
+        if len(calls) == 1:  # as golden_top refuses a top near its bracket's ends
+            raise RuntimeError("not inside the bracket")
+        assert lo < top < hi
+        return top, tol
+
+    monkeypatch.setattr(p2, "pair_ridge", fake_ridge)
+    with pytest.raises(ValueError, match="does not nest"):
+        p2.fit_pair_ridge(onset, rng_deg, nb1, 1e-5, 1, tmp_path, 7, coarse)
+    fine = p2.fit_pair_ridge(onset, rng_deg, nb1, 1e-5, 1, tmp_path, 9, coarse)
+    at = np.asarray(fine["at_nodes_deg"])
+    assert at.shape == (9, *np.shape(coarse["at_nodes_deg"])[1:])
+    assert at[::2].tolist() == coarse["at_nodes_deg"]
+    assert np.asarray(fine["theta_small_nodes_deg"])[::2].tolist() == \
+        coarse["theta_small_nodes_deg"]
+    na = len(onset["v_nodes"])
+    assert len(calls) == 4 * na * nb1 + 1  # new nodes only, one of them twice
+    assert calls[1] == p2.PAIR_RIDGE_BRACKET_DEG  # the refused one, over the whole bracket
+    near = [b for b in calls if b != p2.PAIR_RIDGE_BRACKET_DEG]
+    assert len(near) == 4 * na * nb1
+    assert all(b[1] - b[0] == pytest.approx(2 * p2.RIDGE_NEAR_DEG) for b in near)
+    rs, vs = p2.ratio_nodes(9), np.asarray(onset["v_nodes"])
+    t1 = np.asarray(fine["theta_small_nodes_deg"])
+    want = [[[_ridge(rs[i], vs[j], t1[i, j, k]) for k in range(nb1)] for j in range(na)]
+            for i in range(9)]
+    np.testing.assert_allclose(at, want, rtol=0, atol=1e-11)
+    rng = np.random.default_rng(3)
+    r = np.exp(rng.uniform(0.0, math.log(10.0), 50))
+    v = np.exp(rng.uniform(math.log(1e-4), math.log(0.1), 50))
+    on = np.array([_onset(*x) for x in zip(r, v, strict=True)])
+    ts = on + rng.uniform(0.0, 1.0, 50) * (35.0 - on)
+    table = cc.as_arrays({"e": {**entry, "bands": [
+        entry["bands"][0], {**band, "theta_split": fine}, entry["bands"][2]]}})["e"]
+    np.testing.assert_allclose(cc.ridge_deg(v, ts, table, r),
+                               [_ridge(*x) for x in zip(r, v, ts, strict=True)],
+                               rtol=0, atol=1e-10)
+
+    def fake_branch(kind, ratio, v, theta, c_nodes, theta2=None):
+        t1_, t2_ = math.degrees(theta), math.degrees(theta2)
+        return _rupture(ratio, v, t1_, t2_), _q(ratio, t2_, np.asarray(c_nodes))
+
+    monkeypatch.setattr(gen, "solve_branch", fake_branch)
+    cached_map, seen = gen._cached_map, []
+    monkeypatch.setattr(gen, "_cached_map",
+                        lambda fn, js, *a: seen.extend(js) or cached_map(fn, js, *a))
+    for spec, piece in zip(p2.PAIR_PIECES, band["pieces"], strict=True):
+        nb2 = piece["nodes"][3]
+        jobs = {}
+        for name, ridge in (("coarse", coarse), ("fine", fine)):
+            seen.clear()
+            got = p2.fit_pair_piece(spec, nb2, onset, ridge, 1, tmp_path, 5, rng_deg)
+            jobs[name] = (got, [(j[0], j[2], j[3], j[4], j[6]) for j in seen])
+        assert jobs["fine"][1] == jobs["coarse"][1]
+        assert jobs["fine"][0] == jobs["coarse"][0]
+
+
 def test_pair_onset_job_widens_a_bracket_that_does_not_hold(monkeypatch) -> None:
     """The onset is first sought between the wall's onset - 1.5 and the split angle + 0.5
     deg (the shipped series at that volume); where that is not a bracket, over [8, 36]."""
@@ -508,7 +584,9 @@ def test_one_angle_retrain_keeps_the_fit(tmp_path, kind) -> None:
      "--refine-band: only with --kind sphere-wall-two-angles or --kind "
      "sphere-sphere-two-angles (given: --kind sphere-wall)"),
     (["--kind", "sphere-wall-two-angles", "--refine-band", "3"],
-     "--refine-band = 3; allowed: 0, 1 or 2"),
+     "--refine-band = 3; allowed: distinct bands 0, 1 or 2"),
+    (["--kind", "sphere-sphere-two-angles", "--refine-band", "2", "2"],
+     "--refine-band = 2 2; allowed: distinct bands 0, 1 or 2"),
 ])
 def test_refine_band_is_refused_outside_the_two_angle_tables(argv, message, capsys) -> None:
     from wetcontact import calibrate
@@ -546,6 +624,15 @@ def test_refine_band_refits_only_the_pieces_whose_nodes_changed(tmp_path, monkey
     assert entry["held_out"] == {"stub": 1}
     assert entry["refine_band"]["2"]["branches"]["solved"] == 0
     assert set(entry["refine_band"]) == {"0", "1", "2"}  # the earlier bands' records kept
+    held = []
+    monkeypatch.setattr(gen, "_wall_two_held_out",
+                        lambda *a, **k: held.append(1) or {"held_out": {"stub": 2}})
+    try:
+        entry = gen.refine_band(cc.WALL_TWO_ANGLES, [2, 0], out)
+    finally:
+        cc.capillary_table.cache_clear()
+    assert fitted == [] and held == [1]  # two bands, the held-out tables measured once
+    assert entry["bands"] == old["bands"] and entry["held_out"] == {"stub": 2}
 
 
 def test_table_commands_name_a_missing_out_folder(tmp_path) -> None:

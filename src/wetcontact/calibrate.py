@@ -1228,11 +1228,12 @@ def main(argv: list[str] | None = None) -> int:
                    help="measure only the corner stratum (held_out_corners: the domain's "
                         "ends and middles at gaps up to 0.999 S_c) of every table the package "
                         "data holds, or of --kind's, against meniscus; nothing is refitted")
-    c.add_argument("--refine-band", type=int, default=None, metavar="BAND",
-                   help="the two-angle tables only (--kind): fit again the pieces of this "
-                        "band (0-2) whose node counts differ from the generator's, from the "
-                        "band's own ridge series, and measure the table's held-out tables "
-                        "again")
+    c.add_argument("--refine-band", type=int, nargs="+", default=None, metavar="BAND",
+                   help="the two-angle tables only (--kind): fit again the pieces of these "
+                        "bands (0-2) whose node counts differ from the generator's, from "
+                        "each band's own ridge series (searched again only at the w nodes a "
+                        "pair band's ridge gains), and measure the table's held-out tables "
+                        "again, once")
     args = p.parse_args(argv)
     if args.command == "capillary" and args.refine_band is not None:
         from wetcontact.calibrate_capillary import refine_band
@@ -1240,11 +1241,16 @@ def main(argv: list[str] | None = None) -> int:
         if args.kind not in (cc.WALL_TWO_ANGLES, PAIR_KIND):
             p.error(f"--refine-band: only with --kind {cc.WALL_TWO_ANGLES} or --kind "
                     f"{PAIR_KIND} (given: --kind {args.kind})")
-        if args.refine_band not in (0, 1, 2):
-            p.error(f"--refine-band = {args.refine_band}; allowed: 0, 1 or 2")
+        bad = [b for b in args.refine_band if b not in (0, 1, 2)]
+        if bad or len(set(args.refine_band)) < len(args.refine_band):
+            p.error(f"--refine-band = {' '.join(map(str, args.refine_band))}; allowed: "
+                    "distinct bands 0, 1 or 2")
         entry = refine_band(args.kind, args.refine_band, _table_copy(args.out), args.workers)
         _print_held_out(args.kind, entry)
-        print(f"{entry['refine_band'][str(args.refine_band)]['wall_time_s']} s")
+        for b in args.refine_band:
+            rec = entry["refine_band"][str(b)]
+            print(f"band {b}: {rec['wall_time_s']} s "
+                  f"(held-out tables {rec['held_out_wall_time_s']} s)")
         return 0
     if args.command == "capillary" and args.corners:
         from wetcontact.calibrate_capillary import CORNER_KINDS, add_corner_strata

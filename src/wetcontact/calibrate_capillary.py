@@ -25,7 +25,7 @@ import math
 import os
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any
@@ -644,54 +644,77 @@ def pair_band_nodes(band: int) -> list[list[int]]:
             for j, nb2 in enumerate(st["b2"])]
 
 
-def refine_band(kind: str, band: int, out: Path | None = None, workers: int = 2,
-                cache_dir: Path | None = None) -> dict[str, Any]:
-    """Fit again the pieces of band ``band`` of the two-angle table ``kind`` in the file
-    ``out`` (default the package data) whose node counts differ from their specification
-    (:func:`band_pieces`, :func:`pair_band_nodes`), from the band's own ridge series and
-    the table's onset series as the file holds them (no ridge or onset search: a fit from
-    scratch computes the same series), rebuild their tensor trains and write the table back
-    with its held-out tables measured again; returns the table's entry (``refine_band``:
-    each refitted band's wall time and branches). What :func:`fit_kind` and
+def refine_band(kind: str, band: int | Sequence[int], out: Path | None = None,
+                workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
+    """Fit again the pieces of band ``band`` (or of each band of a sequence, in turn) of
+    the two-angle table ``kind`` in the file ``out`` (default the package data) whose node
+    counts differ from their specification (:func:`band_pieces`, :func:`pair_band_nodes`),
+    from the band's own ridge series and the table's onset series as the file holds them
+    (no onset search; a ridge search only at the w nodes
+    ``calibrate_pairs2.PAIR_RIDGE_W`` adds to a pair band's ridge, whose pieces keep their
+    nodes: a fit from scratch computes the same series), rebuild their tensor trains and
+    write the table back with its held-out tables measured again, once; returns the
+    table's entry (``refine_band``: each refitted band's wall time and branches, without
+    the held-out tables', ``held_out_wall_time_s``). What :func:`fit_kind` and
     ``calibrate_pairs2.fit_pair_table`` would fit from scratch, without their searches."""
-    from wetcontact.calibrate_pairs2 import PAIR_PIECES, fit_pair_piece, pair_held_out, train_piece
+    from wetcontact.calibrate_pairs2 import (
+        PAIR_PIECES,
+        PAIR_RIDGE_W,
+        fit_pair_piece,
+        fit_pair_ridge,
+        pair_held_out,
+        train_piece,
+    )
 
     out = Path(out) if out else Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
     data = json.loads(out.read_text())
     if kind not in (cc.WALL_TWO_ANGLES, cc.PAIR_TWO_ANGLES) or kind not in data:
         raise InputError(f"{out}: field {kind!r} missing or not a two-angle table; allowed: "
                          f"{cc.WALL_TWO_ANGLES}, {cc.PAIR_TWO_ANGLES}")
-    t0 = time.perf_counter()
-    start = dict(BRANCHES)
     entry = data[kind]
-    b = entry["bands"][band]
-    rng = tuple(b["theta_sphere_deg"])
     onset = entry.get(cc.ONSET_KEY)
-    pieces = list(b["pieces"])
-    if kind == cc.WALL_TWO_ANGLES:
-        for i, spec in enumerate(band_pieces(kind, band)):
-            if list(pieces[i]["nodes"]) != spec["nodes"]:
-                pieces[i] = train_piece(fit_piece(kind, spec, b["theta_split"], workers,
-                                                  cache_dir, rng, onset), fields=WALL_TRAINS)
-    else:
-        for i, (spec, nodes) in enumerate(zip(PAIR_PIECES, pair_band_nodes(band),
-                                              strict=True)):
-            if list(pieces[i]["nodes"]) != nodes:
-                pieces[i] = train_piece(fit_pair_piece(spec, nodes[3], onset,
-                                                       b["theta_split"], workers, cache_dir,
-                                                       nodes[0], rng))
-    entry["bands"][band] = {**b, "pieces": pieces}
+    records = {}
+    bands = [band] if isinstance(band, int) else list(band)
+    for k_band in bands:
+        t0 = time.perf_counter()
+        start = dict(BRANCHES)
+        b = entry["bands"][k_band]
+        rng = tuple(b["theta_sphere_deg"])
+        pieces = list(b["pieces"])
+        if kind == cc.WALL_TWO_ANGLES:
+            for i, spec in enumerate(band_pieces(kind, k_band)):
+                if list(pieces[i]["nodes"]) != spec["nodes"]:
+                    pieces[i] = train_piece(fit_piece(kind, spec, b["theta_split"], workers,
+                                                      cache_dir, rng, onset),
+                                            fields=WALL_TRAINS)
+        else:
+            ridge = b["theta_split"]
+            if np.shape(ridge["at_nodes_deg"])[0] != PAIR_RIDGE_W[k_band]:
+                # nested w nodes: the pieces' nodes keep their angles; only the series changes
+                b = {**b, "theta_split": fit_pair_ridge(
+                    onset, rng, np.shape(ridge["at_nodes_deg"])[2], ridge["tolerance_deg"],
+                    workers, cache_dir, PAIR_RIDGE_W[k_band], ridge)}
+            for i, (spec, nodes) in enumerate(zip(PAIR_PIECES, pair_band_nodes(k_band),
+                                                  strict=True)):
+                if list(pieces[i]["nodes"]) != nodes:
+                    pieces[i] = train_piece(fit_pair_piece(spec, nodes[3], onset,
+                                                           b["theta_split"], workers,
+                                                           cache_dir, nodes[0], rng))
+        entry["bands"][k_band] = {**b, "pieces": pieces}
+        records[str(k_band)] = {"wall_time_s": round(time.perf_counter() - t0, 1),
+                                "branches": {k: BRANCHES[k] - start[k] for k in BRANCHES}}
     entry = {k: v for k, v in entry.items() if not k.startswith("held_out")}
     data[kind] = entry
     _write(out, data)
+    t0 = time.perf_counter()
     arrays = cc.as_arrays({kind: entry})[kind]
     if kind == cc.PAIR_TWO_ANGLES:
         entry.update(pair_held_out(arrays, 120, workers, cache_dir))
     else:
         entry.update(_wall_two_held_out(arrays, 120, workers, cache_dir))
-    entry.setdefault("refine_band", {})[str(band)] = {
-        "wall_time_s": round(time.perf_counter() - t0, 1),
-        "branches": {k: BRANCHES[k] - start[k] for k in BRANCHES}}
+    held = round(time.perf_counter() - t0, 1)
+    entry.setdefault("refine_band", {}).update(
+        {k: {**r, "held_out_wall_time_s": held} for k, r in records.items()})
     data[kind] = entry
     _write(out, data)
     return entry

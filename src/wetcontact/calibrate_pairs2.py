@@ -208,6 +208,17 @@ PAIR_RIDGE_TOL_DEG = (1e-4, 1e-5, 1e-5)
 """The ridge search's tolerance per band (deg): below the onset the top is a smooth
 maximum (S_c flat across it, the series' own error there is larger); above it S_c jumps
 (by up to 9e-4 at r = 10, v = 0.1) and the pieces must meet at the top."""
+PAIR_RIDGE_W = (9, 17, 17)
+"""Lobatto nodes of w in each band's ridge series at the full stage (the onset's 9 and
+the pieces' ratio nodes among them). Above the onset S_c jumps at the ridge (by up to
+9.2e-4), and a point between the series and the true top is evaluated on the jump's other
+side; with 9 nodes the series was off by up to 6.3e-4 deg between them where the jump
+exceeds 1e-4 (1.4e-3 deg near the onset, where it is below 2e-5; golden-section searches,
+V* = 0.1, 2026-11-28), with 17 by up to 1.3e-5 (171 points). Between the a nodes the
+band from the onset to 35 deg is still off by up to 5e-4 deg near the onset, where the
+jump vanishes (6.5e-5 where it exceeds 1e-4; the band 35-70 deg by 9.6e-6): see
+``calibrated_capillary.RIDGE_WINDOW_DEG``. Below the onset the top is a smooth maximum:
+its side does not matter."""
 PAIR_ONSET_TOL_DEG = 0.05
 """The onset's bisection tolerance (deg). The ridge's locus has a kink of its curvature
 there; on a wall (0.012 per deg at v = 0.08) a band end 0.05 deg off leaves about 1.5e-5
@@ -297,11 +308,96 @@ def _pair_ridge_job(args: tuple[float, float, float, float]) -> tuple[float, flo
     return pair_ridge(ratio, v, t1, bracket=PAIR_RIDGE_BRACKET_DEG, tol=tol)
 
 
+RIDGE_NEAR_DEG = 0.01
+"""Half-width (deg) of the bracket in which the ridge is sought at the w nodes a band's
+ridge series adds to the onset's (:data:`PAIR_RIDGE_W`), about the coarser series' value
+there: that series is off by at most 1.4e-3 deg between its nodes (golden-section
+searches at 112 points, 2026-11-28), so the top lies well inside; a top within ten
+tolerances of the bracket's ends (:func:`~wetcontact.calibrate_capillary.golden_top`'s
+error) is sought again over :data:`PAIR_RIDGE_BRACKET_DEG`."""
+
+
+def _pair_ridge_near_job(args: tuple[float, float, float, float, float]
+                         ) -> tuple[float, float]:
+    """:func:`pair_ridge` at (ratio, v, theta1 deg) to ``tol`` within :data:`RIDGE_NEAR_DEG`
+    of ``guess`` (deg), else (a top near that bracket's ends, or no bridge at its first
+    points) over :data:`PAIR_RIDGE_BRACKET_DEG`: the top and its
+    bracket's width."""
+    ratio, v, t1, tol, guess = args
+    near = (guess - t1 - RIDGE_NEAR_DEG, guess - t1 + RIDGE_NEAR_DEG)
+    try:
+        return pair_ridge(ratio, v, t1, bracket=near, tol=tol)
+    except RuntimeError:  # a top at the bracket's end, or SolverError: no bridge there
+        return pair_ridge(ratio, v, t1, bracket=PAIR_RIDGE_BRACKET_DEG, tol=tol)
+
+
+def onset_nodes(onset: dict[str, Any], nw: int) -> tuple[np.ndarray, np.ndarray]:
+    """The radius ratios at the ``nw`` Lobatto nodes of w and the onset angle (deg) there at
+    the onset's volume nodes, shape (nw, na): the onset's own node values where its nodes
+    are among them (``nw - 1`` a multiple of its count less one: the same floats, so that
+    the node cache keeps what was solved there), its series elsewhere, as the model maps a
+    point."""
+    at = np.asarray(onset["at_nodes_deg"])
+    rs, vs = ratio_nodes(nw), np.asarray(onset["v_nodes"])
+    if nw == at.shape[0]:
+        return rs, at
+    w, a = np.meshgrid(cc.ratio_coordinate(rs), cc.volume_coordinate(vs), indexing="ij")
+    on = np.array(cc.onset_deg({cc.ONSET_KEY: onset}, [w, a]))
+    step, rem = divmod(nw - 1, at.shape[0] - 1)
+    if rem == 0:
+        on[::step] = at
+    return rs, on
+
+
 def fit_pair_ridge(onset: dict[str, Any], rng: gen.SphereRange, nb1: int, tol: float,
-                   workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
+                   workers: int = 2, cache_dir: Path | None = None,
+                   nw: int | None = None, coarse: dict[str, Any] | None = None
+                   ) -> dict[str, Any]:
     """The ridge theta2*(w, a, b1) (deg) of a band at its Lobatto nodes (the onset's (w, a)
     grid times ``nb1``) and its Chebyshev coefficients, through the node cache (lines
-    ``pair-ridge|r|v|theta1|tol``)."""
+    ``pair-ridge|r|v|theta1|tol``).
+
+    ``nw``: more Lobatto nodes of w than the onset's, nesting them (``nw - 1`` a multiple of
+    their count less one). The ridge at the onset's nodes is then the one above; at the
+    others (their small sphere's angles from :func:`onset_nodes`) it is sought within
+    :data:`RIDGE_NEAR_DEG` of that series' value (lines
+    ``pair-ridge-near|r|v|theta1|tol``, :func:`_pair_ridge_near_job`: the guess only
+    places the bracket, and the top is the same to ``tol``). ``coarse``: that series at
+    the onset's nodes as a table holds it (``calibrate_capillary.refine_band``), else
+    sought."""
+    n0 = len(onset["ratio_nodes"])
+    if nw is not None and nw != n0:
+        step, rem = divmod(nw - 1, n0 - 1)
+        if rem or step < 1:
+            raise ValueError(f"fit_pair_ridge: nw = {nw} does not nest the onset's {n0} "
+                             "w nodes; allowed: 1 + k (n - 1), k >= 1")
+        if coarse is None:
+            coarse = fit_pair_ridge(onset, rng, nb1, tol, workers, cache_dir)
+        rs, on = onset_nodes(onset, nw)
+        vs = np.asarray(onset["v_nodes"])
+        t1 = small_angle_grid({"at_nodes_deg": on}, rng, nb1)
+        w = cc.ratio_coordinate(rs)
+        a = cc.volume_coordinate(vs)
+        th = np.empty(t1.shape)
+        th[::step] = coarse["at_nodes_deg"]
+        new = [i for i in range(nw) if i % step]
+        ww, aa, bb = np.meshgrid(w[new], a, gen.lobatto(nb1), indexing="ij")
+        guess = cc.theta_split_deg({"theta_split": coarse}, [ww, aa], bb)
+        jobs = [(float(rs[i]), float(vs[j]), float(t1[i, j, k]), tol,
+                 float(guess[n, j, k]))
+                for n, i in enumerate(new) for j, k in np.ndindex(t1.shape[1:])]
+        got = gen._cached_map(
+            _pair_ridge_near_job, jobs,
+            lambda j: f"pair-ridge-near|{j[0]!r}|{j[1]!r}|{j[2]!r}|{j[3]}",
+            lambda j, r: (r[0], [r[1]]), lambda j, got: (got[0], float(got[1][0])),
+            workers, f"pair ridge {list(rng)} at {nw} w nodes", cache_dir)
+        th[new] = np.reshape([t for t, _ in got], (len(new), *t1.shape[1:]))
+        return {"chebyshev": gen.lobatto_coefficients(th).tolist(),
+                "at_nodes_deg": th.tolist(), "theta_small_nodes_deg": t1.tolist(),
+                "ratio_nodes": rs.tolist(), "tolerance_deg": tol,
+                "bracket_max_deg": max(coarse["bracket_max_deg"],
+                                       max(wd for _, wd in got)),
+                "near_deg": RIDGE_NEAR_DEG}
     rs, vs = np.asarray(onset["ratio_nodes"]), np.asarray(onset["v_nodes"])
     t1 = small_angle_grid(onset, rng, nb1)
     jobs = [(float(rs[i]), float(vs[j]), float(t1[i, j, k]), tol)
@@ -362,12 +458,17 @@ def fit_pair_piece(piece: dict[str, Any], nb2: int, onset: dict[str, Any],
     its nodes: b2 at ``nb2`` :func:`nested_gauss` points of the large sphere's angle,
     mapped within the piece at each (w, a, b1) node from the ridge's own value there
     (:func:`~wetcontact.reduced_models.calibrated_capillary.piece_angle`). ``nw``: ratio
-    nodes other than the onset's and the ridge's, in the band ``band_deg``
-    (:func:`lead_grid`)."""
-    rs, vs = np.asarray(onset["ratio_nodes"]), np.asarray(onset["v_nodes"])
+    nodes other than the onset's; where the ridge's w nodes nest them, the ridge's own
+    values there, else its series, in the band ``band_deg`` (:func:`lead_grid`)."""
+    vs = np.asarray(onset["v_nodes"])
     t1 = np.asarray(ridge["theta_small_nodes_deg"])
     top = np.asarray(ridge["at_nodes_deg"])
-    if nw is not None and nw != rs.size:
+    nw = len(onset["ratio_nodes"]) if nw is None else nw
+    rs = ratio_nodes(nw)
+    step, rem = divmod(t1.shape[0] - 1, nw - 1)
+    if rem == 0:  # the ridge's w nodes nest the piece's: its own values there
+        t1, top = t1[::step], top[::step]
+    else:
         if band_deg is None:
             raise ValueError("fit_pair_piece: other ratio nodes than the ridge's need the "
                              "band's range (band_deg)")
@@ -484,7 +585,8 @@ def fit_pair_table(stage: str = "coarse", workers: int = 2,
     onset = fit_pair_onset(st["w"], st["a"], workers, cache_dir)
     bands = []
     for i, (rng, tol) in enumerate(zip(PAIR_BANDS_DEG, PAIR_RIDGE_TOL_DEG, strict=True)):
-        ridge = fit_pair_ridge(onset, rng, st["b1"], tol, workers, cache_dir)
+        ridge = fit_pair_ridge(onset, rng, st["b1"], tol, workers, cache_dir,
+                               PAIR_RIDGE_W[i] if stage == "full" else None)
         nodes = (gen.pair_band_nodes(i) if stage == "full"
                  else [[st["w"], st["a"], st["b1"], n, GAP_NODES] for n in st["b2"]])
         bands.append({"theta_sphere_deg": list(rng), "theta_split": ridge,
@@ -552,8 +654,9 @@ piece below the onset had 9 ratio nodes); at the small sphere's angles where the
 appears, 1e-4 to 0.3 deg from the ridge, at the same gaps (the wall's force near rupture
 past the ridge was under-resolved there, unseen at random gaps); and within the ridge's window
 (:func:`~wetcontact.calibrate_capillary.ridge_window_band`), at the same gaps, where the
-ridge series (off by up to 6.3e-4 deg at V* = 0.1 between its nodes) may put a point on
-the other side of S_c's jump. ``part``: the
+ridge series (off by up to 6.3e-4 deg at V* = 0.1 between its nodes with 9 w nodes; with
+17 up to 5e-4 deg between its a nodes near the onset) may put a point on the other side
+of S_c's jump. ``part``: the
 uniform count over this, ``scale``: times it; ``stratum``: what the table records (the
 wall's names; the model applies a stratum with ``theta_sphere_deg`` only to small-sphere
 angles inside it)."""
