@@ -368,13 +368,17 @@ def test_capillary_bounds_cover_the_error_near_domain_corners(name, kind, ratio,
 
 # within the ridge series' error of the true ridge the two-angle tables may evaluate the
 # other side of S_c's jump (found 2026-11-28): S_c 8e-4 too large (pairs, 1e-4 deg below
-# the series, the true ridge 3e-4 to 1e-3 deg below it) and 2.2e-4 too small (wall,
-# 4e-6 deg above it, the true ridge 8e-6 above it), where the rupture window was 3e-4 and
-# 7e-5 wide before the ridge's window (the force spurious or missed near rupture)
+# the series with 9 w nodes, the true ridge 3e-4 to 1e-3 deg below it) and 2.2e-4 too
+# small (wall, 4e-6 deg above it, the true ridge 8e-6 above it), where the rupture window
+# was 3e-4 and 7e-5 wide before the ridge's window (the force spurious or missed near
+# rupture). With 17 w nodes the pairs' series is 4.9e-6 deg below the true top at the
+# point below (golden-section search to 1e-6 deg; the jump 4.4e-4): 2.5e-6 above the
+# series the table is on the far side of the jump, the bridge on the near one.
 RIDGE_WINDOW = [
     # (kind, R2/R1, V*, (small) sphere angle (deg), offset from the table's ridge (deg),
     #  gaps in S/S_c(closure), least S_c error)
-    ("sphere-sphere", 3.16, 0.1, 50.0, -1e-4, (0.5, 0.99, 0.999, 0.9995), 5e-4),
+    ("sphere-sphere", 2.890016458, 0.0876818389, 49.1515199668, 2.5e-6,
+     (0.5, 0.99, 0.999, 0.9995), 2e-4),
     ("sphere-wall", None, 0.0601593033, 26.2383066796, 4e-6, (0.5, 0.99, 0.999, 1.00015),
      1.5e-4),
 ]

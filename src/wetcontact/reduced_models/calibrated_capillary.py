@@ -90,12 +90,14 @@ The ridge's window. A jump sits where the true top is, the table's where its ser
 point between the two is evaluated on the other side of the jump, its S_c off by up to the
 jump (:data:`RIDGE_JUMP_MAX`). The series' error, measured on 2026-11-28, sets the
 window's half-width per table (:data:`RIDGE_WINDOW_DEG`: 5e-5 deg on a wall, 2e-3 deg
-between spheres, whose series is off by up to 6.3e-4 deg where the jump matters). Its
-held-out stratum ``held_out_ridge_window`` (log-uniform from 1e-7 deg to the edge, to
-0.999 S_c): on a wall 1.5e-4 / 9.7e-4 (rupture distance / force; 1.1e-4 / 1.8e-3 before
-its piece above the ridge had 27 b2 nodes), between spheres 3.8e-4 / 7.7e-4 (a sample:
-1e-4 deg below the series at r = 3.16, V* = 0.1, theta1 = 50 deg, S_c is 8.1e-4 off).
-Within the window
+between spheres, 4e-5 deg between spheres at theta1 above 35 deg, :data:`RIDGE_WINDOW_TOP`,
+since their ridge series above the onset has 17 w nodes, 9 before: off by 6.2e-4 deg
+there; from the onset to 35 deg it is still off by up to 5e-4 deg between its a nodes).
+Its held-out stratum ``held_out_ridge_window`` (log-uniform from 1e-7 deg to the edge of
+:data:`RIDGE_WINDOW_DEG`, to 0.999 S_c): on a wall 1.5e-4 / 9.7e-4 (rupture distance /
+force; 1.1e-4 / 1.8e-3 before its piece above the ridge had 27 b2 nodes), between spheres
+3.8e-4 / 7.6e-4 (3.8e-4 / 7.7e-4 with 9 w nodes, when 1e-4 deg below the series at r = 3.16,
+V* = 0.1, theta1 = 50 deg, S_c was 8.1e-4 off). Within the window
 :meth:`CalibratedCapillary.bound_floor` widens the rupture window to the largest jump and
 floors the bound at the window stratum's maxima, times the margin.
 
@@ -109,14 +111,15 @@ Two angles between spheres (table ``sphere-sphere-two-angles``, :data:`PAIR_TWO_
 (cos theta1 + cos theta2)``; three bands of theta1 whose onset end is a 2-D series in (w,
 a), a 3-D ridge series theta2*(w, a, b1) per band, and the piece above the ridge ending at
 ``70.5 + theta2* - theta1`` deg (:data:`UPPER_PAST_RIDGE`). Held-out maxima (rupture
-distance / force): 2.5e-4 / 2.6e-4 uniformly, 7.4e-5 / 1.1e-4 within
-:data:`RIDGE_ZONE_DEG` of the ridge, 1.1e-4 / 1.1e-4 at its top, 2.5e-4 / 4.2e-4 where
-the jump appears, 1.1e-4 / 5.0e-5 between nearly equal spheres, 3.5e-5 / 7.8e-4 at both
+distance / force): 2.5e-4 / 2.6e-4 uniformly, 7.6e-5 / 1.2e-4 within
+:data:`RIDGE_ZONE_DEG` of the ridge, 8.6e-5 / 1.1e-4 at its top, 3.8e-5 / 4.2e-4 where
+the jump appears, 1.1e-4 / 5.1e-5 between nearly equal spheres, 3.5e-5 / 7.8e-4 at both
 angles 0-15 deg and V* 0.01-0.1, 3.4e-5 / 6.3e-4 at the domain's corners and 3.8e-4 /
-7.7e-4 within :data:`RIDGE_WINDOW_DEG` of the series (the last three to 0.999 S_c; the
+7.6e-4 within :data:`RIDGE_WINDOW_DEG` of the series (the last three to 0.999 S_c; the
 full stage of :data:`~wetcontact.calibrate_pairs2.STAGES`: 27 b2 nodes above the ridge, 23
 below it from the onset to 70 deg, 15 below the onset, where the piece below the ridge has
-13 w nodes, ``calibrate_capillary.BAND_NODES``).
+13 w nodes, ``calibrate_capillary.BAND_NODES``; the ridge series above the onset with 17
+w nodes, ``calibrate_pairs2.PAIR_RIDGE_W``).
 
 The force table is stored in low-rank form: its unfolding over the first two axes
 ((a, b) on a wall, (w, a) for sphere pairs) against the rest is a truncated SVD,
@@ -200,14 +203,35 @@ does not (its rupture window, below its S_c): the bound tables' own
 RIDGE_WINDOW_DEG = {WALL_TWO_ANGLES: 5e-5, PAIR_TWO_ANGLES: 2e-3}
 """Per two-angle table, the half-width (deg) of the ridge's window: how far from the
 table's ridge series the true ridge may lie, so that a point within it may be evaluated on
-the wrong side of S_c's jump (above the onset angle). Measured on 2026-11-28 by
-golden-section searches for the true top (to 1e-6 deg) at 112 points between the series'
-nodes: the wall's series (10 x 9 nodes, each to 1e-6 deg) is off by up to 1.3e-5 deg (in
-the band from the onset to 35 deg; within 1e-6 above it). The sphere pairs' (9 x 9 x 9
-nodes in (w, a, b1), each to 1e-5 deg) is off by up to 6.3e-4 deg where the jump exceeds
-1e-4 of S_c (V* = 0.1, radius ratio 1.6-2.9), by up to 1.65e-3 deg near the onset angle,
-where the jump is below 2e-5, and by 4e-5 at most at V* <= 0.02. The half-widths are four
-and three times the first two. See the module's notes."""
+the wrong side of S_c's jump (above the onset angle); narrower in the sphere pairs' top
+band (:data:`RIDGE_WINDOW_TOP`, :func:`ridge_window_deg`). Measured on 2026-11-28 by
+golden-section searches for the true top (to 1e-6 deg) between the series' nodes: the
+wall's series (10 x 9 nodes, each to 1e-6 deg) is off by up to 1.3e-5 deg (in the band
+from the onset to 35 deg; within 1e-6 above it). The sphere pairs' (each node to 1e-5
+deg; 17 x 9 x 9 nodes in (w, a, b1) above the onset since 2026-11-28, 9 x 9 x 9 before)
+between the onset and 35 deg: between its a nodes off by up to 5.0e-4 deg near the onset
+(where the jump is below 1e-6 of S_c; 3.4e-4 where it exceeds 1e-5, 1.9e-4 where 3e-5,
+6.5e-5 where 1e-4), between its w nodes by up to 1.3e-5 (6.3e-4 where the jump exceeds
+1e-4 and 1.4e-3 near the onset with 9 w nodes); 76 points. Above 35 deg see
+:data:`RIDGE_WINDOW_TOP`. The half-widths are four times the largest offsets. See the
+module's notes."""
+RIDGE_WINDOW_TOP = {PAIR_TWO_ANGLES: (35.0, 4e-5)}
+"""Per two-angle table, a (small) sphere angle (deg) and the ridge window's half-width
+(deg) above it: between spheres, in the band from 35 to 70 deg (no onset within it, and
+its ridge series with 17 w nodes since 2026-11-28), the series is off by up to 9.6e-6 deg
+(63 golden-section tops between its w, a and b1 nodes; 6.2e-4 deg with 9 w nodes)."""
+
+
+def ridge_window_deg(table: str, theta_sphere_deg: float) -> float:
+    """The ridge window's half-width (deg) of the two-angle table ``table`` at the (small)
+    sphere's angle (deg): :data:`RIDGE_WINDOW_DEG`, or :data:`RIDGE_WINDOW_TOP`'s above its
+    angle."""
+    top = RIDGE_WINDOW_TOP.get(table)
+    if top is not None and theta_sphere_deg > top[0]:
+        return top[1]
+    return RIDGE_WINDOW_DEG[table]
+
+
 RIDGE_JUMP_MAX = 1.2e-3
 """The largest jump of S_c at the ridge's top over the two-angle domain, relative: 1.15e-3
 measured on a wall (V* = 0.1, theta_s = 44 deg), 9.2e-4 between spheres (r = 10, V* = 0.1,
@@ -567,17 +591,24 @@ def low_rank_rows(left: np.ndarray, right: np.ndarray, rows_left: np.ndarray,
     return np.einsum("kj,kj->j", lf.T @ rows_left, rf @ rows_right)
 
 
-def chebyshev_tensor(coef: np.ndarray, coords: list[np.ndarray], chunk: int = 1024
+def chebyshev_tensor(coef: np.ndarray, coords: list[np.ndarray], chunk: int = 4096
                      ) -> np.ndarray:
     """``sum C_{i..k} T_i(x_1) ... T_k(x_d)`` at points (x_1..x_d)[n], vectorised.
 
-    The last axis is contracted by one matrix product, ``A[i..j, p] = sum_k C_{i..jk}
-    T_k(x_{d,p})``, the others in turn from the last by an elementwise sum over the axis's
-    Chebyshev rows, points last (cost ``prod(shape)`` multiply-adds a point, and
-    ``prod(shape[:-1]) + prod(shape[:-2]) + ...`` elementwise), ``chunk`` points at a time.
+    The longest axis (the last, unless another is longer) is contracted by one matrix
+    product, ``A[i..j, p] = sum_k C_{i..jk} T_k(x_{d,p})``, the others in turn from the
+    last by an elementwise sum over the axis's Chebyshev rows, points last (cost
+    ``prod(shape)`` multiply-adds a point, and ``prod(shape[:-1]) + prod(shape[:-2]) +
+    ...`` elementwise: least with the longest axis first), ``chunk`` points at a time. The
+    sphere pairs' ridge, 17 x 9 x 9: 243 ns a point against 418 with its last axis first
+    and 1024 points at a time (2026-11-28).
     """
     coef = np.asarray(coef, dtype=float)
     pts = [np.ravel(np.asarray(x, dtype=float)) for x in coords]
+    k = int(np.argmax(coef.shape))
+    if coef.ndim > 1 and coef.shape[k] > coef.shape[-1]:
+        perm = [i for i in range(coef.ndim) if i != k] + [k]
+        coef, pts = coef.transpose(perm), [pts[i] for i in perm]
     n = pts[0].size
     out = np.empty(n)
     if coef.ndim == 1:  # term by term in the order of k: each point's value alike,
@@ -913,14 +944,22 @@ class CalibratedCapillary(Model):
         v, ratio = self._v_ratio(scene)
         return abs(math.degrees(th_w) - float(ridge_deg(v, math.degrees(th_s), ratio=ratio)))
 
+    def ridge_window(self, scene: Scene) -> float | None:
+        """The half-width (deg) of the ridge's window at the scene's (small) sphere angle
+        (:func:`ridge_window_deg`); ``None`` with one angle."""
+        th_s, th_w = self._angles(scene)
+        if th_w is None:
+            return None
+        return ridge_window_deg(TWO_ANGLE_TABLES[scene.kind], math.degrees(th_s))
+
     def in_ridge_window(self, scene: Scene, dist: float | None = None) -> bool:
-        """Whether the scene lies within :data:`RIDGE_WINDOW_DEG` of its table's ridge,
-        where the table may evaluate the other side of S_c's jump (at any sphere angle:
-        below the onset angle, where the top is smooth, the window costs only bound);
-        ``dist``: its :meth:`ridge_distance`, if known."""
+        """Whether the scene lies within its table's ridge window of the ridge
+        (:meth:`ridge_window`), where the table may evaluate the other side of S_c's jump
+        (at any sphere angle: below the onset angle, where the top is smooth, the window
+        costs only bound); ``dist``: its :meth:`ridge_distance`, if known."""
         if dist is None:
             dist = self.ridge_distance(scene)
-        return dist is not None and dist <= RIDGE_WINDOW_DEG[TWO_ANGLE_TABLES[scene.kind]]
+        return dist is not None and dist <= self.ridge_window(scene)
 
     def held_out_tables(self, scene: Scene
                         ) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
@@ -1018,7 +1057,7 @@ class CalibratedCapillary(Model):
         diag = {}
         dist = self.ridge_distance(scene)
         if self.in_ridge_window(scene, dist):
-            window = RIDGE_WINDOW_DEG[TWO_ANGLE_TABLES[scene.kind]]
+            window = self.ridge_window(scene)
             diag["ridge_window"] = (
                 f"the other solid's angle is {dist:.3g} deg from the table's ridge series, "
                 f"within its error ({window:g} deg): the table may evaluate the other side "
