@@ -311,8 +311,8 @@ def _pair_ridge_job(args: tuple[float, float, float, float]) -> tuple[float, flo
 RIDGE_NEAR_DEG = 0.01
 """Half-width (deg) of the bracket in which the ridge is sought at the w nodes a band's
 ridge series adds to the onset's (:data:`PAIR_RIDGE_W`), about the coarser series' value
-there: that series is off by at most 1.4e-3 deg between its nodes (golden-section
-searches at 112 points, 2026-11-28), so the top lies well inside; a top within ten
+there: that series was off by up to 1.6e-3 deg at the added nodes (40 of them searched
+first, 2026-11-28; 1.4e-3 at 91 midpoints), so the top lies well inside; a top within ten
 tolerances of the bracket's ends (:func:`~wetcontact.calibrate_capillary.golden_top`'s
 error) is sought again over :data:`PAIR_RIDGE_BRACKET_DEG`."""
 
@@ -321,8 +321,7 @@ def _pair_ridge_near_job(args: tuple[float, float, float, float, float]
                          ) -> tuple[float, float]:
     """:func:`pair_ridge` at (ratio, v, theta1 deg) to ``tol`` within :data:`RIDGE_NEAR_DEG`
     of ``guess`` (deg), else (a top near that bracket's ends, or no bridge at its first
-    points) over :data:`PAIR_RIDGE_BRACKET_DEG`: the top and its
-    bracket's width."""
+    points) over :data:`PAIR_RIDGE_BRACKET_DEG`: the top and its bracket's width."""
     ratio, v, t1, tol, guess = args
     near = (guess - t1 - RIDGE_NEAR_DEG, guess - t1 + RIDGE_NEAR_DEG)
     try:
