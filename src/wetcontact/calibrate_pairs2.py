@@ -436,10 +436,10 @@ def lead_grid(onset: dict[str, Any], ridge: dict[str, Any], band_deg: gen.Sphere
     ridge from the onset's and the ridge's series at the ``nw`` Lobatto nodes of w, as the
     model maps a point (so that the piece interpolates what the model evaluates), the
     volumes and b1 nodes the ridge's."""
-    rs, vs = ratio_nodes(nw), np.asarray(onset["v_nodes"])
+    rs, on = onset_nodes(onset, nw)
+    vs = np.asarray(onset["v_nodes"])
     nb1 = np.shape(ridge["theta_small_nodes_deg"])[2]
     w, a = np.meshgrid(cc.ratio_coordinate(rs), cc.volume_coordinate(vs), indexing="ij")
-    on = cc.onset_deg({cc.ONSET_KEY: onset}, [w, a])
     t1 = small_angle_grid({"at_nodes_deg": on}, band_deg, nb1)
     shape = t1.shape
     b1 = np.broadcast_to(gen.lobatto(nb1), shape)
