@@ -224,6 +224,12 @@ def chart(per_point: dict[str, float], regen: float) -> None:
     plt.close(fig)
 
 
+TABLE_MARKERS = ("D", "s", "^", "v")
+"""calibrate_wp.png's marker per calibrated-capillary table (in :data:`CAP_KINDS`' order):
+tables of about the same cost and error stay apart (the square hollow and larger: the
+one-angle sphere pairs and the wall with two angles have cost and error alike)."""
+
+
 def chart_work_precision(rec: dict) -> None:
     """``calibrate_wp.png``: held-out max error of each capillary closure against its cost a
     point, published and refitted coefficients and the shipped tables, with the FE
@@ -248,17 +254,20 @@ def chart_work_precision(rec: dict) -> None:
         pts.append((f"{fam}, published", cost[form], held["before"]["max"], "x"))
         pts.append((f"{fam}, refitted", cost[form], held["after"]["max"], "o"))
     cap = rec.get("calibrated_capillary_held_out_max") or {}
-    for kind in CAP_KINDS:
+    for kind, marker in zip(CAP_KINDS, TABLE_MARKERS, strict=False):
         label = kind.replace("-two-angles", ", two angles")
         key = next((k for k in cost if k.startswith(f"calibrated-capillary {label} (")), None)
         if key and f"{kind} force" in cap:
-            pts.append((f"calibrated-capillary, {kind}", cost[key], cap[f"{kind} force"], "D"))
+            pts.append((f"calibrated-capillary, {kind}", cost[key], cap[f"{kind} force"],
+                        marker))
     fig, ax = plt.subplots(figsize=(9.5, 5.2), layout="constrained")
     colour: dict[str, str] = {}
-    for label, c, e, m in pts:  # one colour a family: published x, refitted o, tables D
-        fam = label.split(",")[0] if m != "D" else label
+    for label, c, e, m in pts:  # one colour a family: published x, refitted o; each table
+        fam = label.split(",")[0] if m not in TABLE_MARKERS else label  # its own marker
         col = colour.setdefault(fam, f"C{len(colour) % 10}")
-        ax.loglog(c, e, m, ms=7, color=col, mfc="none" if m == "o" else None, label=label)
+        ax.loglog(c, e, m, ms=11 if m == "s" else 7, color=col,
+                  mfc="none" if m in ("o", "s") else None, mew=1.5 if m == "s" else None,
+                  label=label)
     men = RESULTS / "meniscus.json"
     if men.is_file():
         rows = json.loads(men.read_text())["fe_single"]
