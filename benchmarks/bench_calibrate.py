@@ -3,13 +3,17 @@
 Writes ``benchmarks/results/calibrate.json`` and ``calibrate.png``. Run:
 ``python benchmarks/bench_calibrate.py``. Medians of a few runs on a shared 2-core
 machine: read them as orders of magnitude. Costs per point are measured with one BLAS
-thread (one core, in a child process; ``seconds_per_point``) and with the default threads
-(``seconds_per_point_default_blas_threads``). The shipped ``calibrated-viscous`` table is
+thread (one core, in child processes; ``seconds_per_point``: the median over
+:data:`COST_RUNS` runs of each run's median of 7, their range and the runs in
+``seconds_per_point_runs``) and with the default threads
+(``seconds_per_point_default_blas_threads``, one run). The shipped ``calibrated-viscous`` table is
 regenerated into a temporary file (the package data is not touched); the bound tables'
 regeneration time is the one recorded in ``bounds.json`` when it was generated, and so is
 ``calibrated-capillary``'s (``wall_time_s`` of its package data, written by
 ``python -m wetcontact.calibrate capillary`` on 2 processes; ``--regenerate-capillary``
-times the one-angle and wall tables afresh into a temporary file, about 15 minutes). The
+times the generator's tables afresh, from an empty node cache, into a temporary file:
+``--kinds=sphere-wall,sphere-sphere`` the one-angle tables, about 20 minutes; by default
+the two-angle wall table too, hours; ``--regenerated-out=FILE`` keeps what it wrote). The
 two-angle pair table's time is the sum of the resumed runs that built it, recorded in
 ``results/pair_table_stages.json`` (about 7.8 h on 2 processes; not rerun here). Each
 calibrated-capillary table is timed at the default precision (the force's table summed in
@@ -26,6 +30,7 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -107,22 +112,33 @@ def costs() -> dict[str, float]:
 CAP_KINDS = ("sphere-wall", "sphere-sphere", ccap.WALL_TWO_ANGLES, ccap.PAIR_TWO_ANGLES)
 
 
-def one_thread_costs() -> dict[str, float]:
-    """:func:`costs` in a child process whose BLAS runs on one thread: the cost per point
-    on one core, and steadier on a shared machine (two BLAS threads contending with
-    another job made the small matrix products of calibrated-capillary 10-20x slower)."""
+COST_RUNS = 5
+"""Runs of :func:`costs` whose medians are taken: the shared machine's speed drifted by up
+to 1.5x between runs minutes apart (2026-11-28: the two-angle sphere-pair table 1.37 to
+2.12 us in five runs within an hour), more than within one run's seven repeats."""
+
+
+def one_thread_costs(runs: int = COST_RUNS) -> tuple[dict[str, float], list[dict[str, float]]]:
+    """:func:`costs` in ``runs`` child processes one after the other, whose BLAS runs on one
+    thread: the cost per point on one core, and steadier on a shared machine (two BLAS
+    threads contending with another job made the small matrix products of
+    calibrated-capillary 10-20x slower). Returns the median over the runs of each run's
+    median, and the runs."""
     env = {**os.environ, **{k: "1" for k in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS",
                                               "MKL_NUM_THREADS")}}
-    out = subprocess.run([sys.executable, __file__, "--costs-json"], env=env, check=True,
-                         capture_output=True, text=True).stdout
-    return json.loads(out.strip().splitlines()[-1])
+    got = []
+    for _ in range(runs):
+        out = subprocess.run([sys.executable, __file__, "--costs-json"], env=env,
+                             check=True, capture_output=True, text=True).stdout
+        got.append(json.loads(out.strip().splitlines()[-1]))
+    return {k: float(np.median([g[k] for g in got])) for k in got[0]}, got
 
 
 def main() -> None:
     if "--costs-json" in sys.argv:
         print(json.dumps(costs()))
         return
-    per_point = one_thread_costs()
+    per_point, runs = one_thread_costs()
     per_point_threads = costs()
     cap = ccap.capillary_table()
 
@@ -149,6 +165,9 @@ def main() -> None:
         scratch = last.get("measured_wall_time_s", last.get("last_from_scratch_s"))
         if scratch is not None:
             cap_regen["last_from_scratch_s"] = scratch
+            for k in ("measured_kinds", "measured_fit_time_s", "measured_branches"):
+                if k in last:  # what that from-scratch run regenerated
+                    cap_regen[f"last_from_scratch_{k.removeprefix('measured_')}"] = last[k]
     stages = RESULTS / "pair_table_stages.json"
     if cap_regen is not None and ccap.PAIR_TWO_ANGLES in cap and stages.is_file():
         # the two-angle pair table was built over several resumed runs: their recorded
@@ -157,15 +176,32 @@ def main() -> None:
             **stage_sums(json.loads(stages.read_text())),
             "source": f"benchmarks/results/{stages.name}"}
     if "--regenerate-capillary" in sys.argv:
-        from wetcontact.calibrate_capillary import generate_calibrated_capillary
+        from wetcontact.calibrate_capillary import KINDS, generate_calibrated_capillary
 
+        kinds = next((a.split("=", 1)[1].split(",") for a in sys.argv
+                      if a.startswith("--kinds=")), list(KINDS))
         with tempfile.TemporaryDirectory() as tmp:
             t0 = time.perf_counter()
-            generate_calibrated_capillary(Path(tmp) / "cc.json", workers=2,
-                                          cache_dir=Path(tmp))  # from scratch
-            cap_regen = {"measured_wall_time_s": time.perf_counter() - t0, "workers": 2}
+            done = generate_calibrated_capillary(Path(tmp) / "cc.json", kinds=tuple(kinds),
+                                                 workers=2, cache_dir=Path(tmp))  # scratch
+            cap_regen = {**(cap_regen or {}),
+                         "measured_wall_time_s": time.perf_counter() - t0, "workers": 2,
+                         "measured_kinds": kinds,
+                         "measured_fit_time_s": {k: done[k].get("fit_time_s") for k in kinds},
+                         "measured_branches": done.get("branches")}
+            cap_regen.pop("last_from_scratch_s", None)
+            keep = next((a.split("=", 1)[1] for a in sys.argv
+                         if a.startswith("--regenerated-out=")), None)
+            if keep:  # to compare with the package data
+                Path(keep).write_text((Path(tmp) / "cc.json").read_text())
         ccap.capillary_table.cache_clear()
     out = {"points": N, "seconds_per_point": per_point,
+           "seconds_per_point_runs": {
+               "what": f"each of {len(runs)} one-thread runs' medians of 7, one after "
+                       "the other; seconds_per_point is their median",
+               "min": {k: min(r[k] for r in runs) for k in per_point},
+               "max": {k: max(r[k] for r in runs) for k in per_point},
+               "runs": runs},
            "seconds_per_point_default_blas_threads": per_point_threads,
            "regenerate_calibrated_viscous_s": regen,
            "regenerate_bounds_s_recorded": bounds_time,
@@ -175,7 +211,7 @@ def main() -> None:
                f"{k} {p}": cap[k]["held_out"][p]["max"] for k in CAP_KINDS
                if k in cap for p in ("rupture_distance", "force")} if cap else None}
     write_json("calibrate", out)
-    chart(per_point, regen)
+    chart(per_point, regen, out["seconds_per_point_runs"])
     chart_work_precision(out)
     print(json.dumps(out, indent=1))
 
@@ -195,7 +231,10 @@ def stage_sums(record: dict) -> dict[str, int]:
             "total_about_s": int(round(coarse + medium + full, -2))}
 
 
-def chart(per_point: dict[str, float], regen: float) -> None:
+def chart(per_point: dict[str, float], regen: float,
+          spread: dict[str, Any] | None = None) -> None:
+    """``calibrate.png``: each closure's cost a point; ``spread`` (``min`` and ``max`` per
+    closure over the runs) as whiskers."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -205,17 +244,23 @@ def chart(per_point: dict[str, float], regen: float) -> None:
     names = list(per_point)
     fig, ax = plt.subplots(figsize=(12, 5))
     accurate = ["accurate preset" in n for n in names]
+    xerr = None
+    if spread:  # whiskers from the fastest to the slowest run
+        xerr = [[(per_point[n] - spread["min"][n]) * 1e9 for n in names],
+                [(spread["max"][n] - per_point[n]) * 1e9 for n in names]]
     ax.barh(names, [per_point[n] * 1e9 for n in names],
             color=["C1" if a else "C0" for a in accurate],
-            hatch=["//" if a else "" for a in accurate], edgecolor="k", lw=0.5)
+            hatch=["//" if a else "" for a in accurate], edgecolor="k", lw=0.5,
+            xerr=xerr, error_kw={"ecolor": "0.25", "capsize": 3, "lw": 1})
     goal = ax.axvline(1000.0, color="C3", ls="--", lw=1.2)
     ax.legend([Patch(facecolor="C0", edgecolor="k"),
                Patch(facecolor="C1", hatch="//", edgecolor="k"), goal],
               ["default preset", "accurate preset (every table in double)",
                "calibrated-capillary goal, 1 us"], loc="lower right", fontsize=8)
     ax.set_xscale("log")
-    ax.set_xlabel("ns per point (vectorised, 1e5 points,\n"
-                  "one BLAS thread; brenner: 1e3 points)")
+    ax.set_xlabel("ns per point (vectorised, 1e5 points, one BLAS thread; brenner: 1e3 "
+                  "points)\n" + ("bar: median over runs; whiskers: fastest and slowest run"
+                                 if spread else ""))
     ax.set_title(f"closure evaluation cost per point\n(calibrated-viscous regenerated in "
                  f"{regen:.0f} s;\ncalibrated-capillary: all inputs vary per point)",
                  fontsize=10)
@@ -281,7 +326,8 @@ def chart_work_precision(rec: dict) -> None:
                         "512 elements)")
     ax.axhline(1e-3, color="C3", ls="--", lw=1, label="calibrated-capillary force goal, 1e-3")
     ax.axvline(1e-6, color="C3", ls=":", lw=1, label="cost goal, 1 us a point")
-    ax.set_xlabel("cost per point (s; closures vectorised over 1e5 points, one BLAS thread)")
+    ax.set_xlabel("cost per point (s; closures vectorised over 1e5 points, one BLAS thread;\n"
+                  "median of the runs, calibrate.png gives their range)")
     ax.set_ylabel("held-out max relative force error")
     ax.set_title("capillary force: held-out error against cost, reference meniscus\n"
                  "(each on its own domain: mikami-pw a wall, the other families equal "
@@ -295,7 +341,8 @@ def chart_work_precision(rec: dict) -> None:
 if __name__ == "__main__":
     if "--chart" in sys.argv:  # redraw from the results written before
         rec = json.loads((RESULTS / "calibrate.json").read_text())
-        chart(rec["seconds_per_point"], rec["regenerate_calibrated_viscous_s"])
+        chart(rec["seconds_per_point"], rec["regenerate_calibrated_viscous_s"],
+              rec.get("seconds_per_point_runs"))
         chart_work_precision(rec)
     else:
         main()

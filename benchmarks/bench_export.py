@@ -11,8 +11,10 @@ read them as orders of magnitude.
   BLAS thread) and of the C header (1e6 calls in a loop, 1e5 for calibrated-capillary,
   ``cc -O2``, CPU time by ``clock()``; ``wc_capillary_force_at``: 1e6 gaps of one contact
   set up once by ``wc_capillary_contact_init``; two spheres with two contact angles, 20 and
-  30 deg, the volume varying over 50 values), and the compile time of a program including
-  the header.
+  30 deg, the volume varying over 50 values; and two spheres with every input varying over
+  the domain, at contact, with one angle and with two: what a call costs when a contact law
+  calls ``wc_capillary_force`` for bridges all different, instead of setting each up once),
+  and the compile time of a program including the header.
 """
 
 from __future__ import annotations
@@ -53,7 +55,7 @@ C_BENCH = r"""
 int main(void)
 {
     const int n = 1000000, m = 100000;
-    double acc = 0.0, t[12];
+    double acc = 0.0, t[14];
     struct wc_capillary_contact plane, spheres;
     clock_t c0;
     int i, k;
@@ -76,7 +78,18 @@ int main(void)
     TIME(10, m, wc_rupture_distance(1e-3, 2e-3, 1e-11 * (1 + i % 50), 20.0, 30.0));
     TIME(11, m, wc_capillary_force(1e-3, 2e-3, 1e-11 * (1 + i % 50), 1e-7 * (1 + i % 1000),
                                    0.072, 20.0, 30.0));
-    for (k = 0; k < 12; ++k)
+    /* every input varying (quasi-random sequences): radius ratio 1-10, V/R_s^3 1e-4 to
+       0.1, each angle 0-70 deg, at contact (gap 0: the whole evaluation, no early 0 past
+       rupture); the first loop gives both spheres one angle, the second two */
+#define FRAC(x) ((x) - floor(x))
+#define RATIO(i) exp(2.302585092994046 * FRAC((i) * 0.6180339887498949))
+#define VOL(i) (1e-13 * exp(6.907755278982137 * FRAC((i) * 0.4142135623730951)))
+#define ANGLE(i, c) (70.0 * FRAC((i) * (c)))
+    TIME(12, m, wc_capillary_force(1e-3, 1e-3 * RATIO(i), VOL(i), 0.0, 0.072,
+                                   ANGLE(i, 0.7320508075688772), ANGLE(i, 0.7320508075688772)));
+    TIME(13, m, wc_capillary_force(1e-3, 1e-3 * RATIO(i), VOL(i), 0.0, 0.072,
+                                   ANGLE(i, 0.7320508075688772), ANGLE(i, 0.2360679774997897)));
+    for (k = 0; k < 14; ++k)
         printf("%.6g ", t[k]);
     printf("%.17g\n", acc);
     return 0;
@@ -88,7 +101,9 @@ C_NAMES = ("viscous_force_immersed", "viscous_force_bridge", "rupture_distance (
            "capillary_force_at (plane, contact set up once)",
            "capillary_force_at (spheres, r = 2, contact set up once)",
            "rupture_distance (spheres, r = 2, 20 and 30 deg)",
-           "capillary_force (spheres, r = 2, 20 and 30 deg)")
+           "capillary_force (spheres, r = 2, 20 and 30 deg)",
+           "capillary_force (spheres, every input varying, one angle)",
+           "capillary_force (spheres, every input varying, two angles)")
 
 N_PY = 100_000
 
@@ -146,6 +161,14 @@ def main() -> None:
         py_eval[f"capillary_force ({label})"] = per_point(
             lambda r2=r2, t2=t2, cgap=cgap: mod.capillary_force(1e-3, r2, vol, cgap, 0.072,
                                                                 20.0, t2))
+    i = np.arange(N_PY, dtype=float)  # the C loop's quasi-random inputs, every one varying
+    ratio = np.exp(np.log(10.0) * np.modf(i * 0.6180339887498949)[0])
+    vary = 1e-13 * np.exp(np.log(1000.0) * np.modf(i * 0.4142135623730951)[0])
+    t1 = 70.0 * np.modf(i * 0.7320508075688772)[0]
+    for label, t2 in (("one angle", t1), ("two angles", 70.0 * np.modf(
+            i * 0.2360679774997897)[0])):
+        py_eval[f"capillary_force (spheres, every input varying, {label})"] = per_point(
+            lambda t2=t2: mod.capillary_force(1e-3, 1e-3 * ratio, vary, 0.0, 0.072, t1, t2))
     sc = mod.rupture_distance_refit(1e-3, 1e-3, vol, 10.0, 30.0)
     cgap = sc * rng.uniform(0.02, 1.0, N_PY)
     py_eval["rupture_distance_refit"] = per_point(lambda: mod.rupture_distance_refit(
@@ -217,8 +240,9 @@ def chart(writer_s: dict[str, float], command_s: dict[str, float],
     bx.set_yticks(y, funcs, fontsize=8)
     bx.set_xscale("log")
     bx.set_xlabel("us (median)")
-    bx.set_title("evaluating the exports\n(capillary: V = 1e-11 m^3, r1 = 1 mm, theta = 20 deg;"
-                 "\ntwo angles: 20 and 30 deg)", fontsize=10)
+    bx.set_title("evaluating the exports (capillary: V = 1e-11 m^3, r1 = 1 mm,\ntheta = 20 "
+                 "deg, two angles 20 and 30 deg; every input varying:\nr2/r1 1-10, V/r1^3 "
+                 "1e-4 to 0.1, angles 0-70 deg, at contact)", fontsize=9)
     bx.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=1)
     fig.suptitle("wetcontact exports on a shared 2-core machine (medians; other jobs may run)",
                  fontsize=10)
