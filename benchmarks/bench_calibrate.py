@@ -134,10 +134,25 @@ def one_thread_costs(runs: int = COST_RUNS) -> tuple[dict[str, float], list[dict
     return {k: float(np.median([g[k] for g in got])) for k in got[0]}, got
 
 
+def regenerated_kinds() -> list[str]:
+    """The tables ``--regenerate-capillary`` regenerates: ``--kinds=K1,K2`` or all the
+    generator writes; an unknown one ends the benchmark before anything is timed."""
+    from wetcontact.calibrate_capillary import KINDS
+
+    kinds = next((a.split("=", 1)[1].split(",") for a in sys.argv
+                  if a.startswith("--kinds=")), list(KINDS))
+    if set(kinds) - set(KINDS):
+        sys.exit(f"bench_calibrate: --kinds={','.join(kinds)}: the generator writes "
+                 + ", ".join(KINDS))
+    return kinds
+
+
 def main() -> None:
     if "--costs-json" in sys.argv:
         print(json.dumps(costs()))
         return
+    if "--regenerate-capillary" in sys.argv:
+        regenerated_kinds()  # fail fast
     per_point, runs = one_thread_costs()
     per_point_threads = costs()
     cap = ccap.capillary_table()
@@ -176,10 +191,9 @@ def main() -> None:
             **stage_sums(json.loads(stages.read_text())),
             "source": f"benchmarks/results/{stages.name}"}
     if "--regenerate-capillary" in sys.argv:
-        from wetcontact.calibrate_capillary import KINDS, generate_calibrated_capillary
+        from wetcontact.calibrate_capillary import generate_calibrated_capillary
 
-        kinds = next((a.split("=", 1)[1].split(",") for a in sys.argv
-                      if a.startswith("--kinds=")), list(KINDS))
+        kinds = regenerated_kinds()
         with tempfile.TemporaryDirectory() as tmp:
             t0 = time.perf_counter()
             done = generate_calibrated_capillary(Path(tmp) / "cc.json", kinds=tuple(kinds),
@@ -189,7 +203,8 @@ def main() -> None:
                          "measured_kinds": kinds,
                          "measured_fit_time_s": {k: done[k].get("fit_time_s") for k in kinds},
                          "measured_branches": done.get("branches")}
-            cap_regen.pop("last_from_scratch_s", None)
+            for k in [k for k in cap_regen if k.startswith("last_from_scratch")]:
+                del cap_regen[k]  # this run is the last from scratch now
             keep = next((a.split("=", 1)[1] for a in sys.argv
                          if a.startswith("--regenerated-out=")), None)
             if keep:  # to compare with the package data
