@@ -265,6 +265,35 @@ def test_fit_survives_a_start_whose_form_overflows() -> None:
     assert np.isfinite(got) and abs(got - ref) <= 1e-6 * ref
 
 
+def test_lian_rupture_refit_is_the_global_minimax_of_its_form() -> None:
+    """Lian's rupture distance ``(a + b theta) V*^(1/3) + c V*^(2/3)`` is linear in its
+    coefficients, so the smallest maximum relative error on the training points is a linear
+    programme (min t, -t <= A k / y - 1 <= t), solved here independently of the fit. The
+    committed refit reaches that optimum (0.0203 on 2026-11-28), so no coefficients of this
+    form fit the study grid better; and it exceeds the issue's goal, a third of the
+    published coefficients' held-out maximum (0.0113): the goal is out of this form's reach,
+    not a fitting failure."""
+    from scipy.optimize import linprog
+
+    fam = cal.FAMILIES["lian-rupture"]
+    where = ROOT / "benchmarks" / "results" / "calibration"
+    train, held = cal.load_points(where / "lian-rupture_points.npz")
+    refit = np.array(json.loads((where / "lian-rupture.json").read_text())["coefficients"])
+    n = refit.size
+    a = np.stack([fam.form(np.eye(n)[i], train.inputs) for i in range(n)], axis=1)
+    np.testing.assert_allclose(a @ refit, fam.form(refit, train.inputs), rtol=1e-12)  # linear
+    m = a / train.y[:, None]
+    ones = np.ones((len(m), 1))
+    lp = linprog(np.r_[np.zeros(n), 1.0], A_ub=np.block([[m, -ones], [-m, -ones]]),
+                 b_ub=np.r_[np.ones(len(m)), -np.ones(len(m))],
+                 bounds=[(None, None)] * n + [(0.0, None)])
+    assert lp.status == 0
+    best = lp.x[-1]
+    assert cal.rel_errors(fam, refit, train).max() <= best * (1.0 + 1e-9)
+    goal = cal.rel_errors(fam, fam.published.astype(float), held).max() / 3.0
+    assert best > goal
+
+
 def test_refitted_rupture_distance_is_no_force(tmp_path, capsys) -> None:
     """A refitted rupture-distance family (``lian-rupture``) models S_c, not a force: its
     curve has no force component (both ``None``, JSON ``null``; a column of 0 N was printed
