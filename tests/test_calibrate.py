@@ -294,6 +294,33 @@ def test_lian_rupture_refit_is_the_global_minimax_of_its_form() -> None:
     assert best > goal
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("family", ["willett", "bagheri"])
+def test_refit_from_other_starts_finds_no_smaller_maximum(family: str) -> None:
+    """The nonlinear forms (Willett's 48 coefficients, Bagheri's 23) may have several local
+    minima. From five starts around the committed refit (each coefficient perturbed by 30 %,
+    seeded) the fit's best maximum relative error on the training points stays above a third
+    of the published coefficients' held-out maximum (the goal), and the committed refit is
+    within 1 % of it (2026-11-28: Willett 4.09 % from all five, as committed; Bagheri 12.23 %
+    from one start, 0.09 % below the committed 12.24 %, 63 % from another, the form's poles
+    from three): the miss of the 1/3 goal is the form's limit as far as these starts see.
+    About 20 s (willett) and 60 s (bagheri)."""
+    fam = cal.FAMILIES[family]
+    where = ROOT / "benchmarks" / "results" / "calibration"
+    train, _ = cal.load_points(where / f"{family}_points.npz")
+    record = json.loads((where / f"{family}.json").read_text())
+    refit = np.array(record["coefficients"])
+    ref = cal.rel_errors(fam, refit, train).max()
+    goal = record["held_out"]["before"]["max"] / 3.0
+    rng = np.random.default_rng(0)
+    got = []
+    for _ in range(5):
+        start = refit * (1.0 + 0.3 * rng.standard_normal(refit.size))
+        got.append(cal.rel_errors(fam, cal.fit(replace(fam, published=start), train),
+                                  train).max())
+    assert min(got) > goal and min(got) >= 0.99 * ref, (goal, ref, got)
+
+
 def test_refitted_rupture_distance_is_no_force(tmp_path, capsys) -> None:
     """A refitted rupture-distance family (``lian-rupture``) models S_c, not a force: its
     curve has no force component (both ``None``, JSON ``null``; a column of 0 N was printed
