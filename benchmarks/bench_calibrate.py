@@ -151,8 +151,7 @@ def main() -> None:
     if "--costs-json" in sys.argv:
         print(json.dumps(costs()))
         return
-    if "--regenerate-capillary" in sys.argv:
-        regenerated_kinds()  # fail fast
+    kinds = regenerated_kinds() if "--regenerate-capillary" in sys.argv else None  # fail fast
     per_point, runs = one_thread_costs()
     per_point_threads = costs()
     cap = ccap.capillary_table()
@@ -190,10 +189,9 @@ def main() -> None:
         cap_regen["pair_two_angles_stage_runs_s"] = {
             **stage_sums(json.loads(stages.read_text())),
             "source": f"benchmarks/results/{stages.name}"}
-    if "--regenerate-capillary" in sys.argv:
+    if kinds is not None:
         from wetcontact.calibrate_capillary import generate_calibrated_capillary
 
-        kinds = regenerated_kinds()
         with tempfile.TemporaryDirectory() as tmp:
             t0 = time.perf_counter()
             done = generate_calibrated_capillary(Path(tmp) / "cc.json", kinds=tuple(kinds),

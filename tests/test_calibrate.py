@@ -244,6 +244,22 @@ def test_points_from_a_sweep(tmp_path) -> None:
                                       res.outcomes[0].curve)])
 
 
+CALIBRATION = ROOT / "benchmarks" / "results" / "calibration"
+
+
+def committed_refit(family: str) -> tuple[cal.Points, cal.Points, dict]:
+    """A family's committed calibration: its training and held-out points and its record
+    (``benchmarks/results/calibration/FAMILY.json``)."""
+    train, held = cal.load_points(CALIBRATION / f"{family}_points.npz")
+    return train, held, json.loads((CALIBRATION / f"{family}.json").read_text())
+
+
+def perturbed_starts(refit: np.ndarray, n: int) -> list[np.ndarray]:
+    """``n`` seeded starts around a refit: each coefficient perturbed by 30 % (normal)."""
+    rng = np.random.default_rng(0)
+    return [refit * (1.0 + 0.3 * rng.standard_normal(refit.size)) for _ in range(n)]
+
+
 def test_fit_survives_a_start_whose_form_overflows() -> None:
     """From a start at which Willett's form overflows on some training points (the
     committed refit, each coefficient perturbed by 30 %), the fit once raised inside the
@@ -252,12 +268,9 @@ def test_fit_survives_a_start_whose_form_overflows() -> None:
     points (the form's limit there) as the committed refit, which is that fit (0.0409077
     both, to 13 digits, when checked on 2026-11-27)."""
     fam = cal.FAMILIES["willett"]
-    where = Path(__file__).resolve().parents[1] / "benchmarks" / "results" / "calibration"
-    train, _ = cal.load_points(where / "willett_points.npz")
-    refit = np.array(json.loads((where / "willett.json").read_text())["coefficients"])
-    rng = np.random.default_rng(0)
-    for _ in range(5):  # the committed refit perturbed: the fifth draw overflows
-        start = refit * (1.0 + 0.3 * rng.standard_normal(refit.size))
+    train, _, record = committed_refit("willett")
+    refit = np.array(record["coefficients"])
+    start = perturbed_starts(refit, 5)[-1]  # the committed refit perturbed: the fifth overflows
     with np.errstate(all="ignore"):
         assert not np.all(np.isfinite(fam.form(start, train.inputs)))
     got = cal.rel_errors(fam, cal.fit(replace(fam, published=start), train), train).max()
@@ -276,9 +289,8 @@ def test_lian_rupture_refit_is_the_global_minimax_of_its_form() -> None:
     from scipy.optimize import linprog
 
     fam = cal.FAMILIES["lian-rupture"]
-    where = ROOT / "benchmarks" / "results" / "calibration"
-    train, held = cal.load_points(where / "lian-rupture_points.npz")
-    refit = np.array(json.loads((where / "lian-rupture.json").read_text())["coefficients"])
+    train, held, record = committed_refit("lian-rupture")
+    refit = np.array(record["coefficients"])
     n = refit.size
     a = np.stack([fam.form(np.eye(n)[i], train.inputs) for i in range(n)], axis=1)
     np.testing.assert_allclose(a @ refit, fam.form(refit, train.inputs), rtol=1e-12)  # linear
@@ -306,18 +318,12 @@ def test_refit_from_other_starts_finds_no_smaller_maximum(family: str) -> None:
     from three): the miss of the 1/3 goal is the form's limit as far as these starts see.
     About 20 s (willett) and 60 s (bagheri)."""
     fam = cal.FAMILIES[family]
-    where = ROOT / "benchmarks" / "results" / "calibration"
-    train, _ = cal.load_points(where / f"{family}_points.npz")
-    record = json.loads((where / f"{family}.json").read_text())
+    train, _, record = committed_refit(family)
     refit = np.array(record["coefficients"])
     ref = cal.rel_errors(fam, refit, train).max()
     goal = record["held_out"]["before"]["max"] / 3.0
-    rng = np.random.default_rng(0)
-    got = []
-    for _ in range(5):
-        start = refit * (1.0 + 0.3 * rng.standard_normal(refit.size))
-        got.append(cal.rel_errors(fam, cal.fit(replace(fam, published=start), train),
-                                  train).max())
+    got = [cal.rel_errors(fam, cal.fit(replace(fam, published=start), train), train).max()
+           for start in perturbed_starts(refit, 5)]
     assert min(got) > goal and min(got) >= 0.99 * ref, (goal, ref, got)
 
 
