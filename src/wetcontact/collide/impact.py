@@ -1,0 +1,618 @@
+"""One wet impact through its phases: penetration, solid contact, emergence, bridge.
+
+Normal motion of the gap x with the approach speed ``v = -dx/dt`` (positive = toward):
+
+    m* dv/dt = -(F_v + F_c + F_s + F_far),   F_v = v f1(x),
+
+each force on the sphere, positive = pushing the surfaces apart (the toolkit's sign
+convention): ``f1`` the viscous force at unit speed, ``F_c`` the capillary force of the
+bridge, ``F_s`` the solid contact (``wetcontact.collide.contact``), ``F_far`` gravity,
+buoyancy and the far-field drag. ``m*`` is ``m1 m2/(m1 + m2)`` (a wall: m), plus
+``rho_f V_p / 2`` with added mass. The work of each force, ``W_i = int F_i v dt``, is
+integrated with the motion, so ``KE_0 = KE_end + sum W_i`` is an identity of the equations
+that the numbers check (``energy_residual``). Oblique impacts on a wall add the tangential
+lubrication force ``F_t = -6 pi eta R u_t (8/15 ln(R/x) + 0.9588)`` and the rotational
+torque ``T = -8 pi eta R^3 omega (2/5 ln(R/x) + 0.3817)`` (Goldman, Cox & Brenner 1967;
+their coupling terms are left out), and at the solid contact Coulomb's impulse balance
+(eqs. 1.5-1.6 of the seed thesis): the contact point sticks when the impulse that stops
+its slip, ``(2/7) m u_s``, is below ``mu J_n``, else slides with ``mu J_n``.
+
+Phases are separated by located events (contact start and end, the film surface, the
+rupture distance, the turning point, the start gap); each segment between events is
+integrated by scipy's DOP853 (explicit Runge-Kutta of order 8, Hairer & Wanner) with its
+own right-hand side, so no force is discontinuous inside a step.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from wetcontact.collide.case import CollisionCase
+from wetcontact.collide.contact import (
+    HERTZ_TIME,
+    Thornton,
+    effective_modulus,
+    hertz_damping,
+    thornton_yield_pressure,
+)
+from wetcontact.collide.forces import (
+    GapTable,
+    bridge_scene,
+    gathered_volume,
+    pick_model,
+    rupture_distance,
+    tabulate,
+)
+from wetcontact.collide.result import Collision, Phase
+from wetcontact.errors import InputError, SolverError
+from wetcontact.models import Model, provenance
+
+#: declared order of the time integrator (DOP853)
+ORDER = 8
+#: default relative tolerance of the integrator
+RTOL = 1e-10
+#: the approach counts as arrested (stick) when its speed falls below this fraction of v0
+ARREST = 1e-9
+
+# state layout
+X, V, UT, OM, WVA, WVR, WCAP, WCON, WDRAG, WGRAV, WBUOY, WTAN, JN = range(13)
+NSTATE = 13
+_WORK = {"viscous_approach": WVA, "viscous_rebound": WVR, "capillary": WCAP,
+         "contact": WCON, "drag": WDRAG, "gravity": WGRAV, "buoyancy": WBUOY,
+         "tangential_viscous": WTAN}
+
+
+@dataclass
+class _Mode:
+    """What acts during one segment."""
+
+    name: str
+    after_contact: bool = False
+    bridge: bool = True            # the bridge exists (not yet ruptured)
+    contact: str = ""              # "", "hertz", "thornton-load", "thornton-unload"
+    r_p: float = 0.0
+    d_p: float = 0.0
+    events: list[tuple[str, Any]] = field(default_factory=list)
+
+
+class _Impact:
+    """The equations of one collision with its force tables."""
+
+    def __init__(self, case: CollisionCase, viscous: str | None, capillary: str | None,
+                 rtol: float) -> None:
+        sc = case.scene
+        self.case, self.rtol = case, rtol
+        self.x_r = case.roughness
+        self.x0 = case.impact.start_gap
+        r1 = sc.radius
+        vol1 = 4.0 / 3.0 * math.pi * r1 ** 3
+        m1 = case.solid.density * vol1
+        if sc.kind == "sphere-wall":
+            self.mass = m1
+        else:
+            m2 = case.solid2.density * 4.0 / 3.0 * math.pi * float(sc.radius2) ** 3
+            self.mass = m1 * m2 / (m1 + m2)
+        imp = case.impact
+        self.m_eff = self.mass + (0.5 * sc.density * vol1 if imp.added_mass else 0.0)
+        self.inertia = 0.4 * m1 * r1 * r1
+        self.r_star = sc.reduced_radius
+        g = sc.gravity
+        self.f_grav = -m1 * g if imp.gravity else 0.0
+        self.f_buoy = sc.density * vol1 * g if imp.buoyancy else 0.0
+        self.oblique = imp.tangential_velocity != 0.0 or imp.spin != 0.0
+        if self.oblique and sc.kind != "sphere-wall":
+            raise InputError(f"{sc.origin}: impact.tangential_velocity / impact.spin: oblique "
+                             "impacts are for sphere-wall scenes; allowed: 0 for two spheres")
+        self.tables: dict[str, GapTable] = {}
+        self.models: dict[str, str | None] = {}
+        self.notes: list[str] = []
+        self._setup_liquid(viscous, capillary)
+        self._setup_contact()
+
+    # ---- forces -------------------------------------------------------------------
+    def _setup_liquid(self, viscous: str | None, capillary: str | None) -> None:
+        case, sc = self.case, self.case.scene
+        base_angles = (sc.contact_angle_sphere, sc.contact_angle_wall)
+        adv = case.advancing_angle or base_angles
+        rec = case.receding_angle or base_angles
+        unit = sc.with_gaps([min(self.x0, sc.radius) * 0.5])
+        from dataclasses import replace
+
+        unit = replace(unit, velocity=1.0)
+        self.volume = None
+        if sc.amount == "immersed":
+            app_scene = reb_scene = unit
+            self.h_app = math.inf
+            self.s_static = math.inf
+        else:
+            vol = gathered_volume(sc) if sc.amount == "film" else float(sc.bridge_volume)
+            self.volume = vol
+            app_scene = (replace(unit, contact_angle_sphere=adv[0], contact_angle_wall=adv[1])
+                         if sc.amount == "film" else bridge_scene(unit, vol, adv))
+            reb_scene = bridge_scene(unit, vol, rec)
+        vmodel = pick_model(viscous, app_scene, "viscous")
+        vmodel_reb = vmodel if reb_scene is app_scene else pick_model(viscous, reb_scene,
+                                                                      "viscous")
+        cmodel: Model | None = None
+        if sc.amount != "immersed":
+            cmodel = pick_model(capillary, reb_scene, "capillary")
+        elif capillary not in (None, "none"):
+            raise InputError(f"--capillary {capillary}: the scene is immersed, no bridge "
+                             "forms; allowed: none")
+        self.models = {"viscous": vmodel.name if vmodel else None,
+                       "viscous_rebound": vmodel_reb.name if vmodel_reb else None,
+                       "capillary": cmodel.name if cmodel else None}
+        # rupture distances (static, receding angles) and the liquid's reach on approach
+        if cmodel is not None:
+            self.s_static = rupture_distance(cmodel, reb_scene)
+            s_adv = rupture_distance(cmodel, bridge_scene(unit, self.volume, adv))
+        elif sc.amount != "immersed":
+            th = 0.5 * (rec[0] + rec[1])
+            self.s_static = (1.0 + 0.5 * th) * self.volume ** (1.0 / 3.0)
+            s_adv = (1.0 + 0.25 * (adv[0] + adv[1])) * self.volume ** (1.0 / 3.0)
+        if sc.amount == "film":
+            self.h_app = float(sc.film_thickness)
+        elif sc.amount == "bridge":
+            self.h_app = s_adv
+        if math.isnan(self.x0):  # a bridge's default start gap: its rupture distance
+            self.x0 = self.s_static
+        if self.x0 <= self.x_r:
+            raise InputError(f"{sc.origin}: impact.start_gap = {self.x0:.6g} m; allowed: > "
+                             f"the roughness gap {self.x_r:.6g} m")
+        self.dyn_max = 1.0
+        if case.rupture == "dynamic":
+            ca = sc.viscosity * 2.0 * case.impact.velocity / sc.surface_tension
+            self.dyn_max = 1.0 + math.sqrt(ca)
+        shift = self.x_r if case.cutoff == "shifted" else 0.0
+        hi_app = min(self.h_app, self.x0) if sc.amount != "immersed" else self.x0
+        hi_reb = (self.s_static if sc.amount != "immersed" else self.x0)
+        if vmodel is not None:
+            self.tables["viscous_approach"] = tabulate(vmodel, app_scene, self.x_r,
+                                                       hi_app + shift, "viscous")
+            self.tables["viscous_rebound"] = (
+                self.tables["viscous_approach"] if reb_scene is app_scene else
+                tabulate(vmodel_reb, reb_scene, self.x_r, hi_reb + shift, "viscous"))
+        if cmodel is not None:
+            app_bridge = bridge_scene(unit, self.volume, adv)
+            self.tables["capillary_approach"] = tabulate(
+                cmodel, app_bridge, self.x_r, min(s_adv, hi_app) * (1 - 1e-12), "capillary")
+            self.tables["capillary_rebound"] = tabulate(cmodel, reb_scene, self.x_r,
+                                                        self.s_static * (1 - 1e-12),
+                                                        "capillary")
+
+    def _setup_contact(self) -> None:
+        case = self.case
+        self.e_dry = case.restitution
+        self.k = self.alpha = 0.0
+        self.thornton: Thornton | None = None
+        if case.contact_model == "impulse":
+            return
+        e1, e2 = case.solid.youngs_modulus, case.solid2.youngs_modulus
+        self.e_star = effective_modulus(float(e1), case.solid.poisson_ratio, float(e2),
+                                        case.solid2.poisson_ratio)
+        self.k = 4.0 / 3.0 * self.e_star * math.sqrt(self.r_star)
+        if case.contact_model == "hertz":
+            self.alpha = hertz_damping(self.e_dry)
+        else:
+            p_y = thornton_yield_pressure(self.e_star, self.r_star, self.m_eff,
+                                          case.impact.velocity, self.e_dry)
+            self.thornton = Thornton(self.e_star, self.r_star, p_y)
+
+    def dry_contact_time(self, v: float) -> float:
+        """Hertz contact time of an undamped dry impact at ``v`` (m/s)."""
+        return HERTZ_TIME * (self.m_eff ** 2 / (self.r_star * self.e_star ** 2 * v)) ** 0.2
+
+    def viscous_unit(self, x: float, v: float, mode: _Mode) -> float:
+        """Viscous force per unit speed at gap x (N s/m), with the cut-off and the
+        dynamic bridge's stretch."""
+        key = "viscous_rebound" if mode.after_contact else "viscous_approach"
+        tab = self.tables.get(key)
+        if tab is None or (not mode.bridge and self.case.scene.amount != "immersed"):
+            return 0.0
+        if v < 0.0 and not self.case.viscous_on_rebound:
+            return 0.0
+        cut = self.case.cutoff
+        if cut == "shifted":
+            xe = max(x, 0.0) + self.x_r
+        elif x < self.x_r:
+            if cut == "zero":
+                return 0.0
+            xe = self.x_r
+        else:
+            xe = x
+        if mode.after_contact and self.dyn_max > 1.0:
+            xe = xe / self.stretch(v)
+        reach = (self.h_app if not mode.after_contact else
+                 (self.s_static if self.case.scene.amount != "immersed" else math.inf))
+        if cut == "shifted":
+            reach += self.x_r
+        if xe >= reach:
+            return 0.0
+        return tab(xe)
+
+    def stretch(self, v: float) -> float:
+        """Pitois' factor ``1 + Ca^1/2`` at the separation speed (1 for a static law)."""
+        if self.case.rupture != "dynamic":
+            return 1.0
+        sc = self.case.scene
+        return 1.0 + math.sqrt(sc.viscosity * abs(v) / sc.surface_tension)
+
+    def capillary(self, x: float, v: float, mode: _Mode) -> float:
+        """Capillary force (N) of the bridge at gap x, zero where there is none."""
+        if not mode.bridge:
+            return 0.0
+        if mode.after_contact:
+            tab = self.tables.get("capillary_rebound")
+            if tab is None:
+                return 0.0
+            xe = x / self.stretch(v)
+            return tab(xe) if xe < self.s_static else 0.0
+        tab = self.tables.get("capillary_approach")
+        if tab is None or x >= min(self.h_app, tab.hi):
+            return 0.0
+        return tab(x)
+
+    def contact_force(self, x: float, v: float, mode: _Mode) -> float:
+        """Solid contact force (N) at overlap ``x_r - x``."""
+        d = self.x_r - x
+        if not mode.contact or d <= 0.0:
+            return 0.0
+        if mode.contact == "hertz":
+            return max(0.0, self.k * d ** 1.5 + self.alpha * math.sqrt(self.m_eff * self.k)
+                       * d ** 0.25 * v)
+        assert self.thornton is not None
+        if mode.contact == "thornton-load":
+            return self.thornton.loading(d)
+        return self.thornton.unloading_force(d, mode.r_p, mode.d_p)
+
+    def drag(self, v: float) -> float:
+        """Far-field quasi-steady drag beyond Stokes' (N): Schiller & Naumann's
+        ``6 pi eta R v 0.15 Re^0.687``, Re = 2 R rho |v| / eta; plus the Stokes drag
+        ``6 pi eta R v`` where the viscous model is a thin-gap closure without it."""
+        if not self.case.impact.drag:
+            return 0.0
+        sc = self.case.scene
+        re = 2.0 * sc.radius * sc.density * abs(v) / sc.viscosity
+        stokes = 6.0 * math.pi * sc.viscosity * sc.radius * v
+        thin = self.models["viscous"] in (None, "reynolds", "reynolds-finite", "vinogradova")
+        return stokes * (0.15 * re ** 0.687 + (1.0 if thin else 0.0))
+
+    def tangential(self, x: float, ut: float, om: float, mode: _Mode) -> tuple[float, float]:
+        """Tangential lubrication force (N) and torque (N m) near the wall."""
+        if not self.oblique or "viscous_approach" not in self.tables:
+            return 0.0, 0.0
+        sc = self.case.scene
+        reach = self.h_app if not mode.after_contact else self.s_static
+        if sc.amount != "immersed" and (x >= reach or not mode.bridge):
+            return 0.0, 0.0
+        r = sc.radius
+        lg = math.log(r / max(x, self.x_r))
+        f = -6.0 * math.pi * sc.viscosity * r * ut * (8.0 / 15.0 * lg + 0.9588)
+        t = -8.0 * math.pi * sc.viscosity * r ** 3 * om * (0.4 * lg + 0.3817)
+        return f, t
+
+    def forces(self, y: np.ndarray, mode: _Mode) -> dict[str, float]:
+        x, v = float(y[X]), float(y[V])
+        fv = v * self.viscous_unit(x, v, mode)
+        ft, tq = self.tangential(x, float(y[UT]), float(y[OM]), mode)
+        return {"viscous": fv, "capillary": self.capillary(x, v, mode),
+                "contact": self.contact_force(x, v, mode), "drag": self.drag(v),
+                "gravity": self.f_grav, "buoyancy": self.f_buoy, "tangential": ft,
+                "torque": tq}
+
+    def rhs(self, _t: float, y: np.ndarray, mode: _Mode) -> np.ndarray:
+        f = self.forces(y, mode)
+        v = float(y[V])
+        total = (f["viscous"] + f["capillary"] + f["contact"] + f["drag"] + f["gravity"]
+                 + f["buoyancy"])
+        dy = np.zeros(NSTATE)
+        dy[X] = -v
+        dy[V] = -total / self.m_eff
+        dy[UT] = f["tangential"] / self.m_eff
+        dy[OM] = f["torque"] / self.inertia
+        dy[WVA if v >= 0.0 else WVR] = f["viscous"] * v
+        dy[WCAP] = f["capillary"] * v
+        dy[WCON] = f["contact"] * v
+        dy[WDRAG] = f["drag"] * v
+        dy[WGRAV] = f["gravity"] * v
+        dy[WBUOY] = f["buoyancy"] * v
+        dy[WTAN] = -(f["tangential"] * float(y[UT]) + f["torque"] * float(y[OM]))
+        dy[JN] = f["contact"]
+        return dy
+
+    def kinetic(self, y: np.ndarray) -> float:
+        return 0.5 * (self.m_eff * (y[V] ** 2 + y[UT] ** 2) + self.inertia * y[OM] ** 2)
+
+
+def _event(fn: Any, direction: int, terminal: bool = True) -> Any:
+    fn.direction, fn.terminal = direction, terminal
+    return fn
+
+
+class _Run:
+    """The segment loop: integrate, stop at an event, change the mode, go on."""
+
+    def __init__(self, imp: _Impact, max_step: float, fixed: bool) -> None:
+        self.imp = imp
+        c = imp.case.impact
+        self.y = np.zeros(NSTATE)
+        self.y[X], self.y[V], self.y[UT], self.y[OM] = imp.x0, c.velocity, \
+            c.tangential_velocity, c.spin
+        self.t = 0.0
+        self.ke0 = imp.kinetic(self.y)
+        self.phases: list[Phase] = []
+        self.ts: list[np.ndarray] = []
+        self.ys: list[np.ndarray] = []
+        self.modes: list[_Mode] = []
+        self.steps = 0
+        self.v_contact: float | None = None
+        self.v_rebound: float | None = None
+        self.u_slip0 = c.tangential_velocity + imp.case.scene.radius * c.spin
+        self.u_slip_rebound: float | None = None
+        self.stick_reason = ""
+        self.max_step, self.fixed = max_step, fixed
+        tmax_scale = imp.x0 / max(c.velocity, 1e-300)
+        self.t_guard = 1e6 * tmax_scale
+
+    def segment(self, mode: _Mode, events: dict[str, Any]) -> str:
+        """Integrate in ``mode`` until one of ``events`` (name -> (fn, direction)); returns
+        the name of the event that ended it."""
+        imp = self.imp
+        names = list(events)
+        fns = [_event(lambda t, y, *_args, f=fn: f(y), d, term)
+               for (fn, d, term) in events.values()]
+        scale = np.full(NSTATE, max(self.ke0, 1e-300))
+        scale[X] = imp.x0
+        scale[V] = scale[UT] = max(imp.case.impact.velocity, 1e-300)
+        scale[OM] = max(abs(imp.case.impact.spin), imp.case.impact.velocity
+                        / imp.case.scene.radius)
+        scale[JN] = imp.m_eff * imp.case.impact.velocity
+        opts: dict[str, Any] = {"rtol": imp.rtol, "atol": imp.rtol * scale}
+        if self.fixed:
+            opts = {"rtol": 1e3, "atol": 1e3 * scale, "first_step": self.max_step}
+        sol = solve_ivp(imp.rhs, (self.t, self.t + self.t_guard), self.y, method="DOP853",
+                        events=fns, args=(mode,), max_step=self.max_step, **opts)
+        if sol.status == -1:
+            raise SolverError(f"collide: the integrator failed in phase '{mode.name}': "
+                              f"{sol.message}")
+        self.steps += sol.t.size - 1
+        ended = ""
+        for i, name in enumerate(names):
+            if sol.t_events[i].size and events[name][2]:
+                ended = name
+                t_end, y_end = float(sol.t_events[i][-1]), sol.y_events[i][-1].copy()
+                break
+        else:
+            t_end, y_end = float(sol.t[-1]), sol.y[:, -1].copy()
+            ended = "time"
+        # non-terminal: the start gap crossed on rebound
+        if "start_gap" in events and not events["start_gap"][2]:
+            k = names.index("start_gap")
+            if sol.t_events[k].size and self.v_rebound is None:
+                self.v_rebound = float(sol.y_events[k][0][V])
+                self.u_slip_rebound = float(sol.y_events[k][0][UT] + imp.case.scene.radius
+                                            * sol.y_events[k][0][OM])
+        keep = sol.t < t_end
+        self.ts.append(np.append(sol.t[keep], t_end))
+        self.ys.append(np.column_stack([sol.y[:, keep], y_end]))
+        self.modes.append(mode)
+        self.phases.append(Phase(mode.name, self.t, t_end))
+        self.t, self.y = t_end, y_end
+        return ended
+
+    def friction_impulse(self) -> None:
+        """Coulomb's impulse balance at the end of the solid contact (eqs. 1.5-1.6)."""
+        imp = self.imp
+        if not imp.oblique:
+            return
+        r = imp.case.scene.radius
+        u_s = float(self.y[UT] + r * self.y[OM])
+        inv = 1.0 / imp.m_eff + r * r / imp.inertia
+        j_stick = u_s / inv
+        j_max = imp.case.friction * float(self.y[JN])
+        j = j_stick if abs(j_stick) <= j_max else math.copysign(j_max, u_s)
+        ke = imp.kinetic(self.y)
+        self.y[UT] -= j / imp.m_eff
+        self.y[OM] -= j * r / imp.inertia
+        self.friction_work = ke - imp.kinetic(self.y)
+        self.sticking = abs(j_stick) <= j_max
+
+
+def collide(case: CollisionCase, viscous: str | None = None, capillary: str | None = None,
+            rtol: float = RTOL, max_step: float = math.inf, fixed_step: bool = False,
+            trajectory: bool = True) -> Collision:
+    """Integrate one wet impact and return its outcome.
+
+    Parameters
+    ----------
+    case
+        The collision (:func:`wetcontact.collide.load_collision_case`).
+    viscous, capillary
+        Force model names (``wetcontact models``), ``"none"`` to switch a component off,
+        or None for the defaults (the calibrated closures where they accept the scene,
+        the solvers or the published closures elsewhere).
+    rtol
+        Relative tolerance of the integrator (DOP853); the restitution's error follows it
+        (``benchmarks/bench_collide.py`` charts error against time).
+    max_step, fixed_step
+        Largest time step (s); with ``fixed_step`` every step is ``max_step`` (for the
+        convergence-order test).
+    trajectory
+        Keep the time series (time, gap, velocity, forces) in the result.
+
+    Returns
+    -------
+    Collision
+        Restitution, outcome, phases, energy budget, models and diagnostics.
+
+    Raises
+    ------
+    InputError
+        A model that does not apply (the message names the one that does).
+    SolverError
+        The integrator failed.
+    """
+    import time
+
+    t0 = time.perf_counter()
+    imp = _Impact(case, viscous, capillary, rtol)
+    t_tab = time.perf_counter() - t0
+    run = _Run(imp, max_step, fixed_step)
+    run.friction_work = 0.0
+    run.sticking = False
+    sc = case.scene
+    v0 = case.impact.velocity
+    x_r, x0 = imp.x_r, imp.x0
+
+    def gap_at(level: float) -> Any:
+        return lambda y: y[X] - level
+
+    def speed_at(level: float) -> Any:
+        return lambda y: y[V] - level
+
+    outcome = "rebound"
+    # -- approach above the liquid (a start gap beyond the film or the bridge's reach)
+    mode = _Mode("approach")
+    if x0 > imp.h_app:
+        ev = run.segment(mode, {"liquid": (gap_at(imp.h_app), -1, True),
+                                "turn": (speed_at(0.0), -1, True)})
+        if ev != "liquid":
+            outcome, run.stick_reason = "stick", "turned before reaching the liquid"
+    # -- penetration of the liquid to the roughness gap
+    if outcome == "rebound":
+        mode = _Mode("penetration")
+        ev = run.segment(mode, {"contact": (gap_at(x_r), -1, True),
+                                "arrest": (speed_at(ARREST * v0), -1, True)})
+        if ev != "contact":
+            outcome, run.stick_reason = "stick", "arrested before solid contact"
+        else:
+            run.v_contact = float(run.y[V])
+    # -- solid contact
+    if outcome == "rebound":
+        vc = float(run.y[V])
+        if case.contact_model == "impulse":
+            run.y[WCON] += 0.5 * imp.m_eff * vc * vc * (1.0 - imp.e_dry ** 2)
+            run.y[JN] += imp.m_eff * (1.0 + imp.e_dry) * vc
+            run.y[V] = -imp.e_dry * vc
+            run.phases.append(Phase("contact", run.t, run.t))
+        elif case.contact_model == "hertz":
+            ev = run.segment(_Mode("contact", contact="hertz"),
+                             {"separation": (gap_at(x_r), 1, True)})
+            if ev != "separation":
+                outcome, run.stick_reason = "stick", "held in solid contact"
+        else:
+            ev = run.segment(_Mode("contact", contact="thornton-load"),
+                             {"turn": (speed_at(0.0), -1, True)})
+            assert imp.thornton is not None
+            r_p, d_p = imp.thornton.unloading(x_r - float(run.y[X]))
+            ev = run.segment(_Mode("contact", contact="thornton-unload", r_p=r_p, d_p=d_p),
+                             {"separation": (gap_at(x_r - d_p), 1, True),
+                              "turn": (speed_at(0.0), 1, True)})
+            if ev != "separation":
+                outcome, run.stick_reason = "stick", "held in solid contact"
+            run.phases[-2:] = [Phase("contact", run.phases[-2].start, run.phases[-1].end)]
+        run.friction_impulse()
+    # -- emergence, bridge, departure
+    if outcome == "rebound":
+        recontact = (gap_at(x_r - 1e-12 * x_r), -1, True)
+        captured = (speed_at(0.0), 1, True)
+        start = (gap_at(x0), 1, False)
+        # (phase, gap where it ends); nan: the bridge's static or dynamic rupture
+        legs: list[tuple[str, float]] = []
+        if sc.amount == "immersed":
+            legs.append(("emergence", x0))
+        else:
+            if sc.amount == "film":
+                legs.append(("emergence", imp.h_app))
+            legs += [("bridge", math.nan), ("departure", x0)]
+        bridge = True
+        for name, level in legs:
+            if not math.isnan(level) and float(run.y[X]) >= level:
+                continue
+            mode = _Mode(name, after_contact=True, bridge=bridge)
+            if name == "bridge" and math.isnan(level):
+                events = {"end": (lambda y: y[X] - imp.s_static * imp.stretch(y[V]), 1, True)}
+            else:
+                events = {"end": (gap_at(level), 1, True)}
+            events.update({"captured": captured, "recontact": recontact})
+            if name != "departure":
+                events["start_gap"] = start
+            ev = run.segment(mode, events)
+            if ev != "end":
+                outcome = "stick"
+                run.stick_reason = ("turned back before escaping" if ev == "captured" else
+                                    "returned to solid contact" if ev == "recontact" else
+                                    "did not escape in time")
+                break
+            if name == "bridge":
+                bridge = False
+            if run.v_rebound is None and abs(float(run.y[X]) - x0) <= 1e-12 * x0:
+                run.v_rebound = float(run.y[V])
+                run.u_slip_rebound = float(run.y[UT] + sc.radius * run.y[OM])
+    t_int = time.perf_counter() - t0 - t_tab
+    return _result(case, imp, run, outcome, t_tab, t_int, trajectory)
+
+
+def _result(case: CollisionCase, imp: _Impact, run: _Run, outcome: str, t_tab: float,
+            t_int: float, trajectory: bool) -> Collision:
+    sc, v0 = case.scene, case.impact.velocity
+    y = run.y
+    work = {k: float(y[i]) for k, i in _WORK.items()}
+    work["friction"] = run.friction_work
+    ke_end = imp.kinetic(y)
+    energy = {"impact": run.ke0, "rebound": ke_end, **{k: w for k, w in work.items()
+                                                       if w != 0.0}}
+    residual = (run.ke0 - ke_end - sum(work.values())) / run.ke0
+    if outcome == "rebound" and run.v_rebound is not None:
+        e = -run.v_rebound / v0
+    else:
+        e, outcome = 0.0, "stick"
+    e_t = angle = None
+    if imp.oblique and outcome == "rebound":
+        u_s = run.u_slip_rebound if run.u_slip_rebound is not None else float(
+            y[UT] + sc.radius * y[OM])
+        e_t = u_s / run.u_slip0 if run.u_slip0 else None
+        angle = math.degrees(math.atan2(abs(float(y[UT])), abs(float(run.v_rebound))))
+    traj: dict[str, np.ndarray] = {}
+    if trajectory and run.ts:
+        t = np.concatenate(run.ts)
+        ys = np.concatenate(run.ys, axis=1)
+        fs = [imp.forces(seg[:, j], m) for seg, m in zip(run.ys, run.modes, strict=True)
+              for j in range(seg.shape[1])]
+        traj = {"time": t, "gap": ys[X], "velocity": ys[V],
+                "force_viscous": np.array([f["viscous"] for f in fs]),
+                "force_capillary": np.array([f["capillary"] for f in fs]),
+                "force_contact": np.array([f["contact"] for f in fs])}
+        if imp.oblique:
+            traj["tangential_velocity"] = ys[UT]
+            traj["spin"] = ys[OM]
+    st = imp.mass * v0 / (6.0 * math.pi * sc.viscosity * imp.r_star ** 2)
+    diag = {"energy_residual": residual, "steps": run.steps,
+            "interpolation_error": {k: t.interpolation_error for k, t in imp.tables.items()},
+            "table_nodes": {k: t.nodes for k, t in imp.tables.items()},
+            "table_time_s": t_tab, "integration_time_s": t_int,
+            "integrator": {"method": "DOP853", "order": ORDER, "rtol": imp.rtol}}
+    if run.stick_reason:
+        diag["stick_reason"] = run.stick_reason
+    liquid: dict[str, float] = {}
+    if imp.volume is not None:
+        liquid["bridge_volume"] = imp.volume
+        liquid["rupture_distance_static"] = imp.s_static
+    settings = {"contact": case.contact_model, "cutoff": case.cutoff,
+                "viscous_on_rebound": case.viscous_on_rebound, "rupture": case.rupture,
+                "start_gap": imp.x0, "roughness": imp.x_r, "restitution_dry": imp.e_dry,
+                "velocity": v0, "rtol": imp.rtol}
+    from wetcontact.collide.validity import validity_notes
+
+    return Collision(
+        case=sc.name, restitution=e, outcome=outcome, contact_velocity=run.v_contact,
+        rebound_velocity=(-run.v_rebound if run.v_rebound is not None else None),
+        phases=tuple(run.phases), energy=energy, models=dict(imp.models),
+        stokes_number=st, tangential_restitution=e_t, rebound_angle=angle,
+        liquid=liquid, validity=tuple(validity_notes(case, imp.x0)), settings=settings,
+        diagnostics=diag, provenance=provenance(), trajectory=traj)
