@@ -36,7 +36,8 @@ TABLE_START, TABLE_MAX = 65, 4097
 TABLE_BUDGET_S = 120.0
 
 #: default force models, most trusted first; the first that accepts the scene is used
-DEFAULT_VISCOUS = ("calibrated-viscous", "brenner", "reynolds-finite", "reynolds")
+DEFAULT_VISCOUS = ("calibrated-viscous", "brenner", "lubrication", "reynolds-finite",
+                   "reynolds")
 DEFAULT_CAPILLARY = ("calibrated-capillary", "meniscus")
 
 
@@ -163,6 +164,33 @@ def pick_model(name: str | None, scene: Scene, component: str) -> Model | None:
             return MODELS[cand]
     raise ValidityError(defaults[0], f"no default {component} model accepts the scene; "
                         "name one with --" + component)
+
+
+def table_for(name: str | None, scene: Scene, lo: float, hi: float, component: str
+              ) -> GapTable | None:
+    """The force table of ``component`` on ``scene`` between the gaps ``lo`` and ``hi``.
+
+    A named model is used or refused (its refusal names the model that applies); without a
+    name, the defaults are tried in order and the first that accepts the scene at every
+    gap of the table is used (``calibrated-viscous`` refuses films whose roughness gap lies
+    below its calibrated S/H, ``lubrication`` takes over there). ``"none"``: None.
+    """
+    model = pick_model(name, scene, component)
+    if model is None:
+        return None
+    if name is not None:
+        return tabulate(model, scene, lo, hi, component)
+    defaults = DEFAULT_VISCOUS if component == "viscous" else DEFAULT_CAPILLARY
+    first: InputError | None = None
+    for cand in defaults[defaults.index(model.name):]:
+        if cand not in MODELS or not _accepts(MODELS[cand], scene):
+            continue
+        try:
+            return tabulate(MODELS[cand], scene, lo, hi, component)
+        except InputError as exc:  # refused at some gap of the table: the next default
+            first = first or exc
+    raise first or ValidityError(defaults[0], f"no default {component} model accepts the "
+                                 "scene; name one with --" + component)
 
 
 def bridge_scene(scene: Scene, volume: float, angles: tuple[float, float]) -> Scene:

@@ -46,14 +46,16 @@ from wetcontact.collide.forces import (
     gathered_volume,
     pick_model,
     rupture_distance,
-    tabulate,
+    table_for,
 )
 from wetcontact.collide.result import Collision, Phase
 from wetcontact.errors import InputError, SolverError
-from wetcontact.models import Model, provenance
+from wetcontact.models import provenance
 
-#: declared order of the time integrator (DOP853)
-ORDER = 8
+#: declared order of the collision's outputs: DOP853 steps at order 8, and the phase
+#: events are located on its dense output, of order 7, which sets the order of every
+#: quantity read at an event (contact speed, rebound speed, phase times)
+ORDER = 7
 #: default relative tolerance of the integrator
 RTOL = 1e-10
 #: the approach counts as arrested (stick) when its speed falls below this fraction of v0
@@ -135,25 +137,17 @@ class _Impact:
             app_scene = (replace(unit, contact_angle_sphere=adv[0], contact_angle_wall=adv[1])
                          if sc.amount == "film" else bridge_scene(unit, vol, adv))
             reb_scene = bridge_scene(unit, vol, rec)
-        vmodel = pick_model(viscous, app_scene, "viscous")
-        vmodel_reb = vmodel if reb_scene is app_scene else pick_model(viscous, reb_scene,
-                                                                      "viscous")
-        cmodel: Model | None = None
-        if sc.amount != "immersed":
-            cmodel = pick_model(capillary, reb_scene, "capillary")
-        elif capillary not in (None, "none"):
+        if sc.amount == "immersed" and capillary not in (None, "none"):
             raise InputError(f"--capillary {capillary}: the scene is immersed, no bridge "
                              "forms; allowed: none")
-        self.models = {"viscous": vmodel.name if vmodel else None,
-                       "viscous_rebound": vmodel_reb.name if vmodel_reb else None,
-                       "capillary": cmodel.name if cmodel else None}
         # rupture distances (static, receding angles) and the liquid's reach on approach
+        cmodel = None if sc.amount == "immersed" else pick_model(capillary, reb_scene,
+                                                                 "capillary")
         if cmodel is not None:
             self.s_static = rupture_distance(cmodel, reb_scene)
             s_adv = rupture_distance(cmodel, bridge_scene(unit, self.volume, adv))
-        elif sc.amount != "immersed":
-            th = 0.5 * (rec[0] + rec[1])
-            self.s_static = (1.0 + 0.5 * th) * self.volume ** (1.0 / 3.0)
+        elif sc.amount != "immersed":  # no capillary model: Lian et al. 1993
+            self.s_static = (1.0 + 0.25 * (rec[0] + rec[1])) * self.volume ** (1.0 / 3.0)
             s_adv = (1.0 + 0.25 * (adv[0] + adv[1])) * self.volume ** (1.0 / 3.0)
         if sc.amount == "film":
             self.h_app = float(sc.film_thickness)
@@ -170,20 +164,23 @@ class _Impact:
             self.dyn_max = 1.0 + math.sqrt(ca)
         shift = self.x_r if case.cutoff == "shifted" else 0.0
         hi_app = min(self.h_app, self.x0) if sc.amount != "immersed" else self.x0
-        hi_reb = (self.s_static if sc.amount != "immersed" else self.x0)
-        if vmodel is not None:
-            self.tables["viscous_approach"] = tabulate(vmodel, app_scene, self.x_r,
-                                                       hi_app + shift, "viscous")
-            self.tables["viscous_rebound"] = (
-                self.tables["viscous_approach"] if reb_scene is app_scene else
-                tabulate(vmodel_reb, reb_scene, self.x_r, hi_reb + shift, "viscous"))
+        hi_reb = self.s_static if sc.amount != "immersed" else self.x0
+        tabs = self.tables
+        if (t := table_for(viscous, app_scene, self.x_r, hi_app + shift, "viscous")):
+            tabs["viscous_approach"] = t
+            tabs["viscous_rebound"] = t if reb_scene is app_scene else table_for(
+                viscous, reb_scene, self.x_r, hi_reb + shift, "viscous")
         if cmodel is not None:
             app_bridge = bridge_scene(unit, self.volume, adv)
-            self.tables["capillary_approach"] = tabulate(
-                cmodel, app_bridge, self.x_r, min(s_adv, hi_app) * (1 - 1e-12), "capillary")
-            self.tables["capillary_rebound"] = tabulate(cmodel, reb_scene, self.x_r,
-                                                        self.s_static * (1 - 1e-12),
-                                                        "capillary")
+            tabs["capillary_approach"] = table_for(
+                cmodel.name, app_bridge, self.x_r, min(s_adv, hi_app) * (1 - 1e-12),
+                "capillary")
+            tabs["capillary_rebound"] = table_for(cmodel.name, reb_scene, self.x_r,
+                                                  self.s_static * (1 - 1e-12), "capillary")
+        self.models = {k: (tabs[k].model if k in tabs else None) for k in (
+            "viscous_approach", "viscous_rebound", "capillary_rebound")}
+        self.models["capillary"] = self.models.pop("capillary_rebound")
+        self.models["viscous"] = self.models["viscous_approach"]
 
     def _setup_contact(self) -> None:
         case = self.case
