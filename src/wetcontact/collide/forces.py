@@ -74,6 +74,29 @@ class GapTable:
         return val / s if self.scaled else val
 
 
+@dataclass(frozen=True)
+class DirectForce:
+    """A closed-form force evaluated directly along the path (no table): a DEM code's law.
+
+    Attributes
+    ----------
+    model
+        Its name (e.g. ``"mercurydpm:willett"``).
+    fn
+        Force (N; viscous: per unit speed, N s/m) at the gap (m).
+    """
+
+    model: str
+    fn: Callable[[float], float]
+    hi: float = math.inf
+    interpolation_error: float = 0.0
+    nodes: int = 0
+
+    def __call__(self, gap: float) -> float:
+        """Force at ``gap`` (m)."""
+        return self.fn(gap)
+
+
 def _evaluate(model: Model, scene: Scene, gaps: np.ndarray, component: str) -> np.ndarray:
     curve = model.force(scene, gaps)
     f = curve.force_viscous if component == "viscous" else curve.force_capillary

@@ -86,7 +86,7 @@ class _Impact:
     """The equations of one collision with its force tables."""
 
     def __init__(self, case: CollisionCase, viscous: str | None, capillary: str | None,
-                 rtol: float) -> None:
+                 rtol: float, force_set: str | None = None) -> None:
         sc = case.scene
         self.case, self.rtol = case, rtol
         self.x_r = case.roughness
@@ -113,7 +113,10 @@ class _Impact:
         self.tables: dict[str, GapTable] = {}
         self.models: dict[str, str | None] = {}
         self.notes: list[str] = []
-        self._setup_liquid(viscous, capillary)
+        if force_set is None:
+            self._setup_liquid(viscous, capillary)
+        else:
+            self._setup_force_set(force_set)
         self._setup_contact()
 
     # ---- forces -------------------------------------------------------------------
@@ -181,6 +184,28 @@ class _Impact:
             "viscous_approach", "viscous_rebound", "capillary_rebound")}
         self.models["capillary"] = self.models.pop("capillary_rebound")
         self.models["viscous"] = self.models["viscous_approach"]
+
+    def _setup_force_set(self, name: str) -> None:
+        from wetcontact.collide.dem import force_set
+
+        sf = force_set(name)(self.case, self.x_r)
+        if sf.roughness is not None:
+            self.x_r = sf.roughness
+            sf = force_set(name)(self.case, self.x_r)
+        self.tables.update(sf.tables)
+        self.volume, self.h_app, self.s_static = sf.volume, sf.reach, sf.rupture
+        if math.isnan(self.x0):
+            self.x0 = self.s_static
+        if self.x0 <= self.x_r:
+            raise InputError(f"{self.case.scene.origin}: impact.start_gap = {self.x0:.6g} m; "
+                             f"allowed: > the roughness gap {self.x_r:.6g} m of {name}")
+        self.dyn_max = 1.0
+        has = {k: k in sf.tables for k in ("viscous_approach", "viscous_rebound",
+                                           "capillary_rebound")}
+        self.models = {"viscous": name if has["viscous_approach"] else None,
+                       "viscous_rebound": name if has["viscous_rebound"] else None,
+                       "capillary": name if has["capillary_rebound"] else None,
+                       "force_set": name}
 
     def _setup_contact(self) -> None:
         case = self.case
@@ -422,7 +447,7 @@ class _Run:
 
 def collide(case: CollisionCase, viscous: str | None = None, capillary: str | None = None,
             rtol: float = RTOL, max_step: float = math.inf, fixed_step: bool = False,
-            trajectory: bool = True) -> Collision:
+            trajectory: bool = True, force_set: str | None = None) -> Collision:
     """Integrate one wet impact and return its outcome.
 
     Parameters
@@ -441,6 +466,9 @@ def collide(case: CollisionCase, viscous: str | None = None, capillary: str | No
         convergence-order test).
     trajectory
         Keep the time series (time, gap, velocity, forces) in the result.
+    force_set
+        A DEM code's force set (:data:`wetcontact.collide.dem.FORCE_SETS`) instead of the
+        toolkit's models (``viscous`` and ``capillary`` are then ignored).
 
     Returns
     -------
@@ -457,7 +485,7 @@ def collide(case: CollisionCase, viscous: str | None = None, capillary: str | No
     import time
 
     t0 = time.perf_counter()
-    imp = _Impact(case, viscous, capillary, rtol)
+    imp = _Impact(case, viscous, capillary, rtol, force_set)
     t_tab = time.perf_counter() - t0
     run = _Run(imp, max_step, fixed_step)
     run.friction_work = 0.0
@@ -525,11 +553,14 @@ def collide(case: CollisionCase, viscous: str | None = None, capillary: str | No
             legs.append(("emergence", x0))
         else:
             if sc.amount == "film":
-                legs.append(("emergence", imp.h_app))
+                legs.append(("emergence", float(sc.film_thickness)))
             legs += [("bridge", math.nan), ("departure", x0)]
         bridge = True
         for name, level in legs:
-            if not math.isnan(level) and float(run.y[X]) >= level:
+            reached = (imp.s_static * imp.stretch(float(run.y[V])) if math.isnan(level)
+                       else level)
+            if float(run.y[X]) >= reached:
+                bridge = bridge and not math.isnan(level)
                 continue
             mode = _Mode(name, after_contact=True, bridge=bridge)
             if name == "bridge" and math.isnan(level):

@@ -1,0 +1,149 @@
+"""The force sets of DEM codes, as each code applies them, for the restitution error tables.
+
+Each set maps a collision case to the viscous and capillary laws the code would apply, when
+it applies them (approach, rebound), its rupture distance and its cut-offs. The DEM gap
+``s = x - x_r`` is zero at solid contact (the codes' contact); the laws are functions of
+it. ``collide(case, force_set=NAME)`` integrates the impact with a set instead of the
+toolkit's models, so the same integrator measures every set against the reference.
+
+Sets (formulas as read in each code's source; ``R*`` the reduced radius, R* = R on a wall):
+
+- ``mercurydpm``: MercuryDPM ``LiquidMigrationWilletInteraction``: viscous
+  ``6 pi eta R*^2 v / s`` only after the first contact and zero for ``s < R*/100``;
+  capillary ``-2 pi R' sigma cos(theta) / (1 + (1.05 + 2.5 s_c) s_c)``, ``R' = 2 R*``,
+  ``s_c = s sqrt(R'/V)`` (Willett's simple form); rupture ``(1 + theta/2) V^(1/3)``.
+- ``reynolds-willett-lian``: the textbook set: Reynolds ``6 pi eta R*^2 v / x`` on approach
+  and rebound with a constant value below the roughness gap, Willett's full fit after
+  contact (R = 2 R*), Lian's rupture ``(1 + theta/2) V^(1/3)``.
+- ``yade-lubrication``: Yade ``Law2_ScGeom_ImplicitLubricationPhys``:
+  ``F = (3/2) pi eta a^2 v / u`` with ``a = (R1 + R2)/2`` (a wall: a = R, the code's
+  sphere-sphere form), asperity contact at ``u = 2 eps a``, eps = 1e-3; no capillary force.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from wetcontact.collide.case import CollisionCase
+from wetcontact.collide.forces import DirectForce, gathered_volume
+from wetcontact.errors import InputError
+from wetcontact.reduced_models.capillary import willett_force
+
+
+@dataclass(frozen=True)
+class SetForces:
+    """What a force set applies in one collision (engine gaps x, contact at ``x_r``).
+
+    Attributes
+    ----------
+    tables
+        ``viscous_approach``, ``viscous_rebound``, ``capillary_approach``,
+        ``capillary_rebound``: each a :class:`DirectForce` or absent.
+    reach
+        Gap (m) below which the approach forces act.
+    rupture
+        Gap (m) where the bridge (and the rebound forces) end.
+    volume
+        Bridge volume (m^3), or None.
+    roughness
+        Gap of solid contact (m) the set uses (the case's unless the code fixes its own).
+    """
+
+    tables: dict[str, DirectForce] = field(default_factory=dict)
+    reach: float = math.inf
+    rupture: float = math.inf
+    volume: float | None = None
+    roughness: float | None = None
+
+
+def _volume(case: CollisionCase) -> float:
+    sc = case.scene
+    if sc.amount == "bridge":
+        return float(sc.bridge_volume)
+    if sc.amount == "film":
+        return gathered_volume(sc)
+    raise InputError(f"{sc.origin}: a DEM code's capillary set needs a film or a bridge; the "
+                     "scene is immersed")
+
+
+def _mean_angle(case: CollisionCase, receding: bool = True) -> float:
+    sc = case.scene
+    ang = (case.receding_angle if receding else case.advancing_angle) or (
+        sc.contact_angle_sphere, sc.contact_angle_wall)
+    return 0.5 * (ang[0] + ang[1])
+
+
+def mercurydpm(case: CollisionCase, x_r: float) -> SetForces:
+    """MercuryDPM's Willett liquid bridge (see the module docstring)."""
+    sc = case.scene
+    vol, th, rs = _volume(case), _mean_angle(case), sc.reduced_radius
+    eta, sig = sc.viscosity, sc.surface_tension
+    r_prime = 2.0 * rs
+    rupture = (1.0 + 0.5 * th) * vol ** (1.0 / 3.0)
+
+    def visc(x: float) -> float:
+        s = x - x_r
+        return 0.0 if s < rs / 100.0 else 6.0 * math.pi * eta * rs * rs / s
+
+    def cap(x: float) -> float:
+        s_c = max(x - x_r, 0.0) * math.sqrt(r_prime / vol)
+        return -2.0 * math.pi * r_prime * sig * math.cos(th) / (1.0 + (1.05 + 2.5 * s_c) * s_c)
+
+    return SetForces({"viscous_rebound": DirectForce("mercurydpm", visc),
+                      "capillary_rebound": DirectForce("mercurydpm", cap)},
+                     reach=x_r, rupture=x_r + rupture, volume=vol)
+
+
+def reynolds_willett_lian(case: CollisionCase, x_r: float) -> SetForces:
+    """Reynolds with a constant cut-off, Willett's fit and Lian's rupture."""
+    sc = case.scene
+    vol, th, rs = _volume(case), _mean_angle(case), sc.reduced_radius
+    eta, sig = sc.viscosity, sc.surface_tension
+    rupture = (1.0 + 0.5 * th) * vol ** (1.0 / 3.0)
+    reach = (float(sc.film_thickness) if sc.amount == "film" else
+             (1.0 + 0.5 * _mean_angle(case, False)) * vol ** (1.0 / 3.0))
+
+    def visc(x: float) -> float:
+        return 6.0 * math.pi * eta * rs * rs / max(x, x_r)
+
+    def cap(x: float) -> float:
+        return -float(willett_force(max(x, 0.0), vol, sc.willett_radius, sig, th))
+
+    v = DirectForce("reynolds-willett-lian", visc)
+    return SetForces({"viscous_approach": v, "viscous_rebound": v,
+                      "capillary_rebound": DirectForce("reynolds-willett-lian", cap)},
+                     reach=reach, rupture=rupture, volume=vol)
+
+
+YADE_EPS = 1e-3
+
+
+def yade_lubrication(case: CollisionCase, x_r: float) -> SetForces:
+    """Yade's implicit lubrication law, no capillary force."""
+    sc = case.scene
+    a = sc.radius if sc.kind == "sphere-wall" else 0.5 * (sc.radius + float(sc.radius2))
+    eta, rough = sc.viscosity, 2.0 * YADE_EPS * a
+
+    def visc(x: float) -> float:
+        return 1.5 * math.pi * eta * a * a / max(x, rough)
+
+    v = DirectForce("yade-lubrication", visc)
+    return SetForces({"viscous_approach": v, "viscous_rebound": v}, reach=math.inf,
+                     rupture=case.impact.start_gap if not math.isnan(case.impact.start_gap)
+                     else sc.radius, roughness=rough)
+
+
+FORCE_SETS: dict[str, Callable[[CollisionCase, float], SetForces]] = {
+    "mercurydpm": mercurydpm,
+    "reynolds-willett-lian": reynolds_willett_lian,
+    "yade-lubrication": yade_lubrication,
+}
+
+
+def force_set(name: str) -> Callable[[CollisionCase, float], SetForces]:
+    """The force set ``name``, or an InputError listing the known ones."""
+    if name not in FORCE_SETS:
+        raise InputError(f"force set {name!r}; allowed: " + ", ".join(FORCE_SETS))
+    return FORCE_SETS[name]
