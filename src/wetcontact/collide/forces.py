@@ -5,9 +5,11 @@ curve at unit speed, ``f1(S) = F_v(S, v = 1 m/s)``, gives ``F_v = v f1(S)`` at e
 The capillary force depends on the gap and the bridge's volume and contact angles, so one
 curve per (volume, angles) serves a whole trajectory.
 
-Each curve is tabulated on a grid uniform in ``u = ln S`` and interpolated by a not-a-knot
-cubic spline of ``S f1(S)`` (viscous: smooth and bounded where ``f1 ~ 1/S``) or of
-``F_c(S)`` (capillary). The grid is doubled until the spline's largest error at the
+Each curve is tabulated on a uniform grid and interpolated by a not-a-knot cubic spline:
+viscous curves as ``S f1(S)`` against ``u = ln S`` (smooth and bounded where
+``f1 ~ 1/S``); capillary curves as ``F_c`` against ``q = sqrt(1 - S/S_c)``, in which the
+square-root shape of the force at the bridge's fold (``dF/dS`` unbounded at ``S_c``)
+is smooth. The grid is doubled until the spline's largest error at the
 midpoints between nodes, measured against the model itself, is below ``rtol`` of the
 table's largest magnitude (default 1e-8): the interpolation error of the force, which is
 reported as ``interpolation_error``. A cubic spline's error is O(h^4), so doubling the
@@ -70,8 +72,19 @@ class GapTable:
     def __call__(self, gap: float) -> float:
         """Force (N) at ``gap`` in [lo, hi] (clamped into it)."""
         s = min(max(gap, self.lo), self.hi)
-        val = float(self.spline(math.log(s)))
-        return val / s if self.scaled else val
+        if self.scaled:
+            return float(self.spline(math.log(s))) / s
+        return float(self.spline(math.sqrt(max(1.0 - s / self.hi, 0.0))))
+
+    @staticmethod
+    def coordinate(gaps: np.ndarray, hi: float, scaled: bool) -> np.ndarray:
+        """The spline's abscissa of ``gaps``: ln S (viscous) or sqrt(1 - S/hi)."""
+        return np.log(gaps) if scaled else np.sqrt(np.maximum(1.0 - gaps / hi, 0.0))
+
+    @staticmethod
+    def gaps_of(coord: np.ndarray, hi: float, scaled: bool) -> np.ndarray:
+        """Gaps (m) at the abscissae ``coord``."""
+        return np.exp(coord) if scaled else hi * (1.0 - coord * coord)
 
 
 @dataclass(frozen=True)
@@ -135,13 +148,16 @@ def tabulate(model: Model, scene: Scene, lo: float, hi: float, component: str,
     scaled = component == "viscous"
     cap = int(min(TABLE_MAX, max(TABLE_START, TABLE_BUDGET_S / max(model.cost, 1e-9))))
     n = TABLE_START
-    u = np.linspace(math.log(lo), math.log(hi), n)
-    g = np.exp(u)
+    ends = GapTable.coordinate(np.array([lo, hi]), hi, scaled)
+    if not scaled:  # the fold's side first, kept 1e-12 S_c short of it
+        ends = np.array([1e-6, ends[0]])
+    u = np.linspace(ends[0], ends[1], n)
+    g = GapTable.gaps_of(u, hi, scaled)
     vals = _evaluate(model, scene, g, component) * (g if scaled else 1.0)
     while True:
         spline = CubicSpline(u, vals)
         um = 0.5 * (u[1:] + u[:-1])
-        gm = np.exp(um)
+        gm = GapTable.gaps_of(um, hi, scaled)
         mid = _evaluate(model, scene, gm, component) * (gm if scaled else 1.0)
         scale = max(float(np.max(np.abs(vals))), float(np.max(np.abs(mid))), 1e-300)
         err = float(np.max(np.abs(spline(um) - mid))) / scale
@@ -198,6 +214,24 @@ def table_for(name: str | None, scene: Scene, lo: float, hi: float, component: s
     gap of the table is used (``calibrated-viscous`` refuses films whose roughness gap lies
     below its calibrated S/H, ``lubrication`` takes over there). ``"none"``: None.
     """
+    key = (name, scene.canonical_json(), lo, hi, component)
+    if key in _TABLES:
+        return _TABLES[key]
+    table = _table_for(name, scene, lo, hi, component)
+    if len(_TABLES) >= TABLE_CACHE:
+        _TABLES.pop(next(iter(_TABLES)))
+    _TABLES[key] = table
+    return table
+
+
+#: force tables kept for reuse (a collision study varies the speed or the mass at one
+#: geometry: the tables, at unit speed, are the same)
+TABLE_CACHE = 256
+_TABLES: dict[tuple, GapTable | None] = {}
+
+
+def _table_for(name: str | None, scene: Scene, lo: float, hi: float, component: str
+               ) -> GapTable | None:
     model = pick_model(name, scene, component)
     if model is None:
         return None

@@ -62,8 +62,8 @@ RTOL = 1e-10
 ARREST = 1e-9
 
 # state layout
-X, V, UT, OM, WVA, WVR, WCAP, WCON, WDRAG, WGRAV, WBUOY, WTAN, JN = range(13)
-NSTATE = 13
+X, V, UT, OM, WVA, WVR, WCAP, WCON, WDRAG, WGRAV, WBUOY, WTAN, JN, AVIS, ACAP = range(15)
+NSTATE = 15
 _WORK = {"viscous_approach": WVA, "viscous_rebound": WVR, "capillary": WCAP,
          "contact": WCON, "drag": WDRAG, "gravity": WGRAV, "buoyancy": WBUOY,
          "tangential_viscous": WTAN}
@@ -176,10 +176,9 @@ class _Impact:
         if cmodel is not None:
             app_bridge = bridge_scene(unit, self.volume, adv)
             tabs["capillary_approach"] = table_for(
-                cmodel.name, app_bridge, self.x_r, min(s_adv, hi_app) * (1 - 1e-12),
-                "capillary")
+                cmodel.name, app_bridge, self.x_r, min(s_adv, hi_app), "capillary")
             tabs["capillary_rebound"] = table_for(cmodel.name, reb_scene, self.x_r,
-                                                  self.s_static * (1 - 1e-12), "capillary")
+                                                  self.s_static, "capillary")
         self.models = {k: (tabs[k].model if k in tabs else None) for k in (
             "viscous_approach", "viscous_rebound", "capillary_rebound")}
         self.models["capillary"] = self.models.pop("capillary_rebound")
@@ -345,6 +344,8 @@ class _Impact:
         dy[WBUOY] = f["buoyancy"] * v
         dy[WTAN] = -(f["tangential"] * float(y[UT]) + f["torque"] * float(y[OM]))
         dy[JN] = f["contact"]
+        dy[AVIS] = abs(f["viscous"] * v)  # absolute works: the tables' error bound on e
+        dy[ACAP] = abs(f["capillary"] * v)
         return dy
 
     def kinetic(self, y: np.ndarray) -> float:
@@ -503,13 +504,17 @@ def collide(case: CollisionCase, viscous: str | None = None, capillary: str | No
     outcome = "rebound"
     # -- approach above the liquid (a start gap beyond the film or the bridge's reach)
     mode = _Mode("approach")
+    dry_approach = imp.h_app <= x_r  # liquid forces only after the first contact
     if x0 > imp.h_app:
-        ev = run.segment(mode, {"liquid": (gap_at(imp.h_app), -1, True),
+        level = x_r if dry_approach else imp.h_app
+        ev = run.segment(mode, {"liquid": (gap_at(level), -1, True),
                                 "turn": (speed_at(0.0), -1, True)})
         if ev != "liquid":
             outcome, run.stick_reason = "stick", "turned before reaching the liquid"
+        elif dry_approach:
+            run.v_contact = float(run.y[V])
     # -- penetration of the liquid to the roughness gap
-    if outcome == "rebound":
+    if outcome == "rebound" and not dry_approach:
         mode = _Mode("penetration")
         ev = run.segment(mode, {"contact": (gap_at(x_r), -1, True),
                                 "arrest": (speed_at(ARREST * v0), -1, True)})
@@ -579,7 +584,8 @@ def collide(case: CollisionCase, viscous: str | None = None, capillary: str | No
                 break
             if name == "bridge":
                 bridge = False
-            if run.v_rebound is None and abs(float(run.y[X]) - x0) <= 1e-12 * x0:
+            if run.v_rebound is None and math.isclose(level, x0, rel_tol=1e-12):
+                # the leg ended at the start gap (its terminal event located it)
                 run.v_rebound = float(run.y[V])
                 run.u_slip_rebound = float(run.y[UT] + sc.radius * run.y[OM])
     t_int = time.perf_counter() - t0 - t_tab
@@ -596,6 +602,12 @@ def _result(case: CollisionCase, imp: _Impact, run: _Run, outcome: str, t_tab: f
     energy = {"impact": run.ke0, "rebound": ke_end, **{k: w for k, w in work.items()
                                                        if w != 0.0}}
     residual = (run.ke0 - ke_end - sum(work.values())) / run.ke0
+    # a force table off by eps (relative to its largest magnitude, which bounds the local
+    # force) changes the kinetic energy by at most eps times the force's absolute work
+    ierr = {k: t.interpolation_error for k, t in imp.tables.items()}
+    d_ke = (max((v for k, v in ierr.items() if k.startswith("viscous")), default=0.0)
+            * float(y[AVIS]) + max((v for k, v in ierr.items() if k.startswith("capillary")),
+                                   default=0.0) * float(y[ACAP]))
     if outcome == "rebound" and run.v_rebound is not None:
         e = -run.v_rebound / v0
     else:
@@ -621,7 +633,9 @@ def _result(case: CollisionCase, imp: _Impact, run: _Run, outcome: str, t_tab: f
             traj["spin"] = ys[OM]
     st = imp.mass * v0 / (6.0 * math.pi * sc.viscosity * imp.r_star ** 2)
     diag = {"energy_residual": residual, "steps": run.steps,
-            "interpolation_error": {k: t.interpolation_error for k, t in imp.tables.items()},
+            "interpolation_error": ierr,
+            "restitution_interpolation_bound": (0.5 * e * d_ke / ke_end if ke_end > 0.0
+                                                else 0.0),
             "table_nodes": {k: t.nodes for k, t in imp.tables.items()},
             "table_time_s": t_tab, "integration_time_s": t_int,
             "integrator": {"method": "DOP853", "order": ORDER, "rtol": imp.rtol}}
