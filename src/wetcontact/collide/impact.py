@@ -252,7 +252,7 @@ class _Impact:
                  (self.s_static if self.case.scene.amount != "immersed" else math.inf))
         if cut == "shifted":
             reach += self.x_r
-        if xe >= reach:
+        if xe > reach:  # closed at the reach: its inside value there
             return 0.0
         return tab(xe)
 
@@ -272,9 +272,9 @@ class _Impact:
             if tab is None:
                 return 0.0
             xe = x / self.stretch(v)
-            return tab(xe) if xe < self.s_static else 0.0
+            return tab(xe) if xe <= self.s_static else 0.0
         tab = self.tables.get("capillary_approach")
-        if tab is None or x >= min(self.h_app, tab.hi):
+        if tab is None or x > min(self.h_app, tab.hi):
             return 0.0
         return tab(x)
 
