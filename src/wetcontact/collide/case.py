@@ -249,6 +249,33 @@ def collision_case_from_dict(data: Mapping[str, Any], source: str = "<dict>"
             gap = min(gap, 0.5 * float(film))
         scene_data["motion"] = {"velocity": v0, "gaps": [gap]}
     scene = scene_from_dict(scene_data, source=source)
+    return _with_tables(scene, data, source)
+
+
+def collision_case(scene: Scene, impact: Mapping[str, Any], solid: Mapping[str, Any],
+                   solid2: Mapping[str, Any] | None = None,
+                   contact: Mapping[str, Any] | None = None,
+                   phases: Mapping[str, Any] | None = None) -> CollisionCase:
+    """A collision case from a scene and the tables of a case file, given as dicts with
+    the case file's keys and units (SI, angles in degrees); validated as a file is.
+
+    Examples
+    --------
+    >>> case = collision_case(scene, impact={"velocity": 0.5},
+    ...                       solid={"density": 2500.0, "restitution": 0.97})
+    """
+    data: dict[str, Any] = {"impact": dict(impact), "solid": dict(solid)}
+    for key, val in (("solid2", solid2), ("contact", contact), ("phases", phases)):
+        if val is not None:
+            data[key] = dict(val)
+    return _with_tables(scene, data, scene.origin)
+
+
+def _with_tables(scene: Scene, data: Mapping[str, Any], source: str) -> CollisionCase:
+    imp_t = _table(source, data, "impact")
+    if "velocity" not in imp_t:
+        raise CaseError(source, "impact.velocity", None, "required (m/s, positive = toward)")
+    v0 = _num(source, "impact.velocity", imp_t["velocity"], 0.0, 1e3, "m/s")
     r_star = scene.reduced_radius
 
     solid = _solid(source, "solid", _table(source, data, "solid"), None, r_star)

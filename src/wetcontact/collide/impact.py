@@ -485,6 +485,10 @@ def collide(case: CollisionCase, viscous: str | None = None, capillary: str | No
     """
     import time
 
+    if not isinstance(case, CollisionCase):
+        raise InputError(f"collide: case = {type(case).__name__}; allowed: a CollisionCase "
+                         "(wetcontact.collide.load_collision_case, or collision_case(scene, "
+                         "impact={...}, solid={...}) for a Scene)")
     t0 = time.perf_counter()
     imp = _Impact(case, viscous, capillary, rtol, force_set)
     t_tab = time.perf_counter() - t0
