@@ -245,3 +245,16 @@ def test_cli_bad_input_one_line(tmp_path, edit, field: str) -> None:
     p = cli("collide", str(path))
     assert p.returncode == 2
     assert len(p.stderr.strip().splitlines()) == 1 and field in p.stderr
+
+
+def test_shipped_collision_cases_run() -> None:
+    from pathlib import Path
+
+    from wetcontact.collide import load_collision_case
+
+    files = sorted((Path(__file__).parents[2] / "cases" / "collisions").glob("*.toml"))
+    assert files
+    for f in files:
+        res = collide(load_collision_case(f), trajectory=False)
+        assert res.outcome in ("rebound", "stick")
+        assert abs(res.diagnostics["energy_residual"]) < 1e-9
