@@ -176,7 +176,7 @@ def test_film_with_bridge_closes_energy_budget() -> None:
     res = run(d)
     assert res.models["capillary"] == "calibrated-capillary"
     assert [p.name for p in res.phases] == ["penetration", "contact", "emergence", "bridge"]
-    assert res.energy["capillary"] != 0.0
+    assert res.energy["capillary"] < 0.0 < res.energy["bridge"]  # pulls in, holds back
     assert abs(res.diagnostics["energy_residual"]) < 1e-9
     # the force tables' interpolation error moves e by less than 1e-6
     assert 0.0 < res.diagnostics["restitution_interpolation_bound"] < 1e-6

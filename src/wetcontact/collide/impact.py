@@ -62,11 +62,14 @@ RTOL = 1e-10
 ARREST = 1e-9
 
 # state layout
-X, V, UT, OM, WVA, WVR, WCAP, WCON, WDRAG, WGRAV, WBUOY, WTAN, JN, AVIS, ACAP = range(15)
-NSTATE = 15
+(X, V, UT, OM, WVA, WVR, WCAP, WBRI, WCON, WDRAG, WGRAV, WBUOY, WTAN, JN, AVIS,
+ ACAP) = range(16)
+NSTATE = 16
+#: the work of each mechanism: ``capillary`` is the meniscus's before the solid contact
+#: (advancing angle), ``bridge`` the bridge's after it (receding angle, until rupture)
 _WORK = {"viscous_approach": WVA, "viscous_rebound": WVR, "capillary": WCAP,
-         "contact": WCON, "drag": WDRAG, "gravity": WGRAV, "buoyancy": WBUOY,
-         "tangential_viscous": WTAN}
+         "bridge": WBRI, "contact": WCON, "drag": WDRAG, "gravity": WGRAV,
+         "buoyancy": WBUOY, "tangential_viscous": WTAN}
 
 
 @dataclass
@@ -337,7 +340,7 @@ class _Impact:
         dy[UT] = f["tangential"] / self.m_eff
         dy[OM] = f["torque"] / self.inertia
         dy[WVA if v >= 0.0 else WVR] = f["viscous"] * v
-        dy[WCAP] = f["capillary"] * v
+        dy[WBRI if mode.after_contact else WCAP] = f["capillary"] * v
         dy[WCON] = f["contact"] * v
         dy[WDRAG] = f["drag"] * v
         dy[WGRAV] = f["gravity"] * v

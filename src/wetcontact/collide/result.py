@@ -55,8 +55,9 @@ class Collision:
     energy
         Joules: ``impact`` (kinetic energy at the start), ``rebound`` (at the end) and the
         work of each mechanism that acted (``viscous_approach``, ``viscous_rebound``,
-        ``capillary``, ``contact``, ``friction``, ``tangential_viscous``, ``drag``,
-        ``gravity``, ``buoyancy``); ``impact = rebound + sum of the mechanisms``.
+        ``capillary`` (the meniscus before contact), ``bridge`` (the bridge after it),
+        ``contact``, ``friction``, ``tangential_viscous``, ``drag``, ``gravity``,
+        ``buoyancy``); ``impact = rebound + sum of the mechanisms``.
     models
         The viscous (approach and rebound) and capillary models used (None: switched off).
     stokes_number

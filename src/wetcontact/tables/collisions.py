@@ -24,6 +24,7 @@ import numpy as np
 
 from wetcontact.collide import CollisionCase, collide, collision_case_from_dict
 from wetcontact.collide.dem import FORCE_SETS
+from wetcontact.collide.validity import REYNOLDS_LIMIT, squeeze_reynolds
 from wetcontact.sweep import Point, SweepResult
 from wetcontact.tables import StudyContext
 
@@ -107,6 +108,8 @@ def dem_rows(quick: bool) -> list[dict[str, Any]]:
             ref = collide(case, trajectory=False)
             row: dict[str, Any] = {"delta_over_R": delta / 1e-3, "St": float(st),
                                    "velocity": case.impact.velocity,
+                                   "squeeze_reynolds": squeeze_reynolds(case, delta),
+                                   "outside_validity": " | ".join(ref.validity),
                                    "e_reference": ref.restitution,
                                    "outcome_reference": ref.outcome,
                                    "reference_models": f"{ref.models['viscous']} + "
@@ -187,6 +190,38 @@ def dem_figure(rows: list[dict[str, Any]]) -> Any:
     return fig
 
 
+def validity_figure(rows: list[dict[str, Any]]) -> Any:
+    """The film study's points over St and delta/R: the squeeze-flow Reynolds number by
+    colour, the reference's verdict by marker (filled: rebound, open: stick)."""
+    from matplotlib.colors import LogNorm
+
+    from wetcontact.plotting import pyplot
+
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(7.0, 4.2))
+    re = np.array([r["squeeze_reynolds"] for r in rows])
+    norm = LogNorm(vmin=max(re.min(), 1e-3), vmax=max(re.max(), 10.0))
+    cmap = plt.get_cmap("viridis")
+    reb = [i for i, r in enumerate(rows) if r["outcome_reference"] == "rebound"]
+    stk = [i for i, r in enumerate(rows) if r["outcome_reference"] != "rebound"]
+    sc = ax.scatter([rows[i]["St"] for i in reb], [rows[i]["delta_over_R"] for i in reb],
+                    c=re[reb], norm=norm, cmap=cmap, s=60, edgecolors="k", label="rebound")
+    ax.scatter([rows[i]["St"] for i in stk], [rows[i]["delta_over_R"] for i in stk], s=60,
+               facecolors="none", edgecolors=cmap(norm(re[stk])), linewidths=2.0,
+               label="stick")
+    fig.colorbar(sc, ax=ax, label="squeeze-flow Reynolds number at the film surface")
+    ax.set_xscale("log")
+    ax.set_xlabel("St")
+    ax.set_ylabel("film thickness delta / R")
+    ax.set_title(f"Where the quasi-steady model holds (Re <= {REYNOLDS_LIMIT:g}): 2 mm glass "
+                 "bead on a water film\n(filled: rebound, open: stick, reference forces)",
+                 fontsize=9)
+    ax.legend(fontsize=8, loc="center left", bbox_to_anchor=(0.0, 0.45))
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
 def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
     """Write the collision CSVs and figures into ``out``; return the Markdown."""
     from wetcontact.plotting import save
@@ -200,6 +235,8 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
         r["e_reference"] = float(r["e_reference"])
     _write(out / "collision_dem.csv", dem)
     save(dem_figure(dem), out / "collision_dem.png")
+    save(validity_figure(dem), out / "collision_validity.png")
+    n_out = sum(r["squeeze_reynolds"] > REYNOLDS_LIMIT for r in dem)
     lines = ["## Wet collisions", "",
              "### Immersed impacts against experiment", "",
              "e/e_dry of a sphere falling onto a wall (`collision_immersed.csv`, "
@@ -233,5 +270,8 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
         lines.append(f"| {name} | {max(err):.3f} | {np.mean(err):.3f} | {len(differ)} of "
                      f"{len(dem)}{(': ' + where) if where else ''} | St "
                      f"{dem[k]['St']:.3g}, delta/R {dem[k]['delta_over_R']:g} |")
-    lines.append("")
+    lines += ["", f"Validity (`collision_validity.png`): {n_out} of {len(dem)} impacts of this "
+              f"study have a squeeze-flow Reynolds number above {REYNOLDS_LIMIT:g} at the film "
+              "surface, where the film's inertia (left out by every model here, and by the DEM "
+              "codes) matters; the `outside_validity` column names the model that applies.", ""]
     return "\n".join(lines)
