@@ -118,7 +118,8 @@ def test_bad_coefficient_files_are_input_errors(tmp_path) -> None:
     bad.write_text(json.dumps({"family": "willett", "coefficients": [1.0, 2.0], "domain": {}}))
     with pytest.raises(InputError, match="'coefficients' has 2 values; allowed: 48"):
         cal.load_coefficients(bad)
-    with pytest.raises(InputError, match="cannot read"):
+    with pytest.raises(InputError, match=r"missing.json: \(file\) missing; allowed: an "
+                                         "existing calibration JSON"):
         cal.load_coefficients(tmp_path / "missing.json")
     png = tmp_path / "parity.png"  # a binary file given by mistake: was an internal error
     png.write_bytes(b"\x89PNG\r\n\x1a\n\x00\xff")

@@ -946,14 +946,22 @@ def _short(value: Any) -> str:
 
 
 def load_coefficients(path: Path | str, family: str | None = None) -> CalibratedClosure:
-    """A :class:`CalibratedClosure` from a calibration JSON (``family`` must match)."""
+    """A :class:`CalibratedClosure` from a calibration JSON (``family`` must match).
+
+    The file is read by :func:`wetcontact.fileio.read_input`: a regular file of at most
+    10 MiB (a FIFO, a device or a folder is refused before it is read).
+    """
+    from wetcontact.fileio import read_input
+
     path = Path(path)
+    raw = read_input(path, "an existing calibration JSON written by wetcontact calibrate",
+                     "a calibration JSON written by wetcontact calibrate")
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
+        data = json.loads(raw.decode("utf-8"))
     except UnicodeDecodeError:  # a PNG or other binary file given by mistake
         raise InputError(f"{path}: not a UTF-8 text file; allowed: a calibration JSON "
                          "written by wetcontact calibrate") from None
-    except (OSError, json.JSONDecodeError) as exc:
+    except ValueError as exc:  # not JSON, or an integer of more than 4300 digits
         raise InputError(f"{path}: cannot read the coefficients ({exc})") from None
     except RecursionError:
         raise InputError(f"{path}: JSON nested too deep; allowed: a calibration JSON written "

@@ -14,12 +14,16 @@ def short_repr(value: object, quote: bool = True, limit: int = MAX_SHOWN) -> str
 
     A hostile value (a list of millions of gaps, a 5000-character name, a string with
     newlines) must not turn a one-line error into pages: long text is cut in the middle
-    with the total length shown, and line breaks are escaped.
+    with the total length shown, and line breaks are escaped. A value nested too deep for
+    ``repr`` (a dict of a thousand levels) is named by its type.
     """
     if isinstance(value, list | tuple | dict) and len(value) > 8:
         text = f"{type(value).__name__} of {len(value)} items"
     else:
-        text = repr(value) if quote else str(value)
+        try:
+            text = repr(value) if quote else str(value)
+        except RecursionError:
+            text = f"a {type(value).__name__} nested too deep to show"
     text = text.encode("unicode_escape").decode("ascii") if not text.isprintable() else text
     if len(text) > limit:
         half = (limit - 20) // 2

@@ -5,6 +5,8 @@ characters or thousands of characters; :func:`safe_stem` turns it into a file st
 stays inside the folder it is joined to. :func:`atomic_write_text` writes through a
 temporary sibling, fsyncs it and renames it over the target, so a reader (or a process
 killed mid-write, or a full disk) sees either the old complete file or the new one.
+:func:`read_input` and :func:`read_toml` read the files a user hands in (case, study and
+coefficient files) with a size limit, refusing anything that is not a regular file.
 """
 
 from __future__ import annotations
@@ -16,13 +18,18 @@ import os
 import re
 import stat
 import tempfile
+import tomllib
 from collections.abc import Iterator
 from pathlib import Path
-from typing import TextIO
+from typing import Any, TextIO
 
-from wetcontact.errors import InputError
+from wetcontact.errors import CaseError, InputError
 
 MAX_STEM = 100
+#: largest case, study or coefficient file read (bytes); the shipped ones are a few kB
+MAX_INPUT_BYTES = 10 * 1024 * 1024
+#: deepest nesting of tables and arrays in a case or study file (their formats use 3)
+MAX_NESTING = 32
 
 
 def safe_stem(name: str) -> str:
@@ -161,3 +168,136 @@ def _umask() -> int:
     mask = os.umask(0)
     os.umask(mask)
     return mask
+
+
+# ---- reading the files a user hands in -------------------------------------------------
+
+_KINDS = ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+          (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+          (stat.S_ISSOCK, "a socket"))
+
+
+def read_input(path: str | Path, missing: str, allowed: str,
+               limit: int = MAX_INPUT_BYTES) -> bytes:
+    """The bytes of a case, study or coefficient file, read with a size limit.
+
+    Anything but a regular file is refused before a byte is read: a FIFO would block the
+    read until a writer appears (forever), a device such as ``/dev/zero`` would never end.
+    The file is opened non-blocking (so opening a FIFO cannot hang either) and then
+    checked with ``fstat``, so the check and the read are of the same file.
+
+    Parameters
+    ----------
+    path
+        The file.
+    missing
+        The allowed text when the file does not exist (``"an existing TOML case file"``).
+    allowed
+        What the file should be (``"a readable UTF-8 TOML file"``), said in every other
+        refusal.
+    limit
+        Largest size read (bytes), :data:`MAX_INPUT_BYTES` by default.
+
+    Returns
+    -------
+    bytes
+        The file's content.
+
+    Raises
+    ------
+    CaseError
+        Field ``(file)`` with ``path``: missing, not a regular file (naming what it is),
+        larger than ``limit``, or unreadable (naming the system's reason).
+    """
+    src = str(path)
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0)
+                     | getattr(os, "O_NOCTTY", 0))
+    except FileNotFoundError:
+        raise CaseError(src, "(file)", None, missing) from None
+    except (OSError, ValueError) as exc:  # ValueError: a NUL in the path
+        why = exc.strerror if isinstance(exc, OSError) and exc.strerror else type(exc).__name__
+        raise CaseError(src, "(file)", why, allowed) from None
+    try:
+        mode, size = (st := os.fstat(fd)).st_mode, st.st_size
+        if not stat.S_ISREG(mode):
+            what = next((name for test, name in _KINDS if test(mode)), "not a regular file")
+            raise CaseError(src, "(file)", what, f"a regular file, {allowed}")
+        if size > limit:
+            raise CaseError(src, "(file)", f"{size} bytes", f"at most {limit} bytes "
+                            f"({limit / 2**20:g} MiB), {allowed}")
+        with os.fdopen(os.dup(fd), "rb") as fh:
+            data = fh.read(limit + 1)  # a file still growing stops at the limit too
+    except OSError as exc:
+        raise CaseError(src, "(file)", exc.strerror or type(exc).__name__, allowed) from None
+    finally:
+        os.close(fd)
+    if len(data) > limit:
+        raise CaseError(src, "(file)", f"more than {limit} bytes", f"at most {limit} bytes "
+                        f"({limit / 2**20:g} MiB), {allowed}")
+    return data
+
+
+def read_toml(path: str | Path, missing: str, allowed: str = "a readable UTF-8 TOML file"
+              ) -> dict[str, Any]:
+    """A case or study file's TOML tables, read by :func:`read_input` and parsed.
+
+    Newlines are read as :meth:`pathlib.Path.read_text` reads them. Tables and arrays
+    nested deeper than :data:`MAX_NESTING` are refused here, in one short line, before
+    any part of the file is shown in an error (a 1000-level ``[a.a.a...]`` table used to
+    exhaust the recursion limit while its value was printed).
+
+    Parameters
+    ----------
+    path
+        The file.
+    missing
+        The allowed text when the file does not exist.
+    allowed
+        What the file should be, said when it cannot be read or decoded.
+
+    Returns
+    -------
+    dict
+        The parsed tables.
+
+    Raises
+    ------
+    CaseError
+        As :func:`read_input`; field ``(file)`` for a file that is not UTF-8, ``(syntax)``
+        for invalid TOML or nesting deeper than :data:`MAX_NESTING`.
+    """
+    import io
+
+    src = str(path)
+    raw = read_input(path, missing, allowed)
+    try:
+        text = io.TextIOWrapper(io.BytesIO(raw), encoding="utf-8").read()
+    except UnicodeDecodeError:
+        raise CaseError(src, "(file)", "UnicodeDecodeError", allowed) from None
+    deep = f"valid TOML with tables and arrays nested at most {MAX_NESTING} levels deep"
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise CaseError(src, "(syntax)", str(exc), "valid TOML") from None
+    except RecursionError:
+        raise CaseError(src, "(syntax)", "nesting too deep", deep) from None
+    depth = nesting_depth(data)
+    if depth > MAX_NESTING:
+        raise CaseError(src, "(syntax)", f"nesting too deep ({depth} levels)", deep)
+    return data
+
+
+def nesting_depth(value: object) -> int:
+    """Levels of dicts and lists in ``value`` (0 for a scalar, 1 for a flat table),
+    counted without recursion, so any depth can be measured."""
+    deepest, stack = 0, [(value, 1)]
+    while stack:
+        item, level = stack.pop()
+        if isinstance(item, dict):
+            deepest = max(deepest, level)
+            stack.extend((v, level + 1) for v in item.values())
+        elif isinstance(item, list | tuple):
+            deepest = max(deepest, level)
+            stack.extend((v, level + 1) for v in item)
+    return deepest

