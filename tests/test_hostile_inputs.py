@@ -179,3 +179,22 @@ def test_a_file_over_the_size_limit_is_refused_without_reading_it(tmp_path, monk
     ok.write_text(IMMERSED_TOML.format(gaps="[1e-4]") + "#" * (MAX_INPUT_BYTES - 300) + "\n")
     assert ok.stat().st_size <= MAX_INPUT_BYTES
     assert load_case(ok).gaps == (1e-4,)
+
+
+# ---- 2. an empty name where a choice is asked for ---------------------------------------------
+
+
+def test_export_json_with_an_empty_closure_names_the_flag_and_the_choices(tmp_path):
+    """``--closure ''`` was exit 1 (TypeError: the empty name read as no name)."""
+    code, out, err = run_cli(["export", "json", "--closure", "", "--out",
+                              str(tmp_path / "x.json")])
+    one_error_line(code, err, "--closure = ''", "allowed: 'calibrated-viscous', "
+                   "'calibrated-capillary'")
+    assert not out and not (tmp_path / "x.json").exists()
+
+
+def test_solve_with_an_empty_model_is_refused_not_the_case_default():
+    """``--model ''`` silently ran the case's own choice of model."""
+    code, out, err = run_cli(["solve", str(FILM_CASE), "--model", ""])
+    one_error_line(code, err, "--model = ''", "allowed: a model name")
+    assert not out

@@ -269,6 +269,9 @@ def _solve(args: argparse.Namespace) -> int:
     from wetcontact.models import get_model, model_instead
     from wetcontact.scene import TOLERANCE_RANGE, load_case
 
+    if args.model is not None and not args.model.strip():  # '' fell back to the case's model
+        raise InputError(f"--model = {args.model!r}; allowed: a model name (see `wetcontact "
+                         "models`)")
     scene = load_case(args.case)
     if args.model and args.tol is not None:
         raise InputError("--model and --tol: give one, not both")

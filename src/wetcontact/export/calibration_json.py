@@ -463,7 +463,9 @@ def write_json(out: str | Path, closure: str | None = None,
         raise InputError("export json: give exactly one of --closure NAME "
                          "(calibrated-viscous, calibrated-capillary) or --coefficients "
                          "FILE.json")
-    doc = shipped_document(closure) if closure else refit_document(Path(coefficients))
+    # `is not None`: an empty --closure '' is a name to refuse, not a missing one
+    doc = (shipped_document(closure) if closure is not None
+           else refit_document(Path(coefficients)))
     validate(doc)
     text = json.dumps(doc, indent=1, allow_nan=False) + "\n"
     atomic_write_text(out, text)
