@@ -198,3 +198,49 @@ def test_solve_with_an_empty_model_is_refused_not_the_case_default():
     code, out, err = run_cli(["solve", str(FILM_CASE), "--model", ""])
     one_error_line(code, err, "--model = ''", "allowed: a model name")
     assert not out
+
+
+# ---- 3. integers beyond the float range in a study --------------------------------------------
+
+HUGE = "1" + "0" * 400  # an integer TOML reads exactly and float() cannot hold
+
+
+@pytest.mark.parametrize("body, field", [
+    (f'[axes]\n"liquid.contact_angle" = {{ start = {HUGE}, stop = 10, points = 2 }}\n',
+     "axes.liquid.contact_angle.start"),
+    (f'[axes]\n"liquid.viscosity" = {{ start = 1e-3, stop = -{HUGE}, points = 2 }}\n',
+     "axes.liquid.viscosity.stop"),
+    (f'[axes]\n"liquid.contact_angle" = [{HUGE}, 10]\n', "axes.liquid.contact_angle[0]"),
+    (f'[axes]\n"motion.gap_over_film" = [0.5, {HUGE}]\n', "axes.motion.gap_over_film[1]"),
+    (f'[axes]\n"liquid.viscosity" = [1e-3]\n[set]\n"motion.gap_over_film" = {HUGE}\n',
+     "set.motion.gap_over_film"),
+    (f'[axes]\n"liquid.viscosity" = [1e-3]\n[set]\n"liquid.density" = {HUGE}\n',
+     "set.liquid.density"),
+    (f'[sample]\nmethod = "latin-hypercube"\npoints = 2\nseed = 1\n[axes]\n'
+     f'"liquid.contact_angle" = {{ min = 0, max = {HUGE} }}\n', "axes.liquid.contact_angle.max"),
+], ids=["range-start", "range-stop", "list", "derived-list", "derived-set", "plain-set",
+        "sample-max"])
+def test_an_integer_too_large_for_a_float_in_a_study_is_one_line(tmp_path, body, field):
+    """``start = 1`` and 400 zeros was exit 1 (OverflowError) from ``sweep``."""
+    p = study(tmp_path, body)
+    code, out, err = run_cli(["sweep", str(p), "--workers", "0", "--store",
+                              str(tmp_path / "s.h5")])
+    line = one_error_line(code, err, "s.toml", f"{field} = ", "allowed:")
+    assert "0000...(40" in line  # the value shown shortened: 401 or 402 chars
+    assert not out and not (tmp_path / "s.h5").exists()
+
+
+@pytest.mark.parametrize("body, field", [
+    ('[axes]\n"liquid.contact_angle" = { start = -1.7e308, stop = 1.7e308, points = 3 }\n',
+     "axes.liquid.contact_angle = {'start': -1.7e+308"),
+    ('[sample]\nmethod = "latin-hypercube"\npoints = 3\nseed = 1\n[axes]\n'
+     '"liquid.contact_angle" = { min = -1.7e308, max = 1.7e308 }\n',
+     "axes.liquid.contact_angle = {'min': -1.7e+308"),
+], ids=["range", "sample"])
+def test_a_range_whose_steps_overflow_is_one_line_without_warnings(tmp_path, body, field):
+    """numpy's overflow warnings printed two lines before an error blaming a ``nan``."""
+    p = study(tmp_path, body)
+    code, _, err = run_cli(["sweep", str(p), "--workers", "0", "--store",
+                            str(tmp_path / "s.h5")])
+    line = one_error_line(code, err, field, "is a finite number")
+    assert "nan" not in line and "warning" not in err

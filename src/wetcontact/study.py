@@ -351,9 +351,19 @@ def _one_entry_each(src: str, fixed: Mapping[str, Any], axes: Mapping[str, Any])
 
 
 def _number(src: str, key: str, v: Any) -> float:
-    if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
+    """``v`` as a finite float; an integer beyond the float range (``1`` and 400 zeros)
+    is refused like infinity, not an ``OverflowError``."""
+    if isinstance(v, bool) or not isinstance(v, int | float) or not _finite(v):
         raise CaseError(src, key, v, "a finite number")
     return float(v)
+
+
+def _finite(v: int | float) -> bool:
+    """True for a finite float or an integer a float can hold."""
+    try:
+        return math.isfinite(v)
+    except OverflowError:  # math.isfinite converts an int to float first
+        return False
 
 
 def _range(src: str, key: str, spec: Mapping[str, Any]) -> list[float]:
@@ -372,10 +382,23 @@ def _range(src: str, key: str, spec: Mapping[str, Any]) -> list[float]:
     if spacing == "log":
         if a <= 0 or b <= 0:
             raise CaseError(src, f"{key}.start", a, "> 0 (and stop > 0) for spacing = 'log'")
-        return [float(x) for x in np.geomspace(a, b, n)]
+        return _finite_values(src, key, spec, np.geomspace, a, b, n)
     if spacing != "linear":
         raise CaseError(src, f"{key}.spacing", spacing, "'log' or 'linear'")
-    return [float(x) for x in np.linspace(a, b, n)]
+    return _finite_values(src, key, spec, np.linspace, a, b, n)
+
+
+def _finite_values(src: str, key: str, spec: Mapping[str, Any],
+                   space: Callable[..., np.ndarray], a: float, b: float, n: int) -> list[float]:
+    """``space(a, b, n)`` as floats, computed without numpy's warnings (they printed lines
+    before the error); a range whose steps overflow (start -1e308, stop 1e308) is one
+    error naming the range, not a ``nan`` blamed on the field it sets."""
+    with np.errstate(all="ignore"):
+        vals = space(a, b, n)
+    if not np.all(np.isfinite(vals)):
+        raise CaseError(src, key, dict(spec), "start and stop whose difference is a finite "
+                        "number (the values in between must be finite)")
+    return [float(x) for x in vals]
 
 
 def _values(src: str, key: str, v: Any) -> list[Any]:
@@ -386,7 +409,8 @@ def _values(src: str, key: str, v: Any) -> list[Any]:
         raise CaseError(src, key, v, f"a list of 1 to {MAX_SCENES} values or "
                         "{start, stop, points, spacing}")
     for i, x in enumerate(v):
-        if isinstance(x, Mapping | list) or (isinstance(x, float) and not math.isfinite(x)):
+        if isinstance(x, Mapping | list) or (
+                isinstance(x, int | float) and not isinstance(x, bool) and not _finite(x)):
             raise CaseError(src, f"{key}[{i}]", x, "a finite number, string or boolean")
     return list(v)
 
@@ -455,7 +479,12 @@ def _sample(src: str, sample: Any, axes: Mapping[str, Any]) -> list[dict[str, An
     for row in u:
         pt = {}
         for (p, (lo, hi, spacing)), x in zip(lims.items(), row, strict=True):
-            pt[p] = float(lo * (hi / lo) ** x) if spacing == "log" else float(lo + (hi - lo) * x)
+            with np.errstate(all="ignore"):  # an overflow is the error below, not a warning
+                v = float(lo * (hi / lo) ** x) if spacing == "log" else float(lo + (hi - lo) * x)
+            if not math.isfinite(v):
+                raise CaseError(src, f"axes.{p}", dict(axes[p]), "min and max whose "
+                                "difference (ratio, for spacing = 'log') is a finite number")
+            pt[p] = v
         out.append(pt)
     return out
 
