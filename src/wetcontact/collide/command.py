@@ -23,6 +23,9 @@ def add_parser(sub: Any, path_arg: Any) -> None:
     c.add_argument("--capillary", default=None, metavar="MODEL", help="capillary force model, "
                    "or none; default: calibrated-capillary where it applies, meniscus "
                    "elsewhere")
+    c.add_argument("--tol", type=float, default=None, help="absolute tolerance on e: the "
+                   "cheapest force models whose measured restitution error meets it (not with "
+                   "--viscous or --capillary)")
     c.add_argument("--rtol", type=float, default=None, help="integrator tolerance (default "
                    "1e-10)")
     c.add_argument("--json", action="store_true", help="print one JSON object")
@@ -52,7 +55,7 @@ def run(args: argparse.Namespace) -> int:
     case = load_collision_case(args.case)
     load_all()
     res = collide(case, viscous=args.viscous, capillary=args.capillary, rtol=rtol,
-                  trajectory=args.trajectory is not None)
+                  trajectory=args.trajectory is not None, tol=args.tol)
     if args.trajectory is not None:
         res.write_trajectory(args.trajectory)
     if args.json:
@@ -69,6 +72,8 @@ def run(args: argparse.Namespace) -> int:
         out.append(f"  {p.name:<12} {p.start:.6e} s .. {p.end:.6e} s")
     e = res.energy
     out.append("  energy (J): " + ", ".join(f"{k} {v:.4e}" for k, v in e.items()))
+    if "tolerance" in res.models:
+        out.append(f"  --tol: {res.models['tolerance']['reason']}")
     out.extend(f"  outside validity: {n}" for n in res.validity)
     sys.stdout.write("\n".join(out) + "\n")
     return 0

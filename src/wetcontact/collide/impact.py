@@ -451,7 +451,8 @@ class _Run:
 
 def collide(case: CollisionCase, viscous: str | None = None, capillary: str | None = None,
             rtol: float = RTOL, max_step: float = math.inf, fixed_step: bool = False,
-            trajectory: bool = True, force_set: str | None = None) -> Collision:
+            trajectory: bool = True, force_set: str | None = None,
+            tol: float | None = None) -> Collision:
     """Integrate one wet impact and return its outcome.
 
     Parameters
@@ -473,6 +474,10 @@ def collide(case: CollisionCase, viscous: str | None = None, capillary: str | No
     force_set
         A DEM code's force set (:data:`wetcontact.collide.dem.FORCE_SETS`) instead of the
         toolkit's models (``viscous`` and ``capillary`` are then ignored).
+    tol
+        Absolute tolerance on e: the cheapest models whose measured restitution error
+        meets it (:func:`wetcontact.collide.tolerance.choose`; ``models["tolerance"]``
+        gives the bound and why); not with ``viscous``, ``capillary`` or ``force_set``.
 
     Returns
     -------
@@ -492,8 +497,24 @@ def collide(case: CollisionCase, viscous: str | None = None, capillary: str | No
         raise InputError(f"collide: case = {type(case).__name__}; allowed: a CollisionCase "
                          "(wetcontact.collide.load_collision_case, or collision_case(scene, "
                          "impact={...}, solid={...}) for a Scene)")
+    chosen: dict[str, Any] | None = None
+    if tol is not None:
+        if viscous is not None or capillary is not None or force_set is not None:
+            raise InputError("collide: tol picks the models; allowed: tol without viscous, "
+                             "capillary or force_set")
+        if isinstance(tol, bool) or not isinstance(tol, int | float) or not 0.0 < tol < 1.0:
+            raise InputError(f"collide: tol = {tol!r}; allowed: a number in (0, 1)")
+        from wetcontact.collide.tolerance import choose
+
+        sc = case.scene
+        m_st = case.solid.density * 4.0 / 3.0 * math.pi * sc.radius ** 3
+        st = m_st * case.impact.velocity / (6.0 * math.pi * sc.viscosity
+                                            * sc.reduced_radius ** 2)
+        viscous, capillary, chosen = choose(case, float(tol), st)
     t0 = time.perf_counter()
     imp = _Impact(case, viscous, capillary, rtol, force_set)
+    if chosen is not None:
+        imp.models["tolerance"] = chosen  # type: ignore[assignment]
     t_tab = time.perf_counter() - t0
     run = _Run(imp, max_step, fixed_step)
     run.friction_work = 0.0
