@@ -98,6 +98,9 @@ def build_parser() -> argparse.ArgumentParser:
                        help="write solution fields (VTU) where the model supports it")
 
     _add_calibrate_parser(sub)
+    from wetcontact.collide.command import add_parser as add_collide_parser
+
+    add_collide_parser(sub, path_arg)
     _add_sweep_parser(sub)
     _add_export_parser(sub)
 
@@ -145,6 +148,10 @@ def _dispatch(args: argparse.Namespace) -> int:
         return _models()
     if args.command == "solve":
         return _solve(args)
+    if args.command == "collide":
+        from wetcontact.collide.command import run as run_collide
+
+        return run_collide(args)
     if args.command == "sweep":
         return _sweep(args)
     if args.command == "export":
