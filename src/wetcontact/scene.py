@@ -43,6 +43,19 @@ _SCHEMA: dict[str, dict[str, bool]] = {
     "motion": {"velocity": True, "gaps": True},
     "particle": {"density": False},
     "fidelity": {"tolerance": False, "model": False},
+    # collision tables: read by wetcontact.collide.case, which validates their values
+    "impact": {"velocity": False, "start_gap": False, "tangential_velocity": False,
+               "spin": False, "gravity": False, "buoyancy": False, "added_mass": False,
+               "drag": False},
+    "solid": {"density": False, "youngs_modulus": False, "poisson_ratio": False,
+              "restitution": False, "friction": False, "lubricated_friction": False,
+              "roughness": False},
+    "solid2": {"density": False, "youngs_modulus": False, "poisson_ratio": False,
+               "restitution": False, "friction": False, "lubricated_friction": False,
+               "roughness": False},
+    "contact": {"model": False, "cutoff": False},
+    "phases": {"viscous_on_rebound": False, "advancing_angle": False,
+               "receding_angle": False, "rupture": False},
 }
 _TABLES = {k for k in _SCHEMA if k}
 #: most gaps a case may ask for, as a list or as a ``{start, stop, points}`` table
