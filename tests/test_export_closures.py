@@ -43,6 +43,7 @@ from wetcontact.export.closures import (
 )
 from wetcontact.export.python_module import write_module
 from wetcontact.reduced_models import calibrated_capillary as cc
+from wetcontact.scene import min_gap
 
 jsonschema = pytest.importorskip("jsonschema")
 
@@ -157,12 +158,14 @@ def shipped_design(rng: np.random.Generator) -> tuple[dict[str, np.ndarray], ...
 def _gaps(rng: np.random.Generator, rs: np.ndarray, theta_deg: np.ndarray,
           v: np.ndarray) -> np.ndarray:
     """Gaps up to 1.3 times about the rupture distance, a fifth from 1e-12 to 1e-3 R_s (near
-    contact), 2 % exactly 0, 1 % negative (an overlap: NaN)."""
+    contact; those below the smallest gap a scene holds, max(1e-12 m, 1e-9 R_s), at it),
+    2 % exactly 0, 1 % negative (an overlap: NaN)."""
     n = rs.size
     sc = rs * (1.0 + 0.5 * np.radians(theta_deg)) * np.cbrt(v)  # about the rupture distance
     gap = sc * rng.uniform(0.0, 1.3, n)
     u = rng.uniform(size=n)
-    gap = np.where(u < 0.2, rs * 10.0 ** rng.uniform(-12, -3, n), gap)
+    near = np.maximum(rs * 10.0 ** rng.uniform(-12, -3, n), [min_gap(r) for r in rs])
+    gap = np.where(u < 0.2, near, gap)
     gap[u > 0.98] = 0.0
     gap[(u > 0.97) & (u <= 0.98)] *= -1.0  # overlap: NaN
     return gap

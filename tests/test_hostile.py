@@ -634,7 +634,8 @@ def physical_cases(draw) -> tuple[str, str]:
     r = draw(_log_uniform(1e-8, 10.0))
     amount = draw(st.sampled_from(["immersed", "bridge"] + (["film"] if kind == "sphere-wall"
                                                               else [])))
-    gaps = draw(st.lists(_log_uniform(1e-6 * r, 100.0 * r), min_size=1, max_size=6))
+    gaps = draw(st.lists(_log_uniform(max(1e-6 * r, scene_mod.MIN_GAP), 100.0 * r),
+                         min_size=1, max_size=6))  # MIN_GAP: the smallest gap (1e-12 m)
     data: dict[str, Any] = {
         "name": draw(_hostile_text.filter(lambda t: t.strip() and t.isprintable()
                                           and len(t) <= 200)),

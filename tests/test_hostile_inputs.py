@@ -244,3 +244,71 @@ def test_a_range_whose_steps_overflow_is_one_line_without_warnings(tmp_path, bod
                             str(tmp_path / "s.h5")])
     line = one_error_line(code, err, field, "is a finite number")
     assert "nan" not in line and "warning" not in err
+
+
+# ---- 4. gaps below any physical scale ---------------------------------------------------------
+
+
+@pytest.mark.parametrize("gaps, field", [
+    ("[1e-300]", "motion.gaps[0] = 1e-300"),
+    ("[1e-4, 1e-15]", "motion.gaps[1] = 1e-15"),
+    ("[5e-324]", "motion.gaps[0] = 5e-324"),
+    ("9.9e-13", "motion.gaps = 9.9e-13"),
+    ("{ start = 1e-4, stop = 1e-13, points = 3 }", "motion.gaps.stop = 1e-13"),
+], ids=["1e-300", "1e-15", "denormal", "scalar", "table"])
+@pytest.mark.parametrize("model", ["brenner", "lubrication", "reynolds-finite"])
+def test_gaps_below_the_physical_limit_are_refused(tmp_path, gaps, field, model):
+    """1e-300 m gave 4.7e288 N (reynolds-finite), 1e-15 m ran brenner out of memory and
+    5e-324 m gave NaN (lubrication), each with exit 0."""
+    p = tmp_path / "tiny.toml"
+    p.write_text(IMMERSED_TOML.format(gaps=gaps))
+    code, out, err = run_cli(["solve", str(p), "--model", model, "--json"])
+    one_error_line(code, err, "tiny.toml", field, "allowed: a number in [1e-12, 0.1] m",
+                   "max(1e-12 m, 1e-9 R_s)")
+    assert not out
+
+
+def test_the_gap_limit_is_relative_to_the_smaller_radius_and_inclusive():
+    from wetcontact.scene import MIN_GAP, MIN_GAP_OVER_RADIUS, min_gap
+
+    assert (MIN_GAP, MIN_GAP_OVER_RADIUS) == (1e-12, 1e-9)
+    assert min_gap(1e-3) == 1e-12 and min_gap(10.0) == 1e-8 and min_gap(2e-9) == 1e-12
+    base = {"name": "x", "geometry": {"kind": "sphere-sphere", "radius": 10.0,
+                                      "radius2": 1.0},
+            "liquid": {"viscosity": 1e-3, "surface_tension": 0.072, "density": 998.0},
+            "amount": {"immersed": True}, "motion": {"velocity": 0.1, "gaps": [1e-9]}}
+    sc = scene_from_dict(base)  # 1e-9 R_s = 1e-9 m: at the limit
+    with pytest.raises(CaseError, match=r"motion\.gaps\[0\] = 9\.9e-10; allowed: a number in "
+                                        r"\[1e-09, 1000\] m"):
+        sc.with_gaps([9.9e-10])
+    one_mm = scene_from_dict({**base, "geometry": {"kind": "sphere-wall", "radius": 1e-3},
+                              "motion": {"velocity": 0.1, "gaps": [1e-12]}})
+    assert one_mm.gaps == (1e-12,)  # 1e-12 m at R = 1 mm is at the limit, not an ulp below
+    with pytest.raises(CaseError, match=r"amount\.film_thickness = 1e-12; allowed: a number "
+                                        r"in \(1e-12, "):
+        scene_from_dict({**base, "geometry": {"kind": "sphere-wall", "radius": 1e-3},
+                         "amount": {"film_thickness": 1e-12}})
+
+
+def test_derived_study_gaps_below_the_limit_are_blamed_on_their_entry(tmp_path):
+    """``gap_over_edge_gap = 1e-300`` gave gaps of 4e-306 m and exit 0 from sweep."""
+    bridge = ROOT / "cases" / "dem-pendular-bridge-100um.toml"
+    p = study(tmp_path, '[axes]\n"liquid.contact_angle" = [10.0]\n'
+              '"motion.gap_over_edge_gap" = [1e-300]\n', base=bridge)
+    code, _, err = run_cli(["sweep", str(p), "--workers", "0", "--store",
+                            str(tmp_path / "s.h5")])
+    one_error_line(code, err, "axes.motion.gap_over_edge_gap = 1e-300",
+                   "a value giving motion.gaps a number in [1e-12, ")
+    assert not (tmp_path / "s.h5").exists()
+
+
+def test_shipped_cases_and_studies_keep_within_the_gap_limit():
+    """Every shipped case, and the studies at the smallest gaps (S/R = 1e-7 of a 50 um
+    sphere: 5e-12 m), still load."""
+    from wetcontact.study import load_study
+
+    for f in sorted(ROOT.glob("cases/*.toml")):
+        load_case(f)
+    for f in (ROOT / "cases" / "studies" / "calibrate-lian-rupture.toml",
+              ROOT / "benchmarks" / "results" / "calibration" / "lian-rupture_heldout.toml"):
+        assert min(min(sc.gaps) for _, sc in load_study(f).scenes) >= 5e-12

@@ -305,13 +305,15 @@ def test_bad_point_blames_the_entry_that_set_the_field(tmp_path, capsys, body, s
     assert not store.exists() and not (tmp_path / "out").exists()
 
 
+GAP_RANGE = ("a number in [1e-12, 0.005] m (the lower limit, max(1e-12 m, 1e-9 R_s), is "
+             "below the molecular scale)")
 BAD_RUPTURE_GAPS = [
     ("[0.0, 0.5]", "set.motion.gap_over_rupture = [0.0, 0.5]",
-     "a value giving motion.gaps[0] a number in (0, 0.005] m (it gave 0.0)"),
+     f"a value giving motion.gaps[0] {GAP_RANGE} (it gave 0.0)"),
     ("[0.5, -0.5]", "set.motion.gap_over_rupture = [0.5, -0.5]",
-     "a value giving motion.gaps[1] a number in (0, 0.005] m (it gave -"),
+     f"a value giving motion.gaps[1] {GAP_RANGE} (it gave -"),
     ("[0.5, 1e6]", "set.motion.gap_over_rupture = [0.5, 1000000.0]",
-     "a value giving motion.gaps[1] a number in (0, 0.005] m (it gave "),
+     f"a value giving motion.gaps[1] {GAP_RANGE} (it gave "),
 ]
 
 

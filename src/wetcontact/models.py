@@ -212,7 +212,7 @@ class Model:
             :func:`~wetcontact.scene.load_case` or :func:`~wetcontact.scene.scene_from_dict`).
         gaps
             Surface gaps S (m) overriding the scene's: a number, a sequence or a 1-D array,
-            each in (0, 100 R].
+            each in [max(1e-12 m, 1e-9 R_s), 100 R] (:func:`~wetcontact.scene.min_gap`).
         preset
             Resolution preset: ``fast``, ``default`` or ``accurate`` (a closure gives the
             same values at each; ``calibrated-capillary`` sums two-angle tables in double

@@ -64,6 +64,31 @@ MAX_GAPS = 100_000
 MAX_NAME = 200
 #: longest description or source text
 MAX_TEXT = 100_000
+#: smallest gap at any radius (m): a hundredth of the molecular scale (an atom is about
+#: 1e-10 m, a water molecule 2.8e-10 m across). Below it a gap is no distance between two
+#: surfaces; it is kept that far below the molecular scale so that a near-contact limit
+#: stays expressible (the shipped calibrate-lian-rupture study evaluates rupture distances
+#: at S/R = 1e-7 of a 50 um sphere, 5e-12 m), though no continuum model describes a gap
+#: under about 1e-9 m
+MIN_GAP = 1e-12
+#: smallest gap relative to the radius, S/R: below it the gap is lost in the rounding of
+#: the sphere's position (R + S keeps 7 of 16 digits of S) and the exact Stokes series need
+#: more than 10^5 terms per gap (Brenner's at S/R = 1e-12 ran out of memory)
+MIN_GAP_OVER_RADIUS = 1e-9
+
+
+def min_gap(radius: float) -> float:
+    """The smallest gap (m) a scene may ask for, ``radius`` (m) its smaller sphere's R_s:
+    ``max(MIN_GAP, MIN_GAP_OVER_RADIUS R_s)`` = max(1e-12 m, 1e-9 R_s).
+
+    A physical lower limit, relative to the molecular scale (:data:`MIN_GAP`) and to the
+    radius (:data:`MIN_GAP_OVER_RADIUS`): gaps of 1e-300 m gave a viscous force of
+    4.7e288 N, 1e-15 m ran Brenner's series out of memory and 5e-324 m gave NaNs. A film
+    must be thicker than this smallest gap.
+    """
+    # R / 1e9, not R * 1e-9: correctly rounded, so that 1e-12 m at R = 1 mm is at the
+    # limit, not an ulp below it (1e-3 * 1e-9 = 1.0000000000000002e-12)
+    return max(MIN_GAP, float(radius) / round(1.0 / MIN_GAP_OVER_RADIUS))
 
 
 @dataclass(frozen=True)
@@ -178,7 +203,8 @@ class Scene:
         ----------
         gaps
             Surface gaps S (m): a number, a sequence, a 1-D array or the table form
-            ``{start, stop, points, spacing}``; each in (0, 100 R], at most 100 000, and
+            ``{start, stop, points, spacing}``; each in [max(1e-12 m, 1e-9 R_s), 100 R]
+            (:func:`min_gap`, R_s the smaller radius), at most 100 000, and
             for a film at least one below the film thickness (as ``load_case`` requires).
 
         Returns
@@ -191,7 +217,7 @@ class Scene:
         CaseError
             A gap outside its range, naming the scene's file and the gap.
         """
-        new = _validate_gaps(self.origin, gaps, self.radius)
+        new = _validate_gaps(self.origin, gaps, self.radius, self.small_radius)
         if self.film_thickness is not None:
             _check_film_reached(self.origin, self.film_thickness, new)
         return replace(self, gaps=new)
@@ -295,13 +321,14 @@ def scene_from_dict(data: Mapping[str, Any], source: str = "<dict>") -> Scene:
     if len(amounts) != 1:
         raise CaseError(source, "amount", sorted(amounts) if amounts else None,
                         "exactly one of film_thickness, bridge_volume, immersed = true")
-    gaps = _validate_gaps(source, mot["gaps"], radius)
+    gaps = _validate_gaps(source, mot["gaps"], radius, min(radius, radius2 or radius))
     film = volume = None
     if amounts[0] == "film_thickness":
         if kind != "sphere-wall":
             raise CaseError(source, "amount.film_thickness", amt["film_thickness"],
                             "only with kind='sphere-wall' (a film lies on the wall)")
-        film = _num(source, "amount.film_thickness", amt["film_thickness"], 1e-12, 10 * radius, "m")
+        film = _num(source, "amount.film_thickness", amt["film_thickness"], min_gap(radius),
+                    10 * radius, "m")  # thicker than the smallest gap allowed
         _check_film_reached(source, film, gaps)
         amount: AmountKind = "film"
     elif amounts[0] == "bridge_volume":
@@ -437,9 +464,13 @@ def _contact_angles(source: str, kind: str, liq: Mapping[str, Any]) -> tuple[flo
             _angle(source, f"liquid.{other}", liq[other]))
 
 
-def _validate_gaps(source: str, gaps: Any, radius: float) -> tuple[float, ...]:
-    """Gaps from a list or a ``{start, stop, points, spacing}`` table; each in (0, 100 R]."""
-    allowed = f"each gap in (0, {100 * radius:g}] m (0 < S <= 100 R)"
+def _validate_gaps(source: str, gaps: Any, radius: float, small: float
+                   ) -> tuple[float, ...]:
+    """Gaps from a list or a ``{start, stop, points, spacing}`` table; each in
+    [max(1e-12 m, 1e-9 R_s), 100 R] (:func:`min_gap`: a physical lower limit; R the
+    first radius, R_s = ``small`` the smaller one)."""
+    lo, hi = min_gap(small), 100 * radius
+    allowed = f"each gap in [{lo:g}, {hi:g}] m (max(1e-12 m, 1e-9 R_s) <= S <= 100 R)"
     if isinstance(gaps, Mapping):
         for k in gaps:
             if k not in ("start", "stop", "points", "spacing"):
@@ -448,8 +479,8 @@ def _validate_gaps(source: str, gaps: Any, radius: float) -> tuple[float, ...]:
         for k in ("start", "stop", "points"):
             if k not in gaps:
                 raise CaseError(source, f"motion.gaps.{k}", None, "required")
-        start = _num(source, "motion.gaps.start", gaps["start"], 0.0, 100 * radius, "m")
-        stop = _num(source, "motion.gaps.stop", gaps["stop"], 0.0, 100 * radius, "m")
+        start = _gap(source, "motion.gaps.start", gaps["start"], lo, hi)
+        stop = _gap(source, "motion.gaps.stop", gaps["stop"], lo, hi)
         n = gaps["points"]
         if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_GAPS:
             raise CaseError(source, "motion.gaps.points", n, f"an integer in [1, {MAX_GAPS}]")
@@ -470,10 +501,19 @@ def _validate_gaps(source: str, gaps: Any, radius: float) -> tuple[float, ...]:
                             f"a list of 1 to {MAX_GAPS} gaps (as for points in the table form)")
         out = []
         for i, s in enumerate(gaps):
-            out.append(_num(source, f"motion.gaps[{i}]", s, 0.0, 100 * radius, "m"))
+            out.append(_gap(source, f"motion.gaps[{i}]", s, lo, hi))
         return tuple(out)
     gaps = plain_number(gaps)
     if isinstance(gaps, int | float) and not isinstance(gaps, bool):
-        return (_num(source, "motion.gaps", gaps, 0.0, 100 * radius, "m"),)
+        return (_gap(source, "motion.gaps", gaps, lo, hi),)
     raise CaseError(source, "motion.gaps", gaps, "a list of gaps or {start, stop, points, "
                     "spacing}; " + allowed)
+
+
+def _gap(source: str, name: str, value: Any, lo: float, hi: float) -> float:
+    """One gap (or a gap range's end) in [lo, hi] m, saying where the lower limit is from."""
+    try:
+        return _num(source, name, value, lo, hi, "m", lo_open=False)
+    except CaseError as exc:
+        raise CaseError(source, name, exc.value, f"{exc.allowed} (the lower limit, "
+                        "max(1e-12 m, 1e-9 R_s), is below the molecular scale)") from None

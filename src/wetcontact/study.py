@@ -71,7 +71,7 @@ import numpy as np
 from wetcontact.errors import CaseError, InputError
 from wetcontact.fileio import read_toml
 from wetcontact.models import PRESETS, get_model
-from wetcontact.scene import _SCHEMA, Scene, scene_from_dict
+from wetcontact.scene import _SCHEMA, MIN_GAP, Scene, min_gap, scene_from_dict
 from wetcontact.sweep import Point
 
 MAX_SCENES = 100_000
@@ -146,19 +146,30 @@ def _edge_gaps(case: dict[str, Any], value: Any) -> Any:
     return gaps if isinstance(value, list | tuple) else gaps[0]
 
 
-ANY_GAP = 1e-30
-"""A gap (m) that passes every gap check of every otherwise valid scene: > 0, <= 100 R for
-any allowed radius (>= 1e-9 m), and below any allowed film (>= 1e-12 m). It stands in for
-gaps still to be derived, so that a point's other fields can be validated on their own."""
+def any_gap(case: Mapping[str, Any]) -> float:
+    """A gap (m) that passes every gap check of ``case`` if its other fields are valid: the
+    smallest gap its radius allows (:func:`~wetcontact.scene.min_gap`), which is <= 100 R
+    and below any allowed film (a film must be thicker than it). It stands in for gaps
+    still to be derived, so that a point's other fields can be validated on their own; an
+    invalid radius gets :data:`~wetcontact.scene.MIN_GAP` (the radius is refused first)."""
+    geo = case.get("geometry")
+    r = geo.get("radius") if isinstance(geo, Mapping) else None
+    if isinstance(r, int | float) and not isinstance(r, bool):
+        try:
+            if 0.0 < float(r) <= 10.0:
+                return min_gap(float(r))
+        except OverflowError:  # an integer beyond the float range
+            pass
+    return MIN_GAP
 
 
 def _without_gaps(case: dict[str, Any]) -> dict[str, Any]:
-    """A shallow copy of ``case`` with its gaps replaced by :data:`ANY_GAP` (the rupture
+    """A shallow copy of ``case`` with its gaps replaced by :func:`any_gap` (the rupture
     distance and the validity of every other field do not depend on the gaps)."""
     motion = case.get("motion")
     if not isinstance(motion, Mapping):
         return case
-    return {**case, "motion": {**motion, "gaps": [ANY_GAP]}}
+    return {**case, "motion": {**motion, "gaps": [any_gap(case)]}}
 
 
 def _scaled(value: Any, scale: float) -> Any:
@@ -559,7 +570,7 @@ class _Entries:
 
     def check_inputs(self, case: dict[str, Any]) -> None:
         """Raise the blamed error of ``case`` (with derived gaps stood in for by
-        :data:`ANY_GAP`), unless its error is in a field a derived entry has still to set.
+        :func:`any_gap`), unless its error is in a field a derived entry has still to set.
         A derived field reads the point's other fields (radius, angles, volume), so a bad
         value there is the error, not the derived field that read it."""
         derived_gaps = any(DERIVED[p][0] == "motion.gaps" for p in self.given if p in DERIVED)
