@@ -312,3 +312,97 @@ def test_shipped_cases_and_studies_keep_within_the_gap_limit():
     for f in (ROOT / "cases" / "studies" / "calibrate-lian-rupture.toml",
               ROOT / "benchmarks" / "results" / "calibration" / "lian-rupture_heldout.toml"):
         assert min(min(sc.gaps) for _, sc in load_study(f).scenes) >= 5e-12
+
+
+# ---- 6. a full disk while the store is written ------------------------------------------------
+
+
+def _small_study(tmp_path: Path) -> Path:
+    case = tmp_path / "imm.toml"
+    case.write_text(IMMERSED_TOML.format(gaps="[1e-4, 1e-5]"))
+    p = tmp_path / "s.toml"
+    p.write_text(f'name = "s"\nbase = "{case}"\nmodels = ["brenner"]\n[axes]\n'
+                 '"liquid.viscosity" = [1e-3, 2e-3]\n')
+    return p
+
+
+def _failing_h5py_file(monkeypatch, errors: list[BaseException]) -> list[str]:
+    """``h5py.File`` in the store raising ``errors`` in turn when opened for writing."""
+    import h5py
+
+    import wetcontact.store as store_mod
+
+    real, calls = h5py.File, []
+
+    def fake(name, mode="r", *args, **kwargs):
+        if mode != "r":
+            calls.append(mode)
+            raise errors[min(len(calls), len(errors)) - 1]
+        return real(name, mode, *args, **kwargs)
+
+    monkeypatch.setattr(store_mod.h5py, "File", fake)
+    return calls
+
+
+class _NoSpace:
+    f_bavail = f_bfree = 3
+    f_frsize = 4096
+
+
+def test_hdf5_slist_error_on_a_full_disk_is_the_enospc_line(tmp_path, monkeypatch):
+    """2 of 6 sweeps on a full disk ended in exit 1 'internal error (RuntimeError: Slist
+    already enabled?)' from HDF5, the others in the exit 2 ENOSPC line."""
+    calls = _failing_h5py_file(monkeypatch, [RuntimeError("Slist already enabled?")])
+    monkeypatch.setattr(os, "statvfs", lambda path: _NoSpace())
+    store = tmp_path / "s.h5"
+    code, out, err = run_cli(["sweep", str(_small_study(tmp_path)), "--workers", "0",
+                              "--store", str(store)])
+    line = one_error_line(code, err, repr(str(store)), "No space left on device",
+                          "12288 bytes free", "Slist already enabled?",
+                          "free some space or choose another folder")
+    assert calls and not out and not store.exists()
+    assert not list(tmp_path.glob("s.h5.*.tmp"))  # the temporary copy removed
+    assert "internal error" not in line
+
+
+@pytest.mark.parametrize("error", [
+    OSError(28, "No space left on device"),
+    OSError(None, "Can't write data (file write failed: time = x, filename = 'y', "
+                  "errno = 28, error message = 'No space left on device')"),
+], ids=["errno", "hdf5-text"])
+def test_an_enospc_error_from_hdf5_names_the_store_not_its_temporary(tmp_path, monkeypatch,
+                                                                    error):
+    _failing_h5py_file(monkeypatch, [error])
+    store = tmp_path / "s.h5"
+    code, _, err = run_cli(["sweep", str(_small_study(tmp_path)), "--workers", "0",
+                            "--store", str(store)])
+    line = one_error_line(code, err, f"{str(store)!r}: No space left on device; free some "
+                          "space or choose another folder")
+    assert ".tmp" not in line
+
+
+def test_a_second_write_after_enospc_is_still_the_full_disk():
+    """A retry after a failed write (the sweep's last flush) can fail in HDF5's broken
+    state while the disk has room again (the failed copy was removed): the error in the
+    chain is what the user sees."""
+    try:
+        try:
+            raise OSError(28, "No space left on device", "/data/s.h5")
+        except OSError:
+            raise RuntimeError("Slist already enabled?")  # noqa: B904 - as HDF5 does
+    except RuntimeError as exc:
+        code, line = cli.error_line(exc)
+    assert code == 2 and line == ("wetcontact: error: '/data/s.h5': No space left on device; "
+                                  "free some space or choose another folder")
+
+
+def test_an_hdf5_runtime_error_with_room_on_the_disk_stays_an_internal_error(tmp_path,
+                                                                              monkeypatch):
+    """Not every HDF5 error is a full disk: with room to write it is still reported as a
+    bug (exit 1), not as a full disk."""
+    _failing_h5py_file(monkeypatch, [RuntimeError("Slist already enabled?")])
+    code, _, err = run_cli(["sweep", str(_small_study(tmp_path)), "--workers", "0",
+                            "--store", str(tmp_path / "s.h5")])
+    assert code == 1 and len(err.splitlines()) == 1, err
+    assert "internal error (RuntimeError: Slist already enabled?)" in err
+    assert "No space" not in err

@@ -184,7 +184,14 @@ _PATH_ERRORS: dict[int, str] = {
 
 
 def error_line(exc: BaseException) -> tuple[int, str]:
-    """Exit code and the one line a user sees for ``exc`` (no traceback)."""
+    """Exit code and the one line a user sees for ``exc`` (no traceback).
+
+    An unexpected error raised while a full disk was being handled (HDF5's ``RuntimeError:
+    Slist already enabled?`` from a second write after a failed one) is reported as that
+    full disk: the ``OSError`` in its chain of causes, exit 2.
+    """
+    if not isinstance(exc, InputError | SolverError | OSError):
+        exc = _full_disk_cause(exc) or exc
     if isinstance(exc, InputError):
         return 2, f"wetcontact: error: {_one_line(exc, limit=1200)}"
     if isinstance(exc, SolverError):
@@ -203,6 +210,19 @@ def error_line(exc: BaseException) -> tuple[int, str]:
                    "(rerun with --debug for the traceback)")
     return 1, (f"wetcontact: internal error ({type(exc).__name__}: {_one_line(exc)}); "
                "rerun with --debug for the traceback and report it")
+
+
+def _full_disk_cause(exc: BaseException) -> OSError | None:
+    """The ENOSPC or EDQUOT ``OSError`` among the causes and contexts of ``exc``, if any."""
+    full = (errno.ENOSPC, getattr(errno, "EDQUOT", errno.ENOSPC))
+    seen: set[int] = set()
+    cur: BaseException | None = exc
+    while cur is not None and id(cur) not in seen:
+        seen.add(id(cur))
+        if isinstance(cur, OSError) and cur.errno in full:
+            return cur
+        cur = cur.__cause__ or cur.__context__
+    return None
 
 
 def _warning_line(message: Warning | str, category: type[Warning], filename: str,

@@ -30,6 +30,7 @@ is created with the mode a plain ``open`` would give (0o666 less the umask).
 from __future__ import annotations
 
 import contextlib
+import errno
 import fcntl
 import hashlib
 import json
@@ -408,10 +409,51 @@ class Store:
                 os.fsync(fh.fileno())
             os.replace(tmp, self.path)
             fsync_dir(self.path.parent)
-        except BaseException:
+        except BaseException as exc:
+            full = full_disk_error(exc, self.path)  # before the copy's space is freed
             with contextlib.suppress(FileNotFoundError):
                 os.unlink(tmp)
+            if full is not None:
+                raise full from exc
             raise
+
+
+#: free space (bytes) below which a write error of HDF5 is taken for a full disk
+LOW_SPACE = 16 * 2**20
+_FULL = (errno.ENOSPC, getattr(errno, "EDQUOT", errno.ENOSPC))
+
+
+def full_disk_error(exc: BaseException, path: Path) -> OSError | None:
+    """The full-disk ``OSError`` (ENOSPC or EDQUOT) naming the store ``path`` that a failed
+    write stands for, or ``None`` when it is another error.
+
+    A full disk reaches a writer in several forms: an ``OSError`` with its errno (from
+    the copy, or from h5py naming the hidden temporary), an HDF5 error whose text holds
+    ``errno = 28``, or, once a failed write has left HDF5's state inconsistent, an error
+    that says nothing of the disk (``RuntimeError: Slist already enabled?``). The last is
+    taken for a full disk when the store's folder has less than :data:`LOW_SPACE` (or the
+    store's size) free, so the user sees the one ENOSPC line of the CLI (exit 2) instead
+    of an internal error.
+    """
+    if isinstance(exc, OSError) and exc.errno in _FULL:
+        return OSError(exc.errno, os.strerror(exc.errno), str(path))
+    if not isinstance(exc, OSError | RuntimeError):  # what h5py raises
+        return None
+    text = str(exc)
+    for code in _FULL:
+        if os.strerror(code) in text or f"errno = {code}," in text:
+            return OSError(code, os.strerror(code), str(path))
+    try:
+        st = os.statvfs(path.parent)
+        size = path.stat().st_size if path.is_file() else 0
+    except OSError:
+        return None
+    free = (st.f_bfree if os.geteuid() == 0 else st.f_bavail) * st.f_frsize
+    if free >= max(LOW_SPACE, size):
+        return None
+    what = " ".join(text.split())[:80]
+    return OSError(errno.ENOSPC, f"{os.strerror(errno.ENOSPC)} ({free} bytes free; HDF5: "
+                   f"{type(exc).__name__}: {what})", str(path))
 
 
 class BatchWriter:
