@@ -406,3 +406,84 @@ def test_an_hdf5_runtime_error_with_room_on_the_disk_stays_an_internal_error(tmp
     assert code == 1 and len(err.splitlines()) == 1, err
     assert "internal error (RuntimeError: Slist already enabled?)" in err
     assert "No space" not in err
+
+
+# ---- 7. output paths checked before any work --------------------------------------------------
+
+
+@pytest.fixture
+def no_study_loads(monkeypatch):
+    """Fail the test if a study is loaded (where its rupture distances are solved)."""
+    import wetcontact.calibrate
+    import wetcontact.study
+
+    def loaded(*args, **kwargs):
+        raise AssertionError("the study was loaded before the output path was checked")
+
+    monkeypatch.setattr(wetcontact.study, "load_study", loaded)
+    monkeypatch.setattr(wetcontact.calibrate, "calibrate", loaded)
+    monkeypatch.setattr(cli, "_load_study", loaded)
+
+
+def _bad_outputs(tmp_path: Path) -> dict[str, tuple[Path, str]]:
+    a_file = tmp_path / "a-file"
+    a_file.write_text("x")
+    (tmp_path / "a-folder").mkdir()
+    return {"under-a-file": (a_file / "out.h5", "is a file, not a folder"),
+            "a-folder": (tmp_path / "a-folder", "a folder; allowed: a file name"),
+            "long-name": (tmp_path / ("n" * 250 + ".h5"), "a name of 253 characters")}
+
+
+@pytest.mark.parametrize("which", ["under-a-file", "a-folder", "long-name"])
+def test_a_bad_store_is_refused_before_the_study_is_loaded(tmp_path, no_study_loads, which):
+    """A bad --store was found only after the study's rupture distances were solved
+    (25 s in one case)."""
+    path, words = _bad_outputs(tmp_path)[which]
+    code, out, err = run_cli(["sweep", str(_small_study(tmp_path)), "--store", str(path)])
+    one_error_line(code, err, "--store", words)
+    assert not out
+
+
+@pytest.mark.parametrize("which", ["under-a-file", "a-folder", "long-name"])
+def test_calibrate_checks_out_and_store_before_any_work(tmp_path, no_study_loads, which):
+    path, words = _bad_outputs(tmp_path)[which]
+    study_file = str(_small_study(tmp_path))
+    code, _, err = run_cli(["calibrate", study_file, "--closure", "willett", "--out",
+                            str(path), "--store", str(tmp_path / "s.h5")])
+    one_error_line(code, err, f"--out '{str(path)[:60]}", words)
+    if which != "a-folder":  # an existing folder is an existing store's folder: fine
+        code, _, err = run_cli(["calibrate", study_file, "--closure", "willett", "--out",
+                                str(tmp_path / "c.json"), "--store", str(path)])
+        one_error_line(code, err, f"--store '{str(path)[:60]}", words)
+
+
+def test_export_csv_checks_out_before_the_study_is_loaded(tmp_path, no_study_loads):
+    store = tmp_path / "s.h5"
+    store.write_bytes(b"")  # exists: the --store check passes
+    folder = tmp_path / "a-folder"
+    folder.mkdir()
+    code, _, err = run_cli(["export", "csv", str(_small_study(tmp_path)), "--store",
+                            str(store), "--out", str(folder)])
+    one_error_line(code, err, "--out", "a folder")
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root writes in any folder")
+def test_a_store_in_a_read_only_folder_is_refused_first(tmp_path, no_study_loads):
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    ro.chmod(0o500)
+    try:
+        code, _, err = run_cli(["sweep", str(_small_study(tmp_path)), "--store",
+                                str(ro / "s.h5")])
+    finally:
+        ro.chmod(0o700)
+    one_error_line(code, err, "--store", "cannot write in")
+
+
+def test_a_good_store_path_is_not_refused(tmp_path):
+    """The checks refuse nothing a sweep can write: a store in folders still to create."""
+    store = tmp_path / "new" / "deeper" / "s.h5"
+    code, out, err = run_cli(["sweep", str(_small_study(tmp_path)), "--workers", "0",
+                              "--store", str(store)])
+    assert code == 0 and store.is_file(), err
+    assert "2 computed" in out
