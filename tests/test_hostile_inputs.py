@@ -487,3 +487,57 @@ def test_a_good_store_path_is_not_refused(tmp_path):
                               "--store", str(store)])
     assert code == 0 and store.is_file(), err
     assert "2 computed" in out
+
+
+# ---- 8. an error is one line on stderr --------------------------------------------------------
+
+
+def test_a_sweep_in_which_every_point_fails_is_one_stderr_line(tmp_path):
+    """The closing progress line came before 'every point failed' (two lines)."""
+    bridge = ROOT / "cases" / "unequal-spheres-bridge.toml"
+    p = study(tmp_path, '[axes]\n"liquid.contact_angle" = [10.0, 20.0]\n', base=bridge)
+    p.write_text(p.read_text().replace('"reynolds"', '"brenner"'))  # refuses a bridge
+    for extra in ([], ["--json"]):
+        code, out, err = run_cli(["sweep", str(p), "--workers", "0", "--store",
+                                  str(tmp_path / "s.h5"), *extra])
+        assert code == 1 and err.count("\n") == 1, err
+        assert err.startswith("wetcontact: error: every one of the 2 points failed"), err
+        assert out.strip()  # the summary (and the reasons) on stdout
+
+
+def test_the_progress_bar_on_a_terminal_is_erased_at_the_end(monkeypatch):
+    from wetcontact.sweep import _Progress
+
+    class Tty(io.StringIO):
+        def isatty(self) -> bool:
+            return True
+
+    tty = Tty()
+    monkeypatch.setattr(sys, "stderr", tty)
+    prog = _Progress(3, True)
+    prog.update("computed", 3)
+    prog.close()
+    shown = tty.getvalue().split("\r")[-1]  # what the terminal's line holds at the end
+    assert "sweep" in tty.getvalue() and not shown.strip(), repr(tty.getvalue())
+
+
+def test_numpy_warnings_while_a_case_is_validated_print_no_line(tmp_path, monkeypatch):
+    """RuntimeWarnings raised while input was validated were printed before its error."""
+    import numpy as np
+
+    import wetcontact.scene as scene_mod
+
+    check = scene_mod._check_keys
+
+    def warning_check(source, data):
+        np.log(np.zeros(1))  # RuntimeWarning: divide by zero
+        check(source, data)
+
+    monkeypatch.setattr(scene_mod, "_check_keys", warning_check)
+    p = tmp_path / "bad.toml"
+    p.write_text(IMMERSED_TOML.format(gaps="[-1.0]"))
+    code, _, err = run_cli(["solve", str(p), "--model", "brenner"])
+    one_error_line(code, err, "bad.toml", "motion.gaps[0] = -1.0")
+    base = study(tmp_path, '[axes]\n"liquid.viscosity" = [-1.0]\n')
+    code, _, err = run_cli(["sweep", str(base), "--store", str(tmp_path / "s.h5")])
+    one_error_line(code, err, "axes.liquid.viscosity = -1.0")

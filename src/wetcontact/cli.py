@@ -17,6 +17,7 @@ import threading
 import time
 import traceback
 import warnings
+from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -299,7 +300,8 @@ def _solve(args: argparse.Namespace) -> int:
     if args.model is not None and not args.model.strip():  # '' fell back to the case's model
         raise InputError(f"--model = {args.model!r}; allowed: a model name (see `wetcontact "
                          "models`)")
-    scene = load_case(args.case)
+    with quiet_validation():
+        scene = load_case(args.case)
     if args.model and args.tol is not None:
         raise InputError("--model and --tol: give one, not both")
     coefficients = getattr(args, "coefficients", None)
@@ -313,7 +315,8 @@ def _solve(args: argparse.Namespace) -> int:
         if coefficients is not None:
             from wetcontact.calibrate import load_coefficients
 
-            model = load_coefficients(coefficients, family=name)
+            with quiet_validation():
+                model = load_coefficients(coefficients, family=name)
             why = f"coefficients from {coefficients}"
         elif args.model:
             try:
@@ -604,8 +607,19 @@ def _load_study(path: Path) -> Study:
     from wetcontact.study import load_study
 
     with Progress(f"loading {path} (and the rupture distances its gaps are scaled by, "
-                  "if any)"):
+                  "if any)"), quiet_validation():
         return load_study(path)
+
+
+@contextlib.contextmanager
+def quiet_validation() -> Iterator[None]:
+    """Read and validate input without Python's ``RuntimeWarning`` lines (numpy's overflow
+    or invalid value): validation checks every value it computes and refuses a bad one in
+    one line, so a warning printed before that line is noise (an error was two to four
+    lines). Warnings of the solve itself are still shown."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        yield
 
 
 def _sweep(args: argparse.Namespace) -> int:

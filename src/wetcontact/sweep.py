@@ -215,18 +215,25 @@ def _batches(points: Sequence[Point], workers: int) -> list[list[Point]]:
 
 class _Progress:
     """A tqdm bar on a terminal, else a line on stderr every ``every`` seconds (from a
-    background thread, so a long point does not silence it)."""
+    background thread, so a long point does not silence it).
+
+    Progress is not a result (the summary is printed on stdout): the bar is erased when
+    the sweep ends, and a closing count line is written only to a log that has had
+    progress lines, so a short sweep that fails says so in one stderr line.
+    """
 
     def __init__(self, total: int, enabled: bool, every: float = 5.0):
         self.total, self.done, self.enabled, self.every = total, 0, enabled, every
         self.counts = {"computed": 0, "reused": 0, "failed": 0}
         self.t0 = time.monotonic()
         self.bar = None
+        self.lines = 0
         self.stop = threading.Event()
         if enabled and sys.stderr.isatty():
             from tqdm import tqdm
 
-            self.bar = tqdm(total=total, desc="sweep", unit="pt", file=sys.stderr)
+            self.bar = tqdm(total=total, desc="sweep", unit="pt", file=sys.stderr,
+                            leave=False)
         elif enabled:
             threading.Thread(target=self._ticker, daemon=True).start()
 
@@ -247,12 +254,13 @@ class _Progress:
                          f"reused {c['reused']}, failed {c['failed']}), "
                          f"{time.monotonic() - self.t0:.0f} s\n")
         sys.stderr.flush()
+        self.lines += 1
 
     def close(self) -> None:
         self.stop.set()
         if self.bar is not None:
             self.bar.close()
-        elif self.enabled:
+        elif self.enabled and self.lines:
             self.line()
 
 
