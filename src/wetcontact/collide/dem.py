@@ -49,6 +49,9 @@ class SetForces:
         Bridge volume (m^3), or None.
     roughness
         Gap of solid contact (m) the set uses (the case's unless the code fixes its own).
+    contact
+        The code's own solid contact law, ``F(overlap d, dd/dt)`` (N), or None for the
+        case's ``[contact]`` model.
     """
 
     tables: dict[str, DirectForce] = field(default_factory=dict)
@@ -56,6 +59,7 @@ class SetForces:
     rupture: float = math.inf
     volume: float | None = None
     roughness: float | None = None
+    contact: Callable[[float, float], float] | None = None
 
 
 def _volume(case: CollisionCase) -> float:

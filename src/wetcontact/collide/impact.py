@@ -114,6 +114,7 @@ class _Impact:
             raise InputError(f"{sc.origin}: impact.tangential_velocity / impact.spin: oblique "
                              "impacts are for sphere-wall scenes; allowed: 0 for two spheres")
         self.tables: dict[str, GapTable] = {}
+        self.set_contact: Any = None  # a DEM force set's own contact law
         self.models: dict[str, str | None] = {}
         self.notes: list[str] = []
         if force_set is None:
@@ -195,6 +196,7 @@ class _Impact:
             self.x_r = sf.roughness
             sf = force_set(name)(self.case, self.x_r)
         self.tables.update(sf.tables)
+        self.set_contact = sf.contact
         self.volume, self.h_app, self.s_static = sf.volume, sf.reach, sf.rupture
         if math.isnan(self.x0):
             self.x0 = self.s_static
@@ -286,6 +288,9 @@ class _Impact:
         d = self.x_r - x
         if not mode.contact or d <= 0.0:
             return 0.0
+        if mode.contact == "set":
+            assert self.set_contact is not None
+            return self.set_contact(d, v)
         if mode.contact == "hertz":
             return max(0.0, self.k * d ** 1.5 + self.alpha * math.sqrt(self.m_eff * self.k)
                        * d ** 0.25 * v)
@@ -553,7 +558,12 @@ def collide(case: CollisionCase, viscous: str | None = None, capillary: str | No
     # -- solid contact
     if outcome == "rebound":
         vc = float(run.y[V])
-        if case.contact_model == "impulse":
+        if imp.set_contact is not None:
+            ev = run.segment(_Mode("contact", contact="set"),
+                             {"separation": (gap_at(x_r), 1, True)})
+            if ev != "separation":
+                outcome, run.stick_reason = "stick", "held in solid contact"
+        elif case.contact_model == "impulse":
             run.y[WCON] += 0.5 * imp.m_eff * vc * vc * (1.0 - imp.e_dry ** 2)
             run.y[JN] += imp.m_eff * (1.0 + imp.e_dry) * vc
             run.y[V] = -imp.e_dry * vc
