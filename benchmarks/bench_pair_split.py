@@ -23,7 +23,7 @@ median of 7):
   force factors are re-expanded on each sub-range exactly (Chebyshev interpolation at as
   many nodes as terms, :func:`restrict`), trailing b1 terms whose largest coefficient is
   below :data:`TRIM` dropped, and the trains rebuilt at the shipped truncation
-  (``calibrate_pairs2.train_piece``). Evaluated by the package's own piece code on the
+  (``calibrate_capillary.train_piece``). Evaluated by the package's own piece code on the
   points of each sub-range (:func:`evaluate`); not a format the package or its exports
   read.
 - **every train in float32**: the rupture trains' cores too in single precision, and the
@@ -64,7 +64,7 @@ from _common import (  # noqa: E402
 )
 from bench_pair_tt import N, points, shipped_pair_table  # noqa: E402
 
-from wetcontact import calibrate_pairs2 as p2  # noqa: E402
+from wetcontact import calibrate_capillary as gen  # noqa: E402
 from wetcontact.reduced_models import calibrated_capillary as cc  # noqa: E402
 
 TRIM = 1e-7
@@ -102,7 +102,7 @@ def sub_piece(piece: dict[str, Any], lo: float, hi: float) -> dict[str, Any]:
     left = restrict(np.asarray(piece["force_left"]), B1_AXIS, lo, hi)
     n = max(kept_terms(rup, B1_AXIS), kept_terms(left, B1_AXIS))
     fit = {k: v for k, v in piece.items() if k not in cc.TRAIN_FIELDS}
-    return p2.train_piece({**fit, "rupture": rup[:, :, :n].tolist(),
+    return gen.train_piece({**fit, "rupture": rup[:, :, :n].tolist(),
                            "force_left": left[:, :, :n].tolist(),
                            "force_right": np.asarray(piece["force_right"]).tolist()})
 
@@ -213,13 +213,13 @@ def piece_points(entry: dict[str, Any], subs: Any, pts: tuple[np.ndarray, ...]
 def gap_halved_macs(piece: dict[str, Any]) -> float:
     """A piece's multiply-adds a point if its force table were also halved along the gap
     axis (each half re-expanded, trimmed and trained as :func:`sub_piece`; their mean)."""
-    coef = p2.train_fits(piece, ("force_train",))["force_train"]
-    tol = p2.TRAIN_TOL["force_train"]
+    coef = gen.train_fits(piece, ("force_train",))["force_train"]
+    tol = gen.TRAIN_TOL["force_train"]
     got = []
     for lo, hi in ((-1.0, 0.0), (0.0, 1.0)):
         c = restrict(coef, GAP_AXIS, lo, hi)
         c = c[..., :kept_terms(c, GAP_AXIS)]
-        got.append(sum(np.asarray(g).size for g in p2.train_of(c, tol)["cores"]))
+        got.append(sum(np.asarray(g).size for g in gen.train_of(c, tol)["cores"]))
     return float(np.mean(got)) + sum(np.asarray(g).size
                                      for g in piece["rupture_train"]["cores"])
 

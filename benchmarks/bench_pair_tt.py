@@ -4,7 +4,7 @@ The ``calibrated-capillary`` table for sphere pairs with two contact angles is f
 Chebyshev tables per piece: a dense rupture table over (w, a, b1, b2) and a rank-r force
 table ``sum_k L_k(w, a, b1) R_k(b2, c)``. What ships and is evaluated is each table's
 tensor train (TT-SVD, Oseledets 2011, SIAM J. Sci. Comput. 33, 2295:
-``C_{i1..id} ~ G1[i1] ... Gd[id]``, ``calibrate_pairs2.train_piece`` at ``TRAIN_TOL``),
+``C_{i1..id} ~ G1[i1] ... Gd[id]``, ``calibrate_capillary.train_piece`` at ``TRAIN_TOL``),
 one batched matrix product per core (``calibrated_capillary.train_sum``). This benchmark
 compares, in one run, the fit itself (the pieces without their trains), the shipped
 trains and trains at a finer and a coarser truncation:
@@ -55,7 +55,7 @@ from wetcontact.reduced_models import calibrated_capillary as cc  # noqa: E402
 
 N = 100_000
 VARIANTS = {"finer trains": (1e-7, 3e-6), "coarser trains": (1e-5, 3e-5)}
-"""Truncations (rupture, force) compared with the shipped :data:`calibrate_pairs2.TRAIN_TOL`."""
+"""Truncations (rupture, force) compared with the shipped :data:`calibrate_capillary.TRAIN_TOL`."""
 HELD = {"rupture_train": 5e-6, "force_train": gen.FACTOR_TOL}
 """The held trains' bound on the probe: the force factors' own standard, 5 % of the 1e-3
 force goal (:data:`~wetcontact.calibrate_capillary.FACTOR_TOL`), and 1 % of the 5e-4
@@ -95,7 +95,7 @@ def probe(coef: np.ndarray, seed: int = 0) -> Any:
 
 def _train(coef: np.ndarray, order: list[int], tol: float,
            ranks: list[int] | None = None) -> dict[str, Any]:
-    cores = p2.tt_svd(coef.transpose(order), tol, ranks)
+    cores = gen.tt_svd(coef.transpose(order), tol, ranks)
     return {"order": list(order), "ranks": [g.shape[2] for g in cores[:-1]], "cores": cores}
 
 
@@ -105,11 +105,11 @@ def held_train(coef: np.ndarray, bound: float) -> dict[str, Any]:
     holds, then ranks lowered greedily)."""
     change = probe(coef)
     tol = 1e-5
-    order = p2.train_of(coef, tol)["order"]
+    order = gen.train_of(coef, tol)["order"]
     train = _train(coef, order, tol)
     while change(train)[0] > bound:
         tol /= 2.0
-        order = p2.train_of(coef, tol)["order"]
+        order = gen.train_of(coef, tol)["order"]
         train = _train(coef, order, tol)
     while True:
         trials = [_train(coef, order, 0.0, [r - (i == k) for i, r in enumerate(train["ranks"])])
@@ -130,9 +130,9 @@ def variant(entry: dict[str, Any], tols: tuple[float, float] | str | None
         if tols is None:
             return fit
         if tols == "held":
-            return {**fit, **{k: held_train(c, HELD[k]) for k, c in p2.train_fits(p).items()}}
-        return {**fit, **{k: p2.train_of(c, t)
-                          for (k, c), t in zip(p2.train_fits(p).items(), tols, strict=True)}}
+            return {**fit, **{k: held_train(c, HELD[k]) for k, c in gen.train_fits(p).items()}}
+        return {**fit, **{k: gen.train_of(c, t)
+                          for (k, c), t in zip(gen.train_fits(p).items(), tols, strict=True)}}
     out = {**entry, "bands": [{**b, "pieces": [piece(p) for p in b["pieces"]]}
                               for b in entry["bands"]]}
     return cc.as_arrays({"e": out})["e"]
@@ -160,7 +160,7 @@ def measure(entry: dict[str, Any], pts: tuple[np.ndarray, ...]) -> dict[str, Any
         for i, p in enumerate(band["pieces"]):
             rec = {"band": b, "piece": "upper" if i else "lower"}
             if "force_train" in p:
-                for n, coef in p2.train_fits(p).items():
+                for n, coef in gen.train_fits(p).items():
                     everywhere, off_end = probe(coef)(p[n])
                     rec[n] = {"order": list(p[n]["order"]), "ranks": list(p[n]["ranks"]),
                               "macs": int(sum(g.size for g in p[n]["cores"])),
@@ -191,7 +191,7 @@ def main() -> None:
              f"finer trains {VARIANTS['finer trains']}": variant(shipped,
                                                                   VARIANTS["finer trains"]),
              "shipped trains "
-             f"{(p2.TRAIN_TOL['rupture_train'], p2.TRAIN_TOL['force_train'])}": shipped,
+             f"{(gen.TRAIN_TOL['rupture_train'], gen.TRAIN_TOL['force_train'])}": shipped,
              f"coarser trains {VARIANTS['coarser trains']}": variant(
                  shipped, VARIANTS["coarser trains"]),
              "trains held on the probe (5e-6, 5e-5)": variant(shipped, "held")}

@@ -355,7 +355,7 @@ def bridge_part(quick: bool) -> None:
     import os
 
     from wetcontact.solver.meniscus import Bridge
-    from wetcontact.solver.stokes_bridge import contact_line_slope, solve_bridge
+    from wetcontact.solver.stokes.bridge import contact_line_slope, solve_bridge
 
     os.environ.setdefault("WETCONTACT_CACHE", tempfile.mkdtemp(prefix="wetcontact-bench-"))
     model = get_model("stokes")

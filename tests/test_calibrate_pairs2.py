@@ -412,14 +412,14 @@ def test_tt_svd_reconstructs_and_bounds_its_truncation() -> None:
     tensor of known TT ranks (a sum of 3 separable terms plus noise below tol)."""
     rng = np.random.default_rng(11)
     dense = rng.standard_normal((4, 5, 6, 3))
-    full = p2.tt_svd(dense, 0.0)
+    full = gen.tt_svd(dense, 0.0)
     assert [g.shape[0] for g in full] == [1, 4, 18, 3]  # min(left, right) unfolding sizes
     np.testing.assert_allclose(_tt_dense(full), dense, rtol=0, atol=1e-12)
     terms = [np.einsum("i,j,k,l->ijkl", *(rng.standard_normal(n) for n in (9, 8, 7, 6)))
              for _ in range(3)]
     noise = 1e-7 * rng.standard_normal((9, 8, 7, 6))
     tol = 1e-4
-    cores = p2.tt_svd(sum(terms) + noise, tol)
+    cores = gen.tt_svd(sum(terms) + noise, tol)
     assert [g.shape[2] for g in cores[:-1]] == [3, 3, 3]
     err = np.linalg.norm(_tt_dense(cores) - (sum(terms) + noise))
     assert err <= math.sqrt(3) * tol
@@ -435,13 +435,13 @@ def test_tt_svd_caps_its_ranks_at_the_best_fixed_rank_truncation() -> None:
     terms = [np.einsum("i,j,k,l->ijkl", *(rng.standard_normal(n) for n in (9, 8, 7, 6)))
              for _ in range(3)]
     dense = sum(terms)
-    cores = p2.tt_svd(dense, 1e-10, [3, 2, 3])
+    cores = gen.tt_svd(dense, 1e-10, [3, 2, 3])
     assert [g.shape[2] for g in cores[:-1]] == [3, 2, 3]
     sv = np.linalg.svd(dense.reshape(9 * 8, -1), compute_uv=False)
     err = np.linalg.norm(_tt_dense(cores) - dense)
     assert err >= np.linalg.norm(sv[2:]) * (1 - 1e-9)
     assert err <= math.sqrt(3) * np.linalg.norm(sv[2:])
-    uncapped = p2.tt_svd(dense, 1e-10, [50, 50, 50])  # caps above the ranks: no change
+    uncapped = gen.tt_svd(dense, 1e-10, [50, 50, 50])  # caps above the ranks: no change
     assert [g.shape[2] for g in uncapped[:-1]] == [3, 3, 3]
     np.testing.assert_allclose(_tt_dense(uncapped), dense, rtol=0, atol=1e-12)
 
@@ -460,7 +460,7 @@ def test_train_sum_is_the_dense_chebyshev_sum_in_any_axis_order() -> None:
 
     rng = np.random.default_rng(12)
     dense = rng.standard_normal((5, 4, 6, 3, 7)) / np.arange(1, 8)  # decaying along c
-    train = p2.train_of(dense, 0.0)
+    train = gen.train_of(dense, 0.0)
     assert sorted(train["order"]) == [0, 1, 2, 3, 4]
     train = cc.as_arrays({"e": {"pieces": [{"force_train": train}]}})["e"]["pieces"][0][
         "force_train"]
@@ -497,7 +497,7 @@ def test_shipped_two_angle_pieces_are_trains_of_their_fit_within_their_tolerance
             assert [name for name in fits if name in piece] == list(trains)
             for name in trains:
                 fit, train = fits[name], piece[name]
-                assert train["tol"] == p2.TRAIN_TOL[name]
+                assert train["tol"] == gen.TRAIN_TOL[name]
                 dense = cc.train_dense(train["cores"], train["order"])
                 assert dense.shape == fit.shape
                 assert np.linalg.norm(dense - fit) <= math.sqrt(fit.ndim - 1) * train["tol"]
@@ -601,7 +601,7 @@ def test_refine_band_names_the_file_and_field_of_a_table_it_cannot_refine(tmp_pa
     out = tmp_path / "cap.json"
     out.write_text(json.dumps({"sphere-wall": {}}))
     with pytest.raises(InputError, match=r"cap.json: field 'sphere-wall-two-angles' missing"):
-        gen.refine_band(cc.WALL_TWO_ANGLES, 2, out)
+        p2.refine_band(cc.WALL_TWO_ANGLES, 2, out)
 
 
 def test_refine_band_refits_only_the_pieces_whose_nodes_changed(tmp_path, monkeypatch) -> None:
@@ -616,7 +616,7 @@ def test_refine_band_refits_only_the_pieces_whose_nodes_changed(tmp_path, monkey
     monkeypatch.setattr(gen, "fit_piece", lambda *a, **k: fitted.append(a))
     monkeypatch.setattr(gen, "_wall_two_held_out", lambda *a, **k: {"held_out": {"stub": 1}})
     try:
-        entry = gen.refine_band(cc.WALL_TWO_ANGLES, 2, out)
+        entry = p2.refine_band(cc.WALL_TWO_ANGLES, 2, out)
     finally:
         cc.capillary_table.cache_clear()
     assert fitted == []
@@ -628,7 +628,7 @@ def test_refine_band_refits_only_the_pieces_whose_nodes_changed(tmp_path, monkey
     monkeypatch.setattr(gen, "_wall_two_held_out",
                         lambda *a, **k: held.append(1) or {"held_out": {"stub": 2}})
     try:
-        entry = gen.refine_band(cc.WALL_TWO_ANGLES, [2, 0], out)
+        entry = p2.refine_band(cc.WALL_TWO_ANGLES, [2, 0], out)
     finally:
         cc.capillary_table.cache_clear()
     assert fitted == [] and held == [1]  # two bands, the held-out tables measured once

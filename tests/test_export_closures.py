@@ -1717,13 +1717,13 @@ def _pair_table(cache_dir: Path) -> dict:
     """The synthetic pair table (:func:`conftest.synthetic_pair_table`, the generator's
     coarse stage on a polynomial bridge) with :data:`PAIR_NOISE` on every coefficient, its
     pieces' tensor trains built again from the noisy fit (as the generator builds them,
-    :func:`~wetcontact.calibrate_pairs2.train_piece`, over the axis orders
+    :func:`~wetcontact.calibrate_capillary.train_piece`, over the axis orders
     :data:`PAIR_TRAIN_ORDERS`; the trains are what the package and the exports evaluate)
     and a stand-in held-out table (the model's bound floor and the
     json document read one)."""
     from conftest import synthetic_pair_table
 
-    from wetcontact.calibrate_pairs2 import train_piece
+    from wetcontact.calibrate_capillary import train_piece
 
     table = synthetic_pair_table(cache_dir)
     rng = np.random.default_rng(2611)

@@ -22,10 +22,9 @@ from __future__ import annotations
 import itertools
 import json
 import math
-import os
 import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any
@@ -33,6 +32,7 @@ from typing import Any
 import numpy as np
 from scipy.fft import dct
 
+from wetcontact.branch_cache import NodeCache
 from wetcontact.errors import InputError, SolverError
 from wetcontact.reduced_models import calibrated_capillary as cc
 
@@ -428,55 +428,6 @@ def _map_jobs(fn, jobs: list, workers: int, label: str, on_result=None) -> list:
     return out
 
 
-class NodeCache:
-    """Solved branches (the tensor nodes, the split angle's bisection steps and the
-    held-out bridges), appended one JSON line each as they arrive, so that a generation
-    that is killed or fails loses nothing already computed: a rerun reuses them. One file
-    per version of the sources the branches depend on (:data:`NODE_SOURCES`, hashed by
-    :func:`wetcontact.store.source_hash`; editing the closure's own evaluation does not
-    invalidate it) in ``$XDG_CACHE_HOME/wetcontact`` (``~/.cache/wetcontact``). ``prefix``
-    names the file (studies keep their bridges' rupture distances in ``study_rupture``)."""
-
-    def __init__(self, folder: Path | None = None, prefix: str = "calibrated_capillary"):
-        from wetcontact.store import source_hash
-
-        base = folder or Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
-        self.path = (base if folder else base / "wetcontact") / (
-            f"{prefix}-" + source_hash(NODE_SOURCES) + ".jsonl")
-        self.rows: dict[str, tuple[float, list[float]]] = {}
-        if self.path.is_file():
-            for line in self.path.read_text().splitlines():
-                try:
-                    row = json.loads(line)
-                    self.rows[row["key"]] = (row["s_c"], row["q"])
-                except (ValueError, KeyError):
-                    continue  # a line cut by a kill
-
-    @staticmethod
-    def key(job: tuple) -> str:
-        _idx, kind, ratio, v, theta, c_nodes, theta2 = job
-        other = "" if theta2 is None else f"|{theta2!r}"
-        return f"{kind}|{ratio!r}|{v!r}|{theta!r}|{len(c_nodes)}{other}"
-
-    def get(self, key: str) -> tuple[float, np.ndarray] | None:
-        got = self.rows.get(key)
-        return None if got is None else (got[0], np.asarray(got[1]))
-
-    def put(self, key: str, s_c: float, q: Any) -> None:
-        """Keep ``(s_c, q)`` under ``key``, in memory and as one line of the file."""
-        row = (float(s_c), np.asarray(q, dtype=float).tolist())
-        self.rows[key] = row
-        try:
-            self.path.parent.mkdir(parents=True, exist_ok=True)
-            with self.path.open("a") as fh:
-                fh.write(json.dumps({"key": key, "s_c": row[0], "q": row[1]}) + "\n")
-        except OSError:
-            pass  # a read-only cache costs a rerun, not the generation
-
-
-NODE_SOURCES = ("models.py", "scene.py", "errors.py", "solver/meniscus")
-"""What a solved branch depends on: the ``meniscus`` solver and what it imports."""
-
 FACTOR_TOL = 5e-5
 """Largest change of the force exponent (a relative change of the force) that the low-rank
 form may make on its probe: 5 % of the 1e-3 force goal."""
@@ -583,13 +534,85 @@ def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
 
 
 WALL_TRAINS = ("force_train",)
-"""The tensor trains a two-angle wall piece carries (:func:`~wetcontact.calibrate_pairs2
-.train_piece`): its force table's, 0.56-0.74 of the low-rank form's multiply-adds. On the
-probe :func:`factor_table` chose the rank on they change the force sum by at most 9.1e-5
-(7.2e-5 on the grid short of S_c), the held-out maxima by at most 6e-6. Its
-rupture table stays dense: a train would save nothing measurable (0.70 against 0.71 us a
-point) and would break the bands' join, where both tables interpolate the same nodes and
-S_c is continuous to round-off (a train moved it by up to 1.5e-6 there)."""
+"""The tensor trains a two-angle wall piece carries (:func:`train_piece`): its force table's,
+0.56-0.74 of the low-rank form's multiply-adds. On the probe :func:`factor_table` chose the
+rank on they change the force sum by at most 9.1e-5 (7.2e-5 on the grid short of S_c), the
+held-out maxima by at most 6e-6. Its rupture table stays dense: a train would save nothing
+measurable (0.70 against 0.71 us a point) and would break the bands' join, where both tables
+interpolate the same nodes and S_c is continuous to round-off (a train moved it by up to
+1.5e-6 there)."""
+
+
+TRAIN_TOL = {"rupture_train": 1e-6, "force_train": 1e-5}
+"""Truncation of each piece's tensor trains (:func:`tt_svd`): the 2-norm of the singular values
+dropped at each unfolding of the Chebyshev coefficient tensor. Measured against the fit
+(``benchmarks/bench_pair_tt.py``): the force moves by at most 1.1e-4 on the cost benchmark's
+points, the held-out maxima by at most 1.3e-5, and a point costs 1.34 us instead of 4.05. On
+the probe the force factors' rank was chosen on (:func:`factor_table`: the Lobatto grid and
+20 000 uniform points) the force sum changes by up to 1.6e-4 short of the rupture distance,
+and 9.4e-4 at it (c = -1, where no held-out point goes); the rupture sum by up to 1.1e-5.
+Trains held to 5e-5 / 5e-6 there cost 1.56 us a point, with the same held-out maxima. The
+two-angle wall table's force trains are built at the same tolerance (:data:`WALL_TRAINS`)."""
+
+
+def tt_svd(coef: np.ndarray, tol: float,
+           max_ranks: list[int] | None = None) -> list[np.ndarray]:
+    """Tensor-train cores ``G_k`` (r_{k-1}, n_k, r_k) of ``coef`` by sequential truncated
+    SVDs of its unfoldings (Oseledets 2011, SIAM J. Sci. Comput. 33, 2295, algorithm 1),
+    each dropping the trailing singular values whose 2-norm is at most ``tol`` (and those
+    beyond ``max_ranks[k]``, if given); the last core carries the singular values."""
+    cores, rank, rest = [], 1, np.asarray(coef, dtype=float)
+    for k, n_k in enumerate(coef.shape[:-1]):
+        u, sv, vt = np.linalg.svd(rest.reshape(rank * n_k, -1), full_matrices=False)
+        tail = np.sqrt(np.cumsum(sv[::-1] ** 2))[::-1]  # 2-norm of sv[j:]
+        keep = max(1, int(np.sum(tail > tol)))
+        if max_ranks is not None:
+            keep = max(1, min(keep, max_ranks[k]))
+        cores.append(u[:, :keep].reshape(rank, n_k, keep))
+        rest, rank = sv[:keep, None] * vt[:keep], keep
+    cores.append(rest.reshape(rank, coef.shape[-1], 1))
+    return cores
+
+
+def train_of(coef: np.ndarray, tol: float,
+             order: tuple[int, ...] | None = None) -> dict[str, Any]:
+    """The tensor train of ``coef`` over the axis order with the fewest multiply-adds a
+    point (all orders tried; or over ``order``), as a piece stores it
+    (:func:`~wetcontact.reduced_models.calibrated_capillary.train_sum`)."""
+    def cost(order: tuple[int, ...]) -> int:
+        return sum(g.size for g in tt_svd(coef.transpose(order), tol))
+
+    if order is None:
+        order = min(itertools.permutations(range(coef.ndim)), key=cost)
+    cores = tt_svd(coef.transpose(order), tol)
+    return {"order": list(order), "tol": tol, "ranks": [g.shape[2] for g in cores[:-1]],
+            "cores": [g.tolist() for g in cores]}
+
+
+TRAINS = ("rupture_train", "force_train")
+"""The trains a piece may carry, in the order they are built and evaluated."""
+
+
+def train_fits(piece: dict[str, Any], fields: tuple[str, ...] = TRAINS
+               ) -> dict[str, np.ndarray]:
+    """The Chebyshev coefficient tensors a piece's trains (those of ``fields``) are built
+    from, by train field: its rupture table, and the product of its low-rank force
+    factors."""
+    make = {"rupture_train": lambda: np.asarray(piece["rupture"], dtype=float),
+            "force_train": lambda: np.tensordot(np.asarray(piece["force_left"], dtype=float),
+                                                np.asarray(piece["force_right"], dtype=float),
+                                                1)}
+    return {k: make[k]() for k in fields}
+
+
+def train_piece(piece: dict[str, Any],
+                orders: dict[str, tuple[int, ...]] | None = None,
+                fields: tuple[str, ...] = TRAINS) -> dict[str, Any]:
+    """A piece with its rupture and force tables' tensor trains (:data:`TRAIN_TOL`; those
+    of ``fields``) beside the fit they are built from (:func:`train_fits`), each over the
+    cheapest axis order (:func:`train_of`) or the one ``orders`` gives it (by field)."""
+    return {**piece, **{k: train_of(c, TRAIN_TOL[k], (orders or {}).get(k))
+                        for k, c in train_fits(piece, fields).items()}}
 
 
 BAND_NODES: dict[str, dict[int, dict[int, list[int]]]] = {
@@ -633,101 +656,12 @@ def band_pieces(kind: str, band: int) -> list[dict[str, Any]]:
     return [{**p, "nodes": list(over.get(i, p["nodes"]))} for i, p in enumerate(PIECES[kind])]
 
 
-def pair_band_nodes(band: int) -> list[list[int]]:
-    """The node counts of each piece of band ``band`` of the two-angle sphere-pair table at
-    ``calibrate_pairs2.STAGES``' full stage (w, a, b1, b2, c), with :data:`BAND_NODES`'."""
-    from wetcontact.calibrate_pairs2 import GAP_NODES, STAGES
-
-    st = STAGES["full"]
-    over = BAND_NODES.get(cc.PAIR_TWO_ANGLES, {}).get(band, {})
-    return [list(over.get(j, [st["w"], st["a"], st["b1"], nb2, GAP_NODES]))
-            for j, nb2 in enumerate(st["b2"])]
-
-
-def refine_band(kind: str, band: int | Sequence[int], out: Path | None = None,
-                workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
-    """Fit again the pieces of band ``band`` (or of each band of a sequence, in turn) of
-    the two-angle table ``kind`` in the file ``out`` (default the package data) whose node
-    counts differ from their specification (:func:`band_pieces`, :func:`pair_band_nodes`),
-    from the band's own ridge series and the table's onset series as the file holds them
-    (no onset search; a ridge search only at the w nodes
-    ``calibrate_pairs2.PAIR_RIDGE_W`` adds to a pair band's ridge, whose pieces keep their
-    nodes: a fit from scratch computes the same series), rebuild their tensor trains and
-    write the table back with its held-out tables measured again, once; returns the
-    table's entry (``refine_band``: each refitted band's wall time and branches, without
-    the held-out tables', ``held_out_wall_time_s``). What :func:`fit_kind` and
-    ``calibrate_pairs2.fit_pair_table`` would fit from scratch, without their searches."""
-    from wetcontact.calibrate_pairs2 import (
-        PAIR_PIECES,
-        PAIR_RIDGE_W,
-        fit_pair_piece,
-        fit_pair_ridge,
-        pair_held_out,
-        train_piece,
-    )
-
-    out = Path(out) if out else Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
-    data = json.loads(out.read_text())
-    if kind not in (cc.WALL_TWO_ANGLES, cc.PAIR_TWO_ANGLES) or kind not in data:
-        raise InputError(f"{out}: field {kind!r} missing or not a two-angle table; allowed: "
-                         f"{cc.WALL_TWO_ANGLES}, {cc.PAIR_TWO_ANGLES}")
-    entry = data[kind]
-    onset = entry.get(cc.ONSET_KEY)
-    records = {}
-    bands = [band] if isinstance(band, int) else list(band)
-    for k_band in bands:
-        t0 = time.perf_counter()
-        start = dict(BRANCHES)
-        b = entry["bands"][k_band]
-        rng = tuple(b["theta_sphere_deg"])
-        pieces = list(b["pieces"])
-        if kind == cc.WALL_TWO_ANGLES:
-            for i, spec in enumerate(band_pieces(kind, k_band)):
-                if list(pieces[i]["nodes"]) != spec["nodes"]:
-                    pieces[i] = train_piece(fit_piece(kind, spec, b["theta_split"], workers,
-                                                      cache_dir, rng, onset),
-                                            fields=WALL_TRAINS)
-        else:
-            ridge = b["theta_split"]
-            if np.shape(ridge["at_nodes_deg"])[0] != PAIR_RIDGE_W[k_band]:
-                # nested w nodes: the pieces' nodes keep their angles; only the series changes
-                b = {**b, "theta_split": fit_pair_ridge(
-                    onset, rng, np.shape(ridge["at_nodes_deg"])[2], ridge["tolerance_deg"],
-                    workers, cache_dir, PAIR_RIDGE_W[k_band], ridge)}
-            for i, (spec, nodes) in enumerate(zip(PAIR_PIECES, pair_band_nodes(k_band),
-                                                  strict=True)):
-                if list(pieces[i]["nodes"]) != nodes:
-                    pieces[i] = train_piece(fit_pair_piece(spec, nodes[3], onset,
-                                                           b["theta_split"], workers,
-                                                           cache_dir, nodes[0], rng))
-        entry["bands"][k_band] = {**b, "pieces": pieces}
-        records[str(k_band)] = {"wall_time_s": round(time.perf_counter() - t0, 1),
-                                "branches": {k: BRANCHES[k] - start[k] for k in BRANCHES}}
-    entry = {k: v for k, v in entry.items() if not k.startswith("held_out")}
-    data[kind] = entry
-    _write(out, data)
-    t0 = time.perf_counter()
-    arrays = cc.as_arrays({kind: entry})[kind]
-    if kind == cc.PAIR_TWO_ANGLES:
-        entry.update(pair_held_out(arrays, 120, workers, cache_dir))
-    else:
-        entry.update(_wall_two_held_out(arrays, 120, workers, cache_dir))
-    held = round(time.perf_counter() - t0, 1)
-    entry.setdefault("refine_band", {}).update(
-        {k: {**r, "held_out_wall_time_s": held} for k, r in records.items()})
-    data[kind] = entry
-    _write(out, data)
-    return entry
-
-
 def fit_kind(kind: str, workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
     """Every theta piece of one kind (and the split angle for sphere pairs); a wall with two
     angles: per band of the sphere's angle (:data:`TWO_ANGLE_BANDS_DEG`) its ridge and
     pieces, b1 over the band, each piece with its force table's tensor train (what the
     model evaluates, :data:`WALL_TRAINS`)."""
     if kind == cc.WALL_TWO_ANGLES:
-        from wetcontact.calibrate_pairs2 import train_piece
-
         onset = (fit_onset(workers, cache_dir)
                  if any(None in rng for rng in TWO_ANGLE_BANDS_DEG) else None)
         bands = []
@@ -1099,8 +1033,6 @@ def _retrained(out: Path, old: dict[str, Any], kind: str) -> dict[str, Any]:
     """The table ``kind`` that ``old`` holds without its held-out tables (measured again by
     the caller): a one-angle table as it is (it has no tensor trains), the two-angle wall
     table with its pieces' tensor trains (:data:`WALL_TRAINS`) built again beside its fit."""
-    from wetcontact.calibrate_pairs2 import train_piece
-
     if kind not in KINDS or kind not in old:
         raise InputError(f"{out}: field {kind!r} missing or not retrainable; allowed: a "
                          f"table file that holds the {kind} table")

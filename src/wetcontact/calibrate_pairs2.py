@@ -26,10 +26,10 @@ it and a fold's square root past it (the notes give the measured sizes).
 
 from __future__ import annotations
 
-import itertools
 import json
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -501,80 +501,6 @@ def fit_pair_piece(piece: dict[str, Any], nb2: int, onset: dict[str, Any],
             "force_rank": int(left.shape[-1]), "force_factor_change": err}
 
 
-TRAIN_TOL = {"rupture_train": 1e-6, "force_train": 1e-5}
-"""Truncation of each piece's tensor trains (:func:`tt_svd`): the 2-norm of the singular
-values dropped at each unfolding of the Chebyshev coefficient tensor. Measured against
-the fit (``benchmarks/bench_pair_tt.py``): the force moves by at most 1.1e-4 on the cost
-benchmark's points, the held-out maxima by at most 1.3e-5, and a point costs 1.34 us
-instead of 4.05. On the probe the force factors' rank was chosen on
-(:func:`~wetcontact.calibrate_capillary.factor_table`: the Lobatto grid and 20 000 uniform
-points) the force sum changes by up to 1.6e-4 short of the rupture distance, and 9.4e-4
-at it (c = -1, where no held-out point goes); the rupture sum by up to 1.1e-5. Trains
-held to 5e-5 / 5e-6 there cost 1.56 us a point, with the same held-out maxima. The
-two-angle wall table's force trains are built at the same tolerance
-(:data:`~wetcontact.calibrate_capillary.WALL_TRAINS`)."""
-
-
-def tt_svd(coef: np.ndarray, tol: float,
-           max_ranks: list[int] | None = None) -> list[np.ndarray]:
-    """Tensor-train cores ``G_k`` (r_{k-1}, n_k, r_k) of ``coef`` by sequential truncated
-    SVDs of its unfoldings (Oseledets 2011, SIAM J. Sci. Comput. 33, 2295, algorithm 1),
-    each dropping the trailing singular values whose 2-norm is at most ``tol`` (and those
-    beyond ``max_ranks[k]``, if given); the last core carries the singular values."""
-    cores, rank, rest = [], 1, np.asarray(coef, dtype=float)
-    for k, n_k in enumerate(coef.shape[:-1]):
-        u, sv, vt = np.linalg.svd(rest.reshape(rank * n_k, -1), full_matrices=False)
-        tail = np.sqrt(np.cumsum(sv[::-1] ** 2))[::-1]  # 2-norm of sv[j:]
-        keep = max(1, int(np.sum(tail > tol)))
-        if max_ranks is not None:
-            keep = max(1, min(keep, max_ranks[k]))
-        cores.append(u[:, :keep].reshape(rank, n_k, keep))
-        rest, rank = sv[:keep, None] * vt[:keep], keep
-    cores.append(rest.reshape(rank, coef.shape[-1], 1))
-    return cores
-
-
-def train_of(coef: np.ndarray, tol: float,
-             order: tuple[int, ...] | None = None) -> dict[str, Any]:
-    """The tensor train of ``coef`` over the axis order with the fewest multiply-adds a
-    point (all orders tried; or over ``order``), as a piece stores it
-    (:func:`~wetcontact.reduced_models.calibrated_capillary.train_sum`)."""
-    def cost(order: tuple[int, ...]) -> int:
-        return sum(g.size for g in tt_svd(coef.transpose(order), tol))
-
-    if order is None:
-        order = min(itertools.permutations(range(coef.ndim)), key=cost)
-    cores = tt_svd(coef.transpose(order), tol)
-    return {"order": list(order), "tol": tol, "ranks": [g.shape[2] for g in cores[:-1]],
-            "cores": [g.tolist() for g in cores]}
-
-
-TRAINS = ("rupture_train", "force_train")
-"""The trains a piece may carry, in the order they are built and evaluated."""
-
-
-def train_fits(piece: dict[str, Any], fields: tuple[str, ...] = TRAINS
-               ) -> dict[str, np.ndarray]:
-    """The Chebyshev coefficient tensors a piece's trains (those of ``fields``) are built
-    from, by train field: its rupture table, and the product of its low-rank force
-    factors."""
-    make = {"rupture_train": lambda: np.asarray(piece["rupture"], dtype=float),
-            "force_train": lambda: np.tensordot(np.asarray(piece["force_left"], dtype=float),
-                                                np.asarray(piece["force_right"], dtype=float),
-                                                1)}
-    return {k: make[k]() for k in fields}
-
-
-def train_piece(piece: dict[str, Any],
-                orders: dict[str, tuple[int, ...]] | None = None,
-                fields: tuple[str, ...] = TRAINS) -> dict[str, Any]:
-    """A piece with its rupture and force tables' tensor trains (:data:`TRAIN_TOL`; those
-    of ``fields``) beside the fit they are built from (:func:`train_fits`), each over the
-    cheapest axis order (:func:`train_of`) or the one ``orders`` gives it (by field)."""
-    return {**piece, **{k: train_of(c, TRAIN_TOL[k], (orders or {}).get(k))
-                        for k, c in train_fits(piece, fields).items()}}
-
-
 def fit_pair_table(stage: str = "coarse", workers: int = 2,
                    cache_dir: Path | None = None) -> dict[str, Any]:
     """The two-angle sphere-pair table at ``stage`` (:data:`STAGES`): the onset series
@@ -586,11 +512,12 @@ def fit_pair_table(stage: str = "coarse", workers: int = 2,
     for i, (rng, tol) in enumerate(zip(PAIR_BANDS_DEG, PAIR_RIDGE_TOL_DEG, strict=True)):
         ridge = fit_pair_ridge(onset, rng, st["b1"], tol, workers, cache_dir,
                                PAIR_RIDGE_W[i] if stage == "full" else None)
-        nodes = (gen.pair_band_nodes(i) if stage == "full"
+        nodes = (pair_band_nodes(i) if stage == "full"
                  else [[st["w"], st["a"], st["b1"], n, GAP_NODES] for n in st["b2"]])
         bands.append({"theta_sphere_deg": list(rng), "theta_split": ridge,
-                      "pieces": [train_piece(fit_pair_piece(p, n[3], onset, ridge, workers,
-                                                            cache_dir, n[0], rng))
+                      "pieces": [gen.train_piece(fit_pair_piece(p, n[3], onset, ridge,
+                                                                workers, cache_dir, n[0],
+                                                                rng))
                                  for p, n in zip(PAIR_PIECES, nodes, strict=True)]})
     return {"stage": stage, cc.ONSET_KEY: onset, "bands": bands}
 
@@ -669,6 +596,85 @@ def pair_held_out(entry: dict[str, Any], n: int = 120, workers: int = 2,
     return gen.strata_held_out(PAIR_TWO_ANGLES, PAIR_STRATA, entry, n, workers, cache_dir)
 
 
+def pair_band_nodes(band: int) -> list[list[int]]:
+    """The node counts of each piece of band ``band`` of the two-angle sphere-pair table at
+    :data:`STAGES`' full stage (w, a, b1, b2, c), with the generator's
+    :data:`~wetcontact.calibrate_capillary.BAND_NODES`'."""
+    st = STAGES["full"]
+    over = gen.BAND_NODES.get(cc.PAIR_TWO_ANGLES, {}).get(band, {})
+    return [list(over.get(j, [st["w"], st["a"], st["b1"], nb2, GAP_NODES]))
+            for j, nb2 in enumerate(st["b2"])]
+
+
+def refine_band(kind: str, band: int | Sequence[int], out: Path | None = None,
+                workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
+    """Fit again the pieces of band ``band`` (or of each band of a sequence, in turn) of
+    the two-angle table ``kind`` in the file ``out`` (default the package data) whose node
+    counts differ from their specification (``calibrate_capillary.band_pieces``,
+    :func:`pair_band_nodes`),
+    from the band's own ridge series and the table's onset series as the file holds them
+    (no onset search; a ridge search only at the w nodes
+    :data:`PAIR_RIDGE_W` adds to a pair band's ridge, whose pieces keep their
+    nodes: a fit from scratch computes the same series), rebuild their tensor trains and
+    write the table back with its held-out tables measured again, once; returns the
+    table's entry (``refine_band``: each refitted band's wall time and branches, without
+    the held-out tables', ``held_out_wall_time_s``). What ``calibrate_capillary.fit_kind``
+    and :func:`fit_pair_table` would fit from scratch, without their searches. It lives here,
+    above both tables' generators, because a pair band needs this module's pieces."""
+    out = Path(out) if out else Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
+    data = json.loads(out.read_text())
+    if kind not in (cc.WALL_TWO_ANGLES, cc.PAIR_TWO_ANGLES) or kind not in data:
+        raise InputError(f"{out}: field {kind!r} missing or not a two-angle table; allowed: "
+                         f"{cc.WALL_TWO_ANGLES}, {cc.PAIR_TWO_ANGLES}")
+    entry = data[kind]
+    onset = entry.get(cc.ONSET_KEY)
+    records = {}
+    bands = [band] if isinstance(band, int) else list(band)
+    for k_band in bands:
+        t0 = time.perf_counter()
+        start = dict(gen.BRANCHES)
+        b = entry["bands"][k_band]
+        rng = tuple(b["theta_sphere_deg"])
+        pieces = list(b["pieces"])
+        if kind == cc.WALL_TWO_ANGLES:
+            for i, spec in enumerate(gen.band_pieces(kind, k_band)):
+                if list(pieces[i]["nodes"]) != spec["nodes"]:
+                    pieces[i] = gen.train_piece(gen.fit_piece(kind, spec, b["theta_split"],
+                                                              workers, cache_dir, rng, onset),
+                                                fields=gen.WALL_TRAINS)
+        else:
+            ridge = b["theta_split"]
+            if np.shape(ridge["at_nodes_deg"])[0] != PAIR_RIDGE_W[k_band]:
+                # nested w nodes: the pieces' nodes keep their angles; only the series changes
+                b = {**b, "theta_split": fit_pair_ridge(
+                    onset, rng, np.shape(ridge["at_nodes_deg"])[2], ridge["tolerance_deg"],
+                    workers, cache_dir, PAIR_RIDGE_W[k_band], ridge)}
+            for i, (spec, nodes) in enumerate(zip(PAIR_PIECES, pair_band_nodes(k_band),
+                                                  strict=True)):
+                if list(pieces[i]["nodes"]) != nodes:
+                    pieces[i] = gen.train_piece(fit_pair_piece(spec, nodes[3], onset,
+                                                               b["theta_split"], workers,
+                                                               cache_dir, nodes[0], rng))
+        entry["bands"][k_band] = {**b, "pieces": pieces}
+        records[str(k_band)] = {"wall_time_s": round(time.perf_counter() - t0, 1),
+                                "branches": {k: gen.BRANCHES[k] - start[k] for k in gen.BRANCHES}}
+    entry = {k: v for k, v in entry.items() if not k.startswith("held_out")}
+    data[kind] = entry
+    gen._write(out, data)
+    t0 = time.perf_counter()
+    arrays = cc.as_arrays({kind: entry})[kind]
+    if kind == cc.PAIR_TWO_ANGLES:
+        entry.update(pair_held_out(arrays, 120, workers, cache_dir))
+    else:
+        entry.update(gen._wall_two_held_out(arrays, 120, workers, cache_dir))
+    held = round(time.perf_counter() - t0, 1)
+    entry.setdefault("refine_band", {}).update(
+        {k: {**r, "held_out_wall_time_s": held} for k, r in records.items()})
+    data[kind] = entry
+    gen._write(out, data)
+    return entry
+
+
 def generate_pair_table(stage: str = "coarse", out: Path | None = None, workers: int = 2,
                         n_held_out: int = 120, cache_dir: Path | None = None,
                         retrain: bool = False) -> dict[str, Any]:
@@ -687,7 +693,7 @@ def generate_pair_table(stage: str = "coarse", out: Path | None = None, workers:
                              "allowed: a table file that holds the two-angle pair table")
         old = data[PAIR_TWO_ANGLES]
         entry = {k: old[k] for k in ("stage", cc.ONSET_KEY)}
-        entry["bands"] = [{**b, "pieces": [train_piece(p) for p in b["pieces"]]}
+        entry["bands"] = [{**b, "pieces": [gen.train_piece(p) for p in b["pieces"]]}
                           for b in old["bands"]]
     else:
         entry = fit_pair_table(stage, workers, cache_dir)

@@ -469,7 +469,7 @@ def run_all(cases: Path = Path("cases"), out: Path | None = None, mode: str = "d
     bench_data = None
     if bench is not None and (Path(bench).exists() or Path(bench) != DEFAULT_BENCH):
         bench_data = load_bench(bench)
-    from wetcontact.calibrate import DATA_DIR
+    from wetcontact.reduced_models import DATA_DIR
     from wetcontact.tables.calibration import load_calibrations, load_json
 
     cal_data: tuple = ()

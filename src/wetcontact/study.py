@@ -96,7 +96,7 @@ def _rupture_gaps(case: dict[str, Any], value: Any) -> Any:
 def _rupture_distance(r1: float, r2: float | None, th1: float, th2: float, sigma: float,
                       volume: float) -> float:
     """The bridge's rupture distance at ``meniscus``'s fast preset, kept in the user cache
-    (:class:`~wetcontact.calibrate_capillary.NodeCache`, file ``study_rupture``): each
+    (:class:`~wetcontact.branch_cache.NodeCache`, file ``study_rupture``): each
     load of a study (sweep, export csv, calibrate) needs them to build its gaps, and a
     solve takes about 0.5 s. A load that is interrupted keeps those already solved."""
     from wetcontact.solver.meniscus import Bridge, rupture_distance
@@ -115,7 +115,7 @@ def _rupture_distance(r1: float, r2: float | None, th1: float, th2: float, sigma
 
 @lru_cache(maxsize=1)
 def _rupture_cache() -> Any:
-    from wetcontact.calibrate_capillary import NodeCache
+    from wetcontact.branch_cache import NodeCache
 
     return NodeCache(prefix="study_rupture")
 

@@ -452,7 +452,7 @@ def test_branch_points_at_uneven_fractions_stay_on_the_branch() -> None:
 def test_node_cache_keeps_solved_nodes_across_runs(tmp_path) -> None:
     """A generation that is killed loses nothing already solved: each node is one line,
     read back by the next run (a line cut by the kill is skipped)."""
-    from wetcontact.calibrate_capillary import NodeCache
+    from wetcontact.branch_cache import NodeCache
 
     job = ((0, 1, 2), "sphere-sphere", 2.5, 1e-3, 0.3, np.zeros(19), None)
     other = ((0, 1, 3), "sphere-sphere", 2.5, 1e-3, 0.31, np.zeros(19), None)
@@ -518,7 +518,7 @@ def test_node_cache_key_ignores_the_closures_own_code(tmp_path, monkeypatch) -> 
     the cache file is named by a hash of NODE_SOURCES only, which moves when one of them
     changes."""
     from wetcontact import store
-    from wetcontact.calibrate_capillary import NODE_SOURCES, NodeCache
+    from wetcontact.branch_cache import NODE_SOURCES, NodeCache
 
     name = NodeCache(tmp_path).path.name
     assert store.source_hash(NODE_SOURCES) in name
@@ -656,6 +656,7 @@ def test_shipped_tables_have_the_specified_nodes() -> None:
     """The package data holds what a regeneration from the generator's node counts fits
     (``PIECES``, ``calibrate_pairs2.STAGES``' full stage, ``BAND_NODES``)."""
     from wetcontact import calibrate_capillary as gen
+    from wetcontact import calibrate_pairs2 as p2
 
     table = cc.capillary_table()
     for kind in ("sphere-wall", "sphere-sphere"):
@@ -665,7 +666,7 @@ def test_shipped_tables_have_the_specified_nodes() -> None:
         assert [p["nodes"] for p in band["pieces"]] == [
             p["nodes"] for p in gen.band_pieces(cc.WALL_TWO_ANGLES, i)]
     for i, band in enumerate(table[cc.PAIR_TWO_ANGLES]["bands"]):
-        assert [p["nodes"] for p in band["pieces"]] == gen.pair_band_nodes(i)
+        assert [p["nodes"] for p in band["pieces"]] == p2.pair_band_nodes(i)
 
 
 def test_corner_design_takes_every_end_and_middle() -> None:

@@ -240,9 +240,9 @@ def test_refuses_tiny_gap_and_unmeshed_radius_ratio(model, scene_factory):
 
 
 def test_refuses_mesh_with_too_few_gap_elements(model, scene_factory, monkeypatch):
-    from wetcontact.solver.stokes import solve as stokes_solve
+    from wetcontact.solver.stokes import model as stokes_model
 
-    monkeypatch.setattr(stokes_solve, "gap_elements", lambda mesh, z0, z1: 1)
+    monkeypatch.setattr(stokes_model, "gap_elements", lambda mesh, z0, z1: 1)
     with pytest.raises(SolverError, match="elements across the gap"):
         model.force(_scene(scene_factory, gaps=(0.01,)), preset="fast")
 

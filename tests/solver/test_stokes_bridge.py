@@ -1,4 +1,4 @@
-"""Stokes flow in a quasi-static liquid bridge (``wetcontact.solver.stokes_bridge``).
+"""Stokes flow in a quasi-static liquid bridge (``wetcontact.solver.stokes.bridge``).
 
 Independent checks:
 
@@ -24,7 +24,7 @@ from wetcontact.meshes.builders import Resolution
 from wetcontact.models import get_model
 from wetcontact.solver.lubrication import GapProfile, solve_reynolds
 from wetcontact.solver.meniscus import Bridge
-from wetcontact.solver.stokes_bridge import (
+from wetcontact.solver.stokes.bridge import (
     bridge_motion,
     contact_line_slope,
     solve_bridge,

@@ -9,8 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from wetcontact.calibrate import DATA_DIR, Calibration, get_family, load_points, rel_errors
+from wetcontact.calibrate import Calibration, get_family, load_points, rel_errors
 from wetcontact.errors import InputError
+from wetcontact.reduced_models import DATA_DIR
 from wetcontact.tables import StudyContext
 from wetcontact.tables import calibration as table
 

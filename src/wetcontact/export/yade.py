@@ -27,7 +27,7 @@ of 0.7 deg (near a contact angle of 90 deg, where that bridge is convex, u* < 0,
 pass the filling-angle cap below, a smaller one: at least u* = 1, and 0.9 of the cap on the
 small sphere; Yade's generator too has its own floor, the initial guess of its search). Each D
 block lists the suctions whose stable branch reaches D. Rows come from the
-suction-controlled continuation of :mod:`wetcontact.solver.meniscus.continuation` (stable:
+suction-controlled continuation of :class:`wetcontact.solver.meniscus.SuctionBridges` (stable:
 the large-volume side of the fold). Filling angles on the small sphere are capped at
 ``min(90 deg - theta, 70 deg)`` (the meniscus model's range; Yade's generator goes to
 ``90 - theta``): below that suction's smallest admitted gap no row is written and Yade
@@ -73,14 +73,7 @@ import numpy as np
 
 from wetcontact.errors import InputError, SolverError
 from wetcontact.fileio import atomic_write_text, fsync_dir
-from wetcontact.solver.meniscus.continuation import (
-    suction_at_gaps,
-    suction_branch,
-    suction_start,
-)
-from wetcontact.solver.meniscus.geometry import PHI_MAX, _Geo, _guess_at
-from wetcontact.solver.meniscus.post import interface_terms
-from wetcontact.solver.meniscus.young_laplace import Fixed, Linear, _disc, _newton, _volume
+from wetcontact.solver.meniscus import SuctionBridges
 
 RATIOS: tuple[float, ...] = (1.0, 1.1, 1.25, 1.5, 1.75, 2.0, 3.0, 4.0, 5.0, 10.0)
 COLUMNS = ("D*", "u*", "V*", "F*", "delta1_deg", "delta2_deg", "nn11*", "nn33*")
@@ -149,44 +142,23 @@ class CapillaryTable:
         return [self.rows[self.rows[:, 0] == D] for D in self.distances]
 
 
-def _row(d, g: _Geo, x: np.ndarray, D: float, u: float) -> list[float]:
+def _row(b: SuctionBridges, x: np.ndarray, D: float, u: float) -> list[float]:
     """One file row from a dimensionless solution (unit R2 = 1) solved at gap D, suction u
     (written exactly: the closings hold them to round-off)."""
-    c1, c2, P = float(x[d.ic1]), float(x[d.ic2]), float(x[d.iP])
-    rho1 = g.rt * math.sin(c1)
-    # attractive force at the contact line on the small sphere, over 2 pi sigma R2
-    f = rho1 * math.sin(c1 + g.tht) - 0.5 * rho1 * rho1 * P
-    nn11, nn33 = interface_terms(d, x)
-    return [D, u, float(_volume(d, g, x)), f, math.degrees(c1), math.degrees(c2),
-            nn11, nn33]
+    # the attraction at the contact line on the small sphere, over 2 pi sigma R2
+    vol, f, c1, c2, nn11, nn33 = b.quantities(x)
+    return [D, u, vol, f, math.degrees(c1), math.degrees(c2), nn11, nn33]
 
 
-def _transfer(dc, x: np.ndarray, df) -> np.ndarray:
-    """A coarse solution on the fine discretisation: its P2 fields evaluated at the fine
-    nodes (exact interpolation), the scalar unknowns copied."""
-    t = dc.t[dc.sorted]                        # coarse nodes 0, h/2, h, ... (sorted)
-    h = 1.0 / dc.n_el
-    k = np.minimum((df.t / h).astype(int), dc.n_el - 1)
-    xi = df.t / h - k
-    w = (2 * (xi - 0.5) * (xi - 1), -4 * xi * (xi - 1), 2 * xi * (xi - 0.5))
-    if not np.allclose(t[2 * k] + 0.5 * h, t[2 * k + 1]):
-        raise SolverError("yade export: unexpected node layout in the mesh transfer")
-    out = np.empty(df.m)
-    for f in range(3):
-        fc = x[f * dc.n:(f + 1) * dc.n][dc.sorted]
-        out[f * df.n:(f + 1) * df.n] = w[0] * fc[2 * k] + w[1] * fc[2 * k + 1] \
-            + w[2] * fc[2 * k + 2]
-    out[3 * df.n:] = x[3 * dc.n:]
-    return out
-
-
-def _polish(dc, df, g: _Geo, x: np.ndarray, P: float, S: float) -> np.ndarray:
-    """The bridge at (P, S) on the fine discretisation, from the coarse solution x."""
-    nw = _newton(df, g, _transfer(dc, x, df), (Fixed(df.iP, P), Fixed(df.iS, S)), maxit=20)
-    if not nw.converged or abs(nw.x[df.ic1] - x[dc.ic1]) > 1e-4:
-        raise SolverError(f"yade export: the {df.n_el}-element re-solve failed at "
-                          f"D* = {S:.6g}, u* = {-P:.6g}")
-    return nw.x
+def _polish(bc: SuctionBridges, bf: SuctionBridges, x: np.ndarray, u: float,
+            S: float) -> np.ndarray:
+    """The bridge at suction u and gap S on the fine discretisation ``bf``, from the coarse
+    solution x of ``bc``."""
+    xf = bf.solve(bf.transfer(bc, x), S, suction=u, maxit=20)
+    if xf is None or abs(bf.filling(xf) - bc.filling(x)) > 1e-4:
+        raise SolverError(f"yade export: the {bf.n_elements}-element re-solve failed at "
+                          f"D* = {S:.6g}, u* = {u:.6g}")
+    return xf
 
 
 def _flat_in_suction(rows: np.ndarray) -> np.ndarray:
@@ -206,7 +178,7 @@ def _flat_in_suction(rows: np.ndarray) -> np.ndarray:
     return flat
 
 
-def _largest_suction(d, g: _Geo, c1_max: float) -> tuple[float, np.ndarray]:
+def _largest_suction(b: SuctionBridges) -> tuple[float, np.ndarray]:
     """u* at which the contact bridge has mean filling angle FILLING_AT_MAX_U; its solution.
 
     Near a contact angle of 90 deg that bridge is inadmissible for the grid, and the bridge
@@ -217,35 +189,33 @@ def _largest_suction(d, g: _Geo, c1_max: float) -> tuple[float, np.ndarray]:
     bridge at contact), the one with ``CAP_AT_MAX_U * c1_max`` there.
     """
     target = 2.0 * math.radians(FILLING_AT_MAX_U)
-    c1 = target / (1.0 + g.rt)     # equal neck radii: R1 c1 = R2 c2 (R2 = 1)
-    x0 = _guess_at(d, g, 0.0, min(c1, CAP_AT_MAX_U * c1_max))
+    c1_max = b.max_filling
+    c1 = target / (1.0 + 1.0 / b.ratio)     # equal neck radii: R1 c1 = R2 c2 (R2 = 1)
+    x0 = b.guess(0.0, min(c1, CAP_AT_MAX_U * c1_max))
     if x0 is None:
         raise SolverError("yade export: no toroidal guess for the smallest bridge")
-    a = np.zeros(d.m)
-    a[d.ic1] = a[d.ic2] = 1.0
-    nw = _newton(d, g, x0, (Linear(a, target), Fixed(d.iS, 0.0)), maxit=30)
-    if nw.converged and -nw.x[d.iP] < U_MIN_TOP:
-        nw = _newton(d, g, nw.x, (Fixed(d.iP, -U_MIN_TOP), Fixed(d.iS, 0.0)), maxit=30)
-    if nw.converged and nw.x[d.ic1] > c1_max:
-        nw = _newton(d, g, nw.x, (Fixed(d.ic1, CAP_AT_MAX_U * c1_max), Fixed(d.iS, 0.0)),
-                     maxit=30)
-    if not nw.converged or not 0.0 < nw.x[d.ic1] <= c1_max or -nw.x[d.iP] < U_MIN_TOP:
+    x = b.solve(x0, 0.0, filling_sum=target, maxit=30)
+    if x is not None and b.suction(x) < U_MIN_TOP:
+        x = b.solve(x, 0.0, suction=U_MIN_TOP, maxit=30)
+    if x is not None and b.filling(x) > c1_max:
+        x = b.solve(x, 0.0, filling=CAP_AT_MAX_U * c1_max, maxit=30)
+    if x is None or not 0.0 < b.filling(x) <= c1_max or b.suction(x) < U_MIN_TOP:
         raise SolverError("yade export: the smallest bridge at contact did not converge")
-    return -float(nw.x[d.iP]), nw.x
+    return b.suction(x), x
 
 
-def _start(d, g: _Geo, u_prev: float, x_prev: np.ndarray, u: float, c1_max: float,
+def _start(b: SuctionBridges, u_prev: float, x_prev: np.ndarray, u: float,
            depth: int = 0) -> np.ndarray | None:
     """Branch start at suction u continued from the start at u_prev (halving the step in
     log u, or linearly towards 0, when Newton does not reach it in one step)."""
-    x = suction_start(d, g, -u, x_prev, c1_max)
+    x = b.start(u, x_prev)
     if x is not None or depth > 30:
         return x
     mid = math.sqrt(u * u_prev) if u > 0 else (0.5 * u_prev if u_prev > 1e-3 else 0.0)
     if mid == u:
         return None
-    xm = _start(d, g, u_prev, x_prev, mid, c1_max, depth + 1)
-    return None if xm is None else _start(d, g, mid, xm, u, c1_max, depth + 1)
+    xm = _start(b, u_prev, x_prev, mid, depth + 1)
+    return None if xm is None else _start(b, mid, xm, u, depth + 1)
 
 
 def _reaches(br, distances: np.ndarray) -> np.ndarray:
@@ -260,8 +230,8 @@ def _between(u_lo: float, u_hi: float, t: float) -> float:
     return u_lo + t * (u_hi - u_lo) if u_lo == 0.0 else u_lo * (u_hi / u_lo) ** t
 
 
-def _fill_holes(d, g: _Geo, suctions: np.ndarray, branches: list, starts: list,
-                holes: np.ndarray, c1_max: float) -> tuple[list, int]:
+def _fill_holes(b: SuctionBridges, suctions: np.ndarray, branches: list, starts: list,
+                holes: np.ndarray) -> tuple[list, int]:
     """Rows for the grid distances that no grid suction reaches.
 
     Both ends of a suction's branch, its start (contact, or the filling-angle cap) and its
@@ -294,11 +264,11 @@ def _fill_holes(d, g: _Geo, suctions: np.ndarray, branches: list, starts: list,
                     continue
                 u_prev, x_prev, _ = done[min(k for k in done if k > j)]
                 u = _between(u_lo, u_hi, j / top)
-                x = _start(d, g, u_prev, x_prev, u, c1_max)
+                x = _start(b, u_prev, x_prev, u)
                 if x is None:
                     raise SolverError(f"yade export: no stable bridge at u* = {u:.6g} (between "
                                       f"the grid's {u_lo:.6g} and {u_hi:.6g})")
-                br = suction_branch(d, g, -u, x)
+                br = b.branch(u, x)
                 solves += br.solves + 1
                 done[j] = (u, x, br)
             counts = sum(_reaches(br, here).astype(int)
@@ -325,8 +295,9 @@ def capillary_table(ratio: float, contact_angle: float, n_suctions: int = 350,
 
     Suctions are taken in decreasing order so that each branch start (contact, or the
     largest admitted filling angle) is continued from the previous one; along each suction
-    the gap is followed from its start to the fold (:func:`suction_branch`), and the rows are
-    the stable bridges at the grid distances it reaches (:func:`suction_at_gaps`). A grid
+    the gap is followed from its start to the fold (:meth:`SuctionBridges.branch`), and the
+    rows are the stable bridges at the grid distances it reaches
+    (:meth:`SuctionBridges.at_gaps`). A grid
     distance that no grid suction reaches takes rows at intermediate suctions
     (:func:`_fill_holes`), so that no block is empty.
     ``max_suction`` (u*) lowers the top of the suction grid (reduced tables for tests).
@@ -341,10 +312,8 @@ def capillary_table(ratio: float, contact_angle: float, n_suctions: int = 350,
         raise InputError(f"yade export: suctions = {n_suctions}, distances = {n_distances}; "
                          "allowed: >= 3 and >= 2")
     t0 = time.perf_counter()
-    d = _disc(int(n_elements))
-    g = _Geo(1.0 / ratio, 1.0, contact_angle, contact_angle, 0.0)
-    c1_max = min(0.5 * math.pi - contact_angle, PHI_MAX)
-    u_max, x = _largest_suction(d, g, c1_max)
+    b = SuctionBridges(ratio, contact_angle, int(n_elements))
+    u_max, x = _largest_suction(b)
     if max_suction is not None:
         if not U_FIRST < max_suction < u_max:
             raise InputError(f"yade export: max_suction = {max_suction!r}; allowed: "
@@ -355,10 +324,10 @@ def capillary_table(ratio: float, contact_angle: float, n_suctions: int = 350,
     solves = 1
     u_prev = u_max
     for u in suctions[::-1]:
-        start = _start(d, g, u_prev, x, float(u), c1_max)
+        start = _start(b, u_prev, x, float(u))
         if start is None:
             raise SolverError(f"yade export: no stable bridge at u* = {u:.6g}, r = {ratio:g}")
-        br = suction_branch(d, g, -float(u), start)
+        br = b.branch(float(u), start)
         branches.append(br)
         starts.append(start)
         solves += br.solves + 1
@@ -373,33 +342,33 @@ def capillary_table(ratio: float, contact_angle: float, n_suctions: int = 350,
     for _, br, _ in plan:
         covered |= _reaches(br, distances)
     if not covered.all():
-        extra, n = _fill_holes(d, g, suctions, branches, starts, distances[~covered], c1_max)
+        extra, n = _fill_holes(b, suctions, branches, starts, distances[~covered])
         plan += extra
         solves += n
-    df = _disc(max(POLISH_ELEMENTS, int(n_elements)))
+    bf = b.refined(max(POLISH_ELEMENTS, int(n_elements)))
     rows, polished, coarse = [], 0, []
     for u, br, sel in plan:
-        Ss = np.array([p[d.iS] for p in br.points])
-        lnV = np.log([_volume(d, g, p) for p in br.points])
-        for D, xs in zip(sel, suction_at_gaps(br, sel), strict=True):
+        Ss = np.array([b.gap(p) for p in br.points])
+        lnV = np.log([b.volume(p) for p in br.points])
+        for D, xs in zip(sel, b.at_gaps(br, sel), strict=True):
             k = int(np.clip(np.searchsorted(Ss, D) - 1, 0, len(Ss) - 2))
             last = k == len(Ss) - 2
             steep = abs(lnV[k + 1] - lnV[k]) > POLISH_SLOPE * max(Ss[k + 1] - Ss[k], 1e-300)
-            if (last or steep) and df.n_el > d.n_el:
-                rows.append(_row(df, g, _polish(d, df, g, xs, -u, float(D)), float(D), u))
+            if (last or steep) and bf.n_elements > b.n_elements:
+                rows.append(_row(bf, _polish(b, bf, xs, u, float(D)), float(D), u))
                 solves += 1
                 polished += 1
             else:
                 coarse.append((len(rows), xs))
-                rows.append(_row(d, g, xs, float(D), u))
+                rows.append(_row(b, xs, float(D), u))
         solves += sel.size
     arr = np.array(rows)
-    if df.n_el > d.n_el:
+    if bf.n_elements > b.n_elements:
         flat = _flat_in_suction(arr)
         for i, xs in coarse:
             if flat[i]:
                 D, u = float(arr[i, 0]), float(arr[i, 1])
-                arr[i] = _row(df, g, _polish(d, df, g, xs, -u, D), D, u)
+                arr[i] = _row(bf, _polish(b, bf, xs, u, D), D, u)
                 solves += 1
                 polished += 1
     arr = arr[np.lexsort((arr[:, 1], arr[:, 0]))]

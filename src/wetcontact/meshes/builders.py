@@ -48,7 +48,7 @@ ZTOL = 1e-12
 MIN_CORNER = 1.0e-7
 """Smallest element size (units of R) at the film's corner: below 1e-7 R the isoparametric
 inversion of scikit-fem loses convergence (the same floor as the bridges' smallest slip
-length, ``wetcontact.solver.stokes.MIN_BRIDGE_SLIP``)."""
+length, ``wetcontact.solver.stokes.model.MIN_BRIDGE_SLIP``)."""
 
 
 @dataclass(frozen=True)

@@ -8,7 +8,7 @@
     ends, so a few dozen terms reach the series (Brenner 1961; Maude 1961) to about 1e-9.
     Films on a wall, delta/R in [1e-3, 0.1], and bridges (H = sqrt(S^2 + V/(pi R*)),
     V/R_small^3 in [1e-4, 0.1], radius ratio 1-10): the Reynolds force times the refitted
-    finite-liquid factor (:func:`wetcontact.calibrate.finite_liquid_form`), fitted to
+    finite-liquid factor (:func:`wetcontact.reduced_models.forms.finite_liquid_form`), fitted to
     ``lubrication``; for films times a correction to ``stokes`` with the flat film top
     (:func:`film_correction`: lubrication is 0.4-73 % below it as the sphere leaves the
     film), the films' best reference. Bridges stay fitted to ``lubrication`` (labelled so
@@ -135,7 +135,7 @@ class CalibratedViscous(Model):
                                     "lubrication")
 
     def _force(self, scene: Scene, preset: str, **opts: Any) -> ForceCurve:
-        from wetcontact.calibrate import finite_liquid_form
+        from wetcontact.reduced_models.forms import finite_liquid_form
 
         table = viscous_table()
         assert table is not None

@@ -58,10 +58,11 @@ perturbations, fixed volume) changes by one exactly at a simple fold of this bra
 is where ``det J`` changes sign; ``stability`` is +1 on the branch connected to ``S = 0``
 before the fold and -1 after it.
 
-Layout: :mod:`.geometry` (solids, toroidal guess), :mod:`.young_laplace` (residual, Jacobian,
-closings, Newton), :mod:`.continuation` (volume- and suction-controlled, folds, stability),
-:mod:`.post` (forces, extras, profile), :mod:`.solve` (the public solves), :mod:`.model`
-(the registered model).
+Layout: :mod:`.geometry` (solids), :mod:`.young_laplace` (residual, Jacobian, closings,
+Newton), :mod:`.guess` (the toroidal guess), :mod:`.continuation` (volume- and
+suction-controlled, folds, stability), :mod:`.post` (forces, extras, profile), :mod:`.solve`
+(the public solves), :mod:`.suction` (the public suction-controlled API,
+:class:`SuctionBridges`), :mod:`.model` (the registered model).
 """
 
 from wetcontact.solver.meniscus.geometry import DEFAULT_ELEMENTS, PHI_MAX, THETA_MAX, Bridge
@@ -79,6 +80,7 @@ from wetcontact.solver.meniscus.solve import (
     solve_suction,
     solve_volume,
 )
+from wetcontact.solver.meniscus.suction import SuctionBridges
 
 __all__ = [
     "DEFAULT_ELEMENTS",
@@ -88,6 +90,7 @@ __all__ = [
     "BridgeSolution",
     "SeparationCurve",
     "MeniscusModel",
+    "SuctionBridges",
     "energy_derivative",
     "force_separation_curve",
     "meniscus_profile",

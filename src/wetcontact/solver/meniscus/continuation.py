@@ -32,7 +32,8 @@ from scipy.optimize import brentq
 from scipy.sparse.linalg import splu
 
 from wetcontact.errors import InputError, SolverError
-from wetcontact.solver.meniscus.geometry import PHI_MAX, _Geo, _guess
+from wetcontact.solver.meniscus.geometry import PHI_MAX, _Geo
+from wetcontact.solver.meniscus.guess import _guess
 from wetcontact.solver.meniscus.young_laplace import (
     Fixed,
     Linear,

@@ -20,7 +20,8 @@ from wetcontact.solver.meniscus.continuation import (
     _solve_at,
     _stability,
 )
-from wetcontact.solver.meniscus.geometry import DEFAULT_ELEMENTS, Bridge, _guess
+from wetcontact.solver.meniscus.geometry import DEFAULT_ELEMENTS, Bridge
+from wetcontact.solver.meniscus.guess import _guess
 from wetcontact.solver.meniscus.post import BridgeSolution, _no_bridge, _post, _State
 from wetcontact.solver.meniscus.young_laplace import Fixed, VolumeIs, _disc, _newton
 

@@ -1,12 +1,40 @@
-"""Axisymmetric Stokes flow by Taylor-Hood finite elements (model ``stokes``): a package,
-:mod:`.solve` for now (being split into forms, solve and model)."""
+"""Axisymmetric Stokes flow by Taylor-Hood finite elements: the viscous-force reference
+(level 3, model ``stokes``).
 
-from wetcontact.solver.stokes.solve import *  # noqa: F403
-from wetcontact.solver.stokes.solve import (  # noqa: F401
+Layout: :mod:`.forms` (the weak forms), :mod:`.solve` (the discrete problem on one mesh, the
+force on the sphere; the equations, boundary conditions and accuracy), :mod:`.bridge` (the
+quasi-static liquid bridge: the meniscus' motion and the flow in it), :mod:`.model` (the
+registered model: meshes, presets, films and bridges). Each imports only those before it.
+"""
+
+from wetcontact.solver.stokes.model import (
+    DEFAULT_SLIP,
+    FILM_TOPS,
+    MIN_BRIDGE_SLIP,
     MIN_GAP,
+    RADIUS_RATIO,
     Stokes,
-    StokesSolution,
     container_factor,
+)
+from wetcontact.solver.stokes.solve import (
+    StokesSolution,
+    SurfaceMotion,
     gap_elements,
+    pinned_dofs,
     solve_stokes,
 )
+
+__all__ = [
+    "DEFAULT_SLIP",
+    "FILM_TOPS",
+    "MIN_BRIDGE_SLIP",
+    "MIN_GAP",
+    "RADIUS_RATIO",
+    "Stokes",
+    "StokesSolution",
+    "SurfaceMotion",
+    "container_factor",
+    "gap_elements",
+    "pinned_dofs",
+    "solve_stokes",
+]

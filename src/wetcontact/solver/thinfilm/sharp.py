@@ -58,7 +58,8 @@ import numpy as np
 from scipy.linalg import solve_banded
 
 from wetcontact.errors import InputError, SolverError
-from wetcontact.solver.meniscus.geometry import DEFAULT_ELEMENTS, Bridge, _guess
+from wetcontact.solver.meniscus.geometry import DEFAULT_ELEMENTS, Bridge
+from wetcontact.solver.meniscus.guess import _guess
 from wetcontact.solver.meniscus.young_laplace import (
     Fixed,
     VolumeIs,

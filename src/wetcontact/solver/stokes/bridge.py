@@ -19,7 +19,7 @@ dissipation over the speed, ``F_visc = Phi / v``, with Phi the viscous plus Navi
 friction dissipation of the quasi-static flow: no pressure constant enters. The reaction
 and the traction integral equal it when the pressure constant makes the free surface do
 no net work (``int u_n sigma_nn dA = 0``), the choice made in
-:func:`~wetcontact.solver.stokes.solve_stokes`; they are returned as checks.
+:func:`~wetcontact.solver.stokes.solve.solve_stokes`; they are returned as checks.
 
 As S/R -> 0 the film between the solids dominates and the force tends to the lubrication
 (Reynolds) force of the same wetted radius with the pressure released at the sphere's
@@ -48,7 +48,7 @@ from wetcontact.solver.meniscus import (
     shape_rate,
     solve_volume,
 )
-from wetcontact.solver.stokes import StokesSolution, solve_stokes
+from wetcontact.solver.stokes.solve import StokesSolution, solve_stokes
 
 N_PROFILE = 801
 """Points of the resampled meridian (uniform in arc length) given to gmsh and the spline."""
@@ -89,7 +89,7 @@ class BridgeMotion:
     static: BridgeSolution
 
     def surface(self):
-        """The :data:`~wetcontact.solver.stokes.SurfaceMotion` of this meridian: each node is
+        """The :data:`~wetcontact.solver.stokes.solve.SurfaceMotion` of this meridian: each node is
         projected on the cubic-spline meridian (nearest sample, then Newton in t)."""
         t = self.t
         if np.any(np.diff(t) <= 0):
@@ -243,7 +243,7 @@ def solve_bridge(bridge: Bridge, gap: float, volume: float, slip: tuple[float, f
 
     Returns ``None`` past rupture (no bridge: no force).
     """
-    from wetcontact.solver.stokes import gap_elements
+    from wetcontact.solver.stokes.solve import gap_elements
 
     R = float(bridge.radius)
     motion = bridge_motion(bridge, gap, volume)
