@@ -13,6 +13,7 @@ from __future__ import annotations
 import contextlib
 import io
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -541,3 +542,63 @@ def test_numpy_warnings_while_a_case_is_validated_print_no_line(tmp_path, monkey
     base = study(tmp_path, '[axes]\n"liquid.viscosity" = [-1.0]\n')
     code, _, err = run_cli(["sweep", str(base), "--store", str(tmp_path / "s.h5")])
     one_error_line(code, err, "axes.liquid.viscosity = -1.0")
+
+
+# ---- 9. an interrupted or killed --workers 2 sweep --------------------------------------------
+
+
+def _slow_study(tmp_path: Path) -> Path:
+    """24 meniscus points at the accurate preset: a sweep that is still running seconds
+    after its two workers started."""
+    p = tmp_path / "slow.toml"
+    p.write_text(f'name = "slow"\nbase = "{ROOT / "cases" / "dem-pendular-bridge-100um.toml"}"'
+                 '\nmodels = ["meniscus"]\npreset = "accurate"\n[axes]\n'
+                 '"liquid.contact_angle" = { start = 1.0, stop = 40.0, points = 24 }\n')
+    return p
+
+
+def _signal_a_running_cluster_sweep(tmp_path: Path, sig: int, group: bool = False
+                                    ) -> tuple[int, list[str]]:
+    """Run ``sweep --workers 2`` in a new session, send ``sig`` (to the main process, or to
+    its whole process group as a terminal's Ctrl-C does) once both workers run; return the
+    exit code and the stderr lines that are not progress lines, read to the end (the
+    resource tracker, the last process, writes its warnings there as it exits)."""
+    psutil = pytest.importorskip("psutil")
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "wetcontact.cli", "sweep", str(_slow_study(tmp_path)),
+         "--workers", "2", "--store", str(tmp_path / "s.h5")], cwd=tmp_path,
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        deadline = time.monotonic() + 60
+        while len(psutil.Process(proc.pid).children(recursive=True)) < 3:  # tracker, 2 workers
+            assert time.monotonic() < deadline and proc.poll() is None, proc.stderr.read()
+            time.sleep(0.1)
+        time.sleep(1.0)
+        os.killpg(proc.pid, sig) if group else proc.send_signal(sig)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.communicate()
+    return proc.returncode, [ln for ln in err.splitlines() if not ln.startswith("sweep: ")]
+
+
+@pytest.mark.parametrize("sig, group, code, word", [
+    (signal.SIGTERM, False, 143, "terminated"),
+    (signal.SIGINT, True, 130, "interrupted"),
+], ids=["sigterm", "ctrl-c"])
+def test_a_stopped_cluster_sweep_is_one_line_and_leaks_no_semaphore(tmp_path, sig, group,
+                                                                      code, word):
+    """A terminated ``--workers 2`` sweep was killed at once, leaving its cluster's
+    semaphores to the resource tracker: two 'leaked semaphore' warning lines."""
+    got, lines = _signal_a_running_cluster_sweep(tmp_path, sig, group)
+    assert got == code and lines == [f"wetcontact: {word}; everything saved before is in "
+                                     "the store"], lines
+
+
+def test_a_killed_cluster_sweep_leaves_no_tracker_warning(tmp_path):
+    """SIGKILL: nothing runs in the sweep; the resource tracker still unlinks the
+    semaphores, without its two warning lines."""
+    got, lines = _signal_a_running_cluster_sweep(tmp_path, signal.SIGKILL)
+    assert got == -signal.SIGKILL and lines == [], lines

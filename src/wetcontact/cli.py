@@ -2,7 +2,7 @@
 
 Exit codes: 0 success, 2 bad input or a path the user must change (one line on stderr, no
 traceback), 1 a solver failure or an unexpected error (one line; ``--debug`` or
-``WETCONTACT_DEBUG=1`` shows the traceback), 130 interrupted.
+``WETCONTACT_DEBUG=1`` shows the traceback), 130 interrupted, 143 terminated (SIGTERM).
 """
 
 from __future__ import annotations
@@ -12,6 +12,7 @@ import contextlib
 import errno
 import json
 import os
+import signal
 import sys
 import threading
 import time
@@ -19,7 +20,7 @@ import traceback
 import warnings
 from collections.abc import Iterator
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from wetcontact import __version__
 from wetcontact.errors import InputError, SolverError, short_repr
@@ -125,6 +126,7 @@ def main(argv: list[str] | None = None) -> int:
         args = build_parser().parse_args(argv)
     except SystemExit as exc:  # --help, --version, or a usage error already printed
         return exc.code if isinstance(exc.code, int) else 2
+    previous = _catch_sigterm()
     try:
         with warnings.catch_warnings():
             warnings.showwarning = _warning_line
@@ -132,6 +134,9 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         sys.stderr.write("wetcontact: interrupted; everything saved before is in the store\n")
         return 130
+    except Terminated:
+        sys.stderr.write("wetcontact: terminated; everything saved before is in the store\n")
+        return 143
     except BrokenPipeError:  # the reader of stdout went away (| head): stop quietly
         with contextlib.suppress(OSError, ValueError, AttributeError):
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
@@ -142,6 +147,34 @@ def main(argv: list[str] | None = None) -> int:
             traceback.print_exc(file=sys.stderr)
         sys.stderr.write(line + "\n")
         return code
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+class Terminated(BaseException):
+    """SIGTERM, raised in the main thread so that a command unwinds as on Ctrl-C: a sweep
+    saves what it computed and shuts its local cluster down (a terminated ``--workers 2``
+    sweep left the cluster's semaphores to the resource tracker, which printed two
+    warning lines about them)."""
+
+
+def _catch_sigterm() -> Any:
+    """Raise :class:`Terminated` on SIGTERM (once: a second SIGTERM acts as it did before);
+    return the previous handler, or ``None`` where it cannot be set (not the main thread,
+    or SIGTERM ignored by the parent)."""
+    if threading.current_thread() is not threading.main_thread():
+        return None
+    previous = signal.getsignal(signal.SIGTERM)
+    if previous is signal.SIG_IGN or previous is None:
+        return None
+
+    def terminate(signum: int, frame: object) -> None:
+        signal.signal(signal.SIGTERM, previous)
+        raise Terminated()
+
+    signal.signal(signal.SIGTERM, terminate)
+    return previous
 
 
 def _dispatch(args: argparse.Namespace) -> int:

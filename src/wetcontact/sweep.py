@@ -457,7 +457,7 @@ def _dask_client(workers: int | None, scheduler: str | None, n_points: int = 1 <
             yield client, scheduler
         return
     n = max(1, min(workers or os.cpu_count() or 1, n_points))
-    with warnings.catch_warnings():
+    with warnings.catch_warnings(), quiet_resource_tracker():
         # the scheduler's HTTP endpoint moves to a free port when 8787 is taken; say nothing
         warnings.filterwarnings("ignore", message="Port .* is already in use")
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
@@ -465,3 +465,32 @@ def _dask_client(workers: int | None, scheduler: str | None, n_points: int = 1 <
                                silence_logs=logging.CRITICAL)
     with cluster, Client(cluster) as client:
         yield client, f"local-cluster:{n}"
+
+
+#: the warnings filter (``PYTHONWARNINGS`` syntax) that silences the resource tracker
+TRACKER_QUIET = "ignore:resource_tracker:UserWarning"
+
+
+@contextlib.contextmanager
+def quiet_resource_tracker() -> Iterator[None]:
+    """While a local cluster starts, ``PYTHONWARNINGS`` also holds :data:`TRACKER_QUIET`.
+
+    The cluster's worker processes are started by ``multiprocessing``, whose resource
+    tracker (a process of its own, started then, with this environment) unlinks the
+    semaphores of a process that is killed (SIGKILL, nothing can run in it) and then
+    warns about them in two lines on stderr (``resource_tracker: There appear to be 12
+    leaked semaphore objects to clean up at shutdown``). The semaphores are cleaned up all
+    the same; only the warning is silenced. A SIGTERM or Ctrl-C shuts the cluster down
+    and leaks nothing (:class:`wetcontact.cli.Terminated`).
+    """
+    old = os.environ.get("PYTHONWARNINGS")
+    parts = [w for w in (old or "").split(",") if w]
+    os.environ["PYTHONWARNINGS"] = ",".join([*parts, TRACKER_QUIET])
+    try:
+        yield
+    finally:
+        if old is None:
+            os.environ.pop("PYTHONWARNINGS", None)
+        else:
+            os.environ["PYTHONWARNINGS"] = old
+
