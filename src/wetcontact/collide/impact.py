@@ -89,7 +89,8 @@ class _Impact:
     """The equations of one collision with its force tables."""
 
     def __init__(self, case: CollisionCase, viscous: str | None, capillary: str | None,
-                 rtol: float, force_set: str | None = None) -> None:
+                 rtol: float, force_set: str | None = None,
+                 force_set_options: dict[str, float] | None = None) -> None:
         sc = case.scene
         self.case, self.rtol = case, rtol
         self.x_r = case.roughness
@@ -114,13 +115,14 @@ class _Impact:
             raise InputError(f"{sc.origin}: impact.tangential_velocity / impact.spin: oblique "
                              "impacts are for sphere-wall scenes; allowed: 0 for two spheres")
         self.tables: dict[str, GapTable] = {}
+        self.cutoff = case.cutoff
         self.set_contact: Any = None  # a DEM force set's own contact law
         self.models: dict[str, str | None] = {}
         self.notes: list[str] = []
         if force_set is None:
             self._setup_liquid(viscous, capillary)
         else:
-            self._setup_force_set(force_set)
+            self._setup_force_set(force_set, force_set_options or {})
         self._setup_contact()
 
     # ---- forces -------------------------------------------------------------------
@@ -188,13 +190,21 @@ class _Impact:
         self.models["capillary"] = self.models.pop("capillary_rebound")
         self.models["viscous"] = self.models["viscous_approach"]
 
-    def _setup_force_set(self, name: str) -> None:
+    def _setup_force_set(self, name: str, options: dict[str, float]) -> None:
         from wetcontact.collide.dem import force_set
 
-        sf = force_set(name)(self.case, self.x_r)
+        build = force_set(name)
+        try:
+            sf = build(self.case, self.x_r, **options)
+        except TypeError:
+            raise InputError(f"force set {name!r}: options {sorted(options)}; allowed: the "
+                             f"keyword arguments of wetcontact.collide.dem.{build.__name__}"
+                             ) from None
         if sf.roughness is not None:
             self.x_r = sf.roughness
-            sf = force_set(name)(self.case, self.x_r)
+            sf = build(self.case, self.x_r, **options)
+        if sf.cutoff is not None:
+            self.cutoff = sf.cutoff
         self.tables.update(sf.tables)
         self.set_contact = sf.contact
         self.volume, self.h_app, self.s_static = sf.volume, sf.reach, sf.rupture
@@ -242,7 +252,7 @@ class _Impact:
             return 0.0
         if v < 0.0 and not self.case.viscous_on_rebound:
             return 0.0
-        cut = self.case.cutoff
+        cut = self.cutoff
         if cut == "shifted":
             xe = max(x, 0.0) + self.x_r
         elif x < self.x_r:
@@ -457,7 +467,8 @@ class _Run:
 def collide(case: CollisionCase, viscous: str | None = None, capillary: str | None = None,
             rtol: float = RTOL, max_step: float = math.inf, fixed_step: bool = False,
             trajectory: bool = True, force_set: str | None = None,
-            tol: float | None = None) -> Collision:
+            tol: float | None = None,
+            force_set_options: dict[str, float] | None = None) -> Collision:
     """Integrate one wet impact and return its outcome.
 
     Parameters
@@ -479,6 +490,9 @@ def collide(case: CollisionCase, viscous: str | None = None, capillary: str | No
     force_set
         A DEM code's force set (:data:`wetcontact.collide.dem.FORCE_SETS`) instead of the
         toolkit's models (``viscous`` and ``capillary`` are then ignored).
+    force_set_options
+        Settings of the force set that the case does not carry (e.g. Yade's contact time
+        ``tc``), as keyword arguments of its function in :mod:`wetcontact.collide.dem`.
     tol
         Absolute tolerance on e: the cheapest models whose measured restitution error
         meets it (:func:`wetcontact.collide.tolerance.choose`; ``models["tolerance"]``
@@ -517,7 +531,7 @@ def collide(case: CollisionCase, viscous: str | None = None, capillary: str | No
                                             * sc.reduced_radius ** 2)
         viscous, capillary, chosen = choose(case, float(tol), st)
     t0 = time.perf_counter()
-    imp = _Impact(case, viscous, capillary, rtol, force_set)
+    imp = _Impact(case, viscous, capillary, rtol, force_set, force_set_options)
     if chosen is not None:
         imp.models["tolerance"] = chosen  # type: ignore[assignment]
     t_tab = time.perf_counter() - t0
