@@ -8,9 +8,10 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from wetcontact.errors import ValidityError
+from wetcontact.errors import InputError, ValidityError
 from wetcontact.models import ForceCurve, Model, register
 from wetcontact.scene import Scene
+from wetcontact.solver.meniscus.division import divide_branch, transfer_fraction
 from wetcontact.solver.meniscus.geometry import DEFAULT_ELEMENTS, THETA_MAX, Bridge
 from wetcontact.solver.meniscus.solve import _branch_for, contact_problem, solve_volume
 from wetcontact.solver.meniscus.young_laplace import _disc
@@ -22,7 +23,18 @@ and 60 deg, at 1e-11 its Newton iteration fails at every angle."""
 
 @register
 class MeniscusModel(Model):
-    """Finite-element Young-Laplace bridge (P2, Newton, continuation to rupture)."""
+    """Finite-element Young-Laplace bridge (P2, Newton, continuation to rupture).
+
+    Extras per gap: ``laplace_pressure`` (Pa), ``neck_radius`` (m), ``filling_angle`` (rad,
+    sphere 1), ``filling_angle2`` (rad) or ``wetted_radius`` (m), ``rupture_distance`` (m),
+    ``bridge_exists``, ``force_spread``, ``stability``; and two properties of the rupture,
+    the same at every gap: ``rupture_distance`` and ``transfer_fraction``, the fraction of
+    the liquid that body 1 (the sphere; the upper sphere of a pair) keeps when the bridge
+    ruptures, ``1 - f`` going to the wall or sphere 2
+    (:func:`~wetcontact.solver.meniscus.division.transfer_fraction`: the critical bridge
+    cut at its neck; diagnostics ``transfer_neck`` says whether the neck lay between the
+    contact lines or at one of them).
+    """
 
     name: ClassVar[str] = "meniscus"
     level: ClassVar[int] = 3
@@ -47,6 +59,15 @@ class MeniscusModel(Model):
     """Relative force error per preset: default and accurate as tested against the shooting
     solution over the validity range (1e-6); fast from the benchmark (1.6e-8 at 32
     elements), stated with margin."""
+    extras_order: ClassVar[dict[str, float]] = {"transfer_fraction": 4.0}
+    """Declared convergence order of extras under refinement of ``n_elements``: the division
+    of the liquid at rupture (:mod:`~wetcontact.solver.meniscus.division`) inherits order 4
+    from the nodal values and the neck (:meth:`extras_convergence_data`)."""
+    extras_error_bound: ClassVar[dict[str, dict[str, float]]] = {
+        "transfer_fraction": {"fast": 1e-6, "default": 1e-7, "accurate": 1e-8}}
+    """Absolute error of an extra per preset: ``transfer_fraction`` as tested against the
+    shooting solution (tests/solver/test_division.py); the largest found over the corners
+    of its domain is 2.8e-7, 1.7e-8 and 9.6e-10 (zero contact angles)."""
 
     def check(self, scene: Scene) -> None:
         """Refuse what is not a bridge, angles above 150 deg, V/R_small^3 below
@@ -95,6 +116,23 @@ class MeniscusModel(Model):
             err.append(abs(sol.force_contact1 - exact) / exact)
         return 1.0 / ns, np.array(err)
 
+    def extras_convergence_data(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        """Error of an extra against 1/N, for :attr:`extras_order`.
+
+        ``transfer_fraction``: sphere-sphere, R2 = 2 R1, V = 1e-3 R1^3, contact angles 30
+        and 10 deg, at N = 16-128 elements against N = 512 (its own error is below 1e-12,
+        by the order-4 rate from 2.3e-9 at 128).
+        """
+        if name != "transfer_fraction":
+            raise InputError(f"model '{self.name}': no convergence data for extra {name!r}; "
+                             f"allowed: {', '.join(self.extras_order)}")
+        br = Bridge(radius=1.0, radius2=2.0, contact_angle1=math.radians(30.0),
+                    contact_angle2=math.radians(10.0), surface_tension=1.0)
+        ref = transfer_fraction(br, 1e-3, n_elements=512).fraction
+        ns = np.array([16, 32, 64, 128])
+        err = [abs(transfer_fraction(br, 1e-3, n_elements=int(n)).fraction - ref) for n in ns]
+        return 1.0 / ns, np.array(err)
+
     def _force(self, scene: Scene, preset: str, **opts: Any) -> ForceCurve:
         n_el = int(opts.get("n_elements", DEFAULT_ELEMENTS))
         bridge = Bridge.from_scene(scene)
@@ -110,6 +148,8 @@ class MeniscusModel(Model):
                 "bridge_exists", "force_spread", "stability")
         keys += ("wetted_radius",) if scene.kind == "sphere-wall" else ("filling_angle2",)
         ex = {k: np.zeros(gaps.size) for k in keys}
+        division = divide_branch(br, ell)  # a property of the rupture: one value a curve
+        ex["transfer_fraction"] = np.full(gaps.size, division.fraction)
         fc = np.zeros(gaps.size)
         iters = []
         for i, s in enumerate(gaps):
@@ -135,6 +175,7 @@ class MeniscusModel(Model):
             diagnostics={**({"past_rupture": past} if past else {}),
                          "newton_iterations": iters, "n_elements": n_el,
                          "dofs": _disc(n_el).m, "continuation_points": len(br.xs),
+                         "transfer_neck": division.neck,
                          "rupture": ("symmetry-breaking bifurcation" if br.end == "bifurcation"
                                      else "fold")},
         )
