@@ -19,10 +19,10 @@ lies on that side of the plane (a whole cap when the plane does not cut it; a ca
 ``h`` has the volume ``pi h^2 (3R - h)/3``, and the part of a cap beyond a plane is the
 difference of two such caps). ``f`` is the fraction that stays on body 1, ``1 - f`` on body 2;
 ``V_1 + V_2`` is the bridge volume. This is the rule stated in PHYSICS.md section 7 (the
-critical shape cut at its neck) and the quasi-static limit of the pinch-off studied by
-Pitois, Moucheront & Chateau (2001, Eur. Phys. J. B 23, 79) and Darabi, Li & Dobbins
-(2010, J. Colloid Interface Sci. 349, 444); equal spheres with equal angles give 1/2 by
-symmetry.
+critical shape cut at its neck): the quasi-static limit of the stretching and pinch-off of
+a bridge, whose liquid distribution Darabi et al. (2010, Chem. Eng. Sci. 65, 4472) follow
+by CFD (slow stretching: surface tension dominant); equal spheres with equal angles give
+1/2 by symmetry.
 
 Numerics: the meridian of the FE solution (:mod:`.young_laplace`: P2 fields, two-stage
 Gauss collocation); the neck is the solver's own reconstruction (:mod:`.post`: a quintic
