@@ -10,7 +10,7 @@ thread (one core, in child processes; ``seconds_per_point``: the median over
 regenerated into a temporary file (the package data is not touched); the bound tables'
 regeneration time is the one recorded in ``bounds.json`` when it was generated, and so is
 ``calibrated-capillary``'s (``wall_time_s`` of its package data, written by
-``python -m wetcontact.calibrate capillary`` on 2 processes; ``--regenerate-capillary``
+``python -m wetcontact.generate calibrated-capillary`` on 2 processes; ``--regenerate-capillary``
 times the generator's tables afresh, from an empty node cache, into a temporary file:
 ``--kinds=sphere-wall,sphere-sphere`` the one-angle tables, about 20 minutes; by default
 the two-angle wall table too, hours; ``--regenerated-out=FILE`` keeps what it wrote). The
@@ -52,7 +52,7 @@ def costs() -> dict[str, float]:
     load_all()
     rng = np.random.default_rng(1)
     table = viscous_table()
-    assert table is not None, "run python -m wetcontact.calibrate viscous first"
+    assert table is not None, "run python -m wetcontact.generate calibrated-viscous first"
     s = np.exp(rng.uniform(np.log(1e-5), np.log(100), N))
     film = {"gap": rng.uniform(0.01, 0.95, N) * 1e-5, "edge_gap": np.full(N, 1e-5),
             "r_star": np.full(N, 1e-3), "viscosity": np.full(N, 1e-3),
@@ -137,7 +137,7 @@ def one_thread_costs(runs: int = COST_RUNS) -> tuple[dict[str, float], list[dict
 def regenerated_kinds() -> list[str]:
     """The tables ``--regenerate-capillary`` regenerates: ``--kinds=K1,K2`` or all the
     generator writes; an unknown one ends the benchmark before anything is timed."""
-    from wetcontact.calibrate_capillary import KINDS
+    from wetcontact.generate.calibrated_capillary import KINDS
 
     kinds = next((a.split("=", 1)[1].split(",") for a in sys.argv
                   if a.startswith("--kinds=")), list(KINDS))
@@ -190,7 +190,7 @@ def main() -> None:
             **stage_sums(json.loads(stages.read_text())),
             "source": f"benchmarks/results/{stages.name}"}
     if kinds is not None:
-        from wetcontact.calibrate_capillary import generate_calibrated_capillary
+        from wetcontact.generate.calibrated_capillary import generate_calibrated_capillary
 
         with tempfile.TemporaryDirectory() as tmp:
             t0 = time.perf_counter()

@@ -23,7 +23,7 @@ median of 7):
   force factors are re-expanded on each sub-range exactly (Chebyshev interpolation at as
   many nodes as terms, :func:`restrict`), trailing b1 terms whose largest coefficient is
   below :data:`TRIM` dropped, and the trains rebuilt at the shipped truncation
-  (``calibrate_capillary.train_piece``). Evaluated by the package's own piece code on the
+  (``calibrated_capillary.train_piece``). Evaluated by the package's own piece code on the
   points of each sub-range (:func:`evaluate`); not a format the package or its exports
   read.
 - **every train in float32**: the rupture trains' cores too in single precision, and the
@@ -64,7 +64,7 @@ from _common import (  # noqa: E402
 )
 from bench_pair_tt import N, points, shipped_pair_table  # noqa: E402
 
-from wetcontact import calibrate_capillary as gen  # noqa: E402
+from wetcontact.generate import calibrated_capillary as gen  # noqa: E402
 from wetcontact.reduced_models import calibrated_capillary as cc  # noqa: E402
 
 TRIM = 1e-7

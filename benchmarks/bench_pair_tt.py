@@ -4,7 +4,7 @@ The ``calibrated-capillary`` table for sphere pairs with two contact angles is f
 Chebyshev tables per piece: a dense rupture table over (w, a, b1, b2) and a rank-r force
 table ``sum_k L_k(w, a, b1) R_k(b2, c)``. What ships and is evaluated is each table's
 tensor train (TT-SVD, Oseledets 2011, SIAM J. Sci. Comput. 33, 2295:
-``C_{i1..id} ~ G1[i1] ... Gd[id]``, ``calibrate_capillary.train_piece`` at ``TRAIN_TOL``),
+``C_{i1..id} ~ G1[i1] ... Gd[id]``, ``calibrated_capillary.train_piece`` at ``TRAIN_TOL``),
 one batched matrix product per core (``calibrated_capillary.train_sum``). This benchmark
 compares, in one run, the fit itself (the pieces without their trains), the shipped
 trains and trains at a finer and a coarser truncation:
@@ -13,11 +13,11 @@ trains and trains at a finer and a coarser truncation:
   BLAS thread, median of 5), and each piece's multiply-adds a point;
 - change: the largest relative change of the force (where both forms give a bridge) and
   of the rupture distance on those points, against the fit;
-- accuracy: the table's held-out maxima per stratum (``calibrate_pairs2.pair_held_out``:
+- accuracy: the table's held-out maxima per stratum (``calibrated_capillary_pairs.pair_held_out``:
   500 bridges, 4000 force points, against fresh ``meniscus``; cached in the node cache
   after the first run, about 1 minute from an empty cache) with each form;
 - probe change: each train's largest change of its table's sum against the fit on the
-  probe on which ``calibrate_capillary.factor_table`` chose the force factors' rank (the
+  probe on which ``calibrated_capillary.factor_table`` chose the force factors' rank (the
   table's Chebyshev-Lobatto grid and 20 000 seeded uniform points): everywhere, and off
   the gap axis's rupture end (c = -1, S -> S_c, where the force's dependence on S_c is a
   square root's, and which no held-out point reaches: they stop at 0.999 S_c).
@@ -49,16 +49,16 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import RESULTS, median_time, write_json  # noqa: E402
 
-from wetcontact import calibrate_capillary as gen  # noqa: E402
-from wetcontact import calibrate_pairs2 as p2  # noqa: E402
+from wetcontact.generate import calibrated_capillary as gen  # noqa: E402
+from wetcontact.generate import calibrated_capillary_pairs as p2  # noqa: E402
 from wetcontact.reduced_models import calibrated_capillary as cc  # noqa: E402
 
 N = 100_000
 VARIANTS = {"finer trains": (1e-7, 3e-6), "coarser trains": (1e-5, 3e-5)}
-"""Truncations (rupture, force) compared with the shipped :data:`calibrate_capillary.TRAIN_TOL`."""
+"""Truncations (rupture, force) compared with the shipped :data:`calibrated_capillary.TRAIN_TOL`."""
 HELD = {"rupture_train": 5e-6, "force_train": gen.FACTOR_TOL}
 """The held trains' bound on the probe: the force factors' own standard, 5 % of the 1e-3
-force goal (:data:`~wetcontact.calibrate_capillary.FACTOR_TOL`), and 1 % of the 5e-4
+force goal (:data:`~wetcontact.generate.calibrated_capillary.FACTOR_TOL`), and 1 % of the 5e-4
 rupture goal: S_c sets the force's gap coordinate, on which the force depends as a square
 root near S_c (held to 2.5e-5, 5 % of its goal, the rupture trains moved the force by
 2.7e-4 on the cost points, against 1.1e-4 with the shipped trains)."""

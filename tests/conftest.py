@@ -83,13 +83,13 @@ def synthetic_q(ratio: float, t2: float, c: np.ndarray) -> np.ndarray:
 
 
 def synthetic_pair_table(cache_dir: Path) -> dict[str, Any]:
-    """The coarse stage of :func:`wetcontact.calibrate_pairs2.fit_pair_table` on a
-    synthetic bridge whose onset, ridge, rupture distance and force are polynomials of low
+    """The coarse stage of :func:`wetcontact.generate.calibrated_capillary_pairs.fit_pair_table`
+    on a synthetic bridge whose onset, ridge, rupture distance and force are polynomials of low
     degree in the table's coordinates (the onset in (w, a), the ridge linear in theta1, log
     S_c linear in both angles, log q linear in theta2 and c): the coarse nodes interpolate
     them exactly. The solver and searches are patched only while it runs (a few seconds)."""
-    from wetcontact import calibrate_capillary as gen
-    from wetcontact import calibrate_pairs2 as p2
+    from wetcontact.generate import calibrated_capillary as gen
+    from wetcontact.generate import calibrated_capillary_pairs as p2
 
     def fake_branch(kind, ratio, v, theta, c_nodes, theta2=None):
         t1, t2 = math.degrees(theta), math.degrees(theta2)

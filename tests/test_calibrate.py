@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 
 from wetcontact import calibrate as cal
-from wetcontact.bounds_gen import make_scene
+from wetcontact.calibrate import make_scene
 from wetcontact.errors import InputError, ValidityError
+from wetcontact.generate.__main__ import main as generate_main
 from wetcontact.reduced_models import capillary as cap
 from wetcontact.reduced_models import rupture as rup
 
@@ -402,28 +403,28 @@ def test_committed_reference_points_are_solved_again(family):
 
 
 def test_bounds_quick_never_replaces_the_shipped_tables(monkeypatch, tmp_path, capsys):
-    """``python -m wetcontact.calibrate bounds --quick`` writes bounds-quick.json in the
+    """``python -m wetcontact.generate bounds --quick`` writes bounds-quick.json in the
     current folder (it wrote the package data), plain ``bounds`` the package data, and
     ``--out`` wherever it says."""
-    import wetcontact.bounds_gen as bg
+    import wetcontact.generate.bounds as bg
 
     seen = []
     monkeypatch.setattr(bg, "measure_bounds",
                         lambda seed, out, quick, progress, closure: seen.append((out, quick))
                         or {"tables": [], "wall_time_s": 0.0})
     monkeypatch.chdir(tmp_path)
-    assert cal.main(["bounds", "--quick"]) == 0
-    assert cal.main(["bounds"]) == 0
-    assert cal.main(["bounds", "--quick", "--out", str(tmp_path / "q.json")]) == 0
+    assert generate_main(["bounds", "--quick"]) == 0
+    assert generate_main(["bounds"]) == 0
+    assert generate_main(["bounds", "--quick", "--out", str(tmp_path / "q.json")]) == 0
     assert seen == [(Path("bounds-quick.json"), True), (bg.DATA_PATH, False),
                     (tmp_path / "q.json", True)]
     assert "wrote bounds-quick.json" in capsys.readouterr().out
 
 
 def _fake_bound_tables(monkeypatch):
-    """Replace every table measurement of ``bounds_gen`` by a draw from the stream it is
+    """Replace every table measurement of ``generate.bounds`` by a draw from the stream it is
     given (no solve): a table per stream, which records the stream's first numbers."""
-    import wetcontact.bounds_gen as bg
+    import wetcontact.generate.bounds as bg
 
     def fake(model, kind, *streams):
         return {"model": model, "kind": kind,
@@ -450,8 +451,8 @@ def test_bounds_of_one_closure_are_a_whole_runs(monkeypatch, tmp_path, capsys):
     for t in stale["tables"]:
         t["draws"] = [0.0]  # what the new measurement must replace, and only there
     part.write_text(json.dumps(stale))
-    assert cal.main(["bounds", "--quick", "--seed", "7", "--out", str(part),
-                     "--closure", "calibrated-capillary"]) == 0
+    assert generate_main(["bounds", "--quick", "--seed", "7", "--out", str(part),
+                          "--closure", "calibrated-capillary"]) == 0
     assert "2 calibrated-capillary tables measured again" in capsys.readouterr().out
     got = json.loads(part.read_text())
     assert got.pop("remeasured")["calibrated-capillary"]["tables"] == 2

@@ -158,7 +158,7 @@ CAL_STUDIES = sorted((ROOT / "cases" / "studies").glob("calibrate-*.toml"))
                          ids=lambda p: p.stem)
 def test_shipped_calibration_studies_reproduce_the_default_designs(path):
     """Each calibrate-FAMILY.toml: the family's scene class, a reference model, and the
-    training configurations of ``python -m wetcontact.calibrate fit FAMILY --train 40``."""
+    training configurations of ``python -m wetcontact.generate fit FAMILY --train 40``."""
     import tomllib
 
     from wetcontact.calibrate import check_scene_class, design, reference_model
@@ -226,12 +226,13 @@ def test_committed_held_out_designs_point_at_existing_bases():
 
 @pytest.mark.parametrize("kind", ["sphere-wall", "sphere-wall-two-angles"])
 def test_capillary_table_commands_write_into_out(tmp_path, monkeypatch, kind) -> None:
-    """``python -m wetcontact.calibrate capillary --kind K --retrain --out F`` wrote into
-    the package data whatever F was, for every kind but the two-angle pairs' (found when a
-    retrain meant for a copy replaced the shipped table); now F, a copy of the package
-    data's file made there first, for every kind."""
-    import wetcontact.calibrate_capillary as gen
-    from wetcontact.calibrate import main as calibrate_main
+    """``python -m wetcontact.generate calibrated-capillary --kind K --retrain --out F`` (was
+    ``python -m wetcontact.calibrate capillary``) wrote into the package data whatever F was,
+    for every kind but the two-angle pairs' (found when a retrain meant for a copy replaced
+    the shipped table); now F, a copy of the package data's file made there first, for
+    every kind."""
+    import wetcontact.generate.calibrated_capillary as gen
+    from wetcontact.generate.__main__ import main as generate_main
 
     got = {}
 
@@ -242,7 +243,8 @@ def test_capillary_table_commands_write_into_out(tmp_path, monkeypatch, kind) ->
 
     monkeypatch.setattr(gen, "generate_calibrated_capillary", fake)
     out = tmp_path / "cc.json"
-    assert calibrate_main(["capillary", "--kind", kind, "--retrain", "--out", str(out)]) == 0
+    assert generate_main(["calibrated-capillary", "--kind", kind, "--retrain", "--out",
+                          str(out)]) == 0
     assert got["out"] == out and got["kinds"] == (kind,) and got["retrain"]
     shipped = Path(gen.cc.__file__).parent / "data" / gen.cc.CAPILLARY_FILE
     assert out.read_bytes() == shipped.read_bytes()

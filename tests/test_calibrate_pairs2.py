@@ -1,6 +1,7 @@
 """The ridge search and top-kind test for sphere pairs with two contact angles
-(:mod:`wetcontact.calibrate_pairs2`): on functions whose top and kind are known in closed
-form, and on ``meniscus`` bridges where symmetry or a dense scan says where the top is."""
+(:mod:`wetcontact.generate.calibrated_capillary_pairs`): on functions whose top and kind are
+known in closed form, and on ``meniscus`` bridges where symmetry or a dense scan says where
+the top is."""
 
 import json
 import math
@@ -14,9 +15,9 @@ from conftest import synthetic_q as _q
 from conftest import synthetic_ridge as _ridge
 from conftest import synthetic_rupture as _rupture
 
-from wetcontact import calibrate_capillary as gen
-from wetcontact import calibrate_pairs2 as p2
 from wetcontact.errors import InputError
+from wetcontact.generate import calibrated_capillary as gen
+from wetcontact.generate import calibrated_capillary_pairs as p2
 from wetcontact.reduced_models import calibrated_capillary as cc
 
 TOP = 33.3
@@ -506,7 +507,7 @@ def test_shipped_two_angle_pieces_are_trains_of_their_fit_within_their_tolerance
 
 
 def test_wall_retrain_keeps_the_fit_and_rebuilds_its_trains(tmp_path) -> None:
-    """The two-angle wall table's retrain (``calibrate capillary --kind
+    """The two-angle wall table's retrain (``generate calibrated-capillary --kind
     sphere-wall-two-angles --retrain``) keeps the shipped fit as it is, builds each
     piece's force train from it again (the shipped one: the same dense tensor to rounding,
     the same ranks and axis order; no rupture train) and drops the held-out tables, which
@@ -538,7 +539,7 @@ def test_wall_retrain_keeps_the_fit_and_rebuilds_its_trains(tmp_path) -> None:
 
 
 def test_capillary_generator_keeps_the_pair_table(tmp_path) -> None:
-    """``calibrate capillary`` (the other tables) rewrites the table file without solving
+    """``generate calibrated-capillary`` (the other tables) rewrites the table file without solving
     what it was not asked for: the two-angle pair table, which calibrate_pairs2 writes,
     stays as it was (it was dropped before)."""
     from wetcontact.reduced_models import calibrated_capillary as cc
@@ -560,15 +561,15 @@ def test_capillary_generator_keeps_the_pair_table(tmp_path) -> None:
 
 @pytest.mark.parametrize("kind", ["sphere-wall", "sphere-sphere"])
 def test_one_angle_retrain_keeps_the_fit(tmp_path, kind) -> None:
-    """A one-angle table's retrain (``calibrate capillary --kind sphere-wall --retrain``,
+    """A one-angle table's retrain (``generate calibrated-capillary --kind sphere-wall --retrain``,
     what a change of the closure's evaluation calls for) keeps the fit as the file holds it,
     with its fit time, and drops only the held-out tables, which the caller measures again;
     a file without the table is refused by name."""
-    from wetcontact import calibrate
     from wetcontact.errors import InputError
+    from wetcontact.generate import __main__ as generate_cli
     from wetcontact.reduced_models import calibrated_capillary as cc
 
-    assert calibrate.PAIR_KIND == p2.PAIR_TWO_ANGLES  # the CLI's copy of the name
+    assert generate_cli.PAIR_KIND == p2.PAIR_TWO_ANGLES  # the CLI's copy of the name
     path = Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
     old = json.loads(path.read_text())
     new = gen._retrained(path, old, kind)
@@ -589,10 +590,10 @@ def test_one_angle_retrain_keeps_the_fit(tmp_path, kind) -> None:
      "--refine-band = 2 2; allowed: distinct bands 0, 1 or 2"),
 ])
 def test_refine_band_is_refused_outside_the_two_angle_tables(argv, message, capsys) -> None:
-    from wetcontact import calibrate
+    from wetcontact.generate.__main__ import main as generate_main
 
     with pytest.raises(SystemExit) as exc:
-        calibrate.main(["capillary", *argv])
+        generate_main(["calibrated-capillary", *argv])
     assert exc.value.code == 2
     assert message in capsys.readouterr().err
 
@@ -636,8 +637,8 @@ def test_refine_band_refits_only_the_pieces_whose_nodes_changed(tmp_path, monkey
 
 
 def test_table_commands_name_a_missing_out_folder(tmp_path) -> None:
-    from wetcontact import calibrate
+    from wetcontact.generate.__main__ import main as generate_main
 
     with pytest.raises(InputError, match=r"--out .*x.json: folder .*nowhere does not exist"):
-        calibrate.main(["capillary", "--kind", "sphere-wall-two-angles", "--refine-band",
-                        "1", "--out", str(tmp_path / "nowhere" / "x.json")])
+        generate_main(["calibrated-capillary", "--kind", "sphere-wall-two-angles",
+                       "--refine-band", "1", "--out", str(tmp_path / "nowhere" / "x.json")])

@@ -491,7 +491,7 @@ def test_usage_notes_figures_against_the_package():
     V/R^3 = 0.1 where it is worst), the capillary force's jump to 0 at S_c (3.7 % of its
     contact value for V/R^3 = 0.01, 20 deg, plane), and a large bridge's viscous closure
     still finite just past S_c (so it must be gated by the rupture distance)."""
-    from wetcontact.bounds_gen import make_scene
+    from wetcontact.calibrate import make_scene
     from wetcontact.models import get_model
 
     lub, pit = get_model("lubrication"), get_model("reynolds-finite")
@@ -1717,13 +1717,13 @@ def _pair_table(cache_dir: Path) -> dict:
     """The synthetic pair table (:func:`conftest.synthetic_pair_table`, the generator's
     coarse stage on a polynomial bridge) with :data:`PAIR_NOISE` on every coefficient, its
     pieces' tensor trains built again from the noisy fit (as the generator builds them,
-    :func:`~wetcontact.calibrate_capillary.train_piece`, over the axis orders
+    :func:`~wetcontact.generate.calibrated_capillary.train_piece`, over the axis orders
     :data:`PAIR_TRAIN_ORDERS`; the trains are what the package and the exports evaluate)
     and a stand-in held-out table (the model's bound floor and the
     json document read one)."""
     from conftest import synthetic_pair_table
 
-    from wetcontact.calibrate_capillary import train_piece
+    from wetcontact.generate.calibrated_capillary import train_piece
 
     table = synthetic_pair_table(cache_dir)
     rng = np.random.default_rng(2611)

@@ -4,7 +4,7 @@ References: Brenner's exact series (immersed), ``stokes`` with the flat film top
 force of films, default preset), ``lubrication`` at 256 cells (viscous force of bridges;
 the thin-gap model is the reference of the bridge bounds), ``meniscus`` at its accurate
 preset (capillary force of bridges). The scenes are drawn with a seed that the
-bound tables (``python -m wetcontact.calibrate bounds``) never used.
+bound tables (``python -m wetcontact.generate bounds``) never used.
 """
 
 from __future__ import annotations
@@ -18,8 +18,8 @@ import numpy as np
 import pytest
 
 from wetcontact import select
-from wetcontact.bounds_gen import make_scene, rel_error
 from wetcontact.errors import InputError, ValidityError
+from wetcontact.generate.bounds import make_scene, rel_error
 from wetcontact.models import get_model
 from wetcontact.reduced_models import bounds
 
@@ -67,7 +67,7 @@ def references() -> list:
         if sc.amount == "immersed":
             ref["viscous"] = get_model("brenner").force(sc).force_viscous
         elif sc.amount == "film":
-            # Stokes' flat film top, the films' viscous reference (bounds_gen.film_reference)
+            # Stokes' flat film top, the films' viscous reference (generate.bounds.film_reference)
             ref["viscous"] = get_model("stokes").force(sc, preset="default").force_viscous
         else:
             ref["viscous"] = get_model("lubrication").force(sc, n=256, levels=3).force_viscous
@@ -191,7 +191,7 @@ def test_schaeffer_bound_covers_its_worst_range() -> None:
 
 def test_tables_are_measured_positive_and_cover_every_closure() -> None:
     tabs = bounds.tables()
-    assert tabs, "bounds.json missing: run python -m wetcontact.calibrate bounds"
+    assert tabs, "bounds.json missing: run python -m wetcontact.generate bounds"
     for t in tabs:
         b = t.bound[np.isfinite(t.bound)]
         assert b.size and np.all(b > 0), t.model
@@ -329,7 +329,7 @@ def test_every_gap_past_rupture_is_a_zero_curve_not_a_refusal():
 
 
 # Near (not at) the corners of the closures' domains, where seeded scenes seldom land and
-# the bound tables' corner scenes (bounds_gen.corner_bridges, BRIDGE_CORNERS) now measure:
+# the bound tables' corner scenes (generate.bounds.corner_bridges, BRIDGE_CORNERS) now measure:
 # before them, these errors exceeded the closures' error_estimate by 1.3x to 36x.
 NEAR_CORNERS = [
     # (closure, kind, R2/R1, V*, angles (deg), gaps in S/S_c(closure))
@@ -343,7 +343,7 @@ NEAR_CORNERS = [
     ("toroidal", "sphere-sphere", 1.0, 0.09, (1.0, 1.0), (0.05,)),
     ("willett", "sphere-sphere", 9.0, 1.2e-4, (33.0, 33.0), (0.3,)),
     # two low angles at a large volume, between the two-angle pair table's ratio nodes
-    # (bounds_gen.PAIR_LOW_ANGLES): 3e-3 off at 0.999 S_c against a bound of 1.6e-4 with
+    # (generate.bounds.PAIR_LOW_ANGLES): 3e-3 off at 0.999 S_c against a bound of 1.6e-4 with
     # 9 of them in band 0 (8.6e-5 with 13); the bound table now measures such pairs
     ("calibrated-capillary", "sphere-sphere", 1.63, 0.1, (0.0, 3.0), (0.5, 0.99, 0.999)),
     ("calibrated-capillary", "sphere-sphere", 3.16, 0.1, (3.0, 0.0), (0.99, 0.999)),
@@ -410,7 +410,7 @@ def test_capillary_bounds_cover_the_error_in_the_ridge_window(kind, ratio, v, ts
 def test_viscous_bridge_bounds_cover_the_error_near_domain_corners(kind, ratio) -> None:
     """calibrated-viscous at the small end of its volumes and the wide end of its gaps
     (5 % above its bound before the corner bridges), against the bounds' reference."""
-    from wetcontact.bounds_gen import bridge_gaps
+    from wetcontact.generate.bounds import bridge_gaps
 
     x = np.array([0.012, 0.5, 0.94])
     scene = make_scene(kind, {"bridge_volume": 1.2e-4 * R**3},

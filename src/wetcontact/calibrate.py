@@ -32,17 +32,15 @@ polishes the maximum directly in epigraph form (SLSQP; Willett's 48: 4.3 -> 4.1 
 fits a family to a study's reference points from the store (swept first when missing) and
 reports on a seeded Latin-hypercube held-out design over the study's ranges; the capillary
 families' studies are ``cases/studies/calibrate-*.toml``.
-``python -m wetcontact.calibrate bounds`` regenerates the closures' measured error-bound
-tables (:mod:`wetcontact.bounds_gen`); ``python -m wetcontact.calibrate fit FAMILY --out
-F.json`` calibrates one family on its default design.
+``python -m wetcontact.generate fit FAMILY --out F.json`` calibrates one family on its default
+design (:func:`run_family`); the shipped tables are built by :mod:`wetcontact.generate`, which
+uses this module's fit.
 """
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
-import sys
 import time
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
@@ -53,12 +51,9 @@ import numpy as np
 
 from wetcontact.errors import InputError, SolverError, ValidityError
 from wetcontact.models import ForceCurve, Model, get_model
-from wetcontact.reduced_models import DATA_DIR
-from wetcontact.reduced_models import calibrated_capillary as cc
 from wetcontact.reduced_models import capillary as cap
 from wetcontact.reduced_models import rupture as rup
 from wetcontact.reduced_models import viscous as visc
-from wetcontact.reduced_models.calibrated import FILM_D, FILM_X, film_coords, film_point
 from wetcontact.reduced_models.forms import (
     BAGHERI_PUBLISHED,
     WILLETT_PUBLISHED,
@@ -69,7 +64,7 @@ from wetcontact.reduced_models.forms import (
     mikami_form,
     willett_form,
 )
-from wetcontact.scene import Scene
+from wetcontact.scene import Scene, scene_from_dict
 
 # ---- families ---------------------------------------------------------------------------
 
@@ -164,6 +159,28 @@ def get_family(name: str) -> Family:
     if name not in FAMILIES:
         raise InputError(f"closure family = {name!r}; allowed: " + ", ".join(FAMILIES))
     return FAMILIES[name]
+
+
+# ---- reference scenes ---------------------------------------------------------------------
+
+R = 1.0e-3
+
+
+def make_scene(kind: str, amount: dict[str, Any], gaps: Any, radius2: float | None = None,
+               theta: tuple[float, float] = (0.0, 0.0), velocity: float = 0.1,
+               name: str = "bounds") -> Scene:
+    """A water-like scene with R = 1 mm: the reference points' scenes, and the bound tables'
+    (every table is in dimensionless coordinates)."""
+    geom: dict[str, Any] = {"kind": kind, "radius": R}
+    if radius2 is not None:
+        geom["radius2"] = radius2
+    a, b = theta
+    other = "contact_angle_wall" if kind == "sphere-wall" else "contact_angle_sphere2"
+    liquid = {"viscosity": 1e-3, "surface_tension": 0.072, "density": 998.0,
+              "contact_angle_sphere": a, other: b}
+    return scene_from_dict({"name": name, "geometry": geom, "liquid": liquid,
+                            "amount": amount,
+                            "motion": {"velocity": velocity, "gaps": [float(g) for g in gaps]}})
 
 
 # ---- reference points --------------------------------------------------------------------
@@ -279,8 +296,6 @@ def reference_points(family: Family, configs: list[dict[str, float]], gaps_per: 
 
 def _references(family: Family, configs: list[dict[str, float]], gaps_per: int,
                 seed: int | None, preset: str) -> list[tuple[Scene, np.ndarray]]:
-    from wetcontact.bounds_gen import R, make_scene
-
     rng = np.random.default_rng(seed)
     out = []
     s_lo, s_hi, _ = family.default_design.get("s_over_scref",
@@ -946,310 +961,3 @@ DOMAIN_LIMITS: dict[str, tuple[float, float, bool, str]] = {
 """The widest range a coefficient file's ``domain`` may claim on each axis: (low, high,
 low excluded, why). A file claiming more would let the refit answer, unflagged, where no
 closure of its form applies (a hand-edited file, an input-fuzzing audit)."""
-
-
-# ---- shipped calibrated closures ------------------------------------------------------------
-
-PAIR_KIND = cc.PAIR_TWO_ANGLES
-"""The two-angle sphere-pair table's kind (the model's name for it; the command line needs
-it to parse its arguments, before it imports ``calibrate_pairs2``)."""
-
-
-def fit_immersed(kind: str, degree: int = 48, s_range: tuple[float, float] = (1e-5, 100.0),
-                 n_held_out: int = 4000, seed: int = 101) -> dict[str, Any]:
-    """Chebyshev interpolation of ``q = lambda s/(1 + s)`` (wall) or
-    ``lambda 2s/(1 + 2s)`` (equal spheres) in log s at Chebyshev points, and its held-out
-    relative error against the exact series at seeded log-uniform points."""
-    from wetcontact.reduced_models.calibrated import immersed_lambda
-
-    lo, hi = math.log(s_range[0]), math.log(s_range[1])
-    t = np.cos(np.pi * (np.arange(degree + 1) + 0.5) / (degree + 1))
-    s = np.exp(0.5 * (t * (hi - lo) + lo + hi))
-    exact = visc.brenner_lambda if kind == "sphere-wall" else visc.two_sphere_lambda
-    q = exact(s) * (s / (1 + s) if kind == "sphere-wall" else 2 * s / (1 + 2 * s))
-    coef = np.polynomial.chebyshev.chebfit(t, q, degree)
-    table = {"immersed": {kind: {"log_range": [lo, hi], "chebyshev": coef.tolist()}}}
-    rng = np.random.default_rng(seed)
-    sh = np.exp(rng.uniform(lo, hi, n_held_out))
-    err = np.abs(immersed_lambda(sh, kind, table) / exact(sh) - 1.0)
-    i = int(np.argmax(err))
-    return {"log_range": [lo, hi], "chebyshev": coef.tolist(),
-            "held_out": {"points": n_held_out, "seed": seed, "reference": "brenner (exact)",
-                         "max": float(err.max()), "mean": float(err.mean()),
-                         "p95": float(np.percentile(err, 95)), "max_at_s_over_r": float(sh[i])}}
-
-
-def _stokes_film(d: float, x: np.ndarray, preset: str) -> tuple[Scene, np.ndarray]:
-    from wetcontact.bounds_gen import R, make_scene
-
-    scene = make_scene("sphere-wall", {"film_thickness": d * R}, np.asarray(x) * d * R)
-    return scene, get_model("stokes").force(scene, preset=preset).force_viscous
-
-
-def fit_film_stokes(base: np.ndarray, nodes: tuple[int, int] = (10, 12), n_held_out: int = 24,
-                    gaps_per: int = 8, seed: int = 303, preset: str = "default"
-                    ) -> dict[str, Any]:
-    """Correction of the film closure to ``stokes`` (flat film top, the fast-impact limit).
-
-    The finite-liquid form with coefficients ``base`` (refitted to ``lubrication``) is
-    multiplied by ``exp(sum_ij C_ij T_i(a) T_j(b))`` (:func:`film_coords`), C interpolating
-    ``ln(F_stokes / F_form)`` at the tensor Chebyshev points. Lubrication itself is 0.4 %
-    (delta/R = 1e-3) to 73 % (0.1) below Stokes as S -> delta, where the wetted cap is no
-    longer thin. Held-out: ``n_held_out`` seeded films, ``gaps_per`` seeded gaps each,
-    against Stokes solved there; the error of Pitois' factor on the same points is
-    ``before``."""
-    fam = FAMILIES["finite-liquid"]
-    na, nb = nodes
-    ta = np.cos(np.pi * (np.arange(na) + 0.5) / na)
-    tb = np.cos(np.pi * (np.arange(nb) + 0.5) / nb)
-    ds, xs = film_point(ta, tb)
-    aa, bb, yy = [], [], []
-    for t, d in zip(ta, ds, strict=True):
-        scene, f = _stokes_film(float(d), xs, preset)
-        form = finite_liquid_form(base, scene_inputs(fam, scene))
-        aa.append(np.full(nb, t))
-        bb.append(tb)
-        yy.append(np.log(f / form))
-    a, b, y = (np.concatenate(v) for v in (aa, bb, yy))
-    coef = np.linalg.solve(np.polynomial.chebyshev.chebvander2d(a, b, [na - 1, nb - 1]), y)
-    coef = coef.reshape(na, nb)
-    rng = np.random.default_rng(seed)
-    errs, errs_pitois, where = [], [], []
-    for c in design(fam, n_held_out, seed=seed):
-        d = c["delta_over_r"]
-        x = np.sort(rng.uniform(*FILM_X, gaps_per))
-        scene, f = _stokes_film(d, x, preset)
-        inputs = scene_inputs(fam, scene)
-        ca, cb = film_coords(np.full(x.size, d), x)
-        pred = finite_liquid_form(base, inputs) * np.exp(
-            np.polynomial.chebyshev.chebval2d(ca, cb, coef))
-        pitois = finite_liquid_form(fam.published, inputs)
-        errs.append(np.abs(pred / f - 1))
-        errs_pitois.append(np.abs(pitois / f - 1))
-        where += [{"delta_over_r": d, "s_over_h": float(v)} for v in x]
-    e, ep = np.concatenate(errs), np.concatenate(errs_pitois)
-
-    def table(err: np.ndarray) -> dict[str, Any]:
-        return {"max": float(err.max()), "mean": float(err.mean()),
-                "p95": float(np.percentile(err, 95)), "max_at": where[int(np.argmax(err))]}
-
-    return {"delta_over_r": list(FILM_D), "s_over_h": list(FILM_X), "nodes": [na, nb],
-            "chebyshev_2d": coef.tolist(),
-            "reference": f"stokes (flat film top, preset {preset})",
-            "held_out": {"points": int(e.size), "seed": seed, "before": table(ep),
-                         "after": table(e)}}
-
-
-def generate_calibrated_viscous(out: Path | None = None, n_train: int = 40,
-                                n_held_out: int = 24) -> dict[str, Any]:
-    """Write ``data/calibrated_viscous.json``: immersed Chebyshev tables, the film factor
-    refitted against lubrication and corrected to Stokes (:func:`fit_film_stokes`), the
-    bridge factors refitted against lubrication, each with its held-out error table."""
-    t0 = time.perf_counter()
-    data: dict[str, Any] = {"generated_by": "python -m wetcontact.calibrate viscous",
-                            "immersed": {k: fit_immersed(k) for k in ("sphere-wall",
-                                                                      "sphere-sphere")}}
-    fam = FAMILIES["finite-liquid"]
-    train = reference_points(fam, design(fam, n_train), gaps_per=10)
-    held = reference_points(fam, design(fam, n_held_out, seed=303), gaps_per=8, seed=303)
-    c = calibrate(fam, train, held, held_out_seed=303)
-    corr = fit_film_stokes(c.coefficients)
-    data["film"] = {"coefficients": c.coefficients.tolist(),
-                    "domain": {k: list(v) for k, v in c.domain.items()},
-                    "reference": corr["reference"] + ": the project's best film reference",
-                    "stokes_correction": {k: v for k, v in corr.items() if k != "held_out"},
-                    "held_out": corr["held_out"],
-                    "lubrication_fit": {"reference": "lubrication (n = 256)",
-                                        "train": c.train, "held_out": c.held_out}}
-    for kind, name in (("sphere-wall", "finite-liquid-bridge-sw"),
-                       ("sphere-sphere", "finite-liquid-bridge-ss")):
-        fam = FAMILIES[name]
-        train = reference_points(fam, design(fam, n_train), gaps_per=10)
-        held = reference_points(fam, design(fam, n_held_out, seed=404), gaps_per=8, seed=404)
-        c = calibrate(fam, train, held, held_out_seed=404)
-        data.setdefault("bridge", {})[kind] = {
-            "coefficients": c.coefficients.tolist(),
-            "domain": {k: list(v) for k, v in c.domain.items()},
-            "reference": "lubrication (n = 256): the project's best bridge viscous reference "
-                         "(whole volume between the surfaces)",
-            "train": c.train, "held_out": c.held_out}
-    data["wall_time_s"] = round(time.perf_counter() - t0, 1)
-    out = out or DATA_DIR / "calibrated_viscous.json"
-    out.write_text(json.dumps(data, indent=1) + "\n")
-    from wetcontact.reduced_models.calibrated import viscous_table
-
-    viscous_table.cache_clear()
-    return data
-
-
-
-def _table_copy(out: Path | None) -> Path | None:
-    """``--out`` for the capillary table commands: a copy of the package data's table file
-    made there if it does not exist yet (``None``: the package data itself)."""
-    if out is not None and not out.is_file():
-        import shutil
-
-        if not out.parent.is_dir():
-            raise InputError(f"--out {out}: folder {out.parent} does not exist; allowed: a "
-                             "file in an existing folder")
-        shutil.copy(Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE, out)
-    return out
-
-
-def _print_held_out(kind: str, entry: dict[str, Any]) -> None:
-    """One line per held-out table of a capillary table's entry."""
-    for key in sorted(k for k in entry if k.startswith("held_out")):
-        ho = entry[key]
-        print(f"{kind} {key}: max rupture {ho['rupture_distance']['max']:.3g}, "
-              f"force {ho['force']['max']:.3g} ({ho['force']['points']} points)")
-
-def main(argv: list[str] | None = None) -> int:
-    """``python -m wetcontact.calibrate bounds|fit ...``."""
-    from wetcontact.bounds_gen import ALONE
-
-    p = argparse.ArgumentParser(prog="python -m wetcontact.calibrate")
-    sub = p.add_subparsers(dest="command", required=True)
-    b = sub.add_parser("bounds", help="measure the closures' error-bound tables")
-    b.add_argument("--quick", action="store_true",
-                   help="fewer held-out scenes per table (a smoke run; the shipped tables "
-                        "are not --quick)")
-    b.add_argument("--seed", type=int, default=20261123,
-                   help="seed of the held-out scenes (default: the shipped tables' seed)")
-    b.add_argument("--out", type=Path, default=None,
-                   help="JSON file to write (default: the package data; with --quick: "
-                        "bounds-quick.json in the current folder, so that a smoke run never "
-                        "replaces the shipped tables)")
-    b.add_argument("--closure", choices=list(ALONE), default=None,
-                   help="measure only this closure's tables again, in place in the file a "
-                        "whole run wrote (same --seed and --quick): what a change of the "
-                        "closure itself calls for")
-    f = sub.add_parser("fit", help="refit closure families on their default designs")
-    f.add_argument("family", choices=sorted(FAMILIES) + ["all"])
-    f.add_argument("--out", type=Path, required=True, help="JSON file (a folder for 'all')")
-    f.add_argument("--train", type=int, default=30,
-                   help="about this many training configurations, a full grid over the "
-                        "family's design (8 gaps each; default 30)")
-    f.add_argument("--held-out", type=int, default=16,
-                   help="seeded random held-out configurations (6 gaps each; default 16)")
-    f.add_argument("--reuse", action="store_true", help="refit from the saved points")
-    sub.add_parser("viscous", help="regenerate the calibrated-viscous closure")
-    c = sub.add_parser("capillary", help="regenerate the calibrated-capillary closure")
-    c.add_argument("--kind", choices=["sphere-wall", "sphere-sphere", cc.WALL_TWO_ANGLES,
-                                      PAIR_KIND, "all"], default="all",
-                   help="one table (two contact angles: sphere-wall-two-angles, "
-                        "sphere-sphere-two-angles); the others are kept as they are; 'all' "
-                        "is the first three")
-    c.add_argument("--workers", type=int, default=2,
-                   help="processes solving the meniscus nodes (default 2)")
-    c.add_argument("--held-out", type=int, default=120, help="held-out bridges per kind")
-    c.add_argument("--stage", choices=["coarse", "medium", "full"], default="full",
-                   help="sphere-sphere-two-angles only: the node counts (nested: each "
-                        "stage reuses what the ones before it solved; full is shipped)")
-    c.add_argument("--out", type=Path, default=None,
-                   help="write into this copy of the table file, made from the package "
-                        "data's if it does not exist (default: the package data itself)")
-    c.add_argument("--retrain", action="store_true",
-                   help="keep the fit the file holds, build its tensor trains again (the "
-                        "two-angle tables) and measure its held-out tables again (no node "
-                        "solved; --stage is ignored)")
-    c.add_argument("--corners", action="store_true",
-                   help="measure only the corner stratum (held_out_corners: the domain's "
-                        "ends and middles at gaps up to 0.999 S_c) of every table the package "
-                        "data holds, or of --kind's, against meniscus; nothing is refitted")
-    c.add_argument("--refine-band", type=int, nargs="+", default=None, metavar="BAND",
-                   help="the two-angle tables only (--kind): fit again the pieces of these "
-                        "bands (0-2) whose node counts differ from the generator's, from "
-                        "each band's own ridge series (searched again only at the w nodes a "
-                        "pair band's ridge gains), and measure the table's held-out tables "
-                        "again, once")
-    args = p.parse_args(argv)
-    if args.command == "capillary" and args.refine_band is not None:
-        from wetcontact.calibrate_pairs2 import refine_band
-
-        if args.kind not in (cc.WALL_TWO_ANGLES, PAIR_KIND):
-            p.error(f"--refine-band: only with --kind {cc.WALL_TWO_ANGLES} or --kind "
-                    f"{PAIR_KIND} (given: --kind {args.kind})")
-        bad = [b for b in args.refine_band if b not in (0, 1, 2)]
-        if bad or len(set(args.refine_band)) < len(args.refine_band):
-            p.error(f"--refine-band = {' '.join(map(str, args.refine_band))}; allowed: "
-                    "distinct bands 0, 1 or 2")
-        entry = refine_band(args.kind, args.refine_band, _table_copy(args.out), args.workers)
-        _print_held_out(args.kind, entry)
-        for b in args.refine_band:
-            rec = entry["refine_band"][str(b)]
-            print(f"band {b}: {rec['wall_time_s']} s "
-                  f"(held-out tables {rec['held_out_wall_time_s']} s)")
-        return 0
-    if args.command == "capillary" and args.corners:
-        from wetcontact.calibrate_capillary import CORNER_KINDS, add_corner_strata
-
-        kinds = CORNER_KINDS if args.kind == "all" else (args.kind,)
-        data = add_corner_strata(_table_copy(args.out), kinds, args.workers)
-        for kind in kinds:
-            if kind in data:
-                ho = data[kind]["held_out_corners"]
-                print(f"{kind} held_out_corners: max rupture "
-                      f"{ho['rupture_distance']['max']:.3g}, force {ho['force']['max']:.3g} "
-                      f"({ho['force']['points']} points, {ho['bridges']} bridges)")
-        return 0
-    if args.command == "capillary" and args.kind == PAIR_KIND:
-        from wetcontact.calibrate_pairs2 import generate_pair_table
-
-        entry = generate_pair_table(args.stage, _table_copy(args.out), args.workers,
-                                    args.held_out, retrain=args.retrain)
-        _print_held_out(args.kind, entry)
-        print(f"{entry['retrain_wall_time_s' if args.retrain else 'wall_time_s']} s")
-        return 0
-    if args.command == "capillary":
-        from wetcontact.calibrate_capillary import KINDS, generate_calibrated_capillary
-
-        kinds = KINDS if args.kind == "all" else (args.kind,)
-        data = generate_calibrated_capillary(_table_copy(args.out), kinds=kinds,
-                                             workers=args.workers, n_held_out=args.held_out,
-                                             retrain=args.retrain)
-        for kind in kinds:
-            ho = data[kind]["held_out"]
-            print(f"{kind}: held-out max rupture {ho['rupture_distance']['max']:.3g}, "
-                  f"force {ho['force']['max']:.3g} ({ho['force']['points']} points)")
-        print(f"{data['retrain_wall_time_s' if args.retrain else 'wall_time_s']} s")
-        return 0
-    if args.command == "viscous":
-        data = generate_calibrated_viscous()
-        for k, v in data["immersed"].items():
-            print(f"immersed {k}: held-out max {v['held_out']['max']:.3g}")
-        for label, d in (("film", data["film"]), *(
-                (f"bridge {k}", v) for k, v in data["bridge"].items())):
-            ho = d["held_out"]
-            print(f"{label}: held-out max {ho['before']['max']:.3g} (Pitois) -> "
-                  f"{ho['after']['max']:.3g}")
-        print(f"{data['wall_time_s']} s")
-    elif args.command == "bounds":
-        from wetcontact.bounds_gen import DATA_PATH, measure_bounds
-
-        out = args.out or (Path("bounds-quick.json") if args.quick else DATA_PATH)
-        data = measure_bounds(seed=args.seed, out=out, quick=args.quick, progress=True,
-                              closure=args.closure)
-        if args.closure:
-            done = data["remeasured"][args.closure]
-            print(f"wrote {out} ({done['tables']} {args.closure} tables measured again, "
-                  f"{done['wall_time_s']} s)")
-        else:
-            print(f"wrote {out} ({len(data['tables'])} tables, {data['wall_time_s']} s)")
-    else:
-        names = sorted(FAMILIES) if args.family == "all" else [args.family]
-        for name in names:
-            out = args.out / f"{name}.json" if args.family == "all" else args.out
-            cal = run_family(name, out, args.train, args.held_out, reuse=args.reuse)
-            ho = cal.held_out
-            print(f"{cal.family}: held-out max {ho['before']['max']:.3g} -> "
-                  f"{ho['after']['max']:.3g} (goal 1/3: "
-                  f"{'met' if cal.goal_met else 'NOT met'}); wrote {out}", flush=True)
-    return 0
-
-
-if __name__ == "__main__":
-    try:
-        sys.exit(main())
-    except InputError as exc:  # bad input: one line, exit 2, no traceback
-        print(f"python -m wetcontact.calibrate: error: {exc}", file=sys.stderr)
-        sys.exit(2)

@@ -599,7 +599,7 @@ def _add_export_closure_parsers(fmt: argparse._SubParsersAction) -> None:
     src.add_argument("--closure", help="a shipped calibrated closure (calibrated-viscous or "
                      "calibrated-capillary)")
     src.add_argument("--coefficients", type=path_arg, metavar="FILE.json",
-                     help="a refit written by `python -m wetcontact.calibrate fit`")
+                     help="a refit written by `python -m wetcontact.generate fit`")
     j.add_argument("--out", type=file_out_arg, required=True, help="JSON file to write")
     j.add_argument("--json", action="store_true", help="print one JSON object")
     for name, what, default in (

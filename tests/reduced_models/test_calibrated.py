@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from wetcontact.bounds_gen import make_scene
+from wetcontact.calibrate import make_scene
 from wetcontact.errors import ValidityError
 from wetcontact.models import get_model
 from wetcontact.reduced_models import calibrated

@@ -8,9 +8,9 @@ import math
 import numpy as np
 import pytest
 
-from wetcontact.bounds_gen import MARGIN, make_scene
-from wetcontact.calibrate_capillary import lobatto, lobatto_coefficients
 from wetcontact.errors import InputError, ValidityError
+from wetcontact.generate.bounds import MARGIN, make_scene
+from wetcontact.generate.calibrated_capillary import lobatto, lobatto_coefficients
 from wetcontact.models import get_model
 from wetcontact.reduced_models import calibrated_capillary as cc
 from wetcontact.solver.meniscus import Bridge, force_separation_curve, solve_volume
@@ -167,7 +167,7 @@ def test_onset_series_separates_smooth_tops_from_jumps() -> None:
     above it S_c drops across the top by more than 1e-6 (the jump grows as about 1.1e-5
     (theta_s - theta_on)^1.93, measured by fitting both sides; 19.172 +- 0.005 deg there,
     by extrapolating the jump and the square root's coefficient to zero)."""
-    from wetcontact.calibrate_capillary import _ridge_job, wall_rupture
+    from wetcontact.generate.calibrated_capillary import _ridge_job, wall_rupture
 
     e = cc.capillary_table()[cc.WALL_TWO_ANGLES]
     v = 0.08
@@ -211,7 +211,7 @@ def test_ridge_is_where_the_rupture_distance_peaks() -> None:
     """Between the table's ridge nodes, the ridge series agrees with a fresh search for
     the maximum of S_c over the wall angle (to its measured interpolation error, a few
     1e-3 deg), and S_c falls on both sides of it."""
-    from wetcontact.calibrate_capillary import _ridge_job, wall_rupture
+    from wetcontact.generate.calibrated_capillary import _ridge_job, wall_rupture
 
     for v, ts in ((4.2e-4, 23.3), (0.031, 51.7)):
         ridge = float(cc.ridge_deg(v, ts))
@@ -229,7 +229,7 @@ def test_ridge_nodes_sit_on_the_jump_or_the_smooth_top() -> None:
     the left and falling beyond; below the onset, where it is a smooth maximum, S_c is
     continuous through it. Both within 1e-5 deg of the node, the search's tolerance with
     a margin."""
-    from wetcontact.calibrate_capillary import wall_rupture
+    from wetcontact.generate.calibrated_capillary import wall_rupture
 
     bands = cc.capillary_table()[cc.WALL_TWO_ANGLES]["bands"]
     for band in bands:
@@ -260,7 +260,7 @@ def test_two_angle_bands_join_at_their_breaks() -> None:
     break (1e-9 deg) they agree: the ridge and S_c interpolate the same nodes there (to
     round-off), the force to within its two low-rank factorisations (each changes it by at
     most the generator's FACTOR_TOL)."""
-    from wetcontact.calibrate_capillary import FACTOR_TOL
+    from wetcontact.generate.calibrated_capillary import FACTOR_TOL
 
     e = cc.capillary_table()[cc.WALL_TWO_ANGLES]
     ends = [h["theta_sphere_deg"] for h in e["bands"]]
@@ -357,7 +357,7 @@ def test_presets_name_their_precision() -> None:
 def test_split_angle_separates_fold_from_bifurcation() -> None:
     """Between equal spheres the branch ends at a fold below the table's split angle and
     at a symmetry-breaking bifurcation above it, at volumes between its nodes."""
-    from wetcontact.calibrate_capillary import branch_end
+    from wetcontact.generate.calibrated_capillary import branch_end
 
     entry = cc.capillary_table()["sphere-sphere"]
     for v in (3e-4, 2e-2):
@@ -371,7 +371,7 @@ def test_bisection_finds_the_change_and_refuses_an_open_bracket() -> None:
     """The split and onset searches' bisection: within its tolerance of where a predicate
     turns true, and an error naming what and the volume when the bracket does not hold
     the change."""
-    from wetcontact.calibrate_capillary import bisect_change
+    from wetcontact.generate.calibrated_capillary import bisect_change
 
     for edge in (24.3, 30.0, 35.99):
         got = bisect_change(lambda t, e=edge: t > e, (24.0, 36.0), 1e-3, "x", 0.01)
@@ -387,7 +387,7 @@ def test_split_search_reproduces_the_shipped_nodes() -> None:
     """The generator's split search, rerun at two of the shipped series' volume nodes,
     gives the node values the package data holds (the search is deterministic: the same
     bisection steps on the same ``meniscus`` branch ends)."""
-    from wetcontact.calibrate_capillary import _split_job
+    from wetcontact.generate.calibrated_capillary import _split_job
 
     split = cc.capillary_table()["sphere-sphere"]["theta_split"]
     for k in (0, len(split["v_nodes"]) // 2):
@@ -473,7 +473,7 @@ def test_factor_table_is_the_smallest_rank_within_its_tolerance() -> None:
     """The low-rank form of a table with a known SVD: a rank-6 table plus a 1e-7 tail. The
     factors change the sum by at most ``tol`` on a probe the fit did not use, the next
     lower rank does not meet it, and the product of the factors is the truncated SVD."""
-    from wetcontact.calibrate_capillary import factor_table
+    from wetcontact.generate.calibrated_capillary import factor_table
 
     rng = np.random.default_rng(8)
     shape = (5, 6, 7, 8)
@@ -503,7 +503,7 @@ def test_factor_table_is_the_smallest_rank_within_its_tolerance() -> None:
 def test_shipped_factors_are_the_declared_rank_and_change() -> None:
     """The shipped pieces carry the rank and the probe change the generator measured, the
     latter within its tolerance."""
-    from wetcontact.calibrate_capillary import FACTOR_TOL
+    from wetcontact.generate.calibrated_capillary import FACTOR_TOL
 
     for kind in ("sphere-wall", "sphere-sphere", cc.WALL_TWO_ANGLES, cc.PAIR_TWO_ANGLES):
         for piece in cc.table_pieces(cc.capillary_table()[kind]):
@@ -532,7 +532,7 @@ def test_node_cache_key_ignores_the_closures_own_code(tmp_path, monkeypatch) -> 
 
 def test_cached_map_reruns_only_what_is_missing(tmp_path) -> None:
     """A held-out or split job already in the cache is not rerun; new results are kept."""
-    from wetcontact.calibrate_capillary import _cached_map
+    from wetcontact.generate.calibrated_capillary import _cached_map
 
     ran = []
 
@@ -598,7 +598,7 @@ def test_rupture_window_claims_what_the_rupture_distance_cannot_decide(
     1.25 (its 0 may miss a force); outside the window its floor is that of its zone. The
     window holds the reference's S_c (``meniscus``, independent of the table)."""
     from wetcontact import select
-    from wetcontact.bounds_gen import SPURIOUS
+    from wetcontact.generate.bounds import SPURIOUS
 
     model = get_model("calibrated-capillary")
     v = 2e-3
@@ -629,8 +629,8 @@ def test_degenerate_two_angle_node_is_solved_to_either_side(monkeypatch) -> None
     """A two-angle node whose branch end ``meniscus`` cannot bracket is solved
     NODE_NUDGE_RAD to either side of its wall angle and the two averaged; a one-angle node
     that fails still fails."""
-    from wetcontact import calibrate_capillary as gen
     from wetcontact.errors import SolverError
+    from wetcontact.generate import calibrated_capillary as gen
 
     bad = 0.6
     seen = []
@@ -654,9 +654,9 @@ def test_degenerate_two_angle_node_is_solved_to_either_side(monkeypatch) -> None
 
 def test_shipped_tables_have_the_specified_nodes() -> None:
     """The package data holds what a regeneration from the generator's node counts fits
-    (``PIECES``, ``calibrate_pairs2.STAGES``' full stage, ``BAND_NODES``)."""
-    from wetcontact import calibrate_capillary as gen
-    from wetcontact import calibrate_pairs2 as p2
+    (``PIECES``, ``calibrated_capillary_pairs.STAGES``' full stage, ``BAND_NODES``)."""
+    from wetcontact.generate import calibrated_capillary as gen
+    from wetcontact.generate import calibrated_capillary_pairs as p2
 
     table = cc.capillary_table()
     for kind in ("sphere-wall", "sphere-sphere"):
@@ -670,7 +670,7 @@ def test_shipped_tables_have_the_specified_nodes() -> None:
 
 
 def test_corner_design_takes_every_end_and_middle() -> None:
-    from wetcontact.calibrate_capillary import CORNER_FRACTIONS, corner_design
+    from wetcontact.generate.calibrated_capillary import CORNER_FRACTIONS, corner_design
 
     counts = {"sphere-wall": 9, "sphere-sphere": 27, cc.WALL_TWO_ANGLES: 18,
               cc.PAIR_TWO_ANGLES: 54}
@@ -725,7 +725,7 @@ def test_force_near_rupture_past_the_ridge_at_the_onset(dv_onset, past_ridge) ->
     b2 nodes above the ridge it alternated between them (1.4e-3 and 1.2e-3 off at 0.999
     S_c here, the second point midway between the first two nodes), unseen by the strata's
     random gaps; with 27 (2026-11-28) within the goal."""
-    from wetcontact.calibrate_capillary import _held_job
+    from wetcontact.generate.calibrated_capillary import _held_job
 
     v = 0.1
     e = cc.capillary_table()[cc.WALL_TWO_ANGLES]
@@ -743,7 +743,11 @@ def test_ridge_onset_strata_to_rupture_are_within_the_goals() -> None:
     """The strata at the sphere angles where the ridge's jump appears (17.5-35 deg), 1e-4
     to 0.3 deg from the ridge series, at the corners' gaps to 0.999 S_c (seeded, against
     meniscus): the wall's force was 1.34e-3 off there with 11 b2 nodes above the ridge."""
-    from wetcontact.calibrate_capillary import CORNER_FRACTIONS, RIDGE_ONSET, RIDGE_TOP_BAND_DEG
+    from wetcontact.generate.calibrated_capillary import (
+        CORNER_FRACTIONS,
+        RIDGE_ONSET,
+        RIDGE_TOP_BAND_DEG,
+    )
 
     for kind, angle in ((cc.WALL_TWO_ANGLES, "theta_wall_deg"),
                         (cc.PAIR_TWO_ANGLES, "theta2_deg")):

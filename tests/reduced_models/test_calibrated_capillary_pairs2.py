@@ -12,8 +12,12 @@ import numpy as np
 import pytest
 from test_calibrated_capillary import _errors_against_meniscus  # fresh meniscus errors
 
-from wetcontact.bounds_gen import MARGIN
-from wetcontact.calibrate_pairs2 import PAIR_RIDGE_BRACKET_DEG, pair_ridge, pair_rupture
+from wetcontact.generate.bounds import MARGIN
+from wetcontact.generate.calibrated_capillary_pairs import (
+    PAIR_RIDGE_BRACKET_DEG,
+    pair_ridge,
+    pair_rupture,
+)
 from wetcontact.models import get_model
 from wetcontact.reduced_models import calibrated_capillary as cc
 from wetcontact.scene import Scene, scene_from_dict
@@ -101,8 +105,8 @@ def test_low_angle_stratum_is_within_the_goals() -> None:
     ``held_out_low_angles``, seeded, against meniscus): where band 0's piece below the
     ridge oscillated in the radius ratio with 9 nodes (this stratum: S_c 8.0e-5, the force
     1.43e-3, over the goal; with 13 nodes 3.5e-5 / 7.8e-4)."""
-    from wetcontact.calibrate_capillary import CORNER_FRACTIONS
-    from wetcontact.calibrate_pairs2 import LOW_ANGLES_DEG, LOW_ANGLES_V
+    from wetcontact.generate.calibrated_capillary import CORNER_FRACTIONS
+    from wetcontact.generate.calibrated_capillary_pairs import LOW_ANGLES_DEG, LOW_ANGLES_V
 
     ho = cc.capillary_table()[PAIR]["held_out_low_angles"]
     assert ho["design"]["s_over_sc"] == list(CORNER_FRACTIONS)
@@ -137,7 +141,7 @@ def test_pair_bands_join_at_their_breaks() -> None:
     docs/notes/sphere_pair_two_angles.md): the ridges agree to that plus the tolerances
     (2e-3 deg, the ridge window below 35 deg), where the top is smooth or its jump below
     1e-6 of S_c, which the S_c and force checks bound."""
-    from wetcontact.calibrate_pairs2 import PAIR_RIDGE_TOL_DEG
+    from wetcontact.generate.calibrated_capillary_pairs import PAIR_RIDGE_TOL_DEG
 
     e = cc.capillary_table()[PAIR]
     ends = [h["theta_sphere_deg"] for h in e["bands"]]

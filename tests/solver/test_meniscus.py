@@ -342,7 +342,7 @@ def test_stability_bisection_may_land_on_a_singular_jacobian():
     deg): the point counts as not stable and the bisection goes on, instead of SuperLU's
     RuntimeError ending the branch. Its rupture distance is the shooting solution's
     turning point (1e-4, as above), and its force at the gap nodes finite and attractive."""
-    from wetcontact.calibrate_capillary import lobatto, solve_branch
+    from wetcontact.generate.calibrated_capillary import lobatto, solve_branch
 
     ratio, V = 10.000000000000007, 0.07688104870871841
     th1, th2 = 0.24410425148815793, 1.5881520564395548  # rad, as the generator had them

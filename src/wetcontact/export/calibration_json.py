@@ -244,7 +244,7 @@ def shipped_document(closure: str) -> dict[str, Any]:
     table = viscous_table()
     if table is None:
         raise InputError("calibrated-viscous: coefficient table not generated; run "
-                         "`python -m wetcontact.calibrate viscous`")
+                         "`python -m wetcontact.generate calibrated-viscous`")
     parts = []
     for kind, t in table["immersed"].items():
         lo, hi = t["log_range"]
@@ -312,7 +312,7 @@ def capillary_document(table: CapillaryTable | None = None) -> dict[str, Any]:
         ho = part.held_out
         if not all(isinstance(ho.get(k), dict) for k in ("force", "rupture_distance")):
             raise InputError(f"{t.source}: {kind} has no held-out table; allowed: a table "
-                             "written by `python -m wetcontact.calibrate capillary`")
+                             "written by `python -m wetcontact.generate calibrated-capillary`")
         two = part.two_angles
         axes = ("(w, a, b1, b2)" if two and part.pair else "(a, b1, b2)" if two
                 else "(w, a, b)" if part.pair else "(a, b)")
@@ -420,7 +420,7 @@ def _capillary_piece_parts(t: CapillaryTable, kind: str, part: CapillaryPart,
 
 def refit_document(path: Path) -> dict[str, Any]:
     """A calibration JSON written by ``wetcontact calibrate`` / ``python -m
-    wetcontact.calibrate fit`` (validated by :func:`~wetcontact.calibrate.load_coefficients`)."""
+    wetcontact.generate fit`` (validated by :func:`~wetcontact.calibrate.load_coefficients`)."""
     from wetcontact.calibrate import load_coefficients
 
     closure = load_coefficients(path)  # InputError naming the file and the field if bad
@@ -452,7 +452,7 @@ def refit_document(path: Path) -> dict[str, Any]:
             "description": f"{fam.description}, refitted (not a shipped closure)",
             "units": UNITS, "sign_convention": SIGN, "outside_domain": OUTSIDE,
             "parts": [part], "provenance": _provenance(
-                Path(path), "python -m wetcontact.calibrate fit " + fam.name,
+                Path(path), "python -m wetcontact.generate fit " + fam.name,
                 str(data.get("reference", "meniscus")))}
 
 

@@ -385,7 +385,7 @@ class CapillaryTable:
             f"{name.replace('_', ' ')}: {text(ho)}" for name, ho in part.held_out_strata.items()])
 
 
-LAYOUT_HINT = "the layout written by python -m wetcontact.calibrate capillary"
+LAYOUT_HINT = "the layout written by python -m wetcontact.generate calibrated-capillary"
 
 
 def _capillary_part(path: Path, kind: str, e: dict[str, Any]) -> CapillaryPart:
@@ -695,7 +695,7 @@ def shipped_capillary() -> CapillaryTable:
     path = Path(__file__).resolve().parents[1] / "reduced_models" / "data" / cc.CAPILLARY_FILE
     if table is None or not path.is_file():
         raise InputError("calibrated-capillary: coefficient table not generated; run "
-                         "`python -m wetcontact.calibrate capillary`")
+                         "`python -m wetcontact.generate calibrated-capillary`")
     parts = {kind: _capillary_part(path, kind, table[kind]) for kind in KINDS if kind in table}
     for key, want in (("v", cc.V_RANGE), ("theta_deg", cc.THETA_RANGE_DEG),
                       ("radius_ratio", cc.RATIO_RANGE)):
@@ -750,7 +750,7 @@ def read_refit(path: Path | str, family: str) -> RefitTable:
     path = Path(path)
     if not path.exists():  # a FIFO or a folder is refused by load_coefficients, by name
         raise InputError(f"{path}: no such calibration file; write it with `python -m "
-                         f"wetcontact.calibrate fit {family} --out {path}` or name another "
+                         f"wetcontact.generate fit {family} --out {path}` or name another "
                          "with --capillary / --rupture")
     closure = load_coefficients(path)  # validates family, size and finiteness
     if closure.family.name != family:
@@ -783,7 +783,7 @@ def immersed_tables() -> dict[str, Any]:
     table = viscous_table()
     if table is None:
         raise InputError("calibrated-viscous: coefficient table not generated; run "
-                         "`python -m wetcontact.calibrate viscous`")
+                         "`python -m wetcontact.generate calibrated-viscous`")
     return table["immersed"]
 
 

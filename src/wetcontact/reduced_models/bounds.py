@@ -4,7 +4,7 @@ A closure's error bound is not a formula: it is the maximum relative error measu
 held-out points over its declared domain, binned along a few scene coordinates, against
 an independent reference (the exact Brenner series for immersed viscous closures,
 ``lubrication`` for films and bridges, ``meniscus`` for capillary closures). The tables
-live in ``data/bounds.json``, written by ``python -m wetcontact.calibrate bounds``
+live in ``data/bounds.json``, written by ``python -m wetcontact.generate bounds``
 (:func:`wetcontact.calibrate.measure_bounds`). Outside a table's bins a closure has no
 bound and is not eligible for selection; a bound is never zero or negative (floor
 :data:`BOUND_FLOOR`).

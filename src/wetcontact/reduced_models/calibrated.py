@@ -16,7 +16,7 @@
     depends on the slip length and which no closure here models.
 
 The coefficients and held-out error tables are in ``data/calibrated_viscous.json``,
-written by ``python -m wetcontact.calibrate viscous``.
+written by ``python -m wetcontact.generate calibrated-viscous``.
 """
 
 from __future__ import annotations
@@ -63,7 +63,8 @@ def film_point(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 @cache
 def viscous_table() -> dict[str, Any] | None:
-    """The shipped table, or ``None`` before ``python -m wetcontact.calibrate viscous``."""
+    """The shipped table, or ``None`` before ``python -m wetcontact.generate
+    calibrated-viscous``."""
     path = resources.files("wetcontact.reduced_models") / "data" / VISCOUS_FILE
     return json.loads(path.read_text()) if path.is_file() else None
 
@@ -109,7 +110,7 @@ class CalibratedViscous(Model):
         table = viscous_table()
         if table is None:
             raise ValidityError(self.name, "coefficient table not generated (python -m "
-                                "wetcontact.calibrate viscous)", "brenner")
+                                "wetcontact.generate calibrated-viscous)", "brenner")
         if scene.slip_length_sphere > 0 or scene.slip_length_wall > 0:
             raise ValidityError(self.name, "no slip calibrated", "vinogradova")
         if scene.amount == "immersed":

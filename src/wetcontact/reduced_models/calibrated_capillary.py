@@ -43,8 +43,8 @@ Between equal spheres the stable branch ends at a fold below an angle theta_s(V)
 kink there; sphere pairs therefore carry two tables, theta in [0, theta_s(V)] and
 [theta_s(V), 70 deg], b mapped within each, and theta_s as a Chebyshev series in ``a``
 (located by bisection on the branch's end). The coefficients interpolate ``meniscus`` at
-tensor Chebyshev-Lobatto points (:mod:`wetcontact.calibrate_capillary`); the package data
-``data/calibrated_capillary.json`` holds them with their held-out error tables.
+tensor Chebyshev-Lobatto points (:mod:`wetcontact.generate.calibrated_capillary`); the package
+data ``data/calibrated_capillary.json`` holds them with their held-out error tables.
 
 Two angles on a wall (table ``sphere-wall-two-angles``): the prefactor is ``2 pi sigma R
 (cos theta_s + cos theta_w)``. As theta_w grows, S_c rises to a ridge and falls beyond it,
@@ -57,8 +57,8 @@ coordinates a, b1 from theta_s over its range at the point's V (:func:`sphere_ra
 angle's pieces are [0, theta_w*] and [theta_w*, 90 deg] (the second reaches past 70 deg so
 that it is never empty: theta_w* is up to about 85 deg), with theta_w* a tensor Chebyshev
 series in (a, b1) of that table located by a golden-section search for the maximum of S_c
-to 1e-6 deg (:func:`wetcontact.calibrate_capillary.fit_ridge`). Within each piece b2 is
-quadratic toward the ridge (:func:`piece_coordinate`), so that the nodes cluster there and
+to 1e-6 deg (:func:`wetcontact.generate.calibrated_capillary.fit_ridge`). Within each piece b2
+is quadratic toward the ridge (:func:`piece_coordinate`), so that the nodes cluster there and
 a square-root side of the top is linear in b2.
 
 The ridge's top changes its shape at theta_on(V), and this is why the table is split
@@ -72,8 +72,8 @@ at a finite slope; above, it starts lower and falls like a square root (v = 0.08
 The jump grows from the onset as about (theta_s - theta_on)^2 (v = 0.08: 1.1e-5
 (theta_s - theta_on)^1.93, to 1.2e-3 of S_c at v = 0.1, theta_s = 44 deg). theta_on falls
 from 29.9 deg at v = 1e-4 to 18.1 at 0.1 (:data:`ONSET_KEY`, a Chebyshev series in a
-located by bisection at 10 nodes, :func:`wetcontact.calibrate_capillary.fit_onset`). There
-the ridge's locus has a kink of its curvature (v = 0.08: the second derivative drops from
+located by bisection at 10 nodes, :func:`wetcontact.generate.calibrated_capillary.fit_onset`).
+There the ridge's locus has a kink of its curvature (v = 0.08: the second derivative drops from
 0.021 to 0.0095 per deg, the slope continuous), which a series across it follows slowly:
 one table over [0, 35] deg missed the true top by up to 1.2e-2 deg (v = 0.08, theta_s = 21
 deg), so that between its series and the true top it evaluated the other side's arm
@@ -106,20 +106,22 @@ Below the onset the ridge series converges slowly in b1
 flat across it.
 
 Two angles between spheres (table ``sphere-sphere-two-angles``, :data:`PAIR_TWO_ANGLES`;
-:mod:`wetcontact.calibrate_pairs2`): the same structure with lead coordinates (w, a) for
-(a,): theta1 the small sphere's angle, theta2 the large one's, prefactor ``2 pi sigma R*
-(cos theta1 + cos theta2)``; three bands of theta1 whose onset end is a 2-D series in (w,
-a), a 3-D ridge series theta2*(w, a, b1) per band, and the piece above the ridge ending at
+:mod:`wetcontact.generate.calibrated_capillary_pairs`): the same structure with lead
+coordinates (w, a) for (a,): theta1 the small sphere's angle, theta2 the large one's,
+prefactor ``2 pi sigma R* (cos theta1 + cos theta2)``; three bands of theta1 whose onset
+end is a 2-D series in (w, a), a 3-D ridge series theta2*(w, a, b1) per band, and the piece
+above the ridge ending at
 ``70.5 + theta2* - theta1`` deg (:data:`UPPER_PAST_RIDGE`). Held-out maxima (rupture
 distance / force): 2.5e-4 / 2.6e-4 uniformly, 7.6e-5 / 1.2e-4 within
 :data:`RIDGE_ZONE_DEG` of the ridge, 8.6e-5 / 1.1e-4 at its top, 3.8e-5 / 4.2e-4 where
 the jump appears, 1.1e-4 / 5.1e-5 between nearly equal spheres, 3.5e-5 / 7.8e-4 at both
 angles 0-15 deg and V* 0.01-0.1, 3.4e-5 / 6.3e-4 at the domain's corners and 3.8e-4 /
 7.6e-4 within :data:`RIDGE_WINDOW_DEG` of the series (the last three to 0.999 S_c; the
-full stage of :data:`~wetcontact.calibrate_pairs2.STAGES`: 27 b2 nodes above the ridge, 23
+full stage of :data:`~wetcontact.generate.calibrated_capillary_pairs.STAGES`: 27 b2 nodes
+above the ridge, 23
 below it from the onset to 70 deg, 15 below the onset, where the piece below the ridge has
-13 w nodes, ``calibrate_capillary.BAND_NODES``; the ridge series above the onset with 17
-w nodes, ``calibrate_pairs2.PAIR_RIDGE_W``).
+13 w nodes, ``calibrated_capillary.BAND_NODES``; the ridge series above the onset with 17
+w nodes, ``calibrated_capillary_pairs.PAIR_RIDGE_W``).
 
 The force table is stored in low-rank form: its unfolding over the first two axes
 ((a, b) on a wall, (w, a) for sphere pairs) against the rest is a truncated SVD,
@@ -128,7 +130,8 @@ exponent stays below 5e-5 on a seeded probe (5 % of the force goal; the generato
 ``FACTOR_TOL``). A point then costs ``r (P_left + P_right)`` multiply-adds instead of the
 table's size (sphere pairs: about a third; :func:`low_rank_rows`). The two-angle tables
 evaluate each piece's rupture table and this low-rank force as their tensor trains
-(:data:`TRAIN_FIELDS`, :func:`train_sum`; :data:`wetcontact.calibrate_pairs2.TRAIN_TOL`),
+(:data:`TRAIN_FIELDS`, :func:`train_sum`;
+:data:`wetcontact.generate.calibrated_capillary.TRAIN_TOL`),
 on a wall 0.56-0.74 of the low-rank form's multiply-adds, between spheres 0.23-0.40.
 
 Precision. By default (``precision="mixed"``, the fast and default presets) the force's
@@ -195,11 +198,11 @@ sphere angles of 17.5-35 deg, ``held_out_ridge_onset`` and, at gaps to 0.999 S_c
 ``held_out_ridge_onset_rupture``), see the module's notes."""
 NEAR_RIDGE_MARGIN = 1.25
 """Factor on the near-ridge held-out maxima in :meth:`CalibratedCapillary.bound_floor`:
-the bound tables' own margin (``wetcontact.bounds_gen.MARGIN``)."""
+the bound tables' own margin (``wetcontact.generate.bounds.MARGIN``)."""
 SPURIOUS = 1.0e3
 """The relative error claimed where the closure's force may exist while the reference's
 does not (its rupture window, below its S_c): the bound tables' own
-(``wetcontact.bounds_gen.SPURIOUS``)."""
+(``wetcontact.generate.bounds.SPURIOUS``)."""
 RIDGE_WINDOW_DEG = {WALL_TWO_ANGLES: 5e-5, PAIR_TWO_ANGLES: 2e-3}
 """Per two-angle table, the half-width (deg) of the ridge's window: how far from the
 table's ridge series the true ridge may lie, so that a point within it may be evaluated on
@@ -261,7 +264,8 @@ cost by about a fifth (wall, two angles), a third (sphere pairs, two angles), a 
 
 @cache
 def capillary_table() -> dict[str, Any] | None:
-    """The shipped table, or ``None`` before ``python -m wetcontact.calibrate capillary``."""
+    """The shipped table, or ``None`` before ``python -m wetcontact.generate
+    calibrated-capillary``."""
     path = resources.files("wetcontact.reduced_models") / "data" / CAPILLARY_FILE
     return as_arrays(json.loads(path.read_text())) if path.is_file() else None
 
@@ -271,7 +275,7 @@ TABLE_FIELDS = ("rupture", "force_left", "force_right")
 TRAIN_FIELDS = ("rupture_train", "force_train")
 """A piece's tensor trains of its rupture and force tables, where it has them (the
 two-angle tables, a wall's and sphere pairs'): what is evaluated; the arrays above are the
-fit they were built from (:func:`wetcontact.calibrate_pairs2.train_piece`)."""
+fit they were built from (:func:`wetcontact.generate.calibrated_capillary.train_piece`)."""
 
 
 def as_arrays(table: dict[str, Any]) -> dict[str, Any]:
@@ -582,10 +586,11 @@ def low_rank_rows(left: np.ndarray, right: np.ndarray, rows_left: np.ndarray,
                   rows_right: np.ndarray) -> np.ndarray:
     """``sum_k (sum_I L_{I k} T_I(x)) (sum_J R_{k J} T_J(y))`` per point: the tensor
     Chebyshev sum with coefficients ``C_{IJ} = sum_k L_{Ik} R_{kJ}`` (a truncated SVD of
-    the table's (left axes) x (right axes) unfolding, :func:`wetcontact.calibrate_capillary
-    .factor_table`), from the points' outer Chebyshev rows over the left and right axes
-    (coefficient-major, :func:`_outer`: shapes (P, n) and (Q, n)), in their precision
-    (the factors given in it: :func:`_piece` rounds both to float32 by default)."""
+    the table's (left axes) x (right axes) unfolding,
+    :func:`wetcontact.generate.calibrated_capillary.factor_table`), from the points' outer
+    Chebyshev rows over the left and right axes (coefficient-major, :func:`_outer`: shapes
+    (P, n) and (Q, n)), in their precision (the factors given in it: :func:`_piece` rounds
+    both to float32 by default)."""
     lf = left.reshape(-1, left.shape[-1])
     rf = right.reshape(right.shape[0], -1)
     return np.einsum("kj,kj->j", lf.T @ rows_left, rf @ rows_right)
@@ -686,7 +691,8 @@ def _entry(kind: str) -> dict[str, Any]:
     table = capillary_table()
     if table is None or kind not in table:
         raise ValidityError("calibrated-capillary", f"no {kind} coefficient table generated "
-                            "(python -m wetcontact.calibrate capillary)", "meniscus")
+                            "(python -m wetcontact.generate calibrated-capillary)",
+                            "meniscus")
     return table[kind]
 
 

@@ -220,7 +220,7 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
                   if r["goal"] != "" else "") + f" | {r['max_at']} | {r['domain']} |"
                for r in vr]
         md += ["", f"Source: `{ctx.calibrated_viscous_path}` "
-               f"(`{cv.get('generated_by', 'python -m wetcontact.calibrate viscous')}`)."]
+               f"(`{cv.get('generated_by', 'python -m wetcontact.generate calibrated-viscous')}`)."]
     else:
         md.append("Its table was not given.")
     md += ["", "### Shipped closure `calibrated-capillary`", ""]
@@ -237,7 +237,7 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
                   if PAIR_TWO_ANGLES in ccap else "")
                + "; held-out bridges are seeded "
                "and off the nodes, gaps uniform in [0, 0.999] S_c. The corner strata "
-               "(`python -m wetcontact.calibrate capillary --corners`) are not seeded: "
+               "(`python -m wetcontact.generate calibrated-capillary --corners`) are not seeded: "
                "every combination of both ends and the middle of V*, of each angle and of "
                "the radius ratio, at S/S_c = 1e-6, 0.5, 0.9, 0.99 and 0.999, where a "
                "uniform design seldom lands. Toward rupture the error of S_c is amplified "
@@ -266,7 +266,8 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
                + (f" Force tables in low-rank form, rank {ranks} (largest change of the "
                   f"force on the factorisation's probe {change:.1e})." if ranks else "")]
     else:
-        md.append("Its table was not generated (`python -m wetcontact.calibrate capillary`).")
+        md.append("Its table was not generated (`python -m wetcontact.generate "
+                  "calibrated-capillary`).")
     if rows:
         with (out / CSV_NAME).open("w", newline="") as fh:
             w = csv.DictWriter(fh, fieldnames=list(FIELDS))

@@ -1,6 +1,6 @@
 """Measure the closures' error-bound tables (``reduced_models/data/bounds.json``).
 
-Run ``python -m wetcontact.calibrate bounds`` (or :func:`measure_bounds`). Every table is
+Run ``python -m wetcontact.generate bounds`` (or :func:`measure_bounds`). Every table is
 the maximum relative error per bin on seeded points spread over the bin, against an
 independent reference, times a safety factor :data:`MARGIN` (the selection test checks the
 bounds on other seeded points):
@@ -43,44 +43,27 @@ from typing import Any
 
 import numpy as np
 
-from wetcontact.calibrate_capillary import CORNER_LEVELS
-from wetcontact.calibrate_pairs2 import LOW_ANGLES_DEG, LOW_ANGLES_V
+from wetcontact.calibrate import R, make_scene
 from wetcontact.errors import InputError, SolverError
 from wetcontact.fileio import atomic_write_text
+from wetcontact.generate.calibrated_capillary import CORNER_LEVELS
+from wetcontact.generate.calibrated_capillary_pairs import LOW_ANGLES_DEG, LOW_ANGLES_V
 from wetcontact.models import get_model, load_all
+from wetcontact.reduced_models import DATA_DIR
 from wetcontact.reduced_models.bounds import scene_coords
-from wetcontact.scene import Scene, scene_from_dict
+from wetcontact.scene import Scene
 
 MARGIN = 1.25
 SPURIOUS = 1.0e3
 #: a bin whose measured errors were all zero (both forces zero past rupture) claims this
 BIN_FLOOR = 1.0e-6
-DATA_PATH = Path(__file__).resolve().parent / "reduced_models" / "data" / "bounds.json"
+DATA_PATH = DATA_DIR / "bounds.json"
 
 IMMERSED_CLOSURES = ("reynolds", "cox-brenner", "schaeffer", "calibrated-viscous")
 CAPILLARY_CLOSURES = ("bagheri", "willett", "willett-simple", "mikami", "toroidal", "lambert",
                       "rabinovich")
 S_OVER_SC_EDGES = [0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.2, 1.5, 3.0]
 THETA_EDGES = [0.0, 20.0, 40.0, 55.0, 70.0]
-R = 1.0e-3
-
-
-def make_scene(kind: str, amount: dict[str, Any], gaps: Any, radius2: float | None = None,
-               theta: tuple[float, float] = (0.0, 0.0), velocity: float = 0.1,
-               name: str = "bounds") -> Scene:
-    """A water-like scene with R = 1 mm (every table is in dimensionless coordinates)."""
-    geom: dict[str, Any] = {"kind": kind, "radius": R}
-    if radius2 is not None:
-        geom["radius2"] = radius2
-    a, b = theta
-    other = "contact_angle_wall" if kind == "sphere-wall" else "contact_angle_sphere2"
-    liquid = {"viscosity": 1e-3, "surface_tension": 0.072, "density": 998.0,
-              "contact_angle_sphere": a, other: b}
-    return scene_from_dict({"name": name, "geometry": geom, "liquid": liquid,
-                            "amount": amount,
-                            "motion": {"velocity": velocity, "gaps": [float(g) for g in gaps]}})
-
-
 def rel_error(f: np.ndarray, ref: np.ndarray) -> np.ndarray:
     """``|f - ref|/|ref|``; 0 where both vanish, :data:`SPURIOUS` where only ref does."""
     f, ref = np.asarray(f, float), np.asarray(ref, float)
@@ -436,8 +419,8 @@ its domain before the refits of 2026-11-27, 6.3e-4 since; 1e-5 at half of it).""
 PAIR_LOW_ANGLES = {"v_range": LOW_ANGLES_V, "theta_range": LOW_ANGLES_DEG,
                    "x_extra": CORNER_X_EXTRA}
 """The low-angle sphere pairs of ``calibrated-capillary``'s bound table: both angles in
-``calibrate_pairs2.LOW_ANGLES_DEG``, V* in ``LOW_ANGLES_V``, where its two-angle pair table
-oscillated in the radius ratio with 9 nodes there (S_c up to 2.1e-4 off, the force at
+``calibrated_capillary_pairs.LOW_ANGLES_DEG``, V* in ``LOW_ANGLES_V``, where its two-angle pair
+table oscillated in the radius ratio with 9 nodes there (S_c up to 2.1e-4 off, the force at
 0.999 S_c 3e-3; 1.9e-5 and 8.6e-5 with 13; the held-out stratum ``held_out_low_angles``).
 The random and corner scenes had not landed there: the bound of its cell (theta below 20
 deg, S/S_c 0.999-1) was 1.6e-4; with these scenes it is 1.1e-3 (random gaps in 0.999-1
@@ -550,7 +533,7 @@ def measure_bounds(seed: int = 20261123, out: Path = DATA_PATH, quick: bool = Fa
     tabs += capillary_tables(rng, n_scenes=8 if quick else 90, progress=progress)
     # its own stream, so that adding it left the other tables' points unchanged
     tabs += _calibrated_capillary(seed, quick, progress)
-    data = {"generated_by": "python -m wetcontact.calibrate bounds", "seed": seed,
+    data = {"generated_by": "python -m wetcontact.generate bounds", "seed": seed,
             "margin": MARGIN, "spurious": SPURIOUS, "quick": quick,
             "wall_time_s": round(time.perf_counter() - t0, 1), "tables": tabs}
     out.parent.mkdir(parents=True, exist_ok=True)

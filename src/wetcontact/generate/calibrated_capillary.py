@@ -1,5 +1,5 @@
 """Generator of the shipped ``calibrated-capillary`` closure
-(``python -m wetcontact.calibrate capillary``).
+(``python -m wetcontact.generate calibrated-capillary``).
 
 The closure's form and coordinates are in :mod:`wetcontact.reduced_models.calibrated_capillary`.
 Here every tensor Chebyshev-Lobatto node of (w,) a, b (b within a theta piece) is one
@@ -130,7 +130,7 @@ def bisect_change(above: Callable[[float], bool], bracket: tuple[float, float], 
     """The angle (deg) where ``above(angle)`` turns true, bisected to ``tol`` within
     ``bracket`` (false at its lower end, true at its upper; else an error naming ``what``
     and the volume ``v``): the split and the onset angle's search, and a sphere pair's
-    onset (:func:`wetcontact.calibrate_pairs2.pair_onset`)."""
+    onset (:func:`wetcontact.generate.calibrated_capillary_pairs.pair_onset`)."""
     lo, hi = bracket
     if above(lo) or not above(hi):
         raise RuntimeError(f"calibrated-capillary: {what} not bracketed by {bracket} deg at "
@@ -617,7 +617,7 @@ def train_piece(piece: dict[str, Any],
 
 BAND_NODES: dict[str, dict[int, dict[int, list[int]]]] = {
     cc.PAIR_TWO_ANGLES: {0: {0: [13, 9, 9, 15, 19]}}}
-"""Node counts that differ from :data:`PIECES` (or ``calibrate_pairs2.STAGES``' full
+"""Node counts that differ from :data:`PIECES` (or ``calibrated_capillary_pairs.STAGES``' full
 stage) in one band of a two-angle table, ``{kind: {band: {piece: nodes}}}``. A band refitted
 with other counts than its neighbour no longer interpolates the same nodes at their common
 break, so S_c steps there: by up to 4.4e-6 when only the upper two bands of the wall had 23
@@ -633,7 +633,7 @@ V* = 0.1 (the force at 0.999 S_c to 5e-3), 4.5e-5 at 35 deg; 19 points to 5.6e-5
 The sphere-pair table with two angles had the same defect (2.5e-4 at theta1 = 70,
 theta2 = 0 deg, V* = 0.1; 23 points: 1.3e-5 along that line). Its bands over theta1 in
 [35, 70] deg and from the onset to 35 deg have 23 points below the ridge since 2026-11-27
-(``python -m wetcontact.calibrate capillary --kind sphere-sphere-two-angles
+(``python -m wetcontact.generate calibrated-capillary --kind sphere-sphere-two-angles
 --refine-band 2``, then ``1``: 16 767 and 14 904 branches); the corners they hold fell from
 S_c 2.5e-4 / force 4.9e-3 (theta1 = 70 deg) and 5.4e-5 / 9.1e-4 (35 deg) to 3.4e-5 /
 6.3e-4 and 2.4e-5 / 4.4e-4 (at 0.999 S_c). The band below the onset keeps 15 there (S_c
@@ -643,7 +643,7 @@ processes): with 9, S_c oscillated in the radius ratio at both angles low and V*
 by up to 2.1e-4 (r = 1.63, theta = 0 and 3 deg; the force 3e-3 at 0.999 S_c), as the
 one-angle pair table had before its 13 (:data:`PIECES`); now 1.9e-5 at most along those
 lines (the force 8.6e-5). Its small sphere's angles and ridge at the new nodes come from
-the band's onset and ridge series (``calibrate_pairs2.lead_grid``), as the model maps a
+the band's onset and ridge series (``calibrated_capillary_pairs.lead_grid``), as the model maps a
 point; the piece above the ridge and the other bands keep 9, so S_c steps at the ridge and
 at the onset by their interpolation error there (the pair band-join test holds it to the
 rupture goal)."""
@@ -899,7 +899,7 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = KIND
     out = Path(out) if out else Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
     old = json.loads(out.read_text()) if out.is_file() else {}
     data: dict[str, Any] = {
-        "generated_by": "python -m wetcontact.calibrate capillary",
+        "generated_by": "python -m wetcontact.generate calibrated-capillary",
         "form": "see wetcontact.reduced_models.calibrated_capillary",
         "domain": {"v": list(cc.V_RANGE), "theta_deg": list(cc.THETA_RANGE_DEG),
                    "radius_ratio": list(cc.RATIO_RANGE)},
@@ -978,7 +978,7 @@ the corners' gaps to 0.999 S_c over the ridge's top) and within the ridge's wind
 def strata_held_out(kind: str, strata: dict[str, dict[str, Any]], entry: dict[str, Any],
                     n: int, workers: int, cache_dir: Path | None) -> dict[str, dict[str, Any]]:
     """The held-out tables of a two-angle table (``entry``: its arrays) per stratum of
-    ``strata`` (:data:`WALL_STRATA`, ``calibrate_pairs2.PAIR_STRATA``: :func:`held_out`'s
+    ``strata`` (:data:`WALL_STRATA`, ``calibrated_capillary_pairs.PAIR_STRATA``: :func:`held_out`'s
     design arguments, with ``part``: the uniform count ``n`` over this, ``scale``: times it,
     ``least``: at least this many bridges (default 8), ``stratum``: what the table
     records), and its corner stratum (``held_out_corners``)."""

@@ -1,12 +1,17 @@
-r"""Sphere pairs with two contact angles: the ridge of the rupture distance and its top's
+r"""Generator of ``calibrated-capillary``'s two-angle sphere-pair table
+(``python -m wetcontact.generate calibrated-capillary --kind sphere-sphere-two-angles``,
+:func:`generate_pair_table`), and the band refits of either two-angle table
+(:func:`refine_band`); it builds on :mod:`wetcontact.generate.calibrated_capillary`.
+
+Sphere pairs with two contact angles: the ridge of the rupture distance and its top's
 kind, the measurements behind the design of a ``calibrated-capillary`` table for them
 (issue 11; findings in ``docs/notes/sphere_pair_two_angles.md``).
 
 A bridge between a small sphere (radius R_s = 1, contact angle theta1) and a large one
 (radius r = R_l/R_s, angle theta2) ruptures at S_c(r, v, theta1, theta2). Over theta2 at
 fixed theta1, S_c rises to a top at theta2^* and falls beyond it, as over the wall's angle
-on a wall (:func:`wetcontact.calibrate_capillary._ridge_job`, which the search here
-shares: :func:`~wetcontact.calibrate_capillary.golden_top`). The top is one of three
+on a wall (:func:`wetcontact.generate.calibrated_capillary._ridge_job`, which the search here
+shares: :func:`~wetcontact.generate.calibrated_capillary.golden_top`). The top is one of three
 kinds (:func:`top_shape`):
 
 * ``smooth``: a smooth maximum, S_c - S_top ~ -delta^2 (delta = theta2 - theta2^*);
@@ -36,8 +41,8 @@ from typing import Any
 
 import numpy as np
 
-from wetcontact import calibrate_capillary as gen
 from wetcontact.errors import InputError
+from wetcontact.generate import calibrated_capillary as gen
 from wetcontact.reduced_models import calibrated_capillary as cc
 
 PAIR_BRACKET_DEG = (-10.0, 45.0)
@@ -69,7 +74,7 @@ def pair_ridge(ratio: float, v: float, theta_deg: float, over: str = "large",
                tol: float = gen.RIDGE_TOL_DEG) -> tuple[float, float]:
     """The angle (deg) that maximises S_c over one sphere's angle with the other's fixed at
     ``theta_deg``, and the width of the bracket it was found in
-    (:func:`~wetcontact.calibrate_capillary.golden_top` to ``tol`` over ``theta_deg`` plus
+    (:func:`~wetcontact.generate.calibrated_capillary.golden_top` to ``tol`` over ``theta_deg`` plus
     ``bracket``): ``over="large"`` searches theta2^*(theta1), ``"small"`` theta1^*(theta2)."""
     lo = max(0.0, theta_deg + bracket[0])
     hi = min(cc.RIDGE_TOP_DEG, theta_deg + bracket[1])
@@ -99,7 +104,7 @@ class TopShape:
     s_top
         S_c/R_s just short of the top (at its bracket's left end less h).
     slope, slope_far
-        :func:`~wetcontact.calibrate_capillary.left_slope` at h and at
+        :func:`~wetcontact.generate.calibrated_capillary.left_slope` at h and at
         :data:`PROBE_FAR` h.
     exponent
         p in ``slope ~ h^(-p)`` from the two: -1 smooth, 0 jump, 1/3 cusp.
@@ -126,7 +131,7 @@ class TopShape:
 
 def top_shape(rupture, top: float, width: float, h: float = PROBE_DEG) -> TopShape:
     r"""The kind of a top of ``rupture`` (deg -> S_c) found by
-    :func:`~wetcontact.calibrate_capillary.golden_top`.
+    :func:`~wetcontact.generate.calibrated_capillary.golden_top`.
 
     With theta_l, theta_r the ends of the top's bracket, the left slope
     :math:`s(h) = (S(\theta_l - h) - S(\theta_l - 2h)) / (h S(\theta_l - h))` grows as
@@ -167,7 +172,7 @@ def pair_onset(ratio: float, v: float, lo: float, hi: float,
     """Bisection (to ``tol``, deg) for the small sphere's angle in [lo, hi] above which the
     top over the large sphere's angle is not smooth (:func:`pair_top`); the top must be
     smooth at ``lo`` and not at ``hi`` (the generator's
-    :func:`~wetcontact.calibrate_capillary.bisect_change`)."""
+    :func:`~wetcontact.generate.calibrated_capillary.bisect_change`)."""
     return gen.bisect_change(lambda t: pair_top(ratio, v, t, ridge_tol).kind != "smooth",
                              (lo, hi),
                               tol, f"the pair's onset at radius ratio {ratio:.6g}", v)
@@ -185,14 +190,14 @@ STAGES: dict[str, dict[str, Any]] = {
 """Node counts per stage: w, a, b1 on Chebyshev-Lobatto points (5 of them are every other
 of 9: nested), b2 on Chebyshev-Gauss points below and above the ridge (5 of them are every
 third of 15, 3 every third of 9 and 9 every third of 27: nested). The full stage is the
-shipped table (with ``calibrate_capillary.BAND_NODES``' exceptions): the medium stage's 9
+shipped table (with ``calibrated_capillary.BAND_NODES``' exceptions): the medium stage's 9
 b2 nodes above the ridge left one held-out force point 1.06e-3 off (theta2 0.023 deg past
 the ridge on the top's jump side, between its first two nodes), and its 15 below the
 ridge S_c 2.5e-4 off toward theta2 = 0 at theta1 = 70 deg (the force 4.9e-3 at 0.999 S_c;
 23 since 2026-11-27 above the onset; below it, 13 w nodes in the piece below the ridge
 since 2026-11-28; docs/notes/sphere_pair_two_angles.md). Every node of
 a stage is a node of the next, with the same floats (:func:`ratio_nodes`,
-:func:`~wetcontact.calibrate_capillary._volume_nodes`, and the band ends and ridge taken
+:func:`~wetcontact.generate.calibrated_capillary._volume_nodes`, and the band ends and ridge taken
 at their own nodes, not from a series), so that the node cache keeps what a coarser
 stage solved; except the full stage's 23 b2 nodes below the ridge, which do not nest the
 medium stage's 15 (a full stage solves its lower pieces afresh). The gap axis has
@@ -283,7 +288,7 @@ def fit_pair_onset(nw: int, na: int, workers: int = 2,
 
 def nested_gauss(n: int) -> np.ndarray:
     """Chebyshev-Gauss points ``sin(pi (2k + 1 - n)/(2n))`` on (-1, 1), increasing: the
-    :func:`~wetcontact.calibrate_capillary.gauss` points, with the fraction reduced before
+    :func:`~wetcontact.generate.calibrated_capillary.gauss` points, with the fraction reduced before
     it is rounded, so that every third point of 3n is bit for bit a point of n."""
     from fractions import Fraction
 
@@ -313,7 +318,7 @@ RIDGE_NEAR_DEG = 0.01
 ridge series adds to the onset's (:data:`PAIR_RIDGE_W`), about the coarser series' value
 there: that series was off by up to 1.6e-3 deg at the added nodes (40 of them searched
 first, 2026-11-28; 1.4e-3 at 91 midpoints), so the top lies well inside; a top within ten
-tolerances of the bracket's ends (:func:`~wetcontact.calibrate_capillary.golden_top`'s
+tolerances of the bracket's ends (:func:`~wetcontact.generate.calibrated_capillary.golden_top`'s
 error) is sought again over :data:`PAIR_RIDGE_BRACKET_DEG`."""
 
 
@@ -362,7 +367,7 @@ def fit_pair_ridge(onset: dict[str, Any], rng: gen.SphereRange, nb1: int, tol: f
     :data:`RIDGE_NEAR_DEG` of that series' value (lines
     ``pair-ridge-near|r|v|theta1|tol``, :func:`_pair_ridge_near_job`: the guess only
     places the bracket, and the top is the same to ``tol``). ``coarse``: that series at
-    the onset's nodes as a table holds it (``calibrate_capillary.refine_band``), else
+    the onset's nodes as a table holds it (:func:`refine_band`), else
     sought."""
     n0 = len(onset["ratio_nodes"])
     if nw is not None and nw != n0:
@@ -570,7 +575,7 @@ PAIR_STRATA: dict[str, dict[str, Any]] = {
 }
 """The two-angle pair table's held-out design (against ``meniscus``), as the wall's: a
 uniform one and its stress strata, the large sphere's angle within
-:data:`~wetcontact.calibrate_capillary.NEAR_RIDGE_DEG` of the table's ridge, at a
+:data:`~wetcontact.generate.calibrated_capillary.NEAR_RIDGE_DEG` of the table's ridge, at a
 log-uniform distance from it (its top), at the small sphere's angles where the top's jump
 appears (the onset runs from 31 deg at r = 1 to 16.6 at r = 10, v = 0.1), and nearly
 equal spheres (r < 1.1, theta1 20-45 deg) near the ridge, where both sides of the top are
@@ -579,7 +584,7 @@ a cusp's (|delta|^(2/3)) rather than a jump's; and both angles low at large volu
 piece below the onset had 9 ratio nodes); at the small sphere's angles where the jump
 appears, 1e-4 to 0.3 deg from the ridge, at the same gaps (the wall's force near rupture
 past the ridge was under-resolved there, unseen at random gaps); and within the ridge's window
-(:func:`~wetcontact.calibrate_capillary.ridge_window_band`), at the same gaps, where the
+(:func:`~wetcontact.generate.calibrated_capillary.ridge_window_band`), at the same gaps, where the
 ridge series (off by up to 6.3e-4 deg at V* = 0.1 between its nodes with 9 w nodes; with
 17 up to 5e-4 deg between its a nodes near the onset) may put a point on the other side
 of S_c's jump. ``part``: the
@@ -592,14 +597,14 @@ def pair_held_out(entry: dict[str, Any], n: int = 120, workers: int = 2,
                   cache_dir: Path | None = None) -> dict[str, dict[str, Any]]:
     """The held-out tables of a two-angle pair table (``entry``) per stratum of
     :data:`PAIR_STRATA` and its corner stratum
-    (:func:`~wetcontact.calibrate_capillary.strata_held_out`)."""
+    (:func:`~wetcontact.generate.calibrated_capillary.strata_held_out`)."""
     return gen.strata_held_out(PAIR_TWO_ANGLES, PAIR_STRATA, entry, n, workers, cache_dir)
 
 
 def pair_band_nodes(band: int) -> list[list[int]]:
     """The node counts of each piece of band ``band`` of the two-angle sphere-pair table at
     :data:`STAGES`' full stage (w, a, b1, b2, c), with the generator's
-    :data:`~wetcontact.calibrate_capillary.BAND_NODES`'."""
+    :data:`~wetcontact.generate.calibrated_capillary.BAND_NODES`'."""
     st = STAGES["full"]
     over = gen.BAND_NODES.get(cc.PAIR_TWO_ANGLES, {}).get(band, {})
     return [list(over.get(j, [st["w"], st["a"], st["b1"], nb2, GAP_NODES]))
@@ -610,7 +615,7 @@ def refine_band(kind: str, band: int | Sequence[int], out: Path | None = None,
                 workers: int = 2, cache_dir: Path | None = None) -> dict[str, Any]:
     """Fit again the pieces of band ``band`` (or of each band of a sequence, in turn) of
     the two-angle table ``kind`` in the file ``out`` (default the package data) whose node
-    counts differ from their specification (``calibrate_capillary.band_pieces``,
+    counts differ from their specification (``calibrated_capillary.band_pieces``,
     :func:`pair_band_nodes`),
     from the band's own ridge series and the table's onset series as the file holds them
     (no onset search; a ridge search only at the w nodes
@@ -618,7 +623,7 @@ def refine_band(kind: str, band: int | Sequence[int], out: Path | None = None,
     nodes: a fit from scratch computes the same series), rebuild their tensor trains and
     write the table back with its held-out tables measured again, once; returns the
     table's entry (``refine_band``: each refitted band's wall time and branches, without
-    the held-out tables', ``held_out_wall_time_s``). What ``calibrate_capillary.fit_kind``
+    the held-out tables', ``held_out_wall_time_s``). What ``calibrated_capillary.fit_kind``
     and :func:`fit_pair_table` would fit from scratch, without their searches. It lives here,
     above both tables' generators, because a pair band needs this module's pieces."""
     out = Path(out) if out else Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
