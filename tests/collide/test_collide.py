@@ -180,6 +180,11 @@ def test_film_with_bridge_closes_energy_budget() -> None:
     assert abs(res.diagnostics["energy_residual"]) < 1e-9
     # the force tables' interpolation error moves e by less than 1e-6
     assert 0.0 < res.diagnostics["restitution_interpolation_bound"] < 1e-6
+    # the liquid each body carries away: the meniscus's division of the critical bridge
+    liq = res.liquid
+    assert liq["transfer_source"].startswith("meniscus")
+    assert 0.0 < liq["transfer_fraction"] < 0.5  # a sphere on a wall keeps less than half
+    assert abs(liq["body1"] + liq["body2"] - liq["bridge_volume"]) <= 1e-12 * liq["body2"]
 
 
 @pytest.mark.parametrize("edit, field", [
