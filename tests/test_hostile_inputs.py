@@ -548,39 +548,42 @@ def test_numpy_warnings_while_a_case_is_validated_print_no_line(tmp_path, monkey
 
 
 def _slow_study(tmp_path: Path) -> Path:
-    """24 meniscus points at the accurate preset: a sweep that is still running seconds
-    after its two workers started."""
+    """60 meniscus points: a sweep that is still running seconds after its two workers
+    computed the first."""
     p = tmp_path / "slow.toml"
     p.write_text(f'name = "slow"\nbase = "{ROOT / "cases" / "dem-pendular-bridge-100um.toml"}"'
-                 '\nmodels = ["meniscus"]\npreset = "accurate"\n[axes]\n'
-                 '"liquid.contact_angle" = { start = 1.0, stop = 40.0, points = 24 }\n')
+                 '\nmodels = ["meniscus"]\n[axes]\n'
+                 '"liquid.contact_angle" = { start = 1.0, stop = 40.0, points = 60 }\n')
     return p
 
 
 def _signal_a_running_cluster_sweep(tmp_path: Path, sig: int, group: bool = False
                                     ) -> tuple[int, list[str]]:
-    """Run ``sweep --workers 2`` in a new session, send ``sig`` (to the main process, or to
-    its whole process group as a terminal's Ctrl-C does) once both workers run; return the
-    exit code and the stderr lines that are not progress lines, read to the end (the
-    resource tracker, the last process, writes its warnings there as it exits)."""
-    psutil = pytest.importorskip("psutil")
+    """Run ``sweep --workers 2`` in a new session and send ``sig`` (to the main process, or
+    to its whole process group as a terminal's Ctrl-C does) once its workers have computed
+    points and the store holds them; return the exit code and the stderr lines that are
+    not progress lines, read to the end (the resource tracker, the last process, writes
+    its warnings there as it exits)."""
+    store = tmp_path / "s.h5"
     proc = subprocess.Popen(
         [sys.executable, "-m", "wetcontact.cli", "sweep", str(_slow_study(tmp_path)),
-         "--workers", "2", "--store", str(tmp_path / "s.h5")], cwd=tmp_path,
+         "--workers", "2", "--store", str(store)], cwd=tmp_path,
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         deadline = time.monotonic() + 60
-        while len(psutil.Process(proc.pid).children(recursive=True)) < 3:  # tracker, 2 workers
+        while not store.exists():  # the first points written: the workers are running
             assert time.monotonic() < deadline and proc.poll() is None, proc.stderr.read()
-            time.sleep(0.1)
-        time.sleep(1.0)
+            time.sleep(0.05)
         os.killpg(proc.pid, sig) if group else proc.send_signal(sig)
         _, err = proc.communicate(timeout=60)
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
             proc.communicate()
+    from wetcontact.store import Store
+
+    assert len(Store(store)) >= 1  # what was saved is there and readable
     return proc.returncode, [ln for ln in err.splitlines() if not ln.startswith("sweep: ")]
 
 
