@@ -31,6 +31,7 @@ import contextlib
 import logging
 import math
 import os
+import signal
 import sys
 import threading
 import time
@@ -464,7 +465,25 @@ def _dask_client(workers: int | None, scheduler: str | None, n_points: int = 1 <
                                dashboard_address=None, host="127.0.0.1",
                                silence_logs=logging.CRITICAL)
     with cluster, Client(cluster) as client:
+        client.run(ignore_ctrl_c)
         yield client, f"local-cluster:{n}"
+
+
+def ignore_ctrl_c() -> bool:
+    """Run on each worker of a local cluster (``Client.run``): SIGINT ignored.
+
+    A Ctrl-C at a terminal goes to the whole process group, the workers too: a worker
+    interrupted while the sweep shut the cluster down printed its own traceback
+    (``Process Dask Worker process (from Nanny): ... KeyboardInterrupt``). The sweep's
+    process handles the Ctrl-C and closes the cluster, which stops the workers. Returns
+    whether the handler could be set (only in a worker's main thread, where its event loop
+    runs).
+    """
+    try:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    except ValueError:  # not the main thread
+        return False
+    return True
 
 
 #: the warnings filter (``PYTHONWARNINGS`` syntax) that silences the resource tracker
@@ -493,4 +512,3 @@ def quiet_resource_tracker() -> Iterator[None]:
             os.environ.pop("PYTHONWARNINGS", None)
         else:
             os.environ["PYTHONWARNINGS"] = old
-
