@@ -106,8 +106,11 @@ def build_parser() -> argparse.ArgumentParser:
     _add_sweep_parser(sub)
     _add_export_parser(sub)
 
-    sub.add_parser("models", help="list the registered models", description="Registered "
-                   "models with their fidelity level, component and validity range.")
+    m = sub.add_parser("models", help="list the registered models", description="Registered "
+                       "models with their fidelity level, component, validity range and "
+                       "source paper.")
+    m.add_argument("--json", action="store_true", help="print one JSON object: model name -> "
+                   "level, component, validity, source, order")
     return p
 
 
@@ -179,7 +182,7 @@ def _catch_sigterm() -> Any:
 
 def _dispatch(args: argparse.Namespace) -> int:
     if args.command == "models":
-        return _models()
+        return _models_json() if args.json else _models()
     if args.command == "solve":
         return _solve(args)
     if args.command == "collide":
@@ -308,12 +311,13 @@ def _export_yade(args: argparse.Namespace) -> int:
 def _models() -> int:
     from wetcontact.models import load_all
 
-    rows = [(m.name, str(m.level), m.component, m.validity)
-            for m in sorted(load_all().values(), key=lambda m: (m.level, m.name))]
+    models = sorted(load_all().values(), key=lambda m: (m.level, m.name))
+    rows = [(m.name, str(m.level), m.component, m.validity) for m in models]
     w = [max(len(r[i]) for r in rows + [("model", "level", "component", "")]) for i in range(3)]
     print(f"{'model':<{w[0]}}  {'level':<{w[1]}}  {'component':<{w[2]}}  validity")
-    for r in rows:
+    for r, m in zip(rows, models, strict=True):
         print(f"{r[0]:<{w[0]}}  {r[1]:<{w[1]}}  {r[2]:<{w[2]}}  {r[3]}")
+        print(f"{'':<{w[0]}}  {'':<{w[1]}}  {'':<{w[2]}}  source: {m.source}")
     from wetcontact.calibrate import FAMILIES
 
     print("\nclosure families to refit (wetcontact calibrate STUDY --closure FAMILY; then "
@@ -322,6 +326,18 @@ def _models() -> int:
     for fam in FAMILIES.values():
         print(f"{fam.name:<{wf}}  {fam.target:<9}  {fam.description}; {fam.kind} {fam.amount}"
               + (" (equal spheres)" if fam.equal else ""))
+    return 0
+
+
+def _models_json() -> int:
+    """``wetcontact models --json``: one object, model name -> level, component, validity,
+    source and declared convergence order (None for a closed form), in the listing's order."""
+    from wetcontact.models import load_all
+
+    models = sorted(load_all().values(), key=lambda m: (m.level, m.name))
+    print(json.dumps({m.name: {"level": m.level, "component": m.component,
+                               "validity": m.validity, "source": m.source, "order": m.order}
+                      for m in models}))
     return 0
 
 

@@ -159,6 +159,11 @@ class Model:
         Declared convergence order of the force under refinement (None for closed forms).
     reference : str
         The source of the model's equation.
+    source : str
+        The paper the model comes from (a solver: its method and the papers it is checked
+        against; a calibrated closure: what it was fitted to), shown by ``wetcontact
+        models``. A refit loaded from a file (:class:`wetcontact.calibrate.CalibratedClosure`)
+        has that file as its source.
     cost : float
         Rough wall time per gap (s), to rank models of one level by cost.
     error_bound : dict
@@ -178,6 +183,7 @@ class Model:
     validity: ClassVar[str] = ""
     order: ClassVar[float | None] = None
     reference: ClassVar[str] = ""
+    source: ClassVar[str] = ""
     cost: ClassVar[float] = 1e-6
     error_bound: ClassVar[Mapping[str, float]] = {}
     saves_fields: ClassVar[bool] = False

@@ -104,6 +104,9 @@ class CalibratedViscous(Model):
                 "(the sphere does not reach the liquid)")
     reference = ("calibrated here: Brenner (1961) series; stokes (flat top) for films; "
                  "lubrication for bridges")
+    source = ("fitted here: Chebyshev tables of the exact series (Brenner 1961; Maude 1961) and "
+              "the finite-liquid factor of Pitois, Moucheront & Chateau 2000 refitted to this "
+              "package's lubrication and stokes solvers")
     cost = 3e-6  # a 48-term Chebyshev sum: about 3x a one-line closure (bench_calibrate)
 
     def check(self, scene: Scene) -> None:

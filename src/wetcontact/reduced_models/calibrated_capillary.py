@@ -884,6 +884,8 @@ class CalibratedCapillary(Model):
                 "solids, or two, each in [0, 70] deg, no gravity; any gap (0 beyond its "
                 "rupture distance)")
     reference = "calibrated here: tensor Chebyshev interpolation of meniscus"
+    source = ("fitted here: tensor Chebyshev interpolation of this package's meniscus solver "
+              "(Young-Laplace; no published form)")
     cost = 1e-6
     presets = {"fast": {"precision": "mixed"}, "default": {"precision": "mixed"},
                "accurate": {"precision": "double"}}

@@ -773,6 +773,8 @@ class Toroidal(_CapillaryClosure):
     name = "toroidal"
     reference = ("Fisher 1926; Weigert & Ripperger 1999 eqs. 5, 6, 21, 22; rupture: "
                  "Lian, Thornton & Adams 1993")
+    source = ("Fisher 1926; Weigert & Ripperger 1999 (eqs. 5, 6, 21, 22); rupture: Lian, Thornton "
+              "& Adams 1993")
     validity = ("pendular bridge, V*/R_eff^3 < 0.1, theta + filling angle < 90 deg; force by the "
                 "boundary method at the sphere's contact line; Lian et al. 1993: within about "
                 "10 % of Young-Laplace, but not near rupture at small angles: at theta = 0 "
@@ -824,6 +826,7 @@ class Mikami(_CapillaryClosure):
 
     name = "mikami"
     reference = "Mikami, Kamiya & Horio, Chem. Eng. Sci. 53, 1927 (1998)"
+    source = "Mikami, Kamiya & Horio 1998, Chem. Eng. Sci. 53, 1927"
     validity = ("pendular bridge, small V* (about 1e-4 to 1e-1) and theta below about 50 deg "
                 "(regression of Young-Laplace solutions); natural-log coefficients; contact "
                 "value 10-20 % from 2 cos(theta) at V* = 1e-3")
@@ -863,6 +866,7 @@ class Willett(_WillettFamily):
 
     name = "willett"
     reference = "Willett, Adams, Johnson & Seville, Langmuir 16, 9396 (2000), eq. A1"
+    source = "Willett, Adams, Johnson & Seville 2000, Langmuir 16, 9396 (eq. A1)"
     validity = ("pendular bridge, theta < 50 deg, V* = V/R_eff^3 < 0.1 with R_eff = 2R1R2/(R1+R2) "
                 "(sphere-wall: 2R); fit within a few % of Young-Laplace in that range; "
                 "refused where the fit's f4 > 0 (V* below about 1e-8 to 1e-7)")
@@ -887,6 +891,7 @@ class WillettSimple(_WillettFamily):
 
     name = "willett-simple"
     reference = "Willett et al., Langmuir 16, 9396 (2000), eq. 12"
+    source = "Willett, Adams, Johnson & Seville 2000, Langmuir 16, 9396 (eq. 12)"
     validity = ("pendular bridge, small V* and theta (Willett: theta < 50 deg, V* < 0.1); "
                 "R_eff = 2R1R2/(R1+R2), sphere-wall 2R")
 
@@ -902,6 +907,7 @@ class Bagheri(_WillettFamily):
     name = "bagheri"
     reference = ("Bagheri, Roy & Poeschel, Comput. Part. Mech. (2024), arXiv:2310.11485, "
                  "eqs. 24-30")
+    source = "Bagheri, Roy & Poeschel 2024, Comput. Part. Mech. (arXiv:2310.11485, eqs. 24-30)"
     validity = ("identical spheres (others via R_eff = 2R1R2/(R1+R2), sphere-wall 2R: "
                 "extrapolation), pendular bridge, V* < 0.1, theta < 50 deg; about 0.6 % from "
                 "Young-Laplace where checked by the authors")
@@ -957,6 +963,7 @@ class Rabinovich(_RabinovichFamily):
 
     name = "rabinovich"
     reference = "Rabinovich, Esayanur & Moudgil, Langmuir 21, 10992 (2005), eqs. 19, 20, A3"
+    source = "Rabinovich, Esayanur & Moudgil 2005, Langmuir 21, 10992 (eqs. 19, 20, A3)"
     validity = ("pendular bridge, small V*, H << R (parabolic gap, Derjaguin); unequal spheres "
                 "R_eff = 2R1R2/(R1+R2); the second (contact-line) term stays finite at H = 0")
     terms = "both"
@@ -968,6 +975,7 @@ class Lambert(_RabinovichFamily):
 
     name = "lambert"
     reference = "Lambert, Chau, Delchambre & Regnier, Langmuir 24, 3157 (2008), eq. 65"
+    source = "Lambert, Chau, Delchambre & Regnier 2008, Langmuir 24, 3157 (eq. 65)"
     validity = ("pendular bridge, small V*, H << R (parabolic gap, Derjaguin); exact contact "
                 "limit 2 pi R sigma cos(theta) (two spheres), 2 pi R sigma (cos ts + cos tw) "
                 "(sphere-wall)")

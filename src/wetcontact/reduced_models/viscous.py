@@ -332,6 +332,7 @@ class Reynolds(Model):
     component = "viscous"
     validity = "S/R* << 1 (12.7 % low at S/R = 0.1 against Brenner); flooded gap"
     reference = "Adams & Perchard (1985)"
+    source = "Adams & Perchard 1985"
 
     def _force(self, scene: Scene, preset: str, **opts: Any) -> ForceCurve:
         f = reynolds_force(scene.viscosity, scene.reduced_radius, scene.velocity,
@@ -407,6 +408,7 @@ class ReynoldsFinite(Model):
     component = "viscous"
     validity = "film or bridge; S << R*, parabolic gap, ambient pressure at the wetted edge"
     reference = "Pitois, Moucheront & Chateau (2000)"
+    source = "Pitois, Moucheront & Chateau 2000, J. Colloid Interface Sci. 231, 26"
 
     def check(self, scene: Scene) -> None:
         if scene.amount == "immersed":
@@ -436,6 +438,7 @@ class Brenner(Model):
     component = "viscous"
     validity = "immersed; sphere-wall or equal spheres; any S/R (exact Stokes flow, Re << 1)"
     reference = "Brenner (1961); Maude (1961)"
+    source = "Brenner 1961, Chem. Eng. Sci. 16, 242; equal spheres: Maude 1961"
     reference_rank = {"viscous": 40}  # exact series: the best viscous reference
     cost = 1e-4  # up to ~2000 series terms per gap at S/R = 1e-4
 
@@ -460,6 +463,8 @@ class CoxBrenner(Model):
                 "9.5 % at S/R = 1; the two-sphere form crosses zero at S/R = 20.97, the wall "
                 "form at 133)")
     reference = "Cox & Brenner (1967); Cooley & O'Neill (1969); Jeffrey & Onishi (1984)"
+    source = ("Cox & Brenner 1967 (constant: Cooley & O'Neill 1969); equal spheres: Jeffrey & "
+              "Onishi 1984")
     max_s_over_r = 1.0
 
     def check(self, scene: Scene) -> None:
@@ -493,6 +498,7 @@ class Schaeffer(Model):
     validity = ("immersed sphere-wall; any S/R; published max error about 0.3 %, measured "
                 "3.33e-3 at S/R 0.012-0.04")
     reference = "Schaeffer, Norrelykke & Howard (2007), Langmuir 23, 3654"
+    source = "Schaeffer, Norrelykke & Howard 2007, Langmuir 23, 3654"
 
     def check(self, scene: Scene) -> None:
         _require_immersed(self.name, scene)
@@ -515,6 +521,7 @@ class Vinogradova(Model):
     validity = ("S << R*, flooded gap; slip on one surface, or the same slip length on "
                 "both")
     reference = "Vinogradova (1995), Langmuir 11, 2213"
+    source = "Vinogradova 1995, Langmuir 11, 2213"
 
     def check(self, scene: Scene) -> None:
         b1, b2 = scene.slip_length_sphere, scene.slip_length_wall

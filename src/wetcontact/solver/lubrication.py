@@ -650,6 +650,9 @@ class Lubrication(Model):
     reference_rank: ClassVar[dict[str, int]] = {"viscous": 10}
     reference: ClassVar[str] = ("Reynolds equation, axisymmetric squeeze film; finite liquid "
                                 "Pitois et al. 2000; Navier slip Vinogradova 1995")
+    source: ClassVar[str] = ("axisymmetric Reynolds equation (Reynolds 1886), finite volumes "
+                             "with Richardson extrapolation; checked against Pitois, Moucheront "
+                             "& Chateau 2000 (finite liquid) and Vinogradova 1995 (Navier slip)")
     validity: ClassVar[str] = ("thin wetted gap (film or bridge) with r_w <= (sqrt 3/2) R_min "
                                "(surface slope <= 60 deg); a bridge short of its rupture "
                                "distance; not immersed (use 'stokes'); "

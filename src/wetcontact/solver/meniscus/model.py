@@ -50,6 +50,11 @@ class MeniscusModel(Model):
         "Young-Laplace equation; P2 Petrov-Galerkin FE (Gauss collocation), Newton; "
         "Lambert et al. (2008) force decomposition; Maddocks (1987) stability at folds"
     )
+    source: ClassVar[str] = (
+        "Young-Laplace equation by P2 finite elements, Newton and arclength continuation "
+        "(stability: Maddocks 1987); checked against the force decomposition of Lambert et al. "
+        "2008, the analytic catenoid, cylinder and contact limits, and an ODE shooting"
+    )
     presets: ClassVar[dict[str, dict[str, Any]]] = {
         "fast": {"n_elements": 64},
         "default": {"n_elements": DEFAULT_ELEMENTS},

@@ -181,6 +181,9 @@ class Stokes(Model):
     reference_rank = {"viscous": 30}
     reference = ("Taylor-Hood axisymmetric Stokes FEM (scikit-fem, gmsh); force by the "
                  "reaction (dissipation) and by the traction integral")
+    source = ("axisymmetric Stokes flow by Taylor-Hood finite elements; checked against Brenner "
+              "1961 and Maude 1961 (immersed), Jeffrey & Onishi 1984 (unequal spheres), Basset "
+              "1888 and Vinogradova 1995 (slip)")
     presets = {
         "fast": {"n_gap": 3, "h_sphere": 0.08, "growth": 0.25, "far": 1.0e3, "n_film": 8,
                      "film_corner": 2.0e-3,

@@ -211,6 +211,9 @@ class ThinFilm(Model):
     reference = ("thin-film equation (Oron, Davis & Bankoff 1997) joined at its minimum to "
                  "the finite-element Young-Laplace meniscus (sharp contact; or a penalty "
                  "obstacle); limits: Pitois et al. 2000")
+    source = ("thin-film equation (Oron, Davis & Bankoff 1997) joined to the finite-element "
+              "Young-Laplace meniscus; checked against the leveling of a free film, the "
+              "lubrication limit (Pitois, Moucheront & Chateau 2000) and the static bridge")
     presets = {
         # film_cells, elements, rtol: the sharp contact (default; its bridge's force
         # moves by 6e-8 from 16 to 64 elements, 3e-9 from 32); wetting_width,
