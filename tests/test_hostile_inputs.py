@@ -506,7 +506,10 @@ def test_a_sweep_in_which_every_point_fails_is_one_stderr_line(tmp_path):
         assert out.strip()  # the summary (and the reasons) on stdout
 
 
-def test_the_progress_bar_on_a_terminal_is_erased_at_the_end(monkeypatch):
+@pytest.mark.parametrize("status, left", [("failed", False), ("computed", True)])
+def test_the_progress_bar_is_erased_when_every_point_failed(monkeypatch, status, left):
+    """On a terminal the bar stayed above the error; it stays when points were solved
+    (the counts of a calibrate's sweep, say)."""
     from wetcontact.sweep import _Progress
 
     class Tty(io.StringIO):
@@ -516,10 +519,22 @@ def test_the_progress_bar_on_a_terminal_is_erased_at_the_end(monkeypatch):
     tty = Tty()
     monkeypatch.setattr(sys, "stderr", tty)
     prog = _Progress(3, True)
-    prog.update("computed", 3)
+    prog.update(status, 3)
     prog.close()
     shown = tty.getvalue().split("\r")[-1]  # what the terminal's line holds at the end
-    assert "sweep" in tty.getvalue() and not shown.strip(), repr(tty.getvalue())
+    assert "sweep" in tty.getvalue() and bool(shown.strip()) is left, repr(tty.getvalue())
+
+
+def test_a_log_gets_the_closing_count_unless_every_point_failed(monkeypatch):
+    from wetcontact.sweep import _Progress
+
+    for status, lines in (("failed", 0), ("reused", 1)):
+        log = io.StringIO()
+        monkeypatch.setattr(sys, "stderr", log)
+        prog = _Progress(2, True)
+        prog.update(status, 2)
+        prog.close()
+        assert log.getvalue().count("\n") == lines, log.getvalue()
 
 
 def test_numpy_warnings_while_a_case_is_validated_print_no_line(tmp_path, monkeypatch):

@@ -218,9 +218,9 @@ class _Progress:
     """A tqdm bar on a terminal, else a line on stderr every ``every`` seconds (from a
     background thread, so a long point does not silence it).
 
-    Progress is not a result (the summary is printed on stdout): the bar is erased when
-    the sweep ends, and a closing count line is written only to a log that has had
-    progress lines, so a short sweep that fails says so in one stderr line.
+    The closing count (the bar left on a terminal, a last line in a log) is left out when
+    every point failed, unless the log already has progress lines: the sweep's error
+    says so, in one stderr line.
     """
 
     def __init__(self, total: int, enabled: bool, every: float = 5.0):
@@ -233,8 +233,7 @@ class _Progress:
         if enabled and sys.stderr.isatty():
             from tqdm import tqdm
 
-            self.bar = tqdm(total=total, desc="sweep", unit="pt", file=sys.stderr,
-                            leave=False)
+            self.bar = tqdm(total=total, desc="sweep", unit="pt", file=sys.stderr)
         elif enabled:
             threading.Thread(target=self._ticker, daemon=True).start()
 
@@ -259,9 +258,11 @@ class _Progress:
 
     def close(self) -> None:
         self.stop.set()
+        failed = self.total > 0 and self.counts["failed"] == self.total
         if self.bar is not None:
+            self.bar.leave = not failed  # erased when every point failed
             self.bar.close()
-        elif self.enabled and self.lines:
+        elif self.enabled and (self.lines or not failed):
             self.line()
 
 
