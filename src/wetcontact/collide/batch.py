@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from wetcontact.collide.case import CollisionCase
-from wetcontact.collide.impact import _Impact, _Mode
+from wetcontact.collide.equations import _Impact, _Mode
 from wetcontact.errors import InputError
 
 #: declared order of the gap-stepping scheme (classical Runge-Kutta)
