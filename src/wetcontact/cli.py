@@ -99,6 +99,7 @@ def build_parser() -> argparse.ArgumentParser:
     solve.add_argument("--save-fields", type=path_arg, default=None, metavar="DIR",
                        help="write solution fields (VTU) where the model supports it")
 
+    _add_compare_parser(sub)
     _add_calibrate_parser(sub)
     from wetcontact.collide.command import add_parser as add_collide_parser
 
@@ -191,6 +192,8 @@ def _dispatch(args: argparse.Namespace) -> int:
         return run_collide(args)
     if args.command == "sweep":
         return _sweep(args)
+    if args.command == "compare":
+        return _compare(args)
     if args.command == "export":
         return _export(args)
     if args.command == "calibrate":
@@ -764,6 +767,78 @@ def _export_closures(args: argparse.Namespace) -> int:
         print(f"{info['out']}: {args.format}, {info['bytes']} bytes in "
               f"{info['wall_time_s']:.3g} s" + (f"; capillary: {info['capillary']}"
                                                 if "capillary" in info else ""))
+    return 0
+
+
+def _add_compare_parser(sub: argparse._SubParsersAction) -> None:
+    """``wetcontact compare CASE``: the closure error table and figure of one case."""
+    c = sub.add_parser("compare", help="closure error table (CSV) and figure (PNG) of one "
+                       "case", description="Every model that applies to the case (or the "
+                       "named ones) against the case's reference, as in the report of "
+                       "`wetcontact run` but for this case alone, without the studies. "
+                       "Writes closure_errors.csv, curves/CASE.png and curves/CASE.csv, and "
+                       "the curves into reference.h5 (a rerun reuses them).")
+    c.add_argument("case", type=path_arg, help="TOML case file")
+    c.add_argument("--models", default=None, metavar="A,B,...", help="models to compare, "
+                   "comma-separated, at any level (default: every closure that applies); "
+                   "one that does not apply is listed with its reason")
+    c.add_argument("--out", type=path_arg, default=None, metavar="DIR",
+                   help="output folder (default: compare-CASE/)")
+    c.add_argument("--preset", choices=("fast", "default", "accurate"), default="default",
+                   help="resolution preset of the solvers (default: default)")
+    c.add_argument("--workers", type=_non_negative_int, default=None, metavar="N",
+                   help="local worker processes (default: one per core for long sweeps; "
+                   "0 = in this process)")
+    c.add_argument("--json", action="store_true", help="print one JSON object: case, "
+                   "references, rows, not_applicable, failed, files, counts")
+
+
+def _compare(args: argparse.Namespace) -> int:
+    from wetcontact.fileio import safe_stem
+    from wetcontact.report import compare_case
+
+    models = None
+    if args.models is not None:
+        models = [m.strip() for m in args.models.split(",") if m.strip()]
+        if not models:
+            raise InputError(f"--models = {args.models!r}; allowed: model names separated "
+                             "by commas (see `wetcontact models`)")
+    if args.out is None:
+        from wetcontact.scene import load_case
+
+        with quiet_validation():
+            args.out = Path(f"compare-{safe_stem(load_case(args.case).name)}")
+    writable_folder(args.out, "--out")  # before any curve is solved
+    with quiet_validation():
+        cmp = compare_case(args.case, args.out, models=models, preset=args.preset,
+                           workers=args.workers, progress=True)
+    res = cmp.result
+    if args.json:
+        def finite(v: object) -> object:
+            return None if isinstance(v, float) and v != v else v
+
+        print(json.dumps({"case": res.scene.name, "references": cmp.references,
+                          "rows": [{k: finite(v) for k, v in r.items()} for r in cmp.rows],
+                          "not_applicable": cmp.not_applicable, "failed": res.failures,
+                          "files": [str(f) for f in cmp.files], "counts": cmp.counts}))
+    else:
+        refs = ", ".join(f"{c} {m}" for c, m in cmp.references.items()) or "none"
+        print(f"# case {res.scene.name}: reference {refs}; preset {args.preset}; "
+              f"{cmp.counts['computed']} curves computed, {cmp.counts['reused']} reused, "
+              f"{cmp.counts['failed']} failed in {cmp.counts['wall_time_s']:.3g} s")
+        print(cmp.table if cmp.rows else "no closure to compare with the reference")
+        if models is not None:
+            for name, why in cmp.not_applicable.items():
+                print(f"not applicable: {name}: {why}")
+        elif cmp.not_applicable:
+            print("not applicable: " + ", ".join(cmp.not_applicable) + " (--json, or "
+                  "--models NAME, gives the reason)")
+        for name, why in res.failures.items():
+            print(f"failed: {name}: {why}")
+        print("wrote " + ", ".join(str(f) for f in cmp.files))
+    if res.failures:
+        raise SolverError(f"{len(res.failures)} model(s) failed on case {res.scene.name!r}: "
+                          + "; ".join(f"{m}: {w}" for m, w in res.failures.items()))
     return 0
 
 

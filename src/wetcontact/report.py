@@ -25,7 +25,7 @@ import shutil
 import sys
 import threading
 import time
-from collections.abc import Iterator
+from collections.abc import Collection, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -136,9 +136,14 @@ def case_results(scenes: list[Scene], points: list[Point], result: SweepResult
 # ---- closure comparison -----------------------------------------------------------------
 
 
-def error_rows(results: list[CaseResult]) -> list[dict[str, object]]:
+def error_rows(results: list[CaseResult], compared: Collection[str] | None = None
+               ) -> list[dict[str, object]]:
     """One row per (case, component, closure): :func:`wetcontact.compare.compare` against the
-    case's reference (the highest ``reference_rank`` among its curves)."""
+    case's reference (the highest ``reference_rank`` among its curves).
+
+    ``compared``: the models to compare, at any fidelity level (``wetcontact compare
+    --models``); by default every closure (level 0) present.
+    """
     rows: list[dict[str, object]] = []
     for res in results:
         for comp in ("viscous", "capillary"):
@@ -147,7 +152,8 @@ def error_rows(results: list[CaseResult]) -> list[dict[str, object]]:
                 continue
             for name, curve in res.curves.items():
                 if (name == ref_name or getattr(curve, f"force_{comp}") is None
-                        or get_model(name).level != 0):
+                        or (get_model(name).level != 0 if compared is None
+                            else name not in compared)):
                     continue
                 rows.append(compare(curve, res.curves[ref_name], comp).as_row())
     return rows
@@ -261,6 +267,126 @@ def write_case_outputs(res: CaseResult, out: Path) -> str:
                             "" if c.force_capillary is None else f"{c.force_capillary[i]:.9e}",
                             f"{c.force_total[i]:.9e}"])
     return stem
+
+
+# ---- one case: wetcontact compare -------------------------------------------------------
+
+
+@dataclass
+class CaseComparison:
+    """What :func:`compare_case` did for one case.
+
+    Attributes
+    ----------
+    result
+        The curves computed (or reused) and the models that failed, with their messages.
+    rows
+        The closure error table (one :meth:`~wetcontact.compare.Comparison.as_row` per
+        component and compared model).
+    table
+        The same rows as a Markdown table.
+    references
+        Force component -> the reference model the rows compare against.
+    not_applicable
+        Model -> why it does not apply to the case (named models, or every registered one).
+    files
+        The files written: the table's CSV, the case's figure and curves, the store.
+    counts
+        Curves ``computed``, ``reused`` and ``failed``, and the sweep's ``wall_time_s``.
+    """
+
+    result: CaseResult
+    rows: list[dict[str, object]]
+    table: str
+    references: dict[str, str]
+    not_applicable: dict[str, str]
+    files: list[Path]
+    counts: dict[str, float]
+
+
+def compare_case(case: Path, out: Path, models: Sequence[str] | None = None,
+                 preset: str = "default", workers: int | None = None,
+                 progress: bool = True) -> CaseComparison:
+    """The closure error table and figure of one case (``wetcontact compare``).
+
+    The same data path as :func:`run_all` for the case alone, without the studies: the
+    points of :func:`case_points` (every model that applies, or the named ones and the
+    case's reference for each force component they model) swept into ``out/reference.h5``
+    (a rerun reuses its curves), then :func:`write_case_outputs` and
+    :func:`write_error_table` into ``out``.
+
+    Parameters
+    ----------
+    case
+        A TOML case file.
+    out
+        Output folder (created).
+    models
+        Models to compare (any fidelity level); ``None``: every closure that applies. A
+        named model that does not apply is listed in ``not_applicable``, not an error.
+    preset
+        Resolution preset of the solvers (``fast``, ``default``, ``accurate``).
+    workers, progress
+        As for :func:`~wetcontact.sweep.sweep`.
+
+    Raises
+    ------
+    InputError
+        An unknown model or preset; none of the named models applies to the case, or
+        none that does has a reference model for its force component there.
+    """
+    from wetcontact.models import PRESETS
+
+    if preset not in PRESETS:
+        raise InputError(f"--preset = {preset!r}; allowed: " + ", ".join(PRESETS))
+    scene = load_case(case)
+    registered = load_all()
+    names = list(dict.fromkeys(models)) if models is not None else sorted(registered)
+    if models is not None and not names:
+        raise InputError("--models: no model named; allowed: a comma-separated list of "
+                         "models (see `wetcontact models`)")
+    for name in names:
+        if name not in registered:
+            raise InputError(f"--models: model = {name!r}; allowed: "
+                             + ", ".join(sorted(registered)))
+    not_applicable = {n: why for n in names
+                      if (why := registered[n].applicable(scene)) is not None}
+    points = case_points([scene], preset)
+    compared: list[str] | None = None
+    if models is not None:
+        compared = [n for n in names if n not in not_applicable]
+        refs = set()
+        for comp in ("viscous", "capillary"):
+            serves = [n for n in compared if registered[n].component in (comp, "both")]
+            ranked = [(registered[p.model].reference_rank.get(comp, 0), p.model)
+                      for p in points]
+            best = max((r for r in ranked if r[0] > 0), default=None)
+            if best is not None and serves:
+                refs.add(best[1])
+            elif best is None:
+                for n in serves:
+                    not_applicable[n] = (f"no reference model for the {comp} force applies "
+                                         f"to case {scene.name!r}: nothing to compare it with")
+        compared = [n for n in compared if n not in not_applicable]
+        if not compared:
+            raise InputError(f"{case}: none of the named models can be compared on case "
+                             f"{scene.name!r}: " + "; ".join(not_applicable.values()))
+        points = [p for p in points if p.model in set(compared) | refs]
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    store = Store(out / "reference.h5")
+    swept = sweep(points, store, workers=workers, progress=progress)
+    res = case_results([scene], points, swept)[0]
+    stem = write_case_outputs(res, out)
+    rows = error_rows([res], compared=compared)
+    table = write_error_table(rows, out)
+    references = {c: ref for c in ("viscous", "capillary")
+                  if (ref := reference_for(res.curves, c)) is not None}
+    counts = {s: swept.count(s) for s in ("computed", "reused", "failed")}
+    files = [out / "closure_errors.csv", out / "curves" / f"{stem}.png",
+             out / "curves" / f"{stem}.csv", store.path]
+    return CaseComparison(res, rows, table, references, not_applicable, files,
+                          {**counts, "wall_time_s": round(swept.wall_time_s, 3)})
 
 
 # ---- the job ----------------------------------------------------------------------------
