@@ -133,6 +133,34 @@ class ForceCurve:
         out["provenance"] = dict(self.provenance)
         return out
 
+    def to_dataframe(self) -> Any:
+        """The curve as a ``pandas.DataFrame``, one row per gap (pandas is optional).
+
+        Columns: ``gap`` (m), then ``force_viscous``, ``force_capillary`` and
+        ``force_total`` (N, positive = pushing the surfaces apart) for the components the
+        model models (a component it does not model has no column, rather than zeros or
+        NaN), then ``error_estimate`` when there is one and every extra under its own name.
+        ``DataFrame.attrs`` holds ``case``, ``model`` and ``settings``.
+
+        Raises
+        ------
+        ImportError
+            pandas is not installed (``pip install pandas``).
+        """
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError("ForceCurve.to_dataframe needs pandas, which wetcontact does not "
+                              "install: pip install pandas (or use to_json_dict())") from None
+        cols: dict[str, np.ndarray] = {"gap": self.gap}
+        for name in ("force_viscous", "force_capillary", "force_total", "error_estimate"):
+            if (arr := getattr(self, name)) is not None:
+                cols[name] = arr
+        cols.update({k: v for k, v in self.extras.items() if k not in cols})
+        df = pd.DataFrame({k: np.array(v) for k, v in cols.items()})
+        df.attrs.update(case=self.case, model=self.model, settings=dict(self.settings))
+        return df
+
 
 def _jsonable(v: Any) -> Any:
     if isinstance(v, np.ndarray):

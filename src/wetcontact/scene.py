@@ -222,6 +222,61 @@ class Scene:
             _check_film_reached(self.origin, self.film_thickness, new)
         return replace(self, gaps=new)
 
+    @property
+    def contact_angles_deg(self) -> tuple[float, float]:
+        """The contact angles in degrees, as case files and flags give them: (on the first
+        sphere, on the wall or the second sphere)."""
+        return math.degrees(self.contact_angle_sphere), math.degrees(self.contact_angle_wall)
+
+    def with_angles_deg(self, sphere: float | None = None, wall: float | None = None, *,
+                        both: float | None = None) -> Scene:
+        """Copy with other contact angles, given in degrees (the scene keeps radians).
+
+        Every other place a user types an angle (case files, flags) takes degrees; this is
+        the Python API's way to do the same instead of ``dataclasses.replace`` with
+        radians. Also available as the function ``wetcontact.scene.with_angles_deg(scene,
+        sphere=..., wall=...)``.
+
+        Parameters
+        ----------
+        sphere
+            Contact angle on the (first) sphere (deg, [0, 180)); ``None`` keeps it.
+        wall
+            Contact angle on the wall, or on the second sphere of a ``sphere-sphere`` scene
+            (deg, [0, 180)); ``None`` keeps it.
+        both
+            One angle on both solids (deg), instead of ``sphere`` and ``wall``.
+
+        Returns
+        -------
+        Scene
+            The same scene with those angles (radians inside).
+
+        Raises
+        ------
+        CaseError
+            An angle outside [0, 180) degrees or not a number, or ``both`` with ``sphere``
+            or ``wall``, naming the field as a case file would.
+        """
+        other = "contact_angle_wall" if self.kind == "sphere-wall" else "contact_angle_sphere2"
+        if both is not None:
+            if sphere is not None or wall is not None:
+                raise CaseError(self.origin, "liquid.contact_angle", both,
+                                "both= alone, or sphere= and wall=, not both")
+            sphere = wall = both
+        th_s = (self.contact_angle_sphere if sphere is None
+                else _angle(self.origin, "liquid.contact_angle_sphere", sphere))
+        th_w = (self.contact_angle_wall if wall is None
+                else _angle(self.origin, f"liquid.{other}", wall))
+        return replace(self, contact_angle_sphere=th_s, contact_angle_wall=th_w)
+
+
+
+def with_angles_deg(scene: Scene, sphere: float | None = None, wall: float | None = None, *,
+                    both: float | None = None) -> Scene:
+    """``scene`` with other contact angles given in degrees: :meth:`Scene.with_angles_deg`."""
+    return scene.with_angles_deg(sphere, wall, both=both)
+
 
 # ---- reading ------------------------------------------------------------------------
 
