@@ -19,7 +19,7 @@ import re
 import stat
 import tempfile
 import tomllib
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any, TextIO
 
@@ -301,3 +301,13 @@ def nesting_depth(value: object) -> int:
             deepest = max(deepest, level)
             stack.extend((v, level + 1) for v in item)
     return deepest
+
+
+def json_ready(value: Any) -> Any:
+    """A JSON-ready copy of ``value``: mappings, lists and tuples walked; numpy arrays and
+    scalars (anything with ``tolist``) as lists and Python numbers."""
+    if isinstance(value, Mapping):
+        return {k: json_ready(x) for k, x in value.items()}
+    if isinstance(value, list | tuple):
+        return [json_ready(x) for x in value]
+    return value.tolist() if hasattr(value, "tolist") else value

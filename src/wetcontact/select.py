@@ -50,6 +50,7 @@ from typing import Any
 import numpy as np
 
 from wetcontact.errors import InputError
+from wetcontact.fileio import json_ready
 from wetcontact.models import PRESETS, ForceCurve, Model, load_all, model_instead, provenance
 from wetcontact.reduced_models import bounds
 from wetcontact.scene import TOLERANCE_RANGE, Scene, plain_number
@@ -279,8 +280,8 @@ def combine(scene: Scene, sel: Selection, runs: dict[tuple[str, str], ForceCurve
     diag: dict[str, Any] = {"wall_time_s": wall}
     settings: dict[str, Any] = {"tolerance": sel.tolerance}
     for c, ch in sel.choices.items():
-        diag[c] = _plain({k: v for k, v in parts[c].diagnostics.items() if k != "wall_time_s"})
-        settings[c] = _plain({"model": ch.model.name, **parts[c].settings})
+        diag[c] = json_ready({k: v for k, v in parts[c].diagnostics.items() if k != "wall_time_s"})
+        settings[c] = json_ready({"model": ch.model.name, **parts[c].settings})
     if fv is None and fc is None:
         raise InputError(f"scene '{scene.name}' needs no force component")
     if fv is not None and fc is not None and scene.amount == "bridge":
@@ -309,16 +310,3 @@ def _no_bridge_no_viscous(scene: Scene, fv: np.ndarray, capillary: ForceCurve
     return np.where(past, 0.0, fv), (
         f"viscous force 0 at {int(past.sum())} of {past.size} gaps at or past the bridge's "
         f"rupture distance {float(sc[past][0]):.4g} m ({capillary.model}): no bridge there")
-
-
-def _plain(v: Any) -> Any:
-    """JSON-ready copy: numpy arrays and scalars to lists and Python numbers."""
-    if isinstance(v, dict):
-        return {k: _plain(x) for k, x in v.items()}
-    if isinstance(v, list | tuple):
-        return [_plain(x) for x in v]
-    if isinstance(v, np.ndarray):
-        return v.tolist()
-    if isinstance(v, np.generic):
-        return v.item()
-    return v

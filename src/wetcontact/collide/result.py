@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import csv
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -11,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from wetcontact.fileio import atomic_open
+from wetcontact.fileio import atomic_open, json_ready
 
 
 @dataclass(frozen=True)
@@ -21,18 +20,6 @@ class Phase:
     name: str
     start: float
     end: float
-
-
-def _plain(v: Any) -> Any:
-    if isinstance(v, Mapping):
-        return {k: _plain(x) for k, x in v.items()}
-    if isinstance(v, list | tuple):
-        return [_plain(x) for x in v]
-    if isinstance(v, np.generic):
-        return v.item()
-    if isinstance(v, float) and not math.isfinite(v):
-        return None
-    return v
 
 
 @dataclass(frozen=True, eq=False)
@@ -97,7 +84,7 @@ class Collision:
 
     def to_json_dict(self) -> dict[str, Any]:
         """The result as plain JSON types (no trajectory)."""
-        return _plain({
+        return json_ready({
             "case": self.case, "restitution": self.restitution, "outcome": self.outcome,
             "contact_velocity": self.contact_velocity,
             "rebound_velocity": self.rebound_velocity,
