@@ -242,7 +242,7 @@ def test_save_fields_on_a_full_disk_keeps_old_files_and_says_so(tmp_path, monkey
                             "--save-fields", str(out)])
     assert code == 0, err
     old = visible(out)
-    assert len(old) == 2 and all(len(b) > 0 for b in old.values())
+    assert len(old) == 3 and all(len(b) > 0 for b in old.values())  # 2 VTU, the .pvd
     real = meshio.Mesh.write
     calls = []
 
@@ -260,10 +260,11 @@ def test_save_fields_on_a_full_disk_keeps_old_files_and_says_so(tmp_path, monkey
     assert code == 2 and len(err.strip().splitlines()) == 1 and "Traceback" not in err
     assert "No space left on device" in err and "free some space" in err
     now = visible(out)
-    assert set(now) == set(old) and len(list(out.iterdir())) == 2  # no temporaries
+    assert set(now) == set(old) and len(list(out.iterdir())) == 3  # no temporaries
     names = sorted(now)
     assert now[names[0]] != old[names[0]] and _complete_vtu(out / names[0])  # new, complete
     assert now[names[1]] == old[names[1]]  # old, complete
+    assert names[2].endswith(".pvd") and now[names[2]] == old[names[2]]  # not rewritten
 
 
 def test_killed_solve_save_fields_leaves_only_complete_files(tmp_path):

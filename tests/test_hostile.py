@@ -258,8 +258,9 @@ def test_case_name_with_path_separators_stays_in_the_fields_folder(tmp_path):
     assert code == 0, err
     new = set(tree(tmp_path)) - set(before)
     assert new and all(p.startswith(str(Path("a", "b", "fields"))) for p in new), new
-    files = list((work / "fields").iterdir())
-    assert len(files) == 1 and files[0].suffix == ".vtu" and files[0].name.startswith("stokes-")
+    files = sorted((work / "fields").iterdir())  # the VTU and its ParaView collection
+    assert [f.suffix for f in files] == [".vtu", ".pvd"], files
+    assert all(f.name.startswith("stokes-") for f in files)
 
 
 def test_report_curve_files_stay_in_curves_for_a_traversal_name(tmp_path):

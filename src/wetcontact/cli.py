@@ -97,7 +97,8 @@ def build_parser() -> argparse.ArgumentParser:
                        "(from calibration); outside their domain the model refuses")
     solve.add_argument("--json", action="store_true", help="print one JSON object")
     solve.add_argument("--save-fields", type=path_arg, default=None, metavar="DIR",
-                       help="write solution fields (VTU) where the model supports it")
+                       help="write solution fields (VTU, and a ParaView .pvd listing them by "
+                       "gap) where the model supports it")
 
     _add_compare_parser(sub)
     _add_calibrate_parser(sub)

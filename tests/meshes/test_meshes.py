@@ -186,3 +186,19 @@ def test_cache_dir_from_environment(monkeypatch, tmp_path):
 def test_resolution_rejects_bad_values(bad):
     with pytest.raises(InputError):
         Resolution(**bad)
+
+
+def test_pvd_collection_sorts_by_time_and_numbers_parts(tmp_path):
+    """write_pvd: time steps increasing, two files at one time are parts 0 and 1, file names
+    relative to the collection's folder, valid XML."""
+    import xml.etree.ElementTree as ET
+
+    from wetcontact.meshes.io import write_pvd
+
+    (tmp_path / "sub").mkdir()
+    files = [(2e-6, tmp_path / "b.vtu"), (1e-6, tmp_path / "sub" / "a.vtu"),
+             (2e-6, tmp_path / "c.vtu")]
+    path = write_pvd(tmp_path / "all.pvd", files)
+    sets = ET.parse(path).getroot().findall("./Collection/DataSet")
+    assert [(float(d.get("timestep")), d.get("part"), d.get("file")) for d in sets] == [
+        (1e-6, "0", "sub/a.vtu"), (2e-6, "0", "b.vtu"), (2e-6, "1", "c.vtu")]

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from pathlib import Path
 
 import meshio
 import numpy as np
@@ -343,6 +344,25 @@ def test_save_fields_writes_vtu(model, scene_factory, tmp_path):
     assert set(m.point_data) == {"velocity", "pressure"}
     # the sphere moves at -v: some vertex carries that velocity
     assert m.point_data["velocity"][:, 1].min() == pytest.approx(-V, rel=1e-12, abs=0)
+
+
+def test_save_fields_writes_a_paraview_collection_of_the_gaps(model, scene_factory, tmp_path):
+    """``stokes-<case>.pvd`` lists every VTU with its gap (m) as the time step, increasing,
+    by a name relative to the collection (ParaView's time slider walks the gaps)."""
+    import xml.etree.ElementTree as ET
+
+    gaps = (0.3, 0.1)  # a case's gaps usually decrease: the collection sorts them
+    curve = model.force(_scene(scene_factory, gaps=gaps), preset="fast",
+                        save_fields=str(tmp_path))
+    pvd = Path(curve.diagnostics["pvd_file"])
+    assert pvd.parent == tmp_path and pvd.suffix == ".pvd"
+    root = ET.parse(pvd).getroot()
+    assert root.tag == "VTKFile" and root.get("type") == "Collection"
+    sets = root.findall("./Collection/DataSet")
+    listed = [(float(d.get("timestep")), d.get("file")) for d in sets]
+    vtu = curve.diagnostics["vtu_files"]
+    assert listed == [(0.1 * R, Path(vtu[1]).name), (0.3 * R, Path(vtu[0]).name)]
+    assert all((tmp_path / f).is_file() for _, f in listed)
 
 
 @pytest.mark.slow

@@ -86,3 +86,41 @@ def write_vtu(path: Path, mesh: MeshTri2, point_data: dict[str, np.ndarray],
         meshio.Mesh(pts, [("triangle", mesh.t.T)], point_data=point_data).write(
             tmp, file_format="vtu")
     return path
+
+
+def write_pvd(path: Path, files: list[tuple[float, Path]], time_name: str = "gap_m") -> Path:
+    """Write a ParaView collection (``.pvd``) of VTU files, each with its gap as the time.
+
+    ParaView opens the collection as one data set whose time steps are the gaps (m), in
+    increasing order, so its time slider walks through the solved gaps. File names are
+    stored relative to the collection's folder (the VTU files are beside it). Atomic, like
+    :func:`write_vtu`.
+
+    Parameters
+    ----------
+    path
+        The ``.pvd`` file to write.
+    files
+        (gap in m, VTU path) pairs; two files at one gap keep their order (``part`` 0, 1).
+    time_name
+        What the time step is, stated in a comment (ParaView reads no unit).
+    """
+    import os
+    from xml.etree import ElementTree as ET
+
+    from wetcontact.fileio import atomic_write_text
+
+    path = Path(path)
+    root = ET.Element("VTKFile", type="Collection", version="0.1", byte_order="LittleEndian")
+    root.append(ET.Comment(f" timestep = {time_name} of each file "))
+    coll = ET.SubElement(root, "Collection")
+    parts: dict[float, int] = {}
+    for gap, vtu in sorted(files, key=lambda item: item[0]):
+        part = parts[gap] = parts.get(gap, -1) + 1
+        rel = os.path.relpath(Path(vtu), path.parent)
+        ET.SubElement(coll, "DataSet", timestep=repr(float(gap)), group="", part=str(part),
+                      file=Path(rel).as_posix())
+    ET.indent(root)
+    atomic_write_text(path, '<?xml version="1.0"?>\n' + ET.tostring(root, encoding="unicode")
+                      + "\n")
+    return path

@@ -87,6 +87,16 @@ def _save_fields(out: Path, scene: Scene, i: int, sol: StokesSolution) -> Path:
                      scale=R)
 
 
+def _save_collection(out: Path, scene: Scene, files: list[tuple[float, str]]) -> Path:
+    """``stokes-<case>.pvd`` beside the VTU files: a ParaView collection whose time steps are
+    the gaps (m) of the files (``files``: (gap, VTU path) pairs)."""
+    from wetcontact.fileio import safe_stem
+    from wetcontact.meshes.io import write_pvd
+
+    return write_pvd(Path(out) / f"stokes-{safe_stem(scene.name)}.pvd",
+                     [(gap, Path(f)) for gap, f in files])
+
+
 DEFAULT_SLIP = 1.0e-9
 """Navier slip length (m) a bridge scene gets on a solid whose ``slip_length_*`` is 0: a
 moving contact line on a no-slip solid dissipates without bound (Huh & Scriven 1971), and
@@ -291,6 +301,7 @@ class Stokes(Model):
         f_reac, f_trac = np.zeros(n), np.zeros(n)
         ndofs, nel, ngap, times = (np.zeros(n) for _ in range(4))
         files: list[str] = []
+        file_gaps: list[float] = []  # the gap of each file
         iterator = range(n)
         if n > 20:
             from tqdm import tqdm
@@ -315,6 +326,7 @@ class Stokes(Model):
             ndofs[i], nel[i] = sol.ndofs, sol.nelements
             if save_fields is not None:
                 files.append(str(_save_fields(Path(save_fields), scene, i, sol)))
+                file_gaps.append(float(gaps[i]))
             times[i] = time.perf_counter() - t0
         est = None
         if scene.amount == "immersed":
@@ -331,6 +343,8 @@ class Stokes(Model):
             diag["slip_lengths_m"] = [scene.slip_length_sphere, scene.slip_length_wall]
         if files:
             diag["vtu_files"] = files
+            diag["pvd_file"] = str(_save_collection(Path(save_fields), scene,
+                                                    list(zip(file_gaps, files, strict=True))))
         return ForceCurve(case=scene.name, model=self.name, gap=gaps, force_viscous=f_reac,
                           force_capillary=None, extras={"force_traction": f_trac},
                           error_estimate=est, diagnostics=diag)
@@ -367,6 +381,7 @@ class Stokes(Model):
         f_diss, f_reac, f_trac = np.zeros(n), np.zeros(n), np.zeros(n)
         ndofs, nel, ngap, times, flux = (np.zeros(n) for _ in range(5))
         files: list[str] = []
+        file_gaps: list[float] = []  # the gap of each file
         for i in range(n):
             t0 = time.perf_counter()
             flow = solve_bridge(bridge, float(gaps[i]), float(scene.bridge_volume), b, res,
@@ -384,6 +399,7 @@ class Stokes(Model):
                 flux[i] = flow.motion.flux / flow.motion.swept - 1.0
                 if save_fields is not None:
                     files.append(str(_save_fields(Path(save_fields), scene, i, sol)))
+                    file_gaps.append(float(gaps[i]))
             times[i] = time.perf_counter() - t0
         diag: dict[str, Any] = {"dofs": ndofs.astype(int).tolist(),
                                 "elements": nel.astype(int).tolist(),
@@ -402,6 +418,8 @@ class Stokes(Model):
                                 + " (quasi-static bridge)"}
         if files:
             diag["vtu_files"] = files
+            diag["pvd_file"] = str(_save_collection(Path(save_fields), scene,
+                                                    list(zip(file_gaps, files, strict=True))))
         return ForceCurve(case=scene.name, model=self.name, gap=gaps, force_viscous=f_diss,
                           force_capillary=None,
                           extras={"force_reaction": f_reac, "force_traction": f_trac},
