@@ -243,6 +243,53 @@ def test_progress_line_every_few_seconds_when_stderr_is_not_a_terminal(monkeypat
     assert len(lines) >= 3 and all(ln.startswith("wetcontact run: stage 1") for ln in lines)
 
 
+def test_progress_line_counts_the_sweeps_points_and_a_new_phase_forgets_them(monkeypatch):
+    buf = io.StringIO()
+    monkeypatch.setattr(sys, "stderr", buf)
+    with report._Heartbeat(True, every=0.02) as beat:
+        beat.phase = "stage 1 (cases and studies)"
+        beat.points(3, 40)
+        time.sleep(0.1)
+        beat.phase = "drawing the case plots"
+        time.sleep(0.1)
+    lines = buf.getvalue().splitlines()
+    assert "wetcontact run: stage 1 (cases and studies): 3/40 points (0 s)" in lines
+    assert lines[-1] == "wetcontact run: drawing the case plots (0 s)"
+
+
+def test_run_in_a_pipe_counts_points_names_its_report_and_leaves_no_lock(
+        tmp_path, cheap, monkeypatch, capsys):
+    """``wetcontact run`` with stderr not a terminal: progress lines with points done/total
+    of each sweep, a last stdout line naming the report, and no lock file left anywhere
+    (neither the report's ``.out.lock`` nor the store's ``reference.h5.lock``)."""
+    import re
+
+    from wetcontact.cli import main
+
+    real_sweep = report.sweep
+
+    def slow_sweep(*args, on_progress=None, **kw):  # each point takes long enough to be seen
+        def seen(done, total):
+            on_progress(done, total)
+            time.sleep(0.03)
+        return real_sweep(*args, on_progress=seen, **kw)
+
+    monkeypatch.setattr(report, "sweep", slow_sweep)
+    monkeypatch.setattr(report, "PROGRESS_EVERY_S", 0.01)
+    cases, out = _case_dir(tmp_path, "p1", "p2"), tmp_path / "out"
+    for attempt in range(2):  # a rerun (everything reused) too
+        assert main(["run", "--cases", str(cases), "--out", str(out)]) == 0
+        stdout, stderr = capsys.readouterr()
+        assert stdout.splitlines()[-1] == f"wetcontact run: wrote {out.absolute()}/README.md"
+        counts = [(int(m[1]), int(m[2])) for m in re.finditer(
+            r"^wetcontact run: stage 1 \(cases and studies\): (\d+)/(\d+) points \(\d+ s\)$",
+            stderr, re.MULTILINE)]
+        assert counts and {t for _, t in counts} == {2 * len(CHEAP)}, stderr
+        assert [d for d, _ in counts] == sorted(d for d, _ in counts)
+        assert [p.name for p in tmp_path.rglob("*") if "lock" in p.name] == [], attempt
+    assert (out / "README.md").is_file() and (out / "reference.h5").is_file()
+
+
 def _case_result(names, negative=True):
     curves = {}
     gap = np.geomspace(1e-6, 1e-4, 8)

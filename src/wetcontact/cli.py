@@ -202,9 +202,10 @@ def _dispatch(args: argparse.Namespace) -> int:
     if args.command == "run":
         from wetcontact.report import run_all
 
-        run_all(cases=args.cases, out=args.out,
-                mode="quick" if args.quick else "full" if args.full else "default",
-                resume=args.resume, bench=args.bench)
+        path = run_all(cases=args.cases, out=args.out,
+                       mode="quick" if args.quick else "full" if args.full else "default",
+                       resume=args.resume, bench=args.bench)
+        print(f"wetcontact run: wrote {path}")  # the last line: where the report is
         return 0
     raise InputError(f"unknown command {args.command!r}; see wetcontact --help")
 

@@ -394,18 +394,42 @@ def compare_case(case: Path, out: Path, models: Sequence[str] | None = None,
 
 class _Heartbeat:
     """A line on stderr every ``every`` seconds saying what the run is doing (when stderr is
-    not a terminal: logs and CI see progress; a terminal has the sweep's bar)."""
+    not a terminal: logs and CI see progress; a terminal has the sweep's bar).
 
-    def __init__(self, enabled: bool, every: float = PROGRESS_EVERY_S):
+    While a sweep runs the line counts its points, ``wetcontact run: stage 1 (cases and
+    studies): 12/40 points (30 s)``: the sweep reports them through :meth:`points`.
+    """
+
+    def __init__(self, enabled: bool, every: float | None = None):
         self.enabled = enabled and not sys.stderr.isatty()
-        self.every, self.phase, self.t0 = every, "starting", time.perf_counter()
+        self._phase, self.t0 = "starting", time.perf_counter()
+        self.every = PROGRESS_EVERY_S if every is None else every
+        self.count: tuple[int, int] | None = None  # (done, total) of the current sweep
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._loop, daemon=True)
 
+    @property
+    def phase(self) -> str:
+        """What the run is doing; setting it forgets the last phase's point count."""
+        return self._phase
+
+    @phase.setter
+    def phase(self, text: str) -> None:
+        self._phase, self.count = text, None
+
+    def points(self, done: int, total: int) -> None:
+        """The current sweep's progress (its ``on_progress``)."""
+        self.count = (done, total)
+
+    def line(self) -> str:
+        """The progress line, without its newline."""
+        count = self.count
+        done = "" if count is None else f": {count[0]}/{count[1]} points"
+        return f"wetcontact run: {self._phase}{done} ({time.perf_counter() - self.t0:.0f} s)"
+
     def _loop(self) -> None:
         while not self._stop.wait(self.every):
-            sys.stderr.write(f"wetcontact run: {self.phase} "
-                             f"({time.perf_counter() - self.t0:.0f} s)\n")
+            sys.stderr.write(self.line() + "\n")
             sys.stderr.flush()
 
     def __enter__(self) -> _Heartbeat:
@@ -432,7 +456,34 @@ def _locked(out: Path) -> Iterator[None]:
         except BlockingIOError:
             raise InputError(f"{out}: another 'wetcontact run' is writing this report; wait "
                              "for it or pass another --out") from None
-        yield
+        try:
+            yield
+        finally:
+            # removed while still held, so no empty lock file is left behind; a run that
+            # opened this file meanwhile fails to lock it (non-blocking) as it should, and
+            # one that comes after creates a new file
+            with contextlib.suppress(OSError):
+                os.unlink(lock)
+    finally:
+        os.close(fd)
+
+
+def _remove_lock_file(lock: Path) -> None:
+    """Delete the store's released lock file before the report is swapped in, so that no
+    empty ``reference.h5.lock`` is left in it; kept if another process holds it. Only for
+    the staging folder's store, which no other process writes while this run holds the
+    report's lock (a writer waiting on a lock file would otherwise lock the deleted one)."""
+    import fcntl
+
+    try:
+        fd = os.open(lock, os.O_RDWR)
+    except OSError:
+        return
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        os.unlink(lock)
+    except OSError:  # held by another process (BlockingIOError), or already gone
+        pass
     finally:
         os.close(fd)
 
@@ -515,15 +566,14 @@ def build(scenes: list[Scene], out: Path, store: Store, mode: str, ctx: StudyCon
     sections = _sections()
     cpoints = case_points(scenes, PRESET_OF_MODE[mode])
     stage1 = cpoints + [p for _, mod in sections for p in mod.points(ctx)]
-    beat.phase = (f"stage 1: sweeping {len({p.key for p in stage1})} points (cases and "
-                  "studies)")  # distinct: a point two sections list is solved once
+    beat.phase = "stage 1 (cases and studies)"  # the count: distinct points, solved once
     bar = progress and not beat.enabled  # on a non-terminal the heartbeat prints instead
-    r1 = sweep(stage1, store, progress=bar)
+    r1 = sweep(stage1, store, progress=bar, on_progress=beat.points)
     stats.add("cases and studies", r1)
     stage2 = [p for _, mod in sections if hasattr(mod, "derived_points")
               for p in mod.derived_points(ctx, r1)]
-    beat.phase = f"stage 2: sweeping {len({p.key for p in stage2})} points (derived axes)"
-    r2 = sweep(stage2, store, progress=bar) if stage2 else None
+    beat.phase = "stage 2 (derived axes)"
+    r2 = sweep(stage2, store, progress=bar, on_progress=beat.points) if stage2 else None
     if r2 is not None:
         stats.add("derived axes", r2)
     result = r1 if r2 is None else _merged(r1, r2)
@@ -643,9 +693,11 @@ def run_all(cases: Path = Path("cases"), out: Path | None = None, mode: str = "d
             path, _ = build(scenes, staging, store, mode, ctx, progress, beat)
         except SolverError:
             beat.phase = "swapping the report in"
+            _remove_lock_file(store.lock_path)
             swap_in(staging, out)  # a complete report that lists its failures
             raise
         beat.phase = "swapping the report in"
+        _remove_lock_file(store.lock_path)
         swap_in(staging, out)
     return out / path.name
 

@@ -223,8 +223,10 @@ class _Progress:
     says so, in one stderr line.
     """
 
-    def __init__(self, total: int, enabled: bool, every: float = 5.0):
+    def __init__(self, total: int, enabled: bool, every: float = 5.0,
+                 on_progress: Callable[[int, int], None] | None = None):
         self.total, self.done, self.enabled, self.every = total, 0, enabled, every
+        self.on_progress = on_progress
         self.counts = {"computed": 0, "reused": 0, "failed": 0}
         self.t0 = time.monotonic()
         self.bar = None
@@ -244,6 +246,8 @@ class _Progress:
     def update(self, status: Status, n: int = 1) -> None:
         self.done += n
         self.counts[status] += n
+        if self.on_progress is not None:
+            self.on_progress(self.done, self.total)
         if self.bar is not None:
             self.bar.update(n)
             self.bar.set_postfix(self.counts, refresh=False)
@@ -269,7 +273,8 @@ class _Progress:
 def sweep(points: Sequence[Point], store: Store, workers: int | None = None,
           scheduler: str | None = None, progress: bool = True, *,
           retry_failed: bool = False, keep_curves: bool = True,
-          lock_timeout: float | None = None) -> SweepResult:
+          lock_timeout: float | None = None,
+          on_progress: Callable[[int, int], None] | None = None) -> SweepResult:
     """Solve every point not yet in ``store``, save each curve, return all outcomes.
 
     Parameters
@@ -292,6 +297,9 @@ def sweep(points: Sequence[Point], store: Store, workers: int | None = None,
         from the store on demand by :meth:`SweepResult.curve`).
     lock_timeout
         Seconds to wait for another writer of the store (default: the store's).
+    on_progress
+        Called with (points done, distinct points) as each point is reused, found failed
+        or solved (``wetcontact run`` shows the count in its progress lines).
 
     Raises
     ------
@@ -316,7 +324,9 @@ def sweep(points: Sequence[Point], store: Store, workers: int | None = None,
         store.check_writable()  # before any point is computed
         stored = set(store.keys())
         known_failures = {} if retry_failed else store.failures()
-        prog = _Progress(len(unique), progress)
+        prog = _Progress(len(unique), progress, on_progress=on_progress)
+        if on_progress is not None:
+            on_progress(0, len(unique))
         reused = [k for k in unique if k in stored]
         curves = store.load_many(reused) if keep_curves else {}
         for k in reused:
