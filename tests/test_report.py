@@ -290,6 +290,22 @@ def test_run_in_a_pipe_counts_points_names_its_report_and_leaves_no_lock(
     assert (out / "README.md").is_file() and (out / "reference.h5").is_file()
 
 
+def test_a_rerun_leaves_the_readme_as_it_was_and_times_go_to_an_uncommitted_file(
+        tmp_path, cheap):
+    """Wall times change with every run: they are in ``timings.json`` (ignored by git for
+    ``reports/``), not in the README, which a rerun on unchanged code leaves byte for byte."""
+    import json
+
+    cases, out = _case_dir(tmp_path, "t1"), tmp_path / "out"
+    first = report.run_all(cases=cases, out=out, progress=False, bench=None).read_bytes()
+    assert report.run_all(cases=cases, out=out, progress=False, bench=None).read_bytes() == first
+    assert b" s._" not in first and b"wall time" not in first.replace(b"wall times of", b"")
+    times = json.loads((out / report.TIMINGS).read_text())
+    assert set(times) == {"sweeps_s", "sections_s", "total_s"} and times["total_s"] > 0
+    ignored = (ROOT / ".gitignore").read_text().splitlines()
+    assert f"/reports/{report.TIMINGS}" in ignored
+
+
 def _case_result(names, negative=True):
     curves = {}
     gap = np.geomspace(1e-6, 1e-4, 8)

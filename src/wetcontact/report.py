@@ -18,6 +18,7 @@ import ctypes.util
 import errno
 import importlib
 import importlib.util
+import json
 import math
 import os
 import platform
@@ -47,6 +48,9 @@ SECTIONS = ("lubrication", "stokes", "thinfilm", "capillary_closures", "calibrat
 DEFAULT_BENCH = Path("benchmarks/results/thinfilm.json")
 DEFAULT_CALIBRATION = Path("benchmarks/results/calibration")
 PROGRESS_EVERY_S = float(os.environ.get("WETCONTACT_PROGRESS_S", "5"))
+TIMINGS = "timings.json"
+"""The report's wall times (sweeps, sections, total), beside its README and not committed,
+so that a rerun on unchanged code leaves the README as it was."""
 
 
 @dataclass
@@ -583,6 +587,8 @@ def build(scenes: list[Scene], out: Path, store: Store, mode: str, ctx: StudyCon
     stems = {r.scene.name: write_case_outputs(r, out) for r in results}
     table = write_error_table(error_rows(results), out)
     rendered, failed = [], []
+    timings: dict[str, dict[str, float]] = {
+        "sweeps_s": {name: round(t, 3) for name, _, t in stats.stages}, "sections_s": {}}
     for name, mod in sections:
         beat.phase = f"rendering the {name} section"
         ts = time.perf_counter()
@@ -591,14 +597,16 @@ def build(scenes: list[Scene], out: Path, store: Store, mode: str, ctx: StudyCon
         except Exception as exc:  # noqa: BLE001 - report it, write the rest
             failed.append(f"{name}: {type(exc).__name__}: {exc}")
             md = f"## {name}\n\nThis section failed: {exc}\n"
-        took = time.perf_counter() - ts
-        rendered.append(md.rstrip() + f"\n\n_Section rendered in {took:.1f} s._")
+        timings["sections_s"][name] = round(time.perf_counter() - ts, 3)
+        rendered.append(md.rstrip())
 
     failures = [f"{r.scene.name} / {m}: {msg}" for r in results for m, msg in r.failures.items()]
-    readme = _readme(results, stems, table, rendered, failures, mode, stats,
-                     time.perf_counter() - beat.t0, ctx)
+    readme = _readme(results, stems, table, rendered, failures, mode, stats, ctx)
     path = out / "README.md"
     path.write_text(readme)
+    # wall times change with every run: beside the report, in a file that is not committed
+    (out / TIMINGS).write_text(json.dumps(
+        {**timings, "total_s": round(time.perf_counter() - beat.t0, 3)}, indent=1) + "\n")
     if failed or failures:
         raise SolverError(f"{len(failures)} curve(s) and {len(failed)} report section(s) "
                           f"failed (listed in {path}): " + "; ".join(failed + failures)[:500])
@@ -703,8 +711,7 @@ def run_all(cases: Path = Path("cases"), out: Path | None = None, mode: str = "d
 
 
 def _readme(results: list[CaseResult], stems: dict[str, str], table: str, sections: list[str],
-            failures: list[str], mode: str, stats: RunStats, wall: float,
-            ctx: StudyContext) -> str:
+            failures: list[str], mode: str, stats: RunStats, ctx: StudyContext) -> str:
     prov = provenance()
     lines = [
         "# wetcontact reference report",
@@ -754,10 +761,11 @@ def _readme(results: list[CaseResult], stems: dict[str, str], table: str, sectio
                                               "meshio", "h5py")),
         f"- thin-film benchmark: `{ctx.bench_path}`" if ctx.bench_path else
         "- thin-film benchmark: not given (no stability map or wetting-width study)",
-        "- sweeps: " + "; ".join(f"{name}: {n} points in {t:.1f} s" for name, n, t in stats.stages)
+        "- sweeps: " + "; ".join(f"{name}: {n} points" for name, n, _ in stats.stages)
         + f"; {len(stats.computed)} curves computed, {stats.reused} reused from the store, "
         f"{stats.failed} failed, {len(stats.computed_twice)} computed twice",
-        f"- total wall time {wall:.1f} s; every curve with its settings and provenance is in "
+        f"- wall times of the sweeps, the sections and the run: `{TIMINGS}` (not committed: "
+        "they change with every run); every curve with its settings and provenance is in "
         "`reference.h5`.",
         "",
     ]
