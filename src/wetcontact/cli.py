@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any
 
 from wetcontact import __version__
 from wetcontact.errors import InputError, SolverError, short_repr
+from wetcontact.fileio import writable_file
 
 if TYPE_CHECKING:  # the CLI imports its subcommands' modules only when they run
     from wetcontact.study import Study
@@ -477,47 +478,6 @@ def writable_folder(path: Path, flag: str) -> Path:
         raise InputError(f"{flag} {str(path)!r}: cannot write there "
                          f"({exc.strerror or type(exc).__name__}); choose a writable folder"
                          ) from None
-    return path
-
-
-def writable_file(path: Path, flag: str, make_folders: bool = True) -> Path:
-    """``path`` as a file the command can write (create, or replace through a temporary
-    sibling), checked before any work: a study whose rupture distances take 25 s to solve
-    must not end in a path error.
-
-    Refused with an :class:`InputError` naming ``flag`` and the path: a folder or a special
-    file at ``path``; a file where a folder of the path should be; a folder the process
-    cannot write in; a name too long for the temporary copy beside it. Missing folders are
-    allowed when the command creates them (``make_folders``), else refused. Nothing is
-    created.
-    """
-    path = Path(path)
-    shown = repr(str(path)) if len(str(path)) <= 200 else repr(f"{str(path)[:200]}...")
-    if path.is_dir():
-        raise InputError(f"{flag} {shown}: a folder; allowed: a file name (in an existing "
-                         "folder)")
-    if path.exists() and not path.is_file():
-        raise InputError(f"{flag} {shown}: exists and is not a regular file (a device, pipe "
-                         "or socket); allowed: a regular file or a new path")
-    folder = path.parent
-    first = next((p for p in (folder, *folder.parents) if os.path.lexists(p)), Path("."))
-    if not first.is_dir():
-        raise InputError(f"{flag} {shown}: {str(first)!r} is a file, not a folder; allowed: a "
-                         "path through folders")
-    if first != folder and not make_folders:
-        raise InputError(f"{flag} {shown}: the folder {str(folder)!r} does not exist; create "
-                         "it first")
-    if not os.access(first, os.W_OK | os.X_OK):
-        raise InputError(f"{flag} {shown}: cannot write in {str(first)!r}; allowed: a path "
-                         "in a folder you can write to")
-    name_max = 255
-    with contextlib.suppress(OSError, ValueError):
-        name_max = os.pathconf(first, "PC_NAME_MAX")
-    longest = max((len(part) for part in path.parts), default=0)
-    if longest + len(".XXXXXXXX.tmp") > name_max:
-        raise InputError(f"{flag} {shown}: a name of {longest} characters; allowed: at most "
-                         f"{name_max - len('.XXXXXXXX.tmp')} (room for the temporary copy "
-                         "beside it)")
     return path
 
 

@@ -263,3 +263,11 @@ def test_shipped_collision_cases_run() -> None:
         res = collide(load_collision_case(f), trajectory=False)
         assert res.outcome in ("rebound", "stick")
         assert abs(res.diagnostics["energy_residual"]) < 1e-9
+
+
+def test_cli_bad_trajectory_path_before_any_work(tmp_path) -> None:
+    path = tmp_path / "impact.toml"
+    path.write_text(toml(case_dict(100.0)))
+    p = cli("collide", str(path), "--trajectory", str(tmp_path / "no" / "such" / "t.csv"))
+    assert p.returncode == 2 and len(p.stderr.strip().splitlines()) == 1
+    assert "--trajectory" in p.stderr and "does not exist" in p.stderr

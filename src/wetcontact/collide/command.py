@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from pathlib import Path
 from typing import Any
 
 
@@ -33,22 +32,15 @@ def add_parser(sub: Any, path_arg: Any) -> None:
                    help="write time, gap, velocity and forces as CSV")
 
 
-def _check_out(path: Path | None) -> None:
-    """Refuse an output path whose folder does not exist, before any work."""
-    from wetcontact.errors import InputError
-
-    if path is not None and not path.resolve().parent.is_dir():
-        raise InputError(f"--trajectory {path}: its folder does not exist; allowed: a file "
-                         "in an existing folder")
-
-
 def run(args: argparse.Namespace) -> int:
     """Run the ``collide`` subcommand; returns the exit code."""
     from wetcontact.collide import collide, load_collision_case
     from wetcontact.errors import InputError
+    from wetcontact.fileio import writable_file
     from wetcontact.models import load_all
 
-    _check_out(args.trajectory)
+    if args.trajectory is not None:  # before any work
+        writable_file(args.trajectory, "--trajectory", make_folders=False)
     rtol = 1e-10 if args.rtol is None else args.rtol
     if not 1e-14 <= rtol <= 1e-3:
         raise InputError(f"--rtol {rtol!r}; allowed: a number in [1e-14, 1e-3]")
