@@ -271,3 +271,19 @@ def test_cli_bad_trajectory_path_before_any_work(tmp_path) -> None:
     p = cli("collide", str(path), "--trajectory", str(tmp_path / "no" / "such" / "t.csv"))
     assert p.returncode == 2 and len(p.stderr.strip().splitlines()) == 1
     assert "--trajectory" in p.stderr and "does not exist" in p.stderr
+
+
+def test_dynamic_rupture_stretches_the_bridge() -> None:
+    """Pitois' (1 + Ca^1/2): the bridge breaks farther out and takes more energy."""
+    d = case_dict(300.0, amount={"film_thickness": X0})
+    d["amount"] = {"film_thickness": X0}
+    d["liquid"]["contact_angle"] = 20.0
+    static = run(d)
+    d["phases"] = {"rupture": "dynamic"}
+    dyn = run(d)
+    assert dyn.outcome == static.outcome == "rebound"
+    gap_static, gap_dyn = (r.trajectory["gap"][-1] for r in (static, dyn))
+    ca = ETA * 0.5 * dyn.rebound_velocity / 0.072  # below the speed at rupture
+    assert gap_dyn > gap_static * (1 + 0.5 * math.sqrt(ca))
+    assert dyn.energy["bridge"] > static.energy["bridge"] > 0.0
+    assert abs(dyn.diagnostics["energy_residual"]) < 1e-9

@@ -134,15 +134,7 @@ class _Impact:
             self.h_app = float(sc.film_thickness)
         elif sc.amount == "bridge":
             self.h_app = s_adv
-        if math.isnan(self.x0):  # a bridge's default start gap: its rupture distance
-            self.x0 = self.s_static
-        if self.x0 <= self.x_r:
-            raise InputError(f"{sc.origin}: impact.start_gap = {self.x0:.6g} m; allowed: > "
-                             f"the roughness gap {self.x_r:.6g} m")
-        self.dyn_max = 1.0
-        if case.rupture == "dynamic":
-            ca = sc.viscosity * 2.0 * case.impact.velocity / sc.surface_tension
-            self.dyn_max = 1.0 + math.sqrt(ca)
+        self._start_gap("")
         shift = self.x_r if case.cutoff == "shifted" else 0.0
         hi_app = min(self.h_app, self.x0) if sc.amount != "immersed" else self.x0
         hi_reb = self.s_static if sc.amount != "immersed" else self.x0
@@ -157,10 +149,18 @@ class _Impact:
                 cmodel.name, app_bridge, self.x_r, min(s_adv, hi_app), "capillary")
             tabs["capillary_rebound"] = table_for(cmodel.name, reb_scene, self.x_r,
                                                   self.s_static, "capillary")
-        self.models = {k: (tabs[k].model if k in tabs else None) for k in (
-            "viscous_approach", "viscous_rebound", "capillary_rebound")}
-        self.models["capillary"] = self.models.pop("capillary_rebound")
-        self.models["viscous"] = self.models["viscous_approach"]
+        self.models = {k: (tabs[t].model if t in tabs else None) for k, t in (
+            ("viscous", "viscous_approach"), ("viscous_rebound", "viscous_rebound"),
+            ("capillary", "capillary_rebound"))}
+
+    def _start_gap(self, of: str) -> None:
+        """A bridge's default start gap is its rupture distance; every start gap lies
+        beyond the roughness gap (``of``: whose roughness, for the message)."""
+        if math.isnan(self.x0):
+            self.x0 = self.s_static
+        if self.x0 <= self.x_r:
+            raise InputError(f"{self.case.scene.origin}: impact.start_gap = {self.x0:.6g} m; "
+                             f"allowed: > the roughness gap {self.x_r:.6g} m{of}")
 
     def _setup_force_set(self, name: str, options: dict[str, float]) -> None:
         from wetcontact.collide.dem import force_set
@@ -180,12 +180,7 @@ class _Impact:
         self.tables.update(sf.tables)
         self.set_contact = sf.contact
         self.volume, self.h_app, self.s_static = sf.volume, sf.reach, sf.rupture
-        if math.isnan(self.x0):
-            self.x0 = self.s_static
-        if self.x0 <= self.x_r:
-            raise InputError(f"{self.case.scene.origin}: impact.start_gap = {self.x0:.6g} m; "
-                             f"allowed: > the roughness gap {self.x_r:.6g} m of {name}")
-        self.dyn_max = 1.0
+        self._start_gap(f" of {name}")
         has = {k: k in sf.tables for k in ("viscous_approach", "viscous_rebound",
                                            "capillary_rebound")}
         self.models = {"viscous": name if has["viscous_approach"] else None,
@@ -233,8 +228,8 @@ class _Impact:
             xe = self.x_r
         else:
             xe = x
-        if mode.after_contact and self.dyn_max > 1.0:
-            xe = xe / self.stretch(v)
+        if mode.after_contact:
+            xe = xe / self.stretch(v)  # 1 for a static rupture
         reach = (self.h_app if not mode.after_contact else
                  (self.s_static if self.case.scene.amount != "immersed" else math.inf))
         if cut == "shifted":
