@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from dataclasses import replace
 from pathlib import Path
 
@@ -112,6 +113,111 @@ def test_calibration_files_and_refitted_model(finite_liquid_run, tmp_path, capsy
     out = json.loads(capsys.readouterr().out)
     np.testing.assert_allclose(out["force_viscous"], f, rtol=1e-12)
     assert main(["solve", str(case), "--model", "willett", "--coefficients", str(js)]) == 2
+
+
+def test_refit_file_names_each_coefficient_in_its_formula(finite_liquid_run) -> None:
+    """The refit file written by ``write_calibration`` carries, beside the bare
+    ``coefficients`` list the loader reads, the formula and one labelled record per
+    coefficient in the formula's order (issue 58): its name, value, published value and the
+    term it multiplies; the terms are checked against the form itself."""
+    res, files, _ = finite_liquid_run
+    data = json.loads(files[0].read_text())
+    rows = data["labelled_coefficients"]
+    assert [r["name"] for r in rows] == ["p"] + [f"c{i}" for i in range(9)]
+    assert [r["value"] for r in rows] == data["coefficients"]
+    assert [r["published"] for r in rows] == data["published"]
+    assert all(set(r) == {"name", "value", "published", "term"} for r in rows)
+    assert data["formula"].startswith("F = F_Reynolds (1 - x)^p [1 + d (c0 + c1 u")
+    assert cal.load_coefficients(files[0], family="finite-liquid").k.tolist() == \
+        data["coefficients"]
+    # each c_n's term is the form's derivative in c_n over F_Reynolds (1 - x)^p
+    fam = cal.FAMILIES["finite-liquid"]
+    s, h, r = np.array([1e-6, 4e-6, 8e-6]), 1e-5, 1e-3
+    x = {"gap": s, "edge_gap": np.full(3, h), "r_star": np.full(3, r),
+         "viscosity": np.full(3, 1e-3), "velocity": np.full(3, 0.1)}
+    xx, d = s / h, h / r
+    base = fam.form(np.array([2.0] + [0.0] * 9), x)
+    for i, row in enumerate(rows[1:], start=1):
+        k = np.array([2.0] + [0.0] * 9)
+        k[i] = 1.0
+        term = eval(row["term"].replace("^", "**").replace(" ", "*"),  # noqa: S307
+                    {"d": d, "u": np.sqrt(xx), "x": xx})
+        np.testing.assert_allclose(fam.form(k, x) / base - 1.0, term, rtol=0, atol=1e-14,
+                                   err_msg=row["name"])
+
+
+def test_every_family_labels_its_coefficients_in_order() -> None:
+    """One label per coefficient for every family, unique names, each named in its
+    formula; Willett's 48 follow k[i, j, m] flattened in C order (ln^j V* theta^m in
+    f_(i+1)); the shipped labels of Mikami's eight name A, B and C."""
+    for fam in cal.FAMILIES.values():
+        rows = cal.labelled_coefficients(fam, fam.published)["labelled_coefficients"]
+        names = [r["name"] for r in rows]
+        assert len(rows) == fam.published.size and len(set(names)) == len(names), fam.name
+        assert [r["value"] for r in rows] == fam.published.tolist()
+        if fam.name != "willett":  # its formula writes fi_jm once for f1 to f4
+            words = set(re.findall(r"\w+", fam.labels.formula))
+            assert set(names) <= words, (fam.name, set(names) - words)
+    rows = cal.labelled_coefficients(cal.FAMILIES["willett"],
+                                     cal.WILLETT_PUBLISHED.ravel())["labelled_coefficients"]
+    for (i, j, m), row in zip(np.ndindex(4, 4, 3), rows, strict=True):
+        assert row["name"] == f"f{i + 1}_{j}{m}"
+        assert row["value"] == cal.WILLETT_PUBLISHED[i, j, m]
+        want = " ".join(t for t in ({0: "", 1: "ln V*"}.get(j, f"ln^{j} V*"),
+                                    {0: "", 1: "theta"}.get(m, f"theta^{m}")) if t) or "1"
+        assert row["term"] == f"{want} in f{i + 1}"
+    mikami = cal.labelled_coefficients(cal.FAMILIES["mikami-pp"], cal.FAMILIES[
+        "mikami-pp"].published)["labelled_coefficients"]
+    assert [r["name"] for r in mikami] == ["a0", "a1", "b0", "b1", "b2", "b3", "c0", "c1"]
+    assert [r["term"].split(" in ")[-1] for r in mikami] == list("AABBBBCC")
+
+
+def test_refit_answers_nan_at_gaps_outside_its_domain(finite_liquid_run, tmp_path,
+                                                      capsys) -> None:
+    """Gaps outside the refit's calibrated S/H range get NaN force, counted and explained
+    in ``diagnostics["outside_domain"]``, the others the value they have alone; a scene
+    outside on a scene axis (the film's thickness), or with every gap outside, is refused
+    as before (issue 58)."""
+    _, files, _ = finite_liquid_run
+    model = cal.load_coefficients(files[0], family="finite-liquid")
+    lo, hi = model.domain["s_over_h"]
+    h = 1e-5
+    gaps = [0.5 * lo * h, 2e-6, 5e-6, 0.5 * (1.0 + hi) * h]
+    curve = model.force(make_scene("sphere-wall", {"film_thickness": h}, gaps))
+    f = curve.force_viscous
+    assert np.isnan(f[[0, 3]]).all() and np.all(f[1:3] > 0)
+    alone = model.force(make_scene("sphere-wall", {"film_thickness": h}, gaps[1:3]))
+    np.testing.assert_array_equal(f[1:3], alone.force_viscous)
+    assert "outside_domain" not in alone.diagnostics
+    note = curve.diagnostics["outside_domain"]
+    assert note.startswith("2 of 4 gaps outside the calibrated domain (s_over_h = ")
+    assert f"outside [{lo:.4g}, {hi:.4g}]" in note and note.endswith("NaN there")
+    with pytest.raises(ValidityError, match="every gap outside the calibrated domain"):
+        model.force(make_scene("sphere-wall", {"film_thickness": h}, [gaps[0], gaps[3]]))
+    with pytest.raises(ValidityError, match="delta_over_r = 0.5 outside"):
+        model.force(make_scene("sphere-wall", {"film_thickness": 5e-4}, gaps))
+    # wetcontact solve: a warning line naming the NaN gaps; --json writes them as null
+    from wetcontact.cli import main
+
+    case = tmp_path / "film.toml"
+    case.write_text(
+        'name = "film"\n[geometry]\nkind = "sphere-wall"\nradius = 1e-3\n[liquid]\n'
+        'viscosity = 1e-3\nsurface_tension = 0.072\ndensity = 998.0\n[amount]\n'
+        f'film_thickness = {h!r}\n[motion]\nvelocity = 0.1\ngaps = {gaps!r}\n')
+    argv = ["solve", str(case), "--model", "finite-liquid", "--coefficients", str(files[0])]
+    assert main(argv) == 0
+    cap_ = capsys.readouterr()
+    warn = [ln for ln in cap_.err.splitlines() if "warning" in ln]
+    assert len(warn) == 1 and "gives NaN at gaps " in warn[0] and "2 of 4 gaps" in warn[0]
+    assert f"{gaps[0]:.6g}, {gaps[3]:.6g} m" in warn[0]
+    assert sum("nan" in ln for ln in cap_.out.splitlines()) == 2
+    assert main(argv + ["--json"]) == 0
+    cap_ = capsys.readouterr()
+    out = json.loads(cap_.out, parse_constant=lambda c: pytest.fail(f"{c} in JSON"))
+    assert out["force_viscous"][0] is None and out["force_viscous"][3] is None
+    assert out["force_total"][1] == pytest.approx(f[1], rel=1e-12)
+    assert out["diagnostics"]["outside_domain"] == note
+    assert "gives NaN at gaps" in cap_.err
 
 
 def test_bad_coefficient_files_are_input_errors(tmp_path) -> None:

@@ -5,8 +5,11 @@ reference value), however they were computed: directly through
 ``get_model(name).force(scene)`` (:func:`reference_points`) or from a sweep's store.
 :func:`calibrate` trains on a grid, reports on a seeded held-out design the fit never saw
 (maximum, mean and 95th percentile of the relative error before and after, and where the
-maximum sits), and writes the coefficients with the domain they are valid on
-(:func:`write_calibration`), a parity plot and an error map beside the JSON.
+maximum sits), and writes the coefficients with the domain they are valid on, each named
+in its family's formula (:func:`labelled_coefficients`), a parity plot and an error map
+beside the JSON (:func:`write_calibration`). A refit read back (:func:`load_coefficients`,
+:class:`CalibratedClosure`) answers NaN at the gaps outside its domain and refuses a scene
+outside it in volume, angle, film thickness or radius ratio.
 
 Families (:data:`FAMILIES`; the published coefficients are the starting point):
 
@@ -55,9 +58,15 @@ from wetcontact.reduced_models import capillary as cap
 from wetcontact.reduced_models import rupture as rup
 from wetcontact.reduced_models import viscous as visc
 from wetcontact.reduced_models.forms import (
+    BAGHERI_LABELS,
     BAGHERI_PUBLISHED,
+    FINITE_LIQUID_LABELS,
+    LIAN_LABELS,
+    MIKAMI_LABELS,
+    WILLETT_LABELS,
     WILLETT_PUBLISHED,
     Arrays,
+    FormLabels,
     bagheri_form,
     finite_liquid_form,
     lian_form,
@@ -89,6 +98,13 @@ class Family:
         Coordinates whose training range is the calibrated domain.
     default_design
         Ranges of the design variables: name -> (lo, hi, "log" | "lin").
+    equal
+        Equal spheres only.
+    rupture_of
+        The family's own rupture distance (m) of inputs, the ``s_over_sc`` axis' S_c.
+    labels
+        The form's formula and each coefficient's name and term, in the order of the
+        coefficients (written in a calibration file, :func:`labelled_coefficients`).
     """
 
     name: str
@@ -102,6 +118,7 @@ class Family:
     default_design: Mapping[str, tuple[float, float, str]]
     equal: bool = False
     rupture_of: Callable[[Arrays], np.ndarray] | None = None
+    labels: FormLabels | None = None
 
 
 def _mikami_sc_pw(x: Arrays) -> np.ndarray:
@@ -122,35 +139,39 @@ _CAP_DESIGN = {"v_star": (1e-4, 0.1, "log"), "theta_deg": (0.0, 50.0, "lin"),
 FAMILIES: dict[str, Family] = {f.name: f for f in (
     Family("mikami-pw", "Mikami et al. (1998) particle-wall force", mikami_form,
            np.array(cap._MIKAMI_PW), "sphere-wall", "bridge", "capillary",
-           ("v_star", "theta_deg", "s_over_sc"), _CAP_DESIGN, rupture_of=_mikami_sc_pw),
+           ("v_star", "theta_deg", "s_over_sc"), _CAP_DESIGN, rupture_of=_mikami_sc_pw,
+           labels=MIKAMI_LABELS),
     Family("mikami-pp", "Mikami et al. (1998) particle-particle force", mikami_form,
            np.array(cap._MIKAMI_PP), "sphere-sphere", "bridge", "capillary",
            ("v_star", "theta_deg", "s_over_sc"), _CAP_DESIGN, equal=True,
-           rupture_of=_mikami_sc_pp),
+           rupture_of=_mikami_sc_pp, labels=MIKAMI_LABELS),
     Family("willett", "Willett et al. (2000) full fit", willett_form,
            WILLETT_PUBLISHED.ravel(), "sphere-sphere", "bridge", "capillary",
            ("v_star", "theta_deg", "s_over_sc"), _CAP_DESIGN, equal=True,
-           rupture_of=_willett_sc),
+           rupture_of=_willett_sc, labels=WILLETT_LABELS),
     Family("bagheri", "Bagheri, Roy & Poeschel (2024)", bagheri_form, BAGHERI_PUBLISHED,
            "sphere-sphere", "bridge", "capillary", ("v_star", "theta_deg", "s_over_sc"),
-           _CAP_DESIGN, equal=True, rupture_of=_willett_sc),
+           _CAP_DESIGN, equal=True, rupture_of=_willett_sc, labels=BAGHERI_LABELS),
     Family("lian-rupture", "Lian et al. (1993) rupture distance", lian_form,
            np.array([1.0, 0.5, 0.0]), "sphere-sphere", "bridge", "rupture",
            ("v_star", "theta_deg"), {"v_star": (1e-4, 0.1, "log"),
-                                      "theta_deg": (0.0, 50.0, "lin")}, equal=True),
+                                      "theta_deg": (0.0, 50.0, "lin")}, equal=True,
+           labels=LIAN_LABELS),
     Family("finite-liquid", "finite-liquid factor replacing (1 - S/H)^2 (films)",
            finite_liquid_form, np.array([2.0] + [0.0] * 9), "sphere-wall", "film",
            "viscous", ("delta_over_r", "s_over_h"),
-           {"delta_over_r": (1e-3, 0.1, "log"), "s_over_h": (0.01, 0.95, "lin")}),
+           {"delta_over_r": (1e-3, 0.1, "log"), "s_over_h": (0.01, 0.95, "lin")},
+           labels=FINITE_LIQUID_LABELS),
     Family("finite-liquid-bridge-sw", "finite-liquid factor, bridge on a wall",
            finite_liquid_form, np.array([2.0] + [0.0] * 9), "sphere-wall",
            "bridge", "viscous", ("v_star", "s_over_h"),
-           {"v_star": (1e-4, 0.1, "log"), "s_over_h": (0.01, 0.95, "lin")}),
+           {"v_star": (1e-4, 0.1, "log"), "s_over_h": (0.01, 0.95, "lin")},
+           labels=FINITE_LIQUID_LABELS),
     Family("finite-liquid-bridge-ss", "finite-liquid factor, bridge between two spheres",
            finite_liquid_form, np.array([2.0] + [0.0] * 9), "sphere-sphere",
            "bridge", "viscous", ("v_star", "s_over_h", "radius_ratio"),
            {"v_star": (1e-4, 0.1, "log"), "radius_ratio": (1.0, 10.0, "log"),
-            "s_over_h": (0.01, 0.95, "lin")}),
+            "s_over_h": (0.01, 0.95, "lin")}, labels=FINITE_LIQUID_LABELS),
 )}
 
 
@@ -463,11 +484,55 @@ class Calibration:
         return self.held_out["after"]["max"] <= self.held_out["before"]["max"] / 3.0
 
     def to_json(self) -> dict[str, Any]:
+        """The calibration file's object: ``coefficients`` (the loader's), ``formula`` and
+        ``labelled_coefficients`` (each coefficient named in the formula,
+        :func:`labelled_coefficients`), the domain and the error tables."""
+        labelled = labelled_coefficients(get_family(self.family), self.coefficients,
+                                         self.published)
         return {"family": self.family, "coefficients": self.coefficients.tolist(),
-                "published": self.published.tolist(),
+                "published": self.published.tolist(), **labelled,
                 "domain": {k: list(v) for k, v in self.domain.items()},
                 "train": self.train, "held_out": self.held_out, "goal_met": self.goal_met,
                 **self.extra}
+
+
+def labelled_coefficients(family: Family, k: np.ndarray, published: np.ndarray | None = None
+                          ) -> dict[str, Any]:
+    """``k`` named in ``family``'s formula: what a calibration file writes beside the bare
+    ``coefficients`` list (which the loader reads; these keys are for the reader).
+
+    Parameters
+    ----------
+    family
+        The closure family (its :attr:`Family.labels`).
+    k
+        Coefficients in the family's order.
+    published
+        The published coefficients, written beside each value (None: left out).
+
+    Returns
+    -------
+    dict
+        ``{"formula": str, "labelled_coefficients": [{"name", "value", "published",
+        "term"}, ...]}``, one entry per coefficient in the order of ``k``; ``term`` is what
+        the coefficient multiplies in the formula (``"theta^2 in B"``), or ``"exponent of
+        ..."``. Empty for a family without labels.
+    """
+    if family.labels is None:
+        return {}
+    k = np.asarray(k, dtype=float).ravel()
+    if len(family.labels.terms) != k.size:  # a labels table out of step with its form
+        raise ValueError(f"{family.name}: {len(family.labels.terms)} labels for {k.size} "
+                         "coefficients")
+    pub = None if published is None else np.asarray(published, dtype=float).ravel()
+    rows = []
+    for i, (name, term) in enumerate(family.labels.terms):
+        row: dict[str, Any] = {"name": name, "value": float(k[i])}
+        if pub is not None:
+            row["published"] = float(pub[i])
+        row["term"] = term
+        rows.append(row)
+    return {"formula": family.labels.formula, "labelled_coefficients": rows}
 
 
 def calibrate(family: Family, train: Points, held_out: Points,
@@ -791,8 +856,22 @@ def calibrate_study(study_path: Path | str, family_name: str, out: Path | str,
 # ---- refitted closures as models -----------------------------------------------------------
 
 
+GAP_AXES = frozenset({"s_over_sc", "s_over_h"})
+"""Domain axes that vary along a curve (the gap's): a gap outside the calibrated range on one
+of them is answered by NaN at that gap (:class:`CalibratedClosure`); the other axes (volume,
+angle, film thickness, radius ratio) are the scene's, and a scene outside refuses."""
+
+
 class CalibratedClosure(Model):
-    """A family with refitted coefficients; refuses scenes outside the calibrated domain."""
+    """A family with refitted coefficients, answering per gap inside its calibrated domain.
+
+    A scene outside the domain on a scene axis (volume, contact angle, film thickness, radius
+    ratio), of another geometry or liquid amount, or with every gap outside it, is refused
+    (:class:`~wetcontact.errors.ValidityError`). A scene with some gaps outside on a gap axis
+    (:data:`GAP_AXES`: ``s_over_sc``, ``s_over_h``) gets NaN at those gaps and
+    ``diagnostics["outside_domain"]`` saying how many and why (``wetcontact solve`` prints
+    it as a warning).
+    """
 
     level = 0
 
@@ -805,23 +884,66 @@ class CalibratedClosure(Model):
             f"{k} in [{lo:.4g}, {hi:.4g}]" for k, (lo, hi) in domain.items())
         self.reference = f"{family.description}, refitted ({source})"  # type: ignore[misc]
 
+    def _refuse(self, why: str) -> ValidityError:
+        return ValidityError(self.name, why, "meniscus" if self.family.amount == "bridge"
+                             else "lubrication")
+
+    def outside(self, scene: Scene) -> tuple[np.ndarray, list[str]]:
+        """The gaps of ``scene`` outside the calibrated domain on a gap axis.
+
+        Parameters
+        ----------
+        scene
+            A scene of the family's class, inside the domain on the scene axes
+            (:meth:`check` refuses the others).
+
+        Returns
+        -------
+        mask : numpy.ndarray
+            True at the gaps outside, shape of ``scene.gap_array``.
+        reasons : list of str
+            Per axis with gaps outside, the range of their values against the calibrated
+            range (empty when no gap is outside).
+        """
+        coords = domain_coords(self.family, scene_inputs(self.family, scene))
+        mask = np.zeros(scene.gap_array.shape, dtype=bool)
+        reasons = []
+        for k, (lo, hi) in self.domain.items():
+            if k not in GAP_AXES:
+                continue
+            v = coords[k]
+            bad = _beyond(v, lo, hi)
+            if np.any(bad):
+                reasons.append(f"{k} = {float(v[bad].min()):.4g} to {float(v[bad].max()):.4g} "
+                               f"outside [{lo:.4g}, {hi:.4g}]")
+            mask |= bad
+        return mask, reasons
+
     def check(self, scene: Scene) -> None:
         fam = self.family
         if scene.kind != fam.kind or scene.amount != fam.amount or (
                 fam.equal and not scene.equal_spheres):
-            raise ValidityError(self.name, f"calibrated for {fam.kind} {fam.amount}"
-                                + (" (equal spheres)" if fam.equal else ""), "meniscus"
-                                if fam.amount == "bridge" else "lubrication")
+            raise self._refuse(f"calibrated for {fam.kind} {fam.amount}"
+                               + (" (equal spheres)" if fam.equal else ""))
         coords = domain_coords(fam, scene_inputs(fam, scene))
         for k, (lo, hi) in self.domain.items():
+            if k in GAP_AXES:  # per gap: NaN there (_force), unless every gap is outside
+                continue
             v = coords[k]
-            bad = (v < lo * (1 - 1e-9) - 1e-12) | (v > hi * (1 + 1e-9))
+            bad = _beyond(v, lo, hi)
             if np.any(bad):
-                raise ValidityError(self.name, f"{k} = {float(v[bad][0]):.4g} outside the "
-                                    f"calibrated domain [{lo:.4g}, {hi:.4g}] ({self.source})",
-                                    "meniscus" if fam.amount == "bridge" else "lubrication")
+                raise self._refuse(f"{k} = {float(v[bad][0]):.4g} outside the calibrated "
+                                   f"domain [{lo:.4g}, {hi:.4g}] ({self.source})")
+        mask, reasons = self.outside(scene)
+        if np.all(mask):
+            raise self._refuse(f"every gap outside the calibrated domain ({'; '.join(reasons)};"
+                               f" {self.source})")
 
     def _force(self, scene: Scene, preset: str, **opts: Any) -> ForceCurve:
+        out_mask, reasons = self.outside(scene)
+        full_gap = scene.gap_array
+        if np.any(out_mask):  # the form evaluated at the gaps inside only
+            scene = scene.with_gaps([float(g) for g in full_gap[~out_mask]])
         x = scene_inputs(self.family, scene)
         gap = scene.gap_array
         try:  # absurd coefficients (a file edited by hand) overflow: refused, not printed
@@ -848,14 +970,29 @@ class CalibratedClosure(Model):
                              f" ({float(val[i]):.4g} at gap {float(gap[i]):.4g} m, case "
                              f"'{scene.name}'); allowed: coefficients whose {self.family.name} "
                              "form keeps its sign over the domain")
+        diagnostics: dict[str, Any] = {}
+        if np.any(out_mask):
+            filled = np.full(full_gap.shape, np.nan)
+            filled[~out_mask] = val
+            val, gap = filled, full_gap
+            diagnostics["outside_domain"] = (
+                f"{int(out_mask.sum())} of {out_mask.size} gaps outside the calibrated domain "
+                f"({'; '.join(reasons)}; {self.source}): NaN there")
         if self.family.target == "viscous":
             return ForceCurve(case=scene.name, model=self.name, gap=gap, force_viscous=val,
-                              force_capillary=None)
+                              force_capillary=None, diagnostics=diagnostics)
         if self.family.target == "rupture":  # a rupture distance, no force: both None
             return ForceCurve(case=scene.name, model=self.name, gap=gap, force_viscous=None,
-                              force_capillary=None, extras={"rupture_distance": val})
+                              force_capillary=None, extras={"rupture_distance": val},
+                              diagnostics=diagnostics)
         return ForceCurve(case=scene.name, model=self.name, gap=gap, force_viscous=None,
-                          force_capillary=-val)
+                          force_capillary=-val, diagnostics=diagnostics)
+
+
+def _beyond(v: np.ndarray, lo: float, hi: float) -> np.ndarray:
+    """True where ``v`` is outside ``[lo, hi]`` beyond rounding (the fit's own points are
+    inside)."""
+    return (v < lo * (1 - 1e-9) - 1e-12) | (v > hi * (1 + 1e-9))
 
 
 def _finite_numbers(path: Path, field: str, value: Any, size: int | None = None

@@ -11,6 +11,7 @@ import argparse
 import contextlib
 import errno
 import json
+import math
 import os
 import signal
 import sys
@@ -27,6 +28,7 @@ from wetcontact.errors import InputError, SolverError, short_repr
 from wetcontact.fileio import writable_file
 
 if TYPE_CHECKING:  # the CLI imports its subcommands' modules only when they run
+    from wetcontact.models import ForceCurve
     from wetcontact.study import Study
 
 
@@ -407,6 +409,9 @@ def _solve(args: argparse.Namespace) -> int:
             sys.stderr.write(f"wetcontact: warning: model '{model.name}' is used outside its "
                              f"stated validity ({note})"
                              + (f"; model '{alt}' applies\n" if alt else "\n"))
+        if note := curve.diagnostics.get("outside_domain"):
+            sys.stderr.write(f"wetcontact: warning: model '{model.name}' gives NaN at gaps "
+                             f"{_nan_gaps(curve)} m: {note}\n")
     else:
         tol = args.tol if args.tol is not None else scene.tolerance
         lo, hi = TOLERANCE_RANGE
@@ -432,6 +437,9 @@ def _solve(args: argparse.Namespace) -> int:
         out["model_viscous"] = names.get("viscous")
         out["model_capillary"] = names.get("capillary")
         out["selection"] = why
+        if curve.diagnostics.get("outside_domain"):  # NaN (warned above) as JSON null
+            out = {k: ([None if isinstance(x, float) and math.isnan(x) else x for x in v]
+                       if isinstance(v, list) else v) for k, v in out.items()}
         try:
             text = json.dumps(out, allow_nan=False)
         except ValueError:  # a NaN in settings/diagnostics: never printed silently
@@ -450,6 +458,18 @@ def _solve(args: argparse.Namespace) -> int:
         for i in range(curve.gap.size):
             print("  ".join(f"{c[i]:>14.6e}" for _, c in cols))
     return 0
+
+
+def _nan_gaps(curve: ForceCurve, shown: int = 6) -> str:
+    """The gaps (m) where ``curve`` has a NaN force or extra, as text: the first ``shown``
+    of them, then how many more."""
+    import numpy as np
+
+    arrays = [a for a in (curve.force_viscous, curve.force_capillary, *curve.extras.values())
+              if a is not None]
+    bad = curve.gap[np.any([np.isnan(a) for a in arrays], axis=0)]
+    text = ", ".join(f"{g:.6g}" for g in bad[:shown])
+    return text + (f" and {bad.size - shown} more" if bad.size > shown else "")
 
 
 TEXT_EXTRAS = {"rupture_distance": "rupture_distance_m"}

@@ -49,6 +49,10 @@ class ForceCurve:
         A-priori or a-posteriori relative error estimate per gap, or ``None``.
     diagnostics
         What the solver did: iterations, residuals, dofs, wall time (``wall_time_s``).
+        ``outside_domain`` (a refitted closure, :class:`wetcontact.calibrate.CalibratedClosure`):
+        how many gaps lie outside its calibrated domain and why; the forces and extras are
+        NaN at those gaps, and only there, and only with this key (otherwise every value is
+        finite).
     settings
         Everything besides the scene that changes a number (preset, resolution, ...).
     provenance
@@ -96,8 +100,11 @@ class ForceCurve:
             raise SolverError(
                 f"ForceCurve '{self.model}': {name} has shape {arr.shape}, expected ({n},)"
             )
-        if not np.all(np.isfinite(arr)):
-            bad = self.gap[~np.isfinite(arr)]
+        ok = np.isfinite(arr)
+        if self.diagnostics.get("outside_domain"):  # NaN: a gap outside a refit's domain
+            ok |= np.isnan(arr)
+        if not np.all(ok):
+            bad = self.gap[~ok]
             raise SolverError(
                 f"model '{self.model}' produced non-finite {name} at gaps {bad[:3].tolist()} m"
             )

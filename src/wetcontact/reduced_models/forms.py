@@ -11,6 +11,7 @@ package's closure), ``x`` a mapping of per-point input arrays (SI units, radians
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -102,3 +103,86 @@ def finite_liquid_form(k: np.ndarray, x: Arrays) -> np.ndarray:
             + d**2 * (k[5] + k[6] * u + k[7] * xx) + d**3 * (k[8] + k[9] * u))
     return (visc.reynolds_force(x["viscosity"], x["r_star"], x["velocity"], x["gap"])
             * (1.0 - xx) ** k[0] * poly)
+
+
+# ---- the coefficients' names and terms -----------------------------------------------------
+
+
+@dataclass(frozen=True)
+class FormLabels:
+    """A form's formula and, per coefficient in the order of ``k``, its name and the term it
+    multiplies (or ``"exponent of ..."`` for a coefficient that is a power).
+
+    Attributes
+    ----------
+    formula
+        The form with its coefficients named (natural logarithms, theta in radians,
+        V* = V/R^3).
+    terms
+        ``(name, term)`` per coefficient: ``term`` is written as in ``formula``, naming the
+        sub-formula it belongs to (``"theta^2 ln V* in B"``).
+    """
+
+    formula: str
+    terms: tuple[tuple[str, str], ...]
+
+
+MIKAMI_LABELS = FormLabels(
+    "F = pi R sigma (exp(A S/R + B) + C); A = a0 V*^a1, B = (b0 ln V* + b1) theta^2 "
+    "+ b2 ln V* + b3, C = c0 ln V* + c1",
+    (("a0", "V*^a1 in A"), ("a1", "exponent of V* in A"), ("b0", "theta^2 ln V* in B"),
+     ("b1", "theta^2 in B"), ("b2", "ln V* in B"), ("b3", "1 in B"), ("c0", "ln V* in C"),
+     ("c1", "1 in C")))
+
+
+def _power(symbol: str, n: int) -> str:
+    """``symbol`` to the power ``n`` as the formulas write it ("" for n = 0)."""
+    return "" if n == 0 else symbol if n == 1 else f"{symbol}^{n}"
+
+
+def _willett_terms() -> tuple[tuple[str, str], ...]:
+    """Willett's 48 ``(name, term)`` in the order of ``k[i, j, m]`` flattened in C order."""
+    out = []
+    for i in range(4):
+        for j in range(4):
+            for m in range(3):
+                term = " ".join(t for t in (_power("ln", j) + (" V*" if j else ""),
+                                            _power("theta", m)) if t) or "1"
+                out.append((f"f{i + 1}_{j}{m}", f"{term} in f{i + 1}"))
+    return tuple(out)
+
+
+WILLETT_LABELS = FormLabels(
+    "F = 2 pi R sigma exp(f1 - f2 exp(f3 ln S+ + f4 ln^2 S+)), S+ = (S/2) sqrt(R/V); "
+    "f_i = fi_00 + fi_01 theta + fi_02 theta^2 + fi_10 ln V* + fi_11 ln V* theta + ... "
+    "+ fi_32 ln^3 V* theta^2 (fi_jm multiplies ln^j V* theta^m; k[i, j, m] flattened in C "
+    "order, shape (4, 4, 3))",
+    _willett_terms())
+
+BAGHERI_LABELS = FormLabels(
+    "F = R sigma F_t (1 + a_s s)/(1 + a_t b_s a_s s + a_t b_s s^2), s = S/(R s_c), s_c = "
+    "(1 + theta/2)(V*^(1/3) + 0.1 V*^(2/3)); F_t = (1 - a sin(theta)^b) f0, f0 = 2 pi "
+    "(1 - k0 V*^k1), a = k2 V*^k3 + k4, b = k5 V*^k6 + k7, a_s = k8 V*^k9 + k10 V*^k11, "
+    "b_s = k12 V*^k13 + k14 V*^k15, a_t = (k16 ln^2 V* + k17 ln V* + k18) theta^3 + (k19 "
+    "V*^k20 + k21 V*^k22) theta + 1 (Bagheri, Roy & Poeschel 2024, eqs. 24-30)",
+    (("k0", "-V*^k1 in f0/(2 pi)"), ("k1", "exponent of V* in f0"), ("k2", "V*^k3 in a"),
+     ("k3", "exponent of V* in a"), ("k4", "1 in a"), ("k5", "V*^k6 in b"),
+     ("k6", "exponent of V* in b"), ("k7", "1 in b"), ("k8", "V*^k9 in a_s"),
+     ("k9", "exponent of V* in a_s (first term)"), ("k10", "V*^k11 in a_s"),
+     ("k11", "exponent of V* in a_s (second term)"), ("k12", "V*^k13 in b_s"),
+     ("k13", "exponent of V* in b_s (first term)"), ("k14", "V*^k15 in b_s"),
+     ("k15", "exponent of V* in b_s (second term)"), ("k16", "ln^2 V* theta^3 in a_t"),
+     ("k17", "ln V* theta^3 in a_t"), ("k18", "theta^3 in a_t"),
+     ("k19", "V*^k20 theta in a_t"), ("k20", "exponent of V* in a_t (first theta term)"),
+     ("k21", "V*^k22 theta in a_t"), ("k22", "exponent of V* in a_t (second theta term)")))
+
+LIAN_LABELS = FormLabels(
+    "S_c = R ((a + b theta) V*^(1/3) + c V*^(2/3))",
+    (("a", "V*^(1/3)"), ("b", "theta V*^(1/3)"), ("c", "V*^(2/3)")))
+
+FINITE_LIQUID_LABELS = FormLabels(
+    "F = F_Reynolds (1 - x)^p [1 + d (c0 + c1 u + c2 x + c3 x u) + d^2 (c4 + c5 u + c6 x) "
+    "+ d^3 (c7 + c8 u)], x = S/H, u = sqrt(x), d = kappa H/R*",
+    (("p", "exponent of (1 - x)"), ("c0", "d"), ("c1", "d u"), ("c2", "d x"),
+     ("c3", "d x u"), ("c4", "d^2"), ("c5", "d^2 u"), ("c6", "d^2 x"), ("c7", "d^3"),
+     ("c8", "d^3 u")))
