@@ -1228,6 +1228,14 @@ def test_json_refit_round_trip(family, tmp_path):
     assert {k: tuple(v) for k, v in part["domain"].items()} == {
         k: tuple(v) for k, v in data["domain"].items()}
     assert doc["origin"] == "refitted" and info["closure"] == family
+    # each coefficient named in the formula, in the coefficients' order (issue 58: was
+    # bare numbers after "A, B, C in V* and theta" for Mikami)
+    rows = part["labelled_coefficients"]
+    assert [r["value"] for r in rows] == data["coefficients"]
+    assert all(r["name"] and r["term"] for r in rows) and part["formula"]
+    if family == "mikami-pw":
+        assert [r["name"] for r in rows] == ["a0", "a1", "b0", "b1", "b2", "b3", "c0", "c1"]
+        assert rows[3]["term"] == "theta^2 in B"
 
 
 @pytest.mark.parametrize("mutate", [

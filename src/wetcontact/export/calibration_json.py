@@ -421,7 +421,7 @@ def _capillary_piece_parts(t: CapillaryTable, kind: str, part: CapillaryPart,
 def refit_document(path: Path) -> dict[str, Any]:
     """A calibration JSON written by ``wetcontact calibrate`` / ``python -m
     wetcontact.generate fit`` (validated by :func:`~wetcontact.calibrate.load_coefficients`)."""
-    from wetcontact.calibrate import load_coefficients
+    from wetcontact.calibrate import labelled_coefficients, load_coefficients
 
     closure = load_coefficients(path)  # InputError naming the file and the field if bad
     fam = closure.family
@@ -445,6 +445,7 @@ def refit_document(path: Path) -> dict[str, Any]:
                 "relative_error_published": _errors(ho["before"])}}
     if form_key in LAYOUT:
         part["coefficient_layout"] = LAYOUT[form_key]
+    part.update(labelled_coefficients(fam, closure.k, fam.published))  # each named in its form
     if "seed" in ho:
         part["held_out"]["seed"] = int(ho["seed"])
     return {"format": "wetcontact-calibration", "format_version": 1, "closure": fam.name,
