@@ -197,7 +197,7 @@ def _angles(src: str, name: str, value: Any) -> tuple[float, float] | None:
 def default_start_gap(scene: Scene) -> float:
     """Where an impact starts when ``impact.start_gap`` is not given: the film thickness
     for a film, 1 R for an immersed sphere; for a bridge the rupture distance (found by
-    :func:`wetcontact.collide.forces.static_rupture_distance` when the collision is set up;
+    :func:`wetcontact.collide.forces.rupture_distance` when the collision is set up;
     ``nan`` here as a marker)."""
     if scene.amount == "film":
         return float(scene.film_thickness)
@@ -232,7 +232,7 @@ def collision_case_from_dict(data: Mapping[str, Any], source: str = "<dict>"
     for key in ("impact", "solid"):
         if key not in data:
             raise CaseError(source, f"[{key}]", None, f"a [{key}] table (wetcontact collide "
-                            "needs [impact] and [solid]; see docs/collisions.md)")
+                            "needs [impact] and [solid]; see docs/jobs/collide.md)")
     imp_t = _table(source, data, "impact")
     if "velocity" not in imp_t:
         raise CaseError(source, "impact.velocity", None, "required (m/s, positive = toward)")
