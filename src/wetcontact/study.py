@@ -37,7 +37,19 @@ each sets a case-file field from the point's other values:
                                       bridge's edge gap ``sqrt(S^2 + V/(pi R*))``
                                       (Pitois 2000): ``S = x sqrt(V/(pi R*)/(1 - x^2))``,
                                       value in (0, 1)
+``impact.capillary_number``           ``impact.velocity = value x surface_tension /
+                                      viscosity`` (collision studies)
+``impact.stokes_number``              ``impact.velocity = value x 6 pi eta R*^2 / m*``
+                                      (collision studies)
 ====================================  ===============================================
+
+Collision studies: a base that is a collision case (``[impact]`` and ``[solid]``,
+:mod:`wetcontact.collide.case`) makes every point one impact, and ``models`` name force
+sets: ``"reference"`` (the toolkit's default models) or a DEM code's
+(:data:`wetcontact.collide.record.FORCE_SET_NAMES`). The collision tables' fields are
+field paths like any other (``impact.velocity``, ``solid.restitution``,
+``contact.cutoff``, ...). Each point's curve in the store is the collision's one-row
+record (:mod:`wetcontact.collide.record`): restitution, stick or rebound, energies.
 
 ``S_c`` is the rupture distance of the point's bridge from the finite-element
 Young-Laplace solution (:func:`wetcontact.solver.meniscus.rupture_distance` at the
@@ -172,6 +184,26 @@ def _without_gaps(case: dict[str, Any]) -> dict[str, Any]:
     return {**case, "motion": {**motion, "gaps": [any_gap(case)]}}
 
 
+def _collision(case: dict[str, Any], velocity: float | None = None) -> Any:
+    """The point's :class:`~wetcontact.collide.CollisionCase` (``impact.velocity`` replaced
+    by ``velocity`` when given)."""
+    from wetcontact.collide import collision_case_from_dict
+
+    if not isinstance(case.get("impact"), Mapping):
+        raise InputError("needs a collision base (a case file with [impact] and [solid])")
+    if velocity is not None:
+        case = {**case, "impact": {**case["impact"], "velocity": velocity}}
+    return collision_case_from_dict(_without_gaps(case), source="<study point>")
+
+
+def _stokes_velocity(case: dict[str, Any], value: Any) -> float:
+    """``impact.velocity`` of Stokes number ``St = m* v / (6 pi eta R*^2)``."""
+    st = float(value)
+    if not st > 0.0:
+        raise InputError(f"St = {value!r}; allowed: > 0")
+    return float(_collision(case, 1.0).stokes_velocity(st))
+
+
 def _scaled(value: Any, scale: float) -> Any:
     if isinstance(value, list | tuple):
         return [float(v) * scale for v in value]
@@ -193,6 +225,9 @@ DERIVED: dict[str, tuple[str, Callable[[dict[str, Any], Any], Any]]] = {
     "motion.gap_over_rupture": ("motion.gaps", _rupture_gaps),
     "motion.gap_over_film": ("motion.gaps", _film_gaps),
     "motion.gap_over_edge_gap": ("motion.gaps", _edge_gaps),
+    "impact.capillary_number": ("impact.velocity", lambda c, v: float(v)
+                                * c["liquid"]["surface_tension"] / c["liquid"]["viscosity"]),
+    "impact.stokes_number": ("impact.velocity", _stokes_velocity),
 }
 """Derived dimensionless fields, applied in this order after the plain fields."""
 
@@ -218,6 +253,9 @@ class Study:
     scenes
         ``(axis values, scene)`` per point of the design, grid order (first axis slowest)
         or sample order.
+    cases
+        A collision study's :class:`~wetcontact.collide.CollisionCase` per scene (the
+        same order); empty for a study of force curves.
     """
 
     name: str
@@ -228,9 +266,21 @@ class Study:
     preset: str
     axes: tuple[str, ...]
     scenes: tuple[tuple[Mapping[str, Any], Scene], ...] = field(repr=False)
+    cases: tuple[Any, ...] = field(default=(), repr=False)
+
+    @property
+    def collisions(self) -> bool:
+        """Whether the points are impacts (a collision base) rather than force curves."""
+        return bool(self.cases)
 
     def points(self) -> list[Point]:
-        """Every (scene, model) point, scene-major, with ``axes`` filled."""
+        """Every (scene, model) point, scene-major, with ``axes`` filled; a collision
+        study's points carry their case (``Point.collision``)."""
+        if self.cases:
+            return [Point(scene=case.scene, model=m, preset=self.preset, axes=dict(ax),
+                          collision=case)
+                    for (ax, _), case in zip(self.scenes, self.cases, strict=True)
+                    for m in self.models]
         return [Point(scene=sc, model=m, preset=self.preset, axes=dict(ax))
                 for ax, sc in self.scenes for m in self.models]
 
@@ -259,11 +309,12 @@ def load_study(path: str | Path) -> Study:
     for key in ("description", "source"):
         if not isinstance(data.get(key, ""), str):
             raise CaseError(src, key, data[key], "a string")
-    models = _models(src, data["models"])
+    base_path, base = _base(src, path, data["base"])
+    collisions = isinstance(base.get("impact"), Mapping)
+    models = _models(src, data["models"], collisions)
     preset = data.get("preset", "default")
     if preset not in PRESETS:
         raise CaseError(src, "preset", preset, ", ".join(PRESETS))
-    base_path, base = _base(src, path, data["base"])
     fixed = _table(src, data, "set")
     axes = _table(src, data, "axes")
     for p in [*fixed, *axes]:
@@ -281,10 +332,17 @@ def load_study(path: str | Path) -> Study:
     if len(designs) * len(models) > MAX_POINTS:
         raise CaseError(src, "axes", f"{len(designs)} scenes x {len(models)} models",
                         f"at most {MAX_POINTS} points")
-    scenes = tuple((ax, _scene(src, base_path, base, fixed, ax)) for ax in designs)
+    built = [(ax, _scene(src, base_path, base, fixed, ax, collisions)) for ax in designs]
+    if collisions:
+        from wetcontact.collide.record import point_case
+
+        cases = tuple(point_case(c) for _, c in built)
+        scenes = tuple((ax, c.scene) for (ax, _), c in zip(built, cases, strict=True))
+    else:
+        cases, scenes = (), tuple(built)
     return Study(name=name, description=data.get("description", ""), source=path,
                  base=base_path, models=models, preset=preset, axes=tuple(axes),
-                 scenes=scenes)
+                 scenes=scenes, cases=cases)
 
 
 # ---- parts of a study file ----------------------------------------------------------
@@ -303,12 +361,20 @@ def _read_toml(src: str, path: Path, allowed: str) -> dict[str, Any]:
         raise CaseError(src, where, exc.value, exc.allowed) from None
 
 
-def _models(src: str, models: Any) -> tuple[str, ...]:
+def _models(src: str, models: Any, collisions: bool = False) -> tuple[str, ...]:
+    """The model names (force-set names for a collision study), each checked."""
     if not isinstance(models, list) or not models or len(models) > 100:
         raise CaseError(src, "models", models, "a non-empty list of model names")
     for i, m in enumerate(models):
         if not isinstance(m, str):
             raise CaseError(src, f"models[{i}]", m, "a model name")
+        if collisions:
+            from wetcontact.collide.record import FORCE_SET_NAMES
+
+            if m not in FORCE_SET_NAMES:
+                raise CaseError(src, f"models[{i}]", m, "a collision study's force sets: "
+                                + ", ".join(FORCE_SET_NAMES))
+            continue
         try:
             get_model(m)
         except InputError:
@@ -325,7 +391,12 @@ def _base(src: str, path: Path, base: Any) -> tuple[Path, dict[str, Any]]:
         raise CaseError(src, "base", base, "a case file path relative to the study file")
     base_path = path.parent / base
     data = _read_toml(src, base_path, f"an existing case file ({base_path} not found)")
-    scene_from_dict(data, source=str(base_path))  # the base alone must be valid
+    if isinstance(data.get("impact"), Mapping):  # the base alone must be valid
+        from wetcontact.collide import collision_case_from_dict
+
+        collision_case_from_dict(data, source=str(base_path))
+    else:
+        scene_from_dict(data, source=str(base_path))
     return base_path, data
 
 
@@ -586,9 +657,14 @@ class _Entries:
         A derived field reads the point's other fields (radius, angles, volume), so a bad
         value there is the error, not the derived field that read it."""
         derived_gaps = any(DERIVED[p][0] == "motion.gaps" for p in self.given if p in DERIVED)
+        given = _without_gaps(case) if derived_gaps else case
         try:
-            scene_from_dict(_without_gaps(case) if derived_gaps else case,
-                            source=str(self.base_path))
+            if isinstance(case.get("impact"), Mapping):
+                from wetcontact.collide import collision_case_from_dict
+
+                collision_case_from_dict(given, source=str(self.base_path))
+            else:
+                scene_from_dict(given, source=str(self.base_path))
         except CaseError as exc:
             pending = {_slot(DERIVED[p][0]) for p in self.given
                        if p in DERIVED and DERIVED[p][0] not in self.targets}
@@ -609,8 +685,9 @@ def _slot(fld: str) -> str:
 
 
 def _scene(src: str, base_path: Path, base: dict[str, Any], fixed: Mapping[str, Any],
-           axes: Mapping[str, Any]) -> Scene:
-    """The base with ``fixed`` and ``axes`` applied; errors blamed on their origin.
+           axes: Mapping[str, Any], collision: bool = False) -> Any:
+    """The base with ``fixed`` and ``axes`` applied (a Scene, or a CollisionCase when
+    ``collision``); errors blamed on their origin.
 
     Plain fields are set first, then the derived ones in :data:`DERIVED` order. A derived
     field that fails, or derived gaps the finished scene refuses, are blamed on that
@@ -639,6 +716,10 @@ def _scene(src: str, base_path: Path, base: dict[str, Any], fixed: Mapping[str, 
         _assign(case, target, val)
         entries.targets[target] = p
     try:
+        if collision:
+            from wetcontact.collide import collision_case_from_dict
+
+            return collision_case_from_dict(case, source=str(base_path))
         return scene_from_dict(case, source=str(base_path))
     except CaseError as exc:
         if entries.targets.get(_bare(exc.field)) in DERIVED:

@@ -75,6 +75,11 @@ class Point:
     axes
         The study-axis values that made this point (field path -> value), for tables and
         ``export csv``; not part of the key.
+    collision
+        A :class:`~wetcontact.collide.CollisionCase` (its ``scene`` is ``scene``): the point
+        is one impact, ``model`` names its force set (``"reference"`` or a DEM code's,
+        :data:`wetcontact.collide.record.FORCE_SET_NAMES`), and its curve is the
+        collision's one-row record (:mod:`wetcontact.collide.record`).
     """
 
     scene: Scene
@@ -82,23 +87,45 @@ class Point:
     preset: str = "default"
     settings: Mapping[str, Any] = field(default_factory=dict)
     axes: Mapping[str, Any] = field(default_factory=dict)
+    collision: Any = None
 
     @property
     def run_preset(self) -> str:
         """The preset actually run: ``preset`` if the model has it, else ``"default"``."""
+        if self.collision is not None:
+            return "default"
         m = get_model(self.model)
         return self.preset if self.preset in m.presets else "default"
 
     @cached_property
     def run_settings(self) -> dict[str, Any]:
         """The settings the curve will carry (known before the solve)."""
+        if self.collision is not None:
+            from wetcontact.collide.record import settings_for
+
+            return settings_for(self.collision, self.model, **dict(self.settings))
         return get_model(self.model).settings_for(self.run_preset, **dict(self.settings))
+
+    @property
+    def stored_model(self) -> str:
+        """The model name the curve carries (``collide/<force set>`` for a collision)."""
+        if self.collision is not None:
+            from wetcontact.collide.record import PREFIX
+
+            return PREFIX + self.model
+        return self.model
+
+    @property
+    def level(self) -> int:
+        """Fidelity level (0 closures ... 3 FEM) that sets the batch size; a collision
+        counts as level 1 (its force tables take 0.01-1 s)."""
+        return 1 if self.collision is not None else get_model(self.model).level
 
     @cached_property
     def key(self) -> str:
         """Content key in the store (scene, model, settings, code version); computed once
         per point (hashing a scene costs about 0.5 ms)."""
-        return curve_key(self.scene, self.model, self.run_settings)
+        return curve_key(self.scene, self.stored_model, self.run_settings)
 
 
 @dataclass(frozen=True)
@@ -169,6 +196,10 @@ class SweepResult:
 
 def solve_point(point: Point) -> ForceCurve:
     """Solve one point (what a worker runs)."""
+    if point.collision is not None:
+        from wetcontact.collide.record import solve
+
+        return solve(point.collision, point.model, **dict(point.settings))
     return get_model(point.model).force(point.scene, preset=point.run_preset,
                                         **dict(point.settings))
 
@@ -197,7 +228,7 @@ def solve_batch(points: Sequence[Point]) -> tuple[str, list[_Answer]]:
 
 def estimated_seconds(points: Sequence[Point]) -> float:
     """Rough serial wall time of ``points`` (s), from each model's fidelity level."""
-    return sum(_SECONDS.get(get_model(p.model).level, 1.0) for p in points)
+    return sum(_SECONDS.get(p.level, 1.0) for p in points)
 
 
 def _batches(points: Sequence[Point], workers: int) -> list[list[Point]]:
@@ -205,7 +236,7 @@ def _batches(points: Sequence[Point], workers: int) -> list[list[Point]]:
     and at most ``n / (4 workers)`` so every worker gets several tasks."""
     by_level: dict[int, list[Point]] = {}
     for p in points:
-        by_level.setdefault(get_model(p.model).level, []).append(p)
+        by_level.setdefault(p.level, []).append(p)
     out: list[list[Point]] = []
     for level, pts in sorted(by_level.items()):
         size = max(1, min(_BATCH.get(level, 1), math.ceil(len(pts) / (4 * max(workers, 1)))))
@@ -346,7 +377,7 @@ def sweep(points: Sequence[Point], store: Store, workers: int | None = None,
                 prog.update("computed")
             else:
                 if keep:
-                    bw.add_failure(k, p.scene, p.model, p.run_settings, reason)
+                    bw.add_failure(k, p.scene, p.stored_model, p.run_settings, reason)
                 done[k] = Outcome(p, k, "failed", None, reason)
                 prog.update("failed")
             bw.maybe_flush()

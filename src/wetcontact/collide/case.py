@@ -122,6 +122,23 @@ class CollisionCase:
         return min(self.solid.restitution, self.solid2.restitution)
 
     @property
+    def reduced_mass(self) -> float:
+        """m* (kg): the sphere's mass on a wall, ``m1 m2 / (m1 + m2)`` for two spheres
+        (without added mass)."""
+        sc = self.scene
+        m1 = self.solid.density * 4.0 / 3.0 * math.pi * sc.radius ** 3
+        if sc.kind == "sphere-wall":
+            return m1
+        m2 = self.solid2.density * 4.0 / 3.0 * math.pi * float(sc.radius2) ** 3
+        return m1 * m2 / (m1 + m2)
+
+    def stokes_velocity(self, stokes_number: float) -> float:
+        """The approach speed (m/s) of Stokes number ``St = m* v / (6 pi eta R*^2)``."""
+        sc = self.scene
+        return (stokes_number * 6.0 * math.pi * sc.viscosity * sc.reduced_radius ** 2
+                / self.reduced_mass)
+
+    @property
     def friction(self) -> float:
         """Coulomb coefficient in the contact: lubricated where liquid is present."""
         return min(self.solid.lubricated_friction, self.solid2.lubricated_friction)

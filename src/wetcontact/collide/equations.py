@@ -54,6 +54,11 @@ class _Mode:
     contact: str = ""              # "", "hertz", "thornton-load", "thornton-unload"
     r_p: float = 0.0
     d_p: float = 0.0
+    # "dry": above the liquid, no liquid force (the leg's terminal event is the liquid's
+    # reach); "clamp": the forces at the rupture gap continue past it (the leg's terminal
+    # event is the rupture). Either keeps the right-hand side smooth inside the step that
+    # locates the event, so the located state keeps the integrator's order.
+    edge: str = ""
     events: list[tuple[str, Any]] = field(default_factory=list)
 
 
@@ -103,7 +108,12 @@ class _Impact:
         base_angles = (sc.contact_angle_sphere, sc.contact_angle_wall)
         adv = case.advancing_angle or base_angles
         rec = case.receding_angle or base_angles
-        unit = sc.with_gaps([min(self.x0, sc.radius) * 0.5])
+        # a gap inside the liquid's reach for the unit-speed scenes (their gaps are not
+        # used); a bridge's default start gap (nan) is its rupture distance, known only
+        # below, and beyond 0.1 V^(1/3) (Lian: S_c >= V^(1/3))
+        x_unit = (0.1 * float(sc.bridge_volume) ** (1.0 / 3.0) if math.isnan(self.x0)
+                  else min(self.x0, sc.radius))
+        unit = sc.with_gaps([0.5 * x_unit])
         from dataclasses import replace
 
         unit = replace(unit, velocity=1.0)
@@ -215,7 +225,8 @@ class _Impact:
         dynamic bridge's stretch."""
         key = "viscous_rebound" if mode.after_contact else "viscous_approach"
         tab = self.tables.get(key)
-        if tab is None or (not mode.bridge and self.case.scene.amount != "immersed"):
+        if tab is None or mode.edge == "dry" or (
+                not mode.bridge and self.case.scene.amount != "immersed"):
             return 0.0
         if v < 0.0 and not self.case.viscous_on_rebound:
             return 0.0
@@ -235,7 +246,7 @@ class _Impact:
         if cut == "shifted":
             reach += self.x_r
         if xe > reach:  # closed at the reach: its inside value there
-            return 0.0
+            return tab(reach) if mode.edge == "clamp" else 0.0
         return tab(xe)
 
     def stretch(self, v: float) -> float:
@@ -247,14 +258,16 @@ class _Impact:
 
     def capillary(self, x: float, v: float, mode: _Mode) -> float:
         """Capillary force (N) of the bridge at gap x, zero where there is none."""
-        if not mode.bridge:
+        if not mode.bridge or mode.edge == "dry":
             return 0.0
         if mode.after_contact:
             tab = self.tables.get("capillary_rebound")
             if tab is None:
                 return 0.0
             xe = x / self.stretch(v)
-            return tab(xe) if xe <= self.s_static else 0.0
+            if xe > self.s_static:
+                return tab(self.s_static) if mode.edge == "clamp" else 0.0
+            return tab(xe)
         tab = self.tables.get("capillary_approach")
         if tab is None or x > min(self.h_app, tab.hi):
             return 0.0

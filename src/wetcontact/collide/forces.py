@@ -176,6 +176,14 @@ def _accepts(model: Model, scene: Scene) -> bool:
     return model.applicable(scene) is None
 
 
+def _registered(name: str) -> bool:
+    try:
+        get_model(name)
+    except InputError:
+        return False
+    return True
+
+
 def pick_model(name: str | None, scene: Scene, component: str) -> Model | None:
     """The model for ``component`` on ``scene``: the named one (``"none"``: no force), or
     the first of the defaults that accepts the scene.
@@ -189,18 +197,17 @@ def pick_model(name: str | None, scene: Scene, component: str) -> Model | None:
     if name == "none":
         return None
     if name is not None:
-        if name not in MODELS:
-            get_model(name)  # raises the registry's one-line error with the known names
-        model = MODELS[name]
+        model = get_model(name)  # an unknown name: the registry's one-line error
         if model.component not in (component, "both"):
             raise InputError(f"--{component} {name}: a {model.component} model; allowed: a "
                              f"{component} model (wetcontact models) or none")
         model.check(scene)
         return model
     defaults = DEFAULT_VISCOUS if component == "viscous" else DEFAULT_CAPILLARY
-    for cand in defaults:
-        if cand in MODELS and _accepts(MODELS[cand], scene):
-            return MODELS[cand]
+    for cand in defaults:  # get_model fills the registry on first use
+        if cand in MODELS or _registered(cand):
+            if _accepts(MODELS[cand], scene):
+                return MODELS[cand]
     raise ValidityError(defaults[0], f"no default {component} model accepts the scene; "
                         "name one with --" + component)
 

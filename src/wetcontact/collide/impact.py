@@ -242,7 +242,7 @@ def collide(case: CollisionCase, viscous: str | None = None, capillary: str | No
 
     outcome = "rebound"
     # -- approach above the liquid (a start gap beyond the film or the bridge's reach)
-    mode = _Mode("approach")
+    mode = _Mode("approach", edge="dry")
     dry_approach = imp.h_app <= x_r  # liquid forces only after the first contact
     if x0 > imp.h_app:
         level = x_r if dry_approach else imp.h_app
@@ -311,7 +311,8 @@ def collide(case: CollisionCase, viscous: str | None = None, capillary: str | No
             if float(run.y[X]) >= reached:
                 bridge = bridge and not math.isnan(level)
                 continue
-            mode = _Mode(name, after_contact=True, bridge=bridge)
+            mode = _Mode(name, after_contact=True, bridge=bridge,
+                         edge="clamp" if name == "bridge" else "")
             if name == "bridge" and math.isnan(level):
                 events = {"end": (lambda y: y[X] - imp.s_static * imp.stretch(y[V]), 1, True)}
             else:
@@ -333,6 +334,12 @@ def collide(case: CollisionCase, viscous: str | None = None, capillary: str | No
                 # the leg ended at the start gap (its terminal event located it)
                 run.v_rebound = float(run.y[V])
                 run.u_slip_rebound = float(run.y[UT] + sc.radius * run.y[OM])
+    if (outcome == "rebound" and run.v_rebound is None
+            and float(run.y[X]) >= x0 * (1.0 - 1e-9)):
+        # the last leg ended on the start gap itself (a bridge started at its rupture
+        # distance: the rupture event and the start gap coincide)
+        run.v_rebound = float(run.y[V])
+        run.u_slip_rebound = float(run.y[UT] + sc.radius * run.y[OM])
     t_int = time.perf_counter() - t0 - t_tab
     return _result(case, imp, run, outcome, t_tab, t_int, trajectory)
 
@@ -349,7 +356,7 @@ def liquid_division(case: CollisionCase, volume: float) -> tuple[float, str]:
 
     sc = case.scene
     rec = case.receding_angle or (sc.contact_angle_sphere, sc.contact_angle_wall)
-    scene = bridge_scene(replace(sc, gaps=(sc.gaps[0],)), volume, rec)
+    scene = bridge_scene(replace(sc, gaps=(sc.gaps[0],), velocity=1.0), volume, rec)
     return _division(scene)
 
 

@@ -10,6 +10,13 @@ model failed or refused the point: ``reason`` says why; forces empty); or ``miss
 in the store: run
 ``wetcontact sweep`` first). Numbers are written at full precision (shortest repr that
 reads back to the same double).
+
+A collision study (:mod:`wetcontact.study`, a collision base) has one row per (point, force
+set) instead: the axes, then ``force_set``, ``restitution``, ``outcome`` (``rebound`` or
+``stick``), ``stokes_number``, ``contact_velocity`` and ``rebound_velocity`` (m/s),
+``transfer_fraction`` (the liquid left on body 1 after rupture), ``bridge_volume`` (m^3),
+the viscous and capillary models used, ``status`` (``ok``, ``failed``, ``missing``) and
+``reason`` (:data:`COLLISION_COLUMNS`).
 """
 
 from __future__ import annotations
@@ -27,6 +34,9 @@ from wetcontact.sweep import Point
 
 FIXED_COLUMNS = ("model", "gap", "force_viscous", "force_capillary", "force_total",
                  "status", "reason")
+COLLISION_COLUMNS = ("force_set", "restitution", "outcome", "stokes_number",
+                     "contact_velocity", "rebound_velocity", "transfer_fraction",
+                     "bridge_volume", "viscous_model", "capillary_model", "status", "reason")
 
 
 def _cell(x: float | None) -> str:
@@ -46,6 +56,8 @@ def write_csv(points: Sequence[Point], axes: Sequence[str], store: Store,
     curves = store.load_many(set(keys))
     failures = store.failures()
     counts = {"ok": 0, "no-bridge": 0, "failed": 0, "missing": 0, "rows": 0}
+    if any(p.collision is not None for p in points):
+        return _write_collisions(points, keys, axes, curves, failures, counts, out)
     with atomic_open(out, newline="") as fh:
         w = csv.writer(fh)
         w.writerow([*axes, *FIXED_COLUMNS])
@@ -62,6 +74,35 @@ def write_csv(points: Sequence[Point], axes: Sequence[str], store: Store,
             for row, status in _curve_rows(curve):
                 w.writerow([*head, p.model, *row, status, ""])
                 counts[status] += 1
+    counts["rows"] = sum(v for k, v in counts.items() if k != "rows")
+    return counts
+
+
+def _write_collisions(points: Sequence[Point], keys: Sequence[str], axes: Sequence[str],
+                      curves: dict[str, ForceCurve], failures: dict[str, str],
+                      counts: dict[str, int], out: str | Path) -> dict[str, int]:
+    """One row per collision point (:data:`COLLISION_COLUMNS`)."""
+    from wetcontact.collide.record import collision_from_curve
+
+    with atomic_open(out, newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow([*axes, *COLLISION_COLUMNS])
+        for p, k in zip(points, keys, strict=True):
+            head = [p.axes.get(a, "") for a in axes]
+            curve = curves.get(k)
+            if curve is None:
+                status = "failed" if k in failures else "missing"
+                reason = failures.get(k, "not in the store: run `wetcontact sweep` first")
+                w.writerow([*head, p.model, *[""] * 9, status, reason])
+                counts[status] += 1
+                continue
+            c = collision_from_curve(curve)
+            w.writerow([*head, p.model, _cell(c.restitution), c.outcome,
+                        _cell(c.stokes_number), _cell(c.contact_velocity),
+                        _cell(c.rebound_velocity), _cell(c.liquid.get("transfer_fraction")),
+                        _cell(c.liquid.get("bridge_volume")), c.models.get("viscous") or "",
+                        c.models.get("capillary") or "", "ok", ""])
+            counts["ok"] += 1
     counts["rows"] = sum(v for k, v in counts.items() if k != "rows")
     return counts
 

@@ -8,9 +8,12 @@
    against the reference force set (the toolkit's default models), a 2 mm glass bead on a
    water film, over St and the film thickness: max and mean |e - e_ref| and where the
    stick/rebound verdict differs.
+3. A stick/rebound map of a bead on a wall with a pendular bridge over St and the bridge
+   volume, with the static and Pitois' dynamic rupture law.
 
-Collisions are integrated here from force tables of closed forms and the lubrication
-solver (about 1 s in all); they are not yet points of the store.
+Every impact is a collision point (:class:`~wetcontact.sweep.Point` with ``collision``)
+swept into the store by ``wetcontact run``; the renderers read the records
+(:mod:`wetcontact.collide.record`).
 """
 
 from __future__ import annotations
@@ -22,8 +25,9 @@ from typing import Any
 
 import numpy as np
 
-from wetcontact.collide import CollisionCase, collide, collision_case_from_dict
+from wetcontact.collide import Collision, CollisionCase, collision_case_from_dict
 from wetcontact.collide.dem import FORCE_SETS
+from wetcontact.collide.record import REFERENCE, collision_from_curve, point_case
 from wetcontact.collide.validity import REYNOLDS_LIMIT, squeeze_reynolds
 from wetcontact.sweep import Point, SweepResult
 from wetcontact.tables import StudyContext
@@ -39,11 +43,12 @@ MECHANISMS = {
     "with added mass, buoyancy, gravity, drag": {"added_mass": True, "buoyancy": True,
                                                  "gravity": True, "drag": True},
 }
+RUPTURE_LAWS = ("static", "dynamic")
 
 
-def points(ctx: StudyContext) -> list[Point]:
-    """No store points: the collisions are integrated in :func:`section`."""
-    return []
+def _point(collision: CollisionCase, force_set: str = REFERENCE, **axes: Any) -> Point:
+    collision = point_case(collision)
+    return Point(scene=collision.scene, model=force_set, axes=axes, collision=collision)
 
 
 def immersed_case(radius: float, ratio: float, nu: float, u: float,
@@ -60,26 +65,19 @@ def immersed_case(radius: float, ratio: float, nu: float, u: float,
     })
 
 
-def immersed_rows(quick: bool) -> list[dict[str, Any]]:
-    """e/e_dry over St (the viscosity varied at u = 0.5 m/s, R = 3 mm, rho_p/rho_f = 8)."""
-    sts = np.geomspace(3.0, 1000.0, 8 if quick else 24)
-    rows = []
+def immersed_points(quick: bool) -> list[Point]:
+    """e/e_dry over St (the viscosity varied at u = 0.5 m/s, R = 3 mm, rho_p/rho_f = 8)
+    and Gondret's two cases, for each set of mechanisms."""
+    pts = []
     for label, flags in MECHANISMS.items():
-        for st in sts:
+        for st in np.geomspace(3.0, 1000.0, 8 if quick else 24):
             nu = 8.0 * 0.5 * 6e-3 / (9.0 * st)
-            res = collide(immersed_case(3e-3, 8.0, nu, 0.5, flags), trajectory=False)
-            rows.append({"mechanisms": label, "case": "St study", "St": float(st),
-                         "e_over_e_dry": res.restitution / E_DRY, "outcome": res.outcome,
-                         "legendre": math.exp(-35.0 / st), "viscous_model":
-                         res.models["viscous"], "outside_validity": " | ".join(res.validity)})
+            pts.append(_point(immersed_case(3e-3, 8.0, nu, 0.5, flags),
+                              mechanisms=label, case="St study", St=float(st)))
         for st, r, ratio, nu, u in GONDRET:
-            res = collide(immersed_case(r, ratio, nu, u, flags), trajectory=False)
-            rows.append({"mechanisms": label, "case": f"Gondret St={st:g}",
-                         "St": res.stokes_number, "e_over_e_dry": res.restitution / E_DRY,
-                         "outcome": res.outcome, "legendre": math.exp(-35.0 / st),
-                         "viscous_model": res.models["viscous"],
-                         "outside_validity": " | ".join(res.validity)})
-    return rows
+            pts.append(_point(immersed_case(r, ratio, nu, u, flags), mechanisms=label,
+                              case=f"Gondret St={st:g}", St=st))
+    return pts
 
 
 def film_case(delta: float, st: float) -> CollisionCase:
@@ -98,28 +96,103 @@ def film_case(delta: float, st: float) -> CollisionCase:
     })
 
 
-def dem_rows(quick: bool) -> list[dict[str, Any]]:
-    """e of the reference and of each DEM force set over St and the film thickness."""
+def dem_points(quick: bool) -> list[Point]:
+    """The film study: the reference and every DEM force set over St and delta/R."""
     sts = np.geomspace(5.0, 1000.0, 6 if quick else 16)
     deltas = (5e-5, 1e-4) if quick else (2e-5, 5e-5, 1e-4)
+    return [_point(film_case(delta, float(st)), name, delta_over_R=delta / 1e-3,
+                   St=float(st))
+            for delta in deltas for st in sts for name in (REFERENCE, *FORCE_SETS)]
+
+
+def bridge_case(vstar: float, st: float, rupture: str) -> CollisionCase:
+    """The 2 mm glass bead on a glass wall joined by a water bridge of V/R^3 = ``vstar``
+    (contact angle 20 deg), started at the bridge's rupture distance."""
+    r = 1e-3
+    c = collision_case_from_dict({
+        "name": f"glass-2mm-bridge-V{vstar:.3g}",
+        "geometry": {"kind": "sphere-wall", "radius": r},
+        "liquid": {"viscosity": 1e-3, "surface_tension": 0.072, "density": 998.0,
+                   "contact_angle": 20.0},
+        "amount": {"bridge_volume": vstar * r ** 3},
+        "impact": {"velocity": 1.0},
+        "solid": {"density": 2500.0, "restitution": E_DRY, "roughness": 1e-4 * r},
+        "phases": {"rupture": rupture}})
+    return c.with_(velocity=c.stokes_velocity(st))
+
+
+def bridge_points(quick: bool) -> list[Point]:
+    """The bridge map: St x V/R^3 x rupture law, reference forces."""
+    vs = np.geomspace(1e-3, 0.1, 3 if quick else 6)
+    sts = np.geomspace(2.0, 2000.0, 5 if quick else 13)
+    return [_point(bridge_case(float(v), float(st), law), rupture=law,
+                   volume_over_radius3=float(v), St=float(st))
+            for law in RUPTURE_LAWS for v in vs for st in sts]
+
+
+def points(ctx: StudyContext) -> list[Point]:
+    """Every impact of the section, as collision points of the store."""
+    return immersed_points(ctx.quick) + dem_points(ctx.quick) + bridge_points(ctx.quick)
+
+
+def _collision(result: SweepResult, p: Point) -> Collision:
+    curve = result.curve(p)
+    if curve is None:
+        out = next((o for o in result.outcomes if o.key == p.key), None)
+        raise RuntimeError(f"collision {p.scene.name} ({p.model}, {dict(p.axes)}) failed: "
+                           f"{out.reason if out else 'not swept'}")
+    return collision_from_curve(curve)
+
+
+def immersed_rows(result: SweepResult, quick: bool) -> list[dict[str, Any]]:
+    """One row per immersed impact: St, e/e_dry, outcome, Legendre's fit."""
     rows = []
-    for delta in deltas:
-        for st in sts:
-            case = film_case(delta, float(st))
-            ref = collide(case, trajectory=False)
-            row: dict[str, Any] = {"delta_over_R": delta / 1e-3, "St": float(st),
-                                   "velocity": case.impact.velocity,
-                                   "squeeze_reynolds": squeeze_reynolds(case, delta),
-                                   "outside_validity": " | ".join(ref.validity),
-                                   "e_reference": ref.restitution,
-                                   "outcome_reference": ref.outcome,
-                                   "reference_models": f"{ref.models['viscous']} + "
-                                                       f"{ref.models['capillary']}"}
-            for name in FORCE_SETS:
-                res = collide(case, force_set=name, trajectory=False)
-                row[f"e_{name}"] = res.restitution
-                row[f"outcome_{name}"] = res.outcome
-            rows.append(row)
+    for p in immersed_points(quick):
+        res = _collision(result, p)
+        st = float(p.axes["St"])
+        rows.append({"mechanisms": p.axes["mechanisms"], "case": p.axes["case"],
+                     "St": st if p.axes["case"] == "St study" else res.stokes_number,
+                     "e_over_e_dry": res.restitution / E_DRY, "outcome": res.outcome,
+                     "legendre": math.exp(-35.0 / st), "viscous_model": res.models["viscous"],
+                     "outside_validity": " | ".join(res.validity)})
+    return rows
+
+
+def dem_rows(result: SweepResult, quick: bool) -> list[dict[str, Any]]:
+    """e of the reference and of each DEM force set over St and the film thickness."""
+    rows: dict[tuple[float, float], dict[str, Any]] = {}
+    for p in dem_points(quick):
+        res = _collision(result, p)
+        d, st = float(p.axes["delta_over_R"]), float(p.axes["St"])
+        if p.model == REFERENCE:
+            case = p.collision
+            rows[d, st] = {"delta_over_R": d, "St": st, "velocity": case.impact.velocity,
+                           "squeeze_reynolds": squeeze_reynolds(case, d * 1e-3),
+                           "outside_validity": " | ".join(res.validity),
+                           "e_reference": res.restitution,
+                           "outcome_reference": res.outcome,
+                           "reference_models": f"{res.models['viscous']} + "
+                                               f"{res.models['capillary']}"}
+        else:
+            rows[d, st][f"e_{p.model}"] = res.restitution
+            rows[d, st][f"outcome_{p.model}"] = res.outcome
+    return list(rows.values())
+
+
+def bridge_rows(result: SweepResult, quick: bool) -> list[dict[str, Any]]:
+    """One row per bridge impact: St, V/R^3, rupture law, e, outcome, liquid division."""
+    rows = []
+    for p in bridge_points(quick):
+        res = _collision(result, p)
+        v0 = p.collision.impact.velocity
+        sc = p.collision.scene
+        rows.append({"rupture": p.axes["rupture"],
+                     "volume_over_radius3": p.axes["volume_over_radius3"],
+                     "St": p.axes["St"], "Ca": sc.viscosity * v0 / sc.surface_tension,
+                     "restitution": res.restitution, "outcome": res.outcome,
+                     "transfer_fraction": res.liquid.get("transfer_fraction", math.nan),
+                     "capillary_model": res.models["capillary"],
+                     "outside_validity": " | ".join(res.validity)})
     return rows
 
 
@@ -223,20 +296,63 @@ def validity_figure(rows: list[dict[str, Any]]) -> Any:
     return fig
 
 
+def bridge_figure(rows: list[dict[str, Any]]) -> Any:
+    """The bridge map: e by colour over St and V/R^3, one panel per rupture law; open
+    markers: stick."""
+    from matplotlib.colors import Normalize
+
+    from wetcontact.plotting import pyplot
+
+    plt = pyplot()
+    fig, axes = plt.subplots(1, len(RUPTURE_LAWS), figsize=(10.0, 4.4), sharey=True,
+                             squeeze=False)
+    norm = Normalize(vmin=0.0, vmax=E_DRY)
+    cmap = plt.get_cmap("viridis")
+    sc = None
+    for ax, law in zip(axes[0], RUPTURE_LAWS, strict=True):
+        sel = [r for r in rows if r["rupture"] == law]
+        reb = [r for r in sel if r["outcome"] == "rebound"]
+        stk = [r for r in sel if r["outcome"] != "rebound"]
+        sc = ax.scatter([r["St"] for r in reb], [r["volume_over_radius3"] for r in reb],
+                        c=[r["restitution"] for r in reb], norm=norm, cmap=cmap, s=70,
+                        edgecolors="k", marker="o", label="rebound (colour: e)")
+        ax.scatter([r["St"] for r in stk], [r["volume_over_radius3"] for r in stk], s=70,
+                   facecolors="none", edgecolors="tab:red", marker="s", linewidths=1.5,
+                   label="stick")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        vols = [r["volume_over_radius3"] for r in sel]
+        ax.set_ylim(min(vols) / 2.0, max(vols) * 12.0)  # room for the legend above
+        ax.set_xlabel("St = m v0 / (6 pi eta R^2)")
+        ax.set_title(f"{law} rupture" + (" (Pitois: S_c (1 + Ca^1/2))" if law == "dynamic"
+                                         else " (S_c of the meniscus)"), fontsize=9)
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0][0].set_ylabel("bridge volume V / R^3")
+    axes[0][0].legend(fontsize=8, loc="upper left", ncol=2)
+    if sc is not None:
+        fig.colorbar(sc, ax=list(axes[0]), label="restitution e")
+    fig.suptitle("2 mm glass bead, water bridge to a glass wall (theta 20 deg, e_dry 0.97): "
+                 "stick or rebound", fontsize=10)
+    return fig
+
+
 def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
     """Write the collision CSVs and figures into ``out``; return the Markdown."""
     from wetcontact.plotting import save
 
     out = Path(out)
-    imm = immersed_rows(ctx.quick)
+    imm = immersed_rows(result, ctx.quick)
     _write(out / "collision_immersed.csv", imm)
     save(immersed_figure(imm), out / "collision_immersed.png")
-    dem = dem_rows(ctx.quick)
+    dem = dem_rows(result, ctx.quick)
     for r in dem:
         r["e_reference"] = float(r["e_reference"])
     _write(out / "collision_dem.csv", dem)
     save(dem_figure(dem), out / "collision_dem.png")
     save(validity_figure(dem), out / "collision_validity.png")
+    bri = bridge_rows(result, ctx.quick)
+    _write(out / "collision_bridge.csv", bri)
+    save(bridge_figure(bri), out / "collision_bridge.png")
     n_out = sum(r["squeeze_reynolds"] > REYNOLDS_LIMIT for r in dem)
     lines = ["## Wet collisions", "",
              "### Immersed impacts against experiment", "",
@@ -278,4 +394,37 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
               f"study have a squeeze-flow Reynolds number above {REYNOLDS_LIMIT:g} at the film "
               "surface, where the film's inertia (left out by every model here, and by the DEM "
               "codes) matters; the `outside_validity` column names the model that applies.", ""]
+    lines += _bridge_lines(bri)
     return "\n".join(lines)
+
+
+def _critical_st(rows: list[dict[str, Any]]) -> float:
+    """The smallest St that rebounds (nan: none does)."""
+    reb = [r["St"] for r in rows if r["outcome"] == "rebound"]
+    return min(reb) if reb else math.nan
+
+
+def _bridge_lines(rows: list[dict[str, Any]]) -> list[str]:
+    """The bridge map's Markdown: the smallest St that rebounds per volume and law, and
+    what the dynamic law changes."""
+    vols = sorted({r["volume_over_radius3"] for r in rows})
+    out = ["### Stick or rebound with a pendular bridge", "",
+           "A 2 mm glass bead on a glass wall joined by a water bridge (contact angle 20 deg, "
+           "e_dry 0.97, roughness 1e-4 R), started at the bridge's rupture distance "
+           "(`collision_bridge.csv`, `collision_bridge.png`); capillary force from `"
+           + str(rows[0]["capillary_model"]) + "`, viscous from the default chain. The "
+           "dynamic law stretches the rupture distance by Pitois' 1 + Ca^1/2 "
+           "(Ca = eta v / sigma at the separation speed).", "",
+           "| V/R^3 | smallest St that rebounds (static) | (dynamic) | largest e change, "
+           "dynamic - static |", "|---|---|---|---|"]
+    for v in vols:
+        st = [r for r in rows if r["volume_over_radius3"] == v and r["rupture"] == "static"]
+        dy = [r for r in rows if r["volume_over_radius3"] == v and r["rupture"] == "dynamic"]
+        d_e = max((abs(a["restitution"] - b["restitution"]) for a, b in
+                   zip(st, dy, strict=True)), default=math.nan)
+        out.append(f"| {v:.3g} | {_critical_st(st):.3g} | {_critical_st(dy):.3g} | "
+                   f"{d_e:.3g} |")
+    out += ["", "The map's St grid brackets each threshold (a factor "
+            f"{rows[1]['St'] / rows[0]['St']:.2g} between neighbours); a study file "
+            "(`cases/studies/collision-*.toml`, `wetcontact sweep`) refines it.", ""]
+    return out
