@@ -37,7 +37,7 @@ from wetcontact.errors import InputError, SolverError
 from wetcontact.fileio import fsync_dir, safe_stem
 from wetcontact.models import ForceCurve, get_model, load_all, provenance
 from wetcontact.scene import Scene, load_case
-from wetcontact.store import Store
+from wetcontact.store import Store, code_version
 from wetcontact.sweep import Outcome, Point, SweepResult, sweep
 from wetcontact.tables import StudyContext
 
@@ -606,7 +606,10 @@ def build(scenes: list[Scene], out: Path, store: Store, mode: str, ctx: StudyCon
     path.write_text(readme)
     # wall times change with every run: beside the report, in a file that is not committed
     (out / TIMINGS).write_text(json.dumps(
-        {**timings, "total_s": round(time.perf_counter() - beat.t0, 3)}, indent=1) + "\n")
+        {**timings, "total_s": round(time.perf_counter() - beat.t0, 3),
+         "curves": {"computed": len(stats.computed), "reused": stats.reused,
+                    "failed": stats.failed, "computed_twice": stats.computed_twice},
+         "git_commit": provenance()["git_commit"]}, indent=1) + "\n")
     if failed or failures:
         raise SolverError(f"{len(failures)} curve(s) and {len(failed)} report section(s) "
                           f"failed (listed in {path}): " + "; ".join(failed + failures)[:500])
@@ -755,18 +758,20 @@ def _readme(results: list[CaseResult], stems: dict[str, str], table: str, sectio
         "## Provenance",
         "",
         f"- command: `{' '.join(['wetcontact'] + sys.argv[1:]) if sys.argv else 'wetcontact run'}`",
-        f"- wetcontact {prov['wetcontact']}, git commit `{prov['git_commit']}`",
+        f"- wetcontact {prov['wetcontact']}, source hash `{code_version()}` (the store's "
+        "code version: the same sources give the same report)",
         f"- Python {prov['python']} on {platform.machine()} with "
         + ", ".join(f"{k} {prov[k]}" for k in ("numpy", "scipy", "scikit_fem", "py_pde", "gmsh",
                                               "meshio", "h5py")),
         f"- thin-film benchmark: `{ctx.bench_path}`" if ctx.bench_path else
         "- thin-film benchmark: not given (no stability map or wetting-width study)",
         "- sweeps: " + "; ".join(f"{name}: {n} points" for name, n, _ in stats.stages)
-        + f"; {len(stats.computed)} curves computed, {stats.reused} reused from the store, "
-        f"{stats.failed} failed, {len(stats.computed_twice)} computed twice",
-        f"- wall times of the sweeps, the sections and the run: `{TIMINGS}` (not committed: "
-        "they change with every run); every curve with its settings and provenance is in "
-        "`reference.h5`.",
+        + f"; {stats.failed} failed",
+        f"- wall times of the sweeps, the sections and the run, and how many curves were "
+        f"computed or reused from the store: `{TIMINGS}` (not committed: they change with "
+        "every run); every curve with its settings and provenance is in `reference.h5`, "
+        "the store the run writes beside this file (not committed either: a binary that "
+        "every run rewrites; `wetcontact run` rebuilds it, `--resume` reuses it).",
         "",
     ]
     return "\n".join(lines)

@@ -112,8 +112,7 @@ def _case_rows(scene: Scene, result: SweepResult, ctx: StudyContext) -> tuple[li
                      "wetted_radius_m": curve.extras["wetted_radius"][i],
                      "err_reynolds": reyn.signed_at(s), "err_finite_film": fin.signed_at(s),
                      "err_capillary_contact": cap.signed_at(s),
-                     "volume_drift": curve.diagnostics["volume_drift"],
-                     "wall_time_s": curve.diagnostics["wall_time_s"]})
+                     "volume_drift": curve.diagnostics["volume_drift"]})
     return rows, inertial
 
 
