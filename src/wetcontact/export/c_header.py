@@ -97,7 +97,12 @@ HEAD = """\
  *   Held-out max relative error against `lubrication` (the project's best bridge viscous
  *   reference): {br_err_wall:.2g} (plane), {br_err_ss:.2g} (two spheres).
  *   Domain: V/r_small^3 in [{bv_lo:.6g}, {bv_hi:.6g}], S/H in [{bh_lo:.6g}, {bh_hi:.6g}],
- *   two spheres also r_large/r_small in [{bq_lo:.6g}, {bq_hi:.6g}].
+ *   two spheres also r_large/r_small in [{bq_lo:.6g}, {bq_hi:.6g}]. NEAR CONTACT, 0 < S/H < x0 =
+ *   {bh_lo:.6g}: 6 pi eta R*^2 v/S (1 - x)^2 (1 + rho x/x0), rho = phi(x0)/(1 - x0)^2 - 1,
+ *   phi the factor above at the gap where S/H = x0 (so continuous at x0): Pitois' (1 - x)^2
+ *   times the factor's departure from it at x0, linear in x; it tends to Reynolds'
+ *   6 pi eta R*^2 v/S as S/H -> 0, the limit of `lubrication` (the fitted factor's own value
+ *   at x = 0, 1 + c0 d + c4 d^2 + c7 d^3, is up to 2.6 % above it).
  *
 {cap_comment}
  */
@@ -264,7 +269,7 @@ static inline double wc_viscous_force_bridge(double r1, double r2, double viscos
     static const double wall[10] = {br_wall};
     static const double spheres[10] = {br_ss};
     int plane = isinf(r2) && r2 > 0;
-    double rstar, kappa, rs, h;
+    double rstar, kappa, rs, h, x, x0, h0, phi0;
     if (!(r1 > 0) || !isfinite(r1) || !(r2 > 0) || !(viscosity > 0) || !isfinite(viscosity)
         || !isfinite(approach_speed) || !(volume > 0) || !(gap > 0) || !isfinite(gap))
         return NAN;
@@ -272,15 +277,25 @@ static inline double wc_viscous_force_bridge(double r1, double r2, double viscos
     kappa = plane ? 1.0 : rstar * rstar * rstar * (1.0 / (r1 * r1 * r1) + 1.0 / (r2 * r2 * r2));
     rs = plane ? r1 : (r1 < r2 ? r1 : r2);
     h = sqrt(gap * gap + volume / (WC_PI * rstar));
-    if (!wc__in_range6(gap / h, plane ? {bh_lo_w_r} : {bh_lo_s_r},
-                       plane ? {bh_hi_w_r} : {bh_hi_s_r})
+    x0 = plane ? {bh_lo_w_r} : {bh_lo_s_r};
+    x = gap / h;
+    if (!(x <= (plane ? {bh_hi_w_r} : {bh_hi_s_r}) * (1 + 1e-6))
         || !wc__in_range6(volume / (rs * rs * rs), plane ? {bv_lo_w_r} : {bv_lo_s_r},
                           plane ? {bv_hi_w_r} : {bv_hi_s_r}))
         return NAN;
     if (!plane && !wc__in_range6((r1 < r2 ? r2 : r1) / rs, {bq_lo_r}, {bq_hi_r}))
         return NAN;
-    return wc__finite_liquid(plane ? wall : spheres, rstar, kappa, viscosity, volume,
-                             approach_speed, gap);
+    if (x >= x0)
+        return wc__finite_liquid(plane ? wall : spheres, rstar, kappa, viscosity, volume,
+                                 approach_speed, gap);
+    /* near contact (S/H < x0): Reynolds (1 - x)^2 (1 + rho x/x0), rho = phi(x0)/(1 - x0)^2
+     * - 1, phi the factor at the gap where S/H = x0: equal to the form at x0, tending to
+     * Reynolds' 6 pi eta R*^2 v/S as S/H -> 0 (wetcontact's calibrated.bridge_force) */
+    h0 = h * sqrt((1.0 - x * x) / (1.0 - x0 * x0));
+    phi0 = wc__finite_liquid(plane ? wall : spheres, rstar, kappa, 1.0, volume, 1.0, x0 * h0)
+           * (x0 * h0) / (6.0 * WC_PI * rstar * rstar);
+    return 6.0 * WC_PI * viscosity * rstar * rstar * approach_speed / gap
+           * ((1.0 - x) * (1.0 - x)) * (1.0 + (phi0 / ((1.0 - x0) * (1.0 - x0)) - 1.0) * x / x0);
 }}
 
 /* ---- CAPILLARY: the shipped calibrated-capillary closure ----------------------------- */

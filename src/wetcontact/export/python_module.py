@@ -67,7 +67,10 @@ viscous_force_bridge: the shipped `calibrated-viscous` closure (bridge part): Re
 the refitted finite-liquid factor; held-out max relative error {br_err_wall:.2g} (plane) /
 {br_err_ss:.2g} (two spheres) against `lubrication`; domain: V/r_small^3 in
 [{bv_lo:.6g}, {bv_hi:.6g}], S/H in [{bh_lo:.6g}, {bh_hi:.6g}] (H = sqrt(S^2 + V/(pi R*))), two
-spheres also r_large/r_small in [{bq_lo:.6g}, {bq_hi:.6g}].
+spheres also r_large/r_small in [{bq_lo:.6g}, {bq_hi:.6g}]. Near contact, 0 < S/H = x < x0 =
+{bh_lo:.6g}: 6 pi eta R*^2 v/S (1 - x)^2 (1 + rho x/x0), rho = phi(x0)/(1 - x0)^2 - 1, phi the
+fitted factor at the gap where S/H = x0 (continuous there); it tends to Reynolds'
+6 pi eta R*^2 v/S as S/H -> 0, the limit of `lubrication`.
 
 capillary_force, rupture_distance: the shipped `calibrated-capillary` closure, a tensor
 Chebyshev interpolant of the `meniscus` finite-element bridge:
@@ -206,13 +209,21 @@ def viscous_force_bridge(r1, r2, viscosity, volume, approach_speed, gap):
         out = np.full(r1.shape, np.nan)
         for name, sel, k in (("wall", plane, _BRIDGE_WALL),
                              ("spheres", ~plane, _BRIDGE_SPHERES)):
-            h_lo, h_hi, v_lo, v_hi = _BRIDGE_DOMAIN[name]
-            good = (ok & sel & _in_range6(gap / h, h_lo, h_hi)
-                    & _in_range6(vol / rs**3, v_lo, v_hi))
+            x0, h_hi, v_lo, v_hi = _BRIDGE_DOMAIN[name]
+            x = gap / h
+            good = (ok & sel & (x <= h_hi * (1 + 1e-6)) & _in_range6(vol / rs**3, v_lo, v_hi))
             if name == "spheres":
                 good &= _in_range6(np.maximum(r1, r2) / rs, _RATIO_LO, _RATIO_HI)
             f = _finite_liquid(k, rstar, kappa, eta, vol, v, gap)
-            out = np.where(good, f, out)
+            # near contact (S/H < x0): Reynolds (1 - x)^2 (1 + rho x/x0), rho = phi(x0)/
+            # (1 - x0)^2 - 1, phi the factor at the gap where S/H = x0: equal to the form at
+            # x0, tending to Reynolds' 6 pi eta R*^2 v/S as S/H -> 0
+            h0 = h * np.sqrt((1.0 - x**2) / (1.0 - x0**2))
+            phi0 = (_finite_liquid(k, rstar, kappa, 1.0, vol, 1.0, x0 * h0)
+                    * (x0 * h0) / (6.0 * np.pi * rstar * rstar))
+            near = (6.0 * np.pi * eta * rstar * rstar * v / gap * ((1.0 - x) * (1.0 - x))
+                    * (1.0 + (phi0 / ((1.0 - x0) * (1.0 - x0)) - 1.0) * x / x0))
+            out = np.where(good, np.where(x >= x0, f, near), out)
     return out[()]
 
 
