@@ -749,16 +749,18 @@ class CapillarySource:
                 f"a shipped closure: {self.refit_label}")
 
 
-def read_refit(path: Path | str, family: str) -> RefitTable:
-    """A refitted family from ``path``; an :class:`InputError` naming the file otherwise."""
+def read_refit(path: Path | str, family: str | None = None) -> RefitTable:
+    """A refitted family from ``path`` (``family``: the one it must be; None: any); an
+    :class:`InputError` naming the file otherwise."""
     from wetcontact.calibrate import load_coefficients
 
     path = Path(path)
     if not path.exists():  # a FIFO or a folder is refused by load_coefficients, by name
         raise InputError(f"{path}: no such calibration file; write it with `python -m "
-                         f"wetcontact.generate fit {family} --out {path}` or name another "
-                         "with --capillary / --rupture")
+                         f"wetcontact.generate fit {family or 'FAMILY'} --out {path}` or name "
+                         "another with " + ("--capillary / --rupture" if family else "--refit"))
     closure = load_coefficients(path)  # validates family, size and finiteness
+    family = family or closure.family.name
     if closure.family.name != family:
         raise InputError(f"{path}: family = {closure.family.name!r}; allowed: {family!r} "
                          "(the only family this export writes for that function)")
