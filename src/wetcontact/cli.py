@@ -622,6 +622,12 @@ def _add_export_closure_parsers(fmt: argparse._SubParsersAction) -> None:
         q.add_argument("--rupture", type=path_arg, default=None, metavar="FILE.json",
                        help="lian-rupture refit for rupture_distance_refit (default: the "
                        "package's copy of benchmarks/results/calibration/lian-rupture.json)")
+        q.add_argument("--refit", type=path_arg, action="append", default=[],
+                       metavar="FILE.json", help="a refit of any family (written by "
+                       "`wetcontact calibrate` or `python -m wetcontact.generate fit`), "
+                       "exported as one more function named after its family, "
+                       "refit_<family> (C: wc_refit_<family>, '-' as '_'); repeatable, one "
+                       "file per family")
         q.add_argument("--json", action="store_true", help="print one JSON object")
 
 
@@ -737,9 +743,11 @@ def _export_closures(args: argparse.Namespace) -> int:
     elif args.format in ("python", "c"):
         from wetcontact.export.c_header import write_header
         from wetcontact.export.python_module import write_module
+        from wetcontact.export.refits import read_refits
 
         write = write_module if args.format == "python" else write_header
-        info = write(args.out, capillary_source(args.capillary, args.rupture))
+        refits = read_refits(args.refit)  # every file checked before the shipped tables
+        info = write(args.out, capillary_source(args.capillary, args.rupture), refits)
     else:
         raise InputError(f"export format = {args.format!r}; allowed: csv, json, python, c")
     info["wall_time_s"] = round(time.perf_counter() - t0, 4)

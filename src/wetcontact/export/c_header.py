@@ -10,6 +10,8 @@ evaluation.
 from __future__ import annotations
 
 import math
+import textwrap
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -22,11 +24,13 @@ from wetcontact.export.closures import (
     TWO_ANGLES,
     CapillaryPart,
     CapillarySource,
+    RefitTable,
     TensorTrain,
     immersed_tables,
     sphere_end_text,
     usage_text,
 )
+from wetcontact.export.refits import REFIT_FORMS, TARGET_ARGS, c_text, comment_lines
 from wetcontact.fileio import atomic_write_text
 from wetcontact.reduced_models.calibrated import viscous_table
 
@@ -68,7 +72,7 @@ HEAD = """\
  *   double wc_capillary_force_at(const struct wc_capillary_contact *c, gap);
  *   double wc_capillary_force_refit(r1, r2, volume, gap, surface_tension, theta1_deg,
  *                                   theta2_deg);
- *   double wc_rupture_distance_refit(r1, r2, volume, theta1_deg, theta2_deg);
+ *   double wc_rupture_distance_refit(r1, r2, volume, theta1_deg, theta2_deg);{refit_api}
  *   struct wc_capillary_contact is plain data (ints and doubles, no pointers): copy it, or
  *   keep it in a contact's history.
  *
@@ -97,9 +101,14 @@ HEAD = """\
  *   Held-out max relative error against `lubrication` (the project's best bridge viscous
  *   reference): {br_err_wall:.2g} (plane), {br_err_ss:.2g} (two spheres).
  *   Domain: V/r_small^3 in [{bv_lo:.6g}, {bv_hi:.6g}], S/H in [{bh_lo:.6g}, {bh_hi:.6g}],
- *   two spheres also r_large/r_small in [{bq_lo:.6g}, {bq_hi:.6g}].
+ *   two spheres also r_large/r_small in [{bq_lo:.6g}, {bq_hi:.6g}]. NEAR CONTACT, 0 < S/H < x0 =
+ *   {bh_lo:.6g}: 6 pi eta R*^2 v/S (1 - x)^2 (1 + rho x/x0), rho = phi(x0)/(1 - x0)^2 - 1,
+ *   phi the factor above at the gap where S/H = x0 (so continuous at x0): Pitois' (1 - x)^2
+ *   times the factor's departure from it at x0, linear in x; it tends to Reynolds'
+ *   6 pi eta R*^2 v/S as S/H -> 0, the limit of `lubrication` (the fitted factor's own value
+ *   at x = 0, 1 + c0 d + c4 d^2 + c7 d^3, is up to 2.6 % above it).
  *
-{cap_comment}
+{cap_comment}{refit_comment}
  */
 #ifndef WETCONTACT_CLOSURES_H
 #define WETCONTACT_CLOSURES_H
@@ -264,7 +273,7 @@ static inline double wc_viscous_force_bridge(double r1, double r2, double viscos
     static const double wall[10] = {br_wall};
     static const double spheres[10] = {br_ss};
     int plane = isinf(r2) && r2 > 0;
-    double rstar, kappa, rs, h;
+    double rstar, kappa, rs, h, x, x0, h0, phi0;
     if (!(r1 > 0) || !isfinite(r1) || !(r2 > 0) || !(viscosity > 0) || !isfinite(viscosity)
         || !isfinite(approach_speed) || !(volume > 0) || !(gap > 0) || !isfinite(gap))
         return NAN;
@@ -272,15 +281,25 @@ static inline double wc_viscous_force_bridge(double r1, double r2, double viscos
     kappa = plane ? 1.0 : rstar * rstar * rstar * (1.0 / (r1 * r1 * r1) + 1.0 / (r2 * r2 * r2));
     rs = plane ? r1 : (r1 < r2 ? r1 : r2);
     h = sqrt(gap * gap + volume / (WC_PI * rstar));
-    if (!wc__in_range6(gap / h, plane ? {bh_lo_w_r} : {bh_lo_s_r},
-                       plane ? {bh_hi_w_r} : {bh_hi_s_r})
+    x0 = plane ? {bh_lo_w_r} : {bh_lo_s_r};
+    x = gap / h;
+    if (!(x <= (plane ? {bh_hi_w_r} : {bh_hi_s_r}) * (1 + 1e-6))
         || !wc__in_range6(volume / (rs * rs * rs), plane ? {bv_lo_w_r} : {bv_lo_s_r},
                           plane ? {bv_hi_w_r} : {bv_hi_s_r}))
         return NAN;
     if (!plane && !wc__in_range6((r1 < r2 ? r2 : r1) / rs, {bq_lo_r}, {bq_hi_r}))
         return NAN;
-    return wc__finite_liquid(plane ? wall : spheres, rstar, kappa, viscosity, volume,
-                             approach_speed, gap);
+    if (x >= x0)
+        return wc__finite_liquid(plane ? wall : spheres, rstar, kappa, viscosity, volume,
+                                 approach_speed, gap);
+    /* near contact (S/H < x0): Reynolds (1 - x)^2 (1 + rho x/x0), rho = phi(x0)/(1 - x0)^2
+     * - 1, phi the factor at the gap where S/H = x0: equal to the form at x0, tending to
+     * Reynolds' 6 pi eta R*^2 v/S as S/H -> 0 (wetcontact's calibrated.bridge_force) */
+    h0 = h * sqrt((1.0 - x * x) / (1.0 - x0 * x0));
+    phi0 = wc__finite_liquid(plane ? wall : spheres, rstar, kappa, 1.0, volume, 1.0, x0 * h0)
+           * (x0 * h0) / (6.0 * WC_PI * rstar * rstar);
+    return 6.0 * WC_PI * viscosity * rstar * rstar * approach_speed / gap
+           * ((1.0 - x) * (1.0 - x)) * (1.0 + (phi0 / ((1.0 - x0) * (1.0 - x0)) - 1.0) * x / x0);
 }}
 
 /* ---- CAPILLARY: the shipped calibrated-capillary closure ----------------------------- */
@@ -976,8 +995,9 @@ def _nested(k: Any) -> str:
     return "{\n        " + ",\n        ".join(rows) + "}"
 
 
-def header_text(source: CapillarySource) -> str:
-    """The text of ``wetcontact_closures.h`` for the shipped immersed tables and ``source``."""
+def header_text(source: CapillarySource, refits: Sequence[RefitTable] = ()) -> str:
+    """The text of ``wetcontact_closures.h`` for the shipped immersed tables and ``source``,
+    plus one function per refit of ``refits`` (:mod:`wetcontact.export.refits`)."""
     imm = immersed_tables()
     w, ss = imm["sphere-wall"], imm["sphere-sphere"]
     if w["log_range"] != ss["log_range"]:
@@ -991,8 +1011,16 @@ def header_text(source: CapillarySource) -> str:
     s_lo_cap, s_hi_cap = cap.domain["s_over_sc"]
     bw, bs = viscous_table()["bridge"]["sphere-wall"], viscous_table()["bridge"]["sphere-sphere"]
     br = _bridge_fields(bw, bs)
+    api = "".join("\n" + textwrap.fill(
+        f"double {REFIT_FORMS[t.family].c_name}("
+        f"{', '.join(TARGET_ARGS[REFIT_FORMS[t.family].target])});", 88,
+        initial_indent=" *   ", subsequent_indent=" *" + " " * (len(REFIT_FORMS[
+            t.family].c_name) + 11)) for t in refits)
+    comment = "".join(f"\n * {line}".rstrip() for line in [""] + comment_lines(refits, "c")
+                      ) if refits else ""
     head = HEAD.format(
-        **br, usage="\n".join(f" * {line}".rstrip() for line in usage_text(
+        **br, refit_api=api, refit_comment=comment,
+        usage="\n".join(f" * {line}".rstrip() for line in usage_text(
             br["bh_lo"], br["bh_hi"], "c").splitlines()),
         br_err_wall=bw["held_out"]["after"]["max"], br_err_ss=bs["held_out"]["after"]["max"],
         version=__version__, imm_err_wall=w["held_out"]["max"],
@@ -1030,6 +1058,10 @@ def header_text(source: CapillarySource) -> str:
         v_lo=repr(v_lo), v_hi=repr(v_hi), t_lo=repr(t_lo), t_hi=repr(t_hi),
         lian=c_array(rup.coefficients), willett=_nested(cap.coefficients),
         s_lo_cap=repr(s_lo_cap), s_hi_cap=repr(s_hi_cap))
+    end = "#endif /* WETCONTACT_CLOSURES_H */\n"
+    assert body.endswith(end)
+    if refits:
+        body = body[:-len(end)] + c_text(refits).lstrip("\n") + "\n" + end
     return head + body
 
 
@@ -1239,12 +1271,15 @@ def _wrap(text: str, width: int = 76) -> str:
     return "\n * !!!   ".join(_wrap_lines(text, width))
 
 
-def write_header(out: str | Path, source: CapillarySource) -> dict[str, Any]:
-    """Write the header to ``out`` (a file, or a folder to hold ``wetcontact_closures.h``)."""
+def write_header(out: str | Path, source: CapillarySource,
+                 refits: Sequence[RefitTable] = ()) -> dict[str, Any]:
+    """Write the header to ``out`` (a file, or a folder to hold ``wetcontact_closures.h``),
+    with one ``wc_refit_<family>`` function per refit of ``refits``."""
     out = Path(out)
     if out.is_dir():
         out = out / HEADER_NAME
-    text = header_text(source)
+    text = header_text(source, refits)
     atomic_write_text(out, text)
     return {"format": "c", "out": str(out), "bytes": len(text.encode()),
-            "functions": list(FUNCTIONS), "capillary": source.label}
+            "functions": list(FUNCTIONS) + [REFIT_FORMS[t.family].c_name for t in refits],
+            "capillary": source.label}

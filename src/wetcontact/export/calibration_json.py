@@ -51,6 +51,12 @@ FORMS = {
                       "kappa H/R*, kappa = R*^3 (1/R1^3 + 1/R2^3) (1 for a wall), H the edge "
                       "gap (film thickness, or sqrt(S^2 + V/(pi R*)) for a bridge); "
                       "coefficients (p, c0, ..., c8)"),
+    "bridge-near-contact": ("; near contact, 0 < x < x0 = {x0!r} (the s_over_h domain's lower "
+                            "end): F = 6 pi eta R*^2 v/S (1 - x)^2 (1 + rho x/x0), rho = "
+                            "phi(x0)/(1 - x0)^2 - 1, phi the factor above at the gap where "
+                            "S/H = x0 (H = H0/sqrt(1 - x0^2), H0 = sqrt(V/(pi R*))): equal to "
+                            "the form at x0 and tending to Reynolds' 6 pi eta R*^2 v/S as "
+                            "S/H -> 0, the limit of lubrication"),
     "film-correction": ("; for films times exp(sum_ij C[i, j] T_i(a) T_j(b)), a = (2 ln(delta/R) "
                         "- ln d0 - ln d1)/(ln d1 - ln d0), b = (2 sqrt(1 - x) - sqrt(1 - x1) "
                         "- sqrt(1 - x0))/(sqrt(1 - x0) - sqrt(1 - x1)), [d0, d1] = {d}, "
@@ -269,6 +275,8 @@ def shipped_document(closure: str) -> dict[str, Any]:
                                                    x=corr["s_over_h"])
             layout += f", then C[i, j] flattened in C order, shape ({na}, {nb})"
             coef = list(coef) + [v for row in corr["chebyshev_2d"] for v in row]
+        if amount == "bridge":
+            form += FORMS["bridge-near-contact"].format(x0=t["domain"]["s_over_h"][0])
         parts.append({"name": name, "geometry": kind, "amount": amount,
                       "form": form, "coefficient_layout": layout, "coefficients": coef,
                       "domain": t["domain"],

@@ -13,7 +13,10 @@ for a plane:
 ``viscous_force_bridge(r1, r2, viscosity, volume, approach_speed, gap)``
     The shipped ``calibrated-viscous`` closure (bridge part): the Reynolds force times the
     refitted finite-liquid factor (held-out error 0.2-0.3 % against ``lubrication``).
-    Domain: V/r_small^3 in [1e-4, 0.1], S/H in [0.01, 0.95], radius ratio 1-10.
+    Domain: V/r_small^3 in [1e-4, 0.1], S/H in [0.01, 0.95], radius ratio 1-10; below
+    S/H = 0.01 the near-contact branch of
+    :func:`~wetcontact.reduced_models.calibrated.bridge_force`, which tends to Reynolds'
+    ``6 pi eta R*^2 v/S`` as S/H -> 0.
 ``rupture_distance(r1, r2, volume, theta1_deg, theta2_deg)``
     The shipped ``calibrated-capillary`` closure (:mod:`wetcontact.reduced_models.
     calibrated_capillary`): ``S_c = R_s v^(1/3) exp(sum C T_i(w) T_j(a) T_k(b))``, a tensor
@@ -263,10 +266,13 @@ FOR A DEM CONTACT LAW (measured 2026-11-27 against the package's own models):
   the capillary force is exactly 0 there and jumps to 0 at S_c (from 3.7 % of its contact
   value for V/R^3 = 0.01 at 20 deg on a plane). Whether a bridge exists on the way back in
   (it forms only at contact) is the contact law's state to keep.
-- Outside the bridge viscous force's S/H domain (near contact, S/H < {bh_lo:g}, and just
-  before rupture, S/H > {bh_hi:g}; S = 0 gives NAN), Pitois et al. (2000)'s
-  6 pi eta R*^2 v/S (1 - S/H)^2 is within 1.6 % of `lubrication` below it (tending to 0
-  at contact) and 0.16 % above it (V/r_small^3 <= 0.1, radius ratio 1-10).
+- Near contact (S/H < x0 = {bh_lo:g}) the bridge viscous force is its near-contact
+  branch 6 pi eta R*^2 v/S (1 - S/H)^2 (1 + rho S/(x0 H)), rho = phi(x0)/(1 - x0)^2 - 1
+  from the fitted factor phi at S/H = x0 (continuous there): it tends to Reynolds'
+  6 pi eta R*^2 v/S as S/H -> 0, as `lubrication` does, and is within 0.3 % of
+  `lubrication` for S/H in [1e-3, x0] (V/r_small^3 <= 0.1, radius ratio 1-10); S = 0
+  gives NAN. Just before rupture (S/H > {bh_hi:g}) it gives NAN: there Pitois et al.
+  (2000)'s 6 pi eta R*^2 v/S (1 - S/H)^2 is within 0.16 % of `lubrication`.
 - Overlap (gap < 0) gives NAN: clamp the gap to your contact model's minimum.
 - Every function is re-entrant (no mutable static state): call it from any thread."""
 """Usage notes common to the C header and the numpy module (plain text; ``{bh_lo}`` and
@@ -743,16 +749,18 @@ class CapillarySource:
                 f"a shipped closure: {self.refit_label}")
 
 
-def read_refit(path: Path | str, family: str) -> RefitTable:
-    """A refitted family from ``path``; an :class:`InputError` naming the file otherwise."""
+def read_refit(path: Path | str, family: str | None = None) -> RefitTable:
+    """A refitted family from ``path`` (``family``: the one it must be; None: any); an
+    :class:`InputError` naming the file otherwise."""
     from wetcontact.calibrate import load_coefficients
 
     path = Path(path)
     if not path.exists():  # a FIFO or a folder is refused by load_coefficients, by name
         raise InputError(f"{path}: no such calibration file; write it with `python -m "
-                         f"wetcontact.generate fit {family} --out {path}` or name another "
-                         "with --capillary / --rupture")
+                         f"wetcontact.generate fit {family or 'FAMILY'} --out {path}` or name "
+                         "another with " + ("--capillary / --rupture" if family else "--refit"))
     closure = load_coefficients(path)  # validates family, size and finiteness
+    family = family or closure.family.name
     if closure.family.name != family:
         raise InputError(f"{path}: family = {closure.family.name!r}; allowed: {family!r} "
                          "(the only family this export writes for that function)")

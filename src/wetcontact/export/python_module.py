@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import textwrap
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -31,10 +32,12 @@ from wetcontact.export.closures import (
     CapillaryBand,
     CapillaryPart,
     CapillarySource,
+    RefitTable,
     TensorTrain,
     immersed_tables,
     usage_text,
 )
+from wetcontact.export.refits import REFIT_FORMS, comment_lines, python_text
 from wetcontact.fileio import atomic_write_text
 from wetcontact.reduced_models.calibrated import viscous_table
 
@@ -67,7 +70,10 @@ viscous_force_bridge: the shipped `calibrated-viscous` closure (bridge part): Re
 the refitted finite-liquid factor; held-out max relative error {br_err_wall:.2g} (plane) /
 {br_err_ss:.2g} (two spheres) against `lubrication`; domain: V/r_small^3 in
 [{bv_lo:.6g}, {bv_hi:.6g}], S/H in [{bh_lo:.6g}, {bh_hi:.6g}] (H = sqrt(S^2 + V/(pi R*))), two
-spheres also r_large/r_small in [{bq_lo:.6g}, {bq_hi:.6g}].
+spheres also r_large/r_small in [{bq_lo:.6g}, {bq_hi:.6g}]. Near contact, 0 < S/H = x < x0 =
+{bh_lo:.6g}: 6 pi eta R*^2 v/S (1 - x)^2 (1 + rho x/x0), rho = phi(x0)/(1 - x0)^2 - 1, phi the
+fitted factor at the gap where S/H = x0 (continuous there); it tends to Reynolds'
+6 pi eta R*^2 v/S as S/H -> 0, the limit of `lubrication`.
 
 capillary_force, rupture_distance: the shipped `calibrated-capillary` closure, a tensor
 Chebyshev interpolant of the `meniscus` finite-element bridge:
@@ -117,13 +123,13 @@ Domain (both): equal spheres (a plane returns NaN), V/R^3 in
 [{v_lo:.6g}, {v_hi:.6g}], cosine-mean contact angle in [{t_lo:.6g}, {t_hi:.6g}] deg; the
 force also needs gap/S_c,Willett in [{sc_lo:.6g}, {sc_hi:.6g}],
 S_c,Willett = R (1 + theta/2)(V*^(1/3) + 0.1 V*^(2/3)) (NaN below it, near contact; 0 at
-and past the refitted rupture distance; NaN between the top of that range and rupture).
+and past the refitted rupture distance; NaN between the top of that range and rupture).{refit_doc}
 """
 
 import numpy as np
 
 __all__ = ["viscous_force_immersed", "viscous_force_bridge", "capillary_force",
-           "rupture_distance", "capillary_force_refit", "rupture_distance_refit"]
+           "rupture_distance", "capillary_force_refit", "rupture_distance_refit"{refit_all}]
 
 _CHEB_WALL = np.array({cheb_wall})
 _CHEB_SPHERES = np.array({cheb_ss})
@@ -206,13 +212,21 @@ def viscous_force_bridge(r1, r2, viscosity, volume, approach_speed, gap):
         out = np.full(r1.shape, np.nan)
         for name, sel, k in (("wall", plane, _BRIDGE_WALL),
                              ("spheres", ~plane, _BRIDGE_SPHERES)):
-            h_lo, h_hi, v_lo, v_hi = _BRIDGE_DOMAIN[name]
-            good = (ok & sel & _in_range6(gap / h, h_lo, h_hi)
-                    & _in_range6(vol / rs**3, v_lo, v_hi))
+            x0, h_hi, v_lo, v_hi = _BRIDGE_DOMAIN[name]
+            x = gap / h
+            good = (ok & sel & (x <= h_hi * (1 + 1e-6)) & _in_range6(vol / rs**3, v_lo, v_hi))
             if name == "spheres":
                 good &= _in_range6(np.maximum(r1, r2) / rs, _RATIO_LO, _RATIO_HI)
             f = _finite_liquid(k, rstar, kappa, eta, vol, v, gap)
-            out = np.where(good, f, out)
+            # near contact (S/H < x0): Reynolds (1 - x)^2 (1 + rho x/x0), rho = phi(x0)/
+            # (1 - x0)^2 - 1, phi the factor at the gap where S/H = x0: equal to the form at
+            # x0, tending to Reynolds' 6 pi eta R*^2 v/S as S/H -> 0
+            h0 = h * np.sqrt((1.0 - x**2) / (1.0 - x0**2))
+            phi0 = (_finite_liquid(k, rstar, kappa, 1.0, vol, 1.0, x0 * h0)
+                    * (x0 * h0) / (6.0 * np.pi * rstar * rstar))
+            near = (6.0 * np.pi * eta * rstar * rstar * v / gap * ((1.0 - x) * (1.0 - x))
+                    * (1.0 + (phi0 / ((1.0 - x0) * (1.0 - x0)) - 1.0) * x / x0))
+            out = np.where(good, np.where(x >= x0, f, near), out)
     return out[()]
 
 
@@ -592,8 +606,9 @@ def capillary_force_refit(r1, r2, volume, gap, surface_tension, theta1_deg, thet
 '''
 
 
-def module_text(source: CapillarySource) -> str:
-    """The text of the numpy-only module for the shipped tables and ``source``."""
+def module_text(source: CapillarySource, refits: Sequence[RefitTable] = ()) -> str:
+    """The text of the numpy-only module for the shipped tables and ``source``, plus one
+    function per refit of ``refits`` (:mod:`wetcontact.export.refits`)."""
     imm = immersed_tables()
     w, ss = imm["sphere-wall"], imm["sphere-sphere"]
     if w["log_range"] != ss["log_range"]:
@@ -606,8 +621,12 @@ def module_text(source: CapillarySource) -> str:
     br = _bridge_fields(bw, bs)
     br.update(br_wall=_list(bw["coefficients"]), br_ss=_list(bs["coefficients"]))
     parts = source.table.parts
-    return TEMPLATE.format(
-        **br, **capillary_fields(source), usage=usage_text(br["bh_lo"], br["bh_hi"], "python"),
+    doc = "".join("\n" + line for line in [""] + comment_lines(refits, "python")
+                  ) if refits else ""
+    names = "".join(f',\n           "{REFIT_FORMS[t.family].py_name}"' for t in refits)
+    text = TEMPLATE.format(
+        **br, refit_doc=doc, refit_all=names,
+        **capillary_fields(source), usage=usage_text(br["bh_lo"], br["bh_hi"], "python"),
         cap_held_out=_fill("; ".join(held_out_lines(source)) + "."),
         cap_wall=_tables(parts.get("sphere-wall")), cap_ss=_tables(parts.get("sphere-sphere")),
         cap_wall2=_bands(parts.get(TWO_ANGLES)), bands=bands_text(parts.get(TWO_ANGLES)),
@@ -625,6 +644,7 @@ def module_text(source: CapillarySource) -> str:
         v_lo_r=repr(v_lo), v_hi_r=repr(v_hi), t_lo_r=repr(t_lo), t_hi_r=repr(t_hi),
         sc_lo_r=repr(sc_lo), sc_hi_r=repr(sc_hi), lian=_list(rup.coefficients),
         willett=_list(cap.coefficients))
+    return text + python_text(refits)
 
 
 def _fill(text: str) -> str:
@@ -686,13 +706,16 @@ def _list(values: Any, per_line: int = 3) -> str:
     return "[\n    " + ",\n    ".join(lines) + "]"
 
 
-def write_module(out: str | Path, source: CapillarySource) -> dict[str, Any]:
-    """Write the module to ``out`` (a ``.py`` file, or a folder for ``wetcontact_closures.py``)."""
+def write_module(out: str | Path, source: CapillarySource,
+                 refits: Sequence[RefitTable] = ()) -> dict[str, Any]:
+    """Write the module to ``out`` (a ``.py`` file, or a folder for ``wetcontact_closures.py``),
+    with one ``refit_<family>`` function per refit of ``refits``."""
     out = Path(out)
     if out.is_dir():
         out = out / MODULE_NAME
-    text = module_text(source)
+    text = module_text(source, refits)
     atomic_write_text(out, text)
     return {"format": "python", "out": str(out), "bytes": len(text.encode()),
-            "functions": [f.removeprefix("wc_") for f in FUNCTIONS],
+            "functions": [f.removeprefix("wc_") for f in FUNCTIONS]
+            + [REFIT_FORMS[t.family].py_name for t in refits],
             "capillary": source.label}

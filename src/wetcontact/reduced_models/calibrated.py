@@ -9,11 +9,13 @@
     Films on a wall, delta/R in [1e-3, 0.1], and bridges (H = sqrt(S^2 + V/(pi R*)),
     V/R_small^3 in [1e-4, 0.1], radius ratio 1-10): the Reynolds force times the refitted
     finite-liquid factor (:func:`wetcontact.reduced_models.forms.finite_liquid_form`), fitted to
-    ``lubrication``; for films times a correction to ``stokes`` with the flat film top
-    (:func:`film_correction`: lubrication is 0.4-73 % below it as the sphere leaves the
-    film), the films' best reference. Bridges stay fitted to ``lubrication`` (labelled so
-    in the table): ``stokes`` in a bridge adds the moving contact lines' dissipation, which
-    depends on the slip length and which no closure here models.
+    ``lubrication``; a bridge below the fitted S/H range (near contact) by its near-contact
+    branch (:func:`bridge_force`), which tends to the Reynolds force; for films times a
+    correction to ``stokes`` with the flat film top (:func:`film_correction`: lubrication
+    is 0.4-73 % below it as the sphere leaves the film), the films' best reference.
+    Bridges stay fitted to ``lubrication`` (labelled so in the table): ``stokes`` in a
+    bridge adds the moving contact lines' dissipation, which depends on the slip length and
+    which no closure here models.
 
 The coefficients and held-out error tables are in ``data/calibrated_viscous.json``,
 written by ``python -m wetcontact.generate calibrated-viscous``.
@@ -23,6 +25,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Mapping
 from functools import cache
 from importlib import resources
 from typing import Any
@@ -100,7 +103,8 @@ class CalibratedViscous(Model):
     validity = ("immersed sphere-wall or equal spheres, S/R in [1e-5, 100]; film on a wall, "
                 "delta/R in [1e-3, 0.1], and bridges (wall, or spheres of radius ratio 1-10), "
                 "V/R_small^3 in [1e-4, 0.1]: S/H in [0.01, 0.95] (films against stokes, "
-                "flat top; bridges against lubrication); a film's gaps S >= delta give 0 "
+                "flat top; bridges against lubrication; a bridge also below S/H = 0.01, by "
+                "its near-contact branch tending to Reynolds); a film's gaps S >= delta give 0 "
                 "(the sphere does not reach the liquid)")
     reference = ("calibrated here: Brenner (1961) series; stokes (flat top) for films; "
                  "lubrication for bridges")
@@ -133,6 +137,8 @@ class CalibratedViscous(Model):
                                 "does not reach the liquid: no force)", "lubrication")
         for k, (lo, hi) in entry["domain"].items():
             v = coords[k][wet]
+            if k == "s_over_h" and scene.amount == "bridge":
+                lo = 0.0  # below the fitted range: the near-contact branch (bridge_force)
             if v.min() < lo * (1 - 1e-6) or v.max() > hi * (1 + 1e-6):
                 raise ValidityError(self.name, f"{k} from {v.min():.4g} to {v.max():.4g} "
                                     f"outside the calibrated [{lo:.4g}, {hi:.4g}]",
@@ -160,8 +166,10 @@ class CalibratedViscous(Model):
             entry = _finite_entry(table, scene)
             wet = _wetted(scene)
             f = np.zeros(n)
-            f[wet] = finite_liquid_form(np.asarray(entry["coefficients"]),
-                                        {k: a[wet] for k, a in x.items()})
+            k = np.asarray(entry["coefficients"])
+            xw = {key: a[wet] for key, a in x.items()}
+            f[wet] = (finite_liquid_form(k, xw) if scene.amount == "film"
+                      else bridge_force(k, xw, entry["domain"]["s_over_h"][0]))
             if "stokes_correction" in entry:
                 f[wet] *= film_correction(scene.film_thickness / r,
                                           s[wet] / scene.film_thickness,
@@ -171,6 +179,64 @@ class CalibratedViscous(Model):
         return closure_curve(scene, self.name, viscous=f,
                              error_estimate=estimate_or_none(self.name, "viscous", scene),
                              outside=past_rupture_note(scene))
+
+
+def bridge_force(k: np.ndarray, x: Mapping[str, np.ndarray], x_lo: float) -> np.ndarray:
+    r"""Viscous force (N) of a pendular bridge: the refitted finite-liquid form on its
+    fitted range, its near-contact branch below it.
+
+    With x = S/H, H = sqrt(S^2 + V/(pi R*)) (Pitois et al. 2000) and the refitted factor
+    :math:`\phi(x, d)` of :func:`~wetcontact.reduced_models.forms.finite_liquid_form`:
+
+    .. math::
+        F = F_R(S)\,\phi(x, d) \quad (x \ge x_0), \qquad
+        F = F_R(S)\,(1 - x)^2 \left(1 + \rho \frac{x}{x_0}\right) \quad (x < x_0),
+
+    :math:`F_R = 6 \pi \eta R^{*2} v/S` (Reynolds), :math:`x_0` the lower end of the fitted
+    S/H range and :math:`\rho = \phi(x_0, d_0)/(1 - x_0)^2 - 1`, :math:`d_0` the factor's d
+    at the gap where S/H = x_0 (H_0 = H sqrt((1 - x^2)/(1 - x_0^2))): Pitois'
+    :math:`(1 - x)^2` times the refitted factor's departure from it at :math:`x_0`, taken
+    linear in x (its leading order) below. The branch equals the form at :math:`x_0` (to
+    rounding) and tends to the Reynolds force as S/H -> 0,
+    :math:`F S/(6 \pi \eta R^{*2} v) \to 1`, as ``lubrication`` and ``reynolds-finite``
+    do: the bridge is fully flooded relative to the gap and the surfaces' departure from
+    the parabola is O(S/R*) there. (The refitted form's own value at x = 0,
+    :math:`1 + c_0 d + c_4 d^2 + c_7 d^3`, is up to 2.6 % above that limit at V/R*^3 = 0.1:
+    its terms in sqrt(x) were fitted on [x_0, 0.95] only.)
+
+    Parameters
+    ----------
+    k
+        The refitted coefficients (p, c0, ..., c8).
+    x
+        ``gap``, ``edge_gap`` (H), ``kappa``, ``r_star``, ``viscosity``, ``velocity``
+        arrays, as :func:`~wetcontact.reduced_models.forms.finite_liquid_form` takes.
+    x_lo
+        :math:`x_0`, the fitted range's lower end of S/H.
+
+    Returns
+    -------
+    numpy.ndarray
+        The force (N), positive resisting approach.
+    """
+    from wetcontact.reduced_models.forms import finite_liquid_form
+
+    gap, h = np.asarray(x["gap"], dtype=float), np.asarray(x["edge_gap"], dtype=float)
+    xx = gap / h
+    near = xx < x_lo
+    out = np.asarray(finite_liquid_form(k, x), dtype=float)
+    if not np.any(near):
+        return out
+    sub = {key: np.asarray(a)[near] for key, a in x.items()}
+    xn = xx[near]
+    h_lo = h[near] * np.sqrt((1.0 - xn**2) / (1.0 - x_lo**2))
+    edge = {**sub, "gap": x_lo * h_lo, "edge_gap": h_lo, "velocity": np.ones_like(xn),
+            "viscosity": np.ones_like(xn)}
+    phi_lo = finite_liquid_form(k, edge) * (x_lo * h_lo) / (6.0 * np.pi * sub["r_star"] ** 2)
+    rho = phi_lo / (1.0 - x_lo) ** 2 - 1.0
+    rey = 6.0 * np.pi * sub["viscosity"] * sub["r_star"] ** 2 * sub["velocity"] / sub["gap"]
+    out[near] = rey * (1.0 - xn) ** 2 * (1.0 + rho * xn / x_lo)
+    return out
 
 
 def film_correction(delta_over_r: float | np.ndarray, s_over_h: np.ndarray,
