@@ -43,6 +43,7 @@ from typing import Any, Literal
 
 from wetcontact.errors import InputError, SolverError
 from wetcontact.models import ForceCurve, get_model
+from wetcontact.progress import Ticker
 from wetcontact.scene import Scene
 from wetcontact.store import BatchWriter, Store, code_version, curve_key
 
@@ -246,8 +247,8 @@ def _batches(points: Sequence[Point], workers: int) -> list[list[Point]]:
 
 
 class _Progress:
-    """A tqdm bar on a terminal, else a line on stderr every ``every`` seconds (from a
-    background thread, so a long point does not silence it).
+    """A tqdm bar on a terminal, else a line on stderr every ``every`` seconds (a
+    :class:`~wetcontact.progress.Ticker`, so a long point does not silence it).
 
     The closing count (the bar left on a terminal, a last line in a log) is left out when
     every point failed, unless the log already has progress lines: the sweep's error
@@ -262,17 +263,13 @@ class _Progress:
         self.t0 = time.monotonic()
         self.bar = None
         self.lines = 0
-        self.stop = threading.Event()
+        self.ticker: Ticker | None = None
         if enabled and sys.stderr.isatty():
             from tqdm import tqdm
 
             self.bar = tqdm(total=total, desc="sweep", unit="pt", file=sys.stderr)
         elif enabled:
-            threading.Thread(target=self._ticker, daemon=True).start()
-
-    def _ticker(self) -> None:
-        while not self.stop.wait(self.every):
-            self.line()
+            self.ticker = Ticker(self._text, every).start()
 
     def update(self, status: Status, n: int = 1) -> None:
         self.done += n
@@ -283,16 +280,21 @@ class _Progress:
             self.bar.update(n)
             self.bar.set_postfix(self.counts, refresh=False)
 
-    def line(self) -> None:
+    def _text(self) -> str:
         c = self.counts
-        sys.stderr.write(f"sweep: {self.done}/{self.total} points (computed {c['computed']}, "
-                         f"reused {c['reused']}, failed {c['failed']}), "
-                         f"{time.monotonic() - self.t0:.0f} s\n")
-        sys.stderr.flush()
         self.lines += 1
+        return (f"sweep: {self.done}/{self.total} points (computed {c['computed']}, "
+                f"reused {c['reused']}, failed {c['failed']}), "
+                f"{time.monotonic() - self.t0:.0f} s\n")
+
+    def line(self) -> None:
+        """Write the progress line now."""
+        sys.stderr.write(self._text())
+        sys.stderr.flush()
 
     def close(self) -> None:
-        self.stop.set()
+        if self.ticker is not None:
+            self.ticker.stop()
         failed = self.total > 0 and self.counts["failed"] == self.total
         if self.bar is not None:
             self.bar.leave = not failed  # erased when every point failed
