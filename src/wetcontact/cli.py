@@ -135,6 +135,9 @@ def main(argv: list[str] | None = None) -> int:
         args = build_parser().parse_args(argv)
     except SystemExit as exc:  # --help, --version, or a usage error already printed
         return exc.code if isinstance(exc.code, int) else 2
+    except KeyboardInterrupt:  # Ctrl-C while the parser's modules load (numpy, scipy)
+        sys.stderr.write("wetcontact: interrupted before any work\n")
+        return 130
     previous = _catch_sigterm()
     try:
         with warnings.catch_warnings():

@@ -502,15 +502,39 @@ def _dask_client(workers: int | None, scheduler: str | None, n_points: int = 1 <
             yield client, scheduler
         return
     n = max(1, min(workers or os.cpu_count() or 1, n_points))
-    with warnings.catch_warnings(), quiet_resource_tracker():
-        # the scheduler's HTTP endpoint moves to a free port when 8787 is taken; say nothing
-        warnings.filterwarnings("ignore", message="Port .* is already in use")
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                               dashboard_address=None, host="127.0.0.1",
-                               silence_logs=logging.CRITICAL)
-    with cluster, Client(cluster) as client:
-        client.run(ignore_ctrl_c)
-        yield client, f"local-cluster:{n}"
+    restore = _block_ctrl_c()
+    try:
+        with warnings.catch_warnings(), quiet_resource_tracker():
+            # the scheduler's HTTP endpoint moves to a free port when 8787 is taken
+            warnings.filterwarnings("ignore", message="Port .* is already in use")
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                   dashboard_address=None, host="127.0.0.1",
+                                   silence_logs=logging.CRITICAL)
+    except BaseException:
+        restore()
+        raise
+    with cluster:
+        restore()
+        with Client(cluster) as client:
+            client.run(ignore_ctrl_c)
+            yield client, f"local-cluster:{n}"
+
+
+def _block_ctrl_c() -> Callable[[], None]:
+    """Ignore SIGINT while a local cluster starts (a few seconds); return the function
+    that restores the handler.
+
+    A Ctrl-C at a terminal goes to the whole process group: in the middle of
+    ``LocalCluster(...)`` it left a half-started cluster and worker processes interrupted
+    while importing, each printing a traceback. A process started while SIGINT is ignored
+    keeps ignoring it (Python installs its own handler only over the default), so the
+    workers never see a terminal's Ctrl-C; the sweep's process handles the next one and
+    closes the cluster. Outside the main thread nothing changes.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        return lambda: None
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    return lambda: signal.signal(signal.SIGINT, old) and None
 
 
 def ignore_ctrl_c() -> bool:
