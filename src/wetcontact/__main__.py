@@ -1,5 +1,5 @@
 """``python -m wetcontact``: the same command line as the ``wetcontact`` script."""
 
-from wetcontact.cli import main
+from wetcontact._entry import main
 
 raise SystemExit(main())

@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, Any
 from wetcontact import __version__
 from wetcontact.errors import InputError, SolverError, short_repr
 from wetcontact.fileio import writable_file
+from wetcontact.progress import Ticker
 
 if TYPE_CHECKING:  # the CLI imports its subcommands' modules only when they run
     from wetcontact.models import ForceCurve
@@ -134,6 +135,9 @@ def main(argv: list[str] | None = None) -> int:
         args = build_parser().parse_args(argv)
     except SystemExit as exc:  # --help, --version, or a usage error already printed
         return exc.code if isinstance(exc.code, int) else 2
+    except KeyboardInterrupt:  # Ctrl-C while the parser's modules load (numpy, scipy)
+        sys.stderr.write("wetcontact: interrupted before any work\n")
+        return 130
     previous = _catch_sigterm()
     try:
         with warnings.catch_warnings():
@@ -511,44 +515,35 @@ class Progress:
 
     On a terminal: a spinner line with the elapsed time, redrawn in place and erased at the
     end. Otherwise (logs, pipes): one line every :data:`PROGRESS_EVERY` seconds. A call
-    shorter than that prints nothing.
+    shorter than that prints nothing. Both are :class:`wetcontact.progress.Ticker` lines.
     """
 
     def __init__(self, what: str, stream=None):
         self.what, self.stream = what, stream if stream is not None else sys.stderr
         self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
-        self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._loop, daemon=True)
-        self._drawn = False
+        self._spin = 0
+        every = min(PROGRESS_EVERY, 0.25) if self.tty else PROGRESS_EVERY
+        first = min(PROGRESS_EVERY, 1.0) if self.tty else PROGRESS_EVERY
+        self._ticker = Ticker(self._line, every, self.stream, first=first)
+
+    def _line(self) -> str:
+        dt = time.monotonic() - self.t0
+        if not self.tty:
+            return f"wetcontact: still solving {self.what}, {dt:.0f} s\n"
+        self._spin += 1
+        spin = _SPIN[(self._spin - 1) % 4]
+        return f"\rwetcontact: solving {self.what} {spin} {dt:.0f} s\x1b[K"
 
     def __enter__(self) -> Progress:
         self.t0 = time.monotonic()
-        self._thread.start()
+        self._ticker.start()
         return self
 
     def __exit__(self, *exc: object) -> None:
-        self._stop.set()
-        self._thread.join()
-        if self._drawn:
+        self._ticker.stop()
+        if self.tty and self._ticker.ticks:
             self.stream.write("\r\x1b[K")
             self.stream.flush()
-
-    def _loop(self) -> None:
-        every = min(PROGRESS_EVERY, 0.25) if self.tty else PROGRESS_EVERY
-        first, spin = PROGRESS_EVERY if not self.tty else min(PROGRESS_EVERY, 1.0), 0
-        if self._stop.wait(first):
-            return
-        while True:
-            dt = time.monotonic() - self.t0
-            if self.tty:
-                self.stream.write(f"\rwetcontact: solving {self.what} {_SPIN[spin % 4]} "
-                                  f"{dt:.0f} s\x1b[K")
-                self._drawn, spin = True, spin + 1
-            else:
-                self.stream.write(f"wetcontact: still solving {self.what}, {dt:.0f} s\n")
-            self.stream.flush()
-            if self._stop.wait(every):
-                return
 
 
 def _add_sweep_parser(sub: argparse._SubParsersAction) -> None:

@@ -24,7 +24,6 @@ import os
 import platform
 import shutil
 import sys
-import threading
 import time
 from collections.abc import Collection, Iterator, Sequence
 from dataclasses import dataclass, field
@@ -36,6 +35,7 @@ from wetcontact.compare import CSV_FIELDS, compare, reference_for
 from wetcontact.errors import InputError, SolverError
 from wetcontact.fileio import fsync_dir, safe_stem
 from wetcontact.models import ForceCurve, get_model, load_all, provenance
+from wetcontact.progress import Ticker
 from wetcontact.scene import Scene, load_case
 from wetcontact.store import Store, code_version
 from wetcontact.sweep import Outcome, Point, SweepResult, sweep
@@ -398,7 +398,8 @@ def compare_case(case: Path, out: Path, models: Sequence[str] | None = None,
 
 class _Heartbeat:
     """A line on stderr every ``every`` seconds saying what the run is doing (when stderr is
-    not a terminal: logs and CI see progress; a terminal has the sweep's bar).
+    not a terminal: logs and CI see progress; a terminal has the sweep's bar), written by
+    a :class:`~wetcontact.progress.Ticker`.
 
     While a sweep runs the line counts its points, ``wetcontact run: stage 1 (cases and
     studies): 12/40 points (30 s)``: the sweep reports them through :meth:`points`.
@@ -409,8 +410,7 @@ class _Heartbeat:
         self._phase, self.t0 = "starting", time.perf_counter()
         self.every = PROGRESS_EVERY_S if every is None else every
         self.count: tuple[int, int] | None = None  # (done, total) of the current sweep
-        self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._loop, daemon=True)
+        self._ticker = Ticker(lambda: self.line() + "\n", self.every)
 
     @property
     def phase(self) -> str:
@@ -431,20 +431,13 @@ class _Heartbeat:
         done = "" if count is None else f": {count[0]}/{count[1]} points"
         return f"wetcontact run: {self._phase}{done} ({time.perf_counter() - self.t0:.0f} s)"
 
-    def _loop(self) -> None:
-        while not self._stop.wait(self.every):
-            sys.stderr.write(self.line() + "\n")
-            sys.stderr.flush()
-
     def __enter__(self) -> _Heartbeat:
         if self.enabled:
-            self._thread.start()
+            self._ticker.start()
         return self
 
     def __exit__(self, *exc: object) -> None:
-        self._stop.set()
-        if self.enabled:
-            self._thread.join()
+        self._ticker.stop()
 
 
 @contextlib.contextmanager

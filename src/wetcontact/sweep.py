@@ -43,6 +43,7 @@ from typing import Any, Literal
 
 from wetcontact.errors import InputError, SolverError
 from wetcontact.models import ForceCurve, get_model
+from wetcontact.progress import Ticker
 from wetcontact.scene import Scene
 from wetcontact.store import BatchWriter, Store, code_version, curve_key
 
@@ -246,8 +247,8 @@ def _batches(points: Sequence[Point], workers: int) -> list[list[Point]]:
 
 
 class _Progress:
-    """A tqdm bar on a terminal, else a line on stderr every ``every`` seconds (from a
-    background thread, so a long point does not silence it).
+    """A tqdm bar on a terminal, else a line on stderr every ``every`` seconds (a
+    :class:`~wetcontact.progress.Ticker`, so a long point does not silence it).
 
     The closing count (the bar left on a terminal, a last line in a log) is left out when
     every point failed, unless the log already has progress lines: the sweep's error
@@ -262,17 +263,13 @@ class _Progress:
         self.t0 = time.monotonic()
         self.bar = None
         self.lines = 0
-        self.stop = threading.Event()
+        self.ticker: Ticker | None = None
         if enabled and sys.stderr.isatty():
             from tqdm import tqdm
 
             self.bar = tqdm(total=total, desc="sweep", unit="pt", file=sys.stderr)
         elif enabled:
-            threading.Thread(target=self._ticker, daemon=True).start()
-
-    def _ticker(self) -> None:
-        while not self.stop.wait(self.every):
-            self.line()
+            self.ticker = Ticker(self._text, every).start()
 
     def update(self, status: Status, n: int = 1) -> None:
         self.done += n
@@ -283,16 +280,21 @@ class _Progress:
             self.bar.update(n)
             self.bar.set_postfix(self.counts, refresh=False)
 
-    def line(self) -> None:
+    def _text(self) -> str:
         c = self.counts
-        sys.stderr.write(f"sweep: {self.done}/{self.total} points (computed {c['computed']}, "
-                         f"reused {c['reused']}, failed {c['failed']}), "
-                         f"{time.monotonic() - self.t0:.0f} s\n")
-        sys.stderr.flush()
         self.lines += 1
+        return (f"sweep: {self.done}/{self.total} points (computed {c['computed']}, "
+                f"reused {c['reused']}, failed {c['failed']}), "
+                f"{time.monotonic() - self.t0:.0f} s\n")
+
+    def line(self) -> None:
+        """Write the progress line now."""
+        sys.stderr.write(self._text())
+        sys.stderr.flush()
 
     def close(self) -> None:
-        self.stop.set()
+        if self.ticker is not None:
+            self.ticker.stop()
         failed = self.total > 0 and self.counts["failed"] == self.total
         if self.bar is not None:
             self.bar.leave = not failed  # erased when every point failed
@@ -500,15 +502,39 @@ def _dask_client(workers: int | None, scheduler: str | None, n_points: int = 1 <
             yield client, scheduler
         return
     n = max(1, min(workers or os.cpu_count() or 1, n_points))
-    with warnings.catch_warnings(), quiet_resource_tracker():
-        # the scheduler's HTTP endpoint moves to a free port when 8787 is taken; say nothing
-        warnings.filterwarnings("ignore", message="Port .* is already in use")
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                               dashboard_address=None, host="127.0.0.1",
-                               silence_logs=logging.CRITICAL)
-    with cluster, Client(cluster) as client:
-        client.run(ignore_ctrl_c)
-        yield client, f"local-cluster:{n}"
+    restore = _block_ctrl_c()
+    try:
+        with warnings.catch_warnings(), quiet_resource_tracker():
+            # the scheduler's HTTP endpoint moves to a free port when 8787 is taken
+            warnings.filterwarnings("ignore", message="Port .* is already in use")
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                   dashboard_address=None, host="127.0.0.1",
+                                   silence_logs=logging.CRITICAL)
+    except BaseException:
+        restore()
+        raise
+    with cluster:
+        restore()
+        with Client(cluster) as client:
+            client.run(ignore_ctrl_c)
+            yield client, f"local-cluster:{n}"
+
+
+def _block_ctrl_c() -> Callable[[], None]:
+    """Ignore SIGINT while a local cluster starts (a few seconds); return the function
+    that restores the handler.
+
+    A Ctrl-C at a terminal goes to the whole process group: in the middle of
+    ``LocalCluster(...)`` it left a half-started cluster and worker processes interrupted
+    while importing, each printing a traceback. A process started while SIGINT is ignored
+    keeps ignoring it (Python installs its own handler only over the default), so the
+    workers never see a terminal's Ctrl-C; the sweep's process handles the next one and
+    closes the cluster. Outside the main thread nothing changes.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        return lambda: None
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    return lambda: signal.signal(signal.SIGINT, old) and None
 
 
 def ignore_ctrl_c() -> bool:
