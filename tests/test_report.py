@@ -301,9 +301,12 @@ def test_a_rerun_leaves_the_readme_as_it_was_and_times_go_to_an_uncommitted_file
     assert report.run_all(cases=cases, out=out, progress=False, bench=None).read_bytes() == first
     assert b" s._" not in first and b"wall time" not in first.replace(b"wall times of", b"")
     times = json.loads((out / report.TIMINGS).read_text())
-    assert set(times) == {"sweeps_s", "sections_s", "total_s"} and times["total_s"] > 0
+    assert set(times) == {"sweeps_s", "sections_s", "total_s", "curves", "git_commit"}
+    assert times["total_s"] > 0 and times["curves"]["computed"] > 0
+    assert times["curves"]["computed_twice"] == [] and times["curves"]["failed"] == 0
     ignored = (ROOT / ".gitignore").read_text().splitlines()
     assert f"/reports/{report.TIMINGS}" in ignored
+    assert "/reports/reference.h5" in ignored  # every run writes a new store
 
 
 def _case_result(names, negative=True):

@@ -201,6 +201,25 @@ def test_a_background_write_error_reaches_the_caller(tmp_path):
         bw.flush()
 
 
+def test_a_failed_store_write_stops_the_progress_lines(tmp_path, monkeypatch):
+    """A sweep whose last write failed (a full disk) left its progress thread ticking:
+    'sweep: 2/2 points' lines went on appearing in whatever ran next in the process."""
+    import io
+
+    st = Store(tmp_path / "r.h5")
+
+    def broken(*_a, **_k):
+        raise OSError("disk full")
+
+    monkeypatch.setattr(Store, "save_many", broken)
+    monkeypatch.setattr(sys, "stderr", io.StringIO())  # not a terminal: timed lines
+    before = set(threading.enumerate())
+    with pytest.raises(OSError, match="disk full"):
+        sweep(closure_points(1)[:2], st, workers=0, progress=True)
+    left = [t for t in set(threading.enumerate()) - before if t.is_alive()]
+    assert left == [], left
+
+
 HOLDER = textwrap.dedent("""
     import sys
     from wetcontact.store import Store

@@ -395,8 +395,10 @@ def sweep(points: Sequence[Point], store: Store, workers: int | None = None,
                     else:
                         executor, n_tasks = _run_dask(todo, workers, scheduler, record)
         finally:
-            bw.flush()
-            prog.close()
+            try:
+                bw.flush()
+            finally:  # a failed write (a full disk) must not leave the progress ticking
+                prog.close()
     outcomes = [done[k] for k in keys]
     return SweepResult(outcomes, str(store.path), time.perf_counter() - t0, executor,
                        n_tasks, bw.write_time)
