@@ -22,14 +22,12 @@ tolerance there:
   which ``stokes`` adds (19 % at S/R = 1e-3, V/R^3 = 1e-3, 20 deg, 1 nm slip; several
   times the thin-gap force beyond S/R = 1e-2);
 - ``meniscus``: its preset accuracy against the shooting solution (static bridge);
-- ``thinfilm``: capillary component only, measured for its penalty meniscus contact,
-  discretisation (first order in the wetting width lambda: at most 4 % of the force at the
-  default lambda = 0.05) plus its model error (the small-slope meniscus pulls 6-11 % less
-  than the finite-element bridge of the same volume) from the README's verification table;
-  kept, conservative, for the sharp contact that is the default since issue 13 (numerical
-  error 0.3 % at the default preset). Its viscous force is not eligible: its meniscus
-  wets a larger zone than the flat film top, the films' viscous reference, and the two
-  differ by 1.2-40x (a different film model, not an error that a bound could state).
+- ``thinfilm``: capillary component only, the bound of its penalty meniscus contact
+  (first order in the wetting width: at most 4 % at lambda = 0.05, plus the small-slope
+  meniscus's 6-11 % deficit against the finite-element bridge), conservative for the
+  default sharp contact (numerical error 0.3 % at the default preset). Its viscous force
+  is not eligible: its meniscus wets a larger zone than the flat film top, the films'
+  viscous reference, and the two differ by 1.2-40x (a different film model).
 
 If no candidate meets the tolerance for a component, the one with the smallest bound is
 used (a costlier one only if it cuts the bound by :data:`FALLBACK_RATIO`) and the choice

@@ -5,7 +5,6 @@ fields to vary; every point is the base case with those fields replaced, solved 
 model::
 
     name = "bridge-sphere-plate"
-    description = "what the study is for"
     base = "../dem-pendular-bridge-100um.toml"   # a case file, relative to this file
     models = ["meniscus", "willett"]
     preset = "default"                           # optional: fast, default, accurate
@@ -15,55 +14,29 @@ model::
     [set]                                        # optional: fields set on every point
     "motion.gap_over_rupture" = { start = 0.02, stop = 0.98, points = 20, spacing = "linear" }
 
-With ``[sample] method = "latin-hypercube", points = N, seed = S`` the axes are ranges
-``{ min, max, spacing }`` and the N points are a seeded Latin hypercube over them (a
-held-out set that does not sit on any calibration grid): axis ``j`` of point ``i`` is
-``u = (pi_j(i) + U_ij)/N`` with ``pi_j`` a random permutation of ``0..N-1`` and ``U``
-uniform on [0, 1) (McKay, Beckman & Conover 1979), mapped linearly or logarithmically
-onto [min, max].
+``[sample] method = "latin-hypercube", points = N, seed = S`` draws N points over ranges
+``{ min, max, spacing }``: axis j of point i is ``u = (pi_j(i) + U_ij)/N``, ``pi_j`` a
+random permutation, ``U`` uniform on [0, 1) (McKay, Beckman & Conover 1979), mapped
+linearly or logarithmically onto [min, max].
 
-Derived dimensionless fields may be used wherever a field path is (axes or ``[set]``);
-each sets a case-file field from the point's other values:
+Derived fields (axes or ``[set]``) set a case-file field from the point's other values:
+``geometry.radius_ratio`` (radius2 = x R), ``amount.volume_over_radius3`` (V = x R^3),
+``amount.film_over_radius`` (delta = x R), ``motion.capillary_number`` (v = x sigma/eta),
+``motion.gap_over_radius`` / ``gap_over_film`` / ``gap_over_rupture`` (gaps = x R, x delta,
+x S_c), ``motion.gap_over_edge_gap`` (S/H = x in (0, 1), H = ``sqrt(S^2 + V/(pi R*))``,
+Pitois 2000: ``S = x sqrt(V/(pi R*)/(1 - x^2))``), and for collision studies
+``impact.capillary_number`` (v = x sigma/eta) and ``impact.stokes_number``
+(v = x 6 pi eta R*^2/m*). ``S_c`` is the point's finite-element rupture distance
+(:func:`wetcontact.solver.meniscus.rupture_distance`, ``fast`` preset, about 1e-5).
 
-====================================  ===============================================
-``geometry.radius_ratio``             ``geometry.radius2 = value x radius``
-``amount.volume_over_radius3``        ``amount.bridge_volume = value x radius^3``
-``amount.film_over_radius``           ``amount.film_thickness = value x radius``
-``motion.capillary_number``           ``motion.velocity = value x surface_tension / viscosity``
-``motion.gap_over_radius``            ``motion.gaps = value x radius``
-``motion.gap_over_rupture``           ``motion.gaps = value x S_c``
-``motion.gap_over_film``              ``motion.gaps = value x film_thickness``
-``motion.gap_over_edge_gap``          ``motion.gaps = S`` with ``S/H = value``, H the
-                                      bridge's edge gap ``sqrt(S^2 + V/(pi R*))``
-                                      (Pitois 2000): ``S = x sqrt(V/(pi R*)/(1 - x^2))``,
-                                      value in (0, 1)
-``impact.capillary_number``           ``impact.velocity = value x surface_tension /
-                                      viscosity`` (collision studies)
-``impact.stokes_number``              ``impact.velocity = value x 6 pi eta R*^2 / m*``
-                                      (collision studies)
-====================================  ===============================================
+A collision base (``[impact]`` and ``[solid]``, :mod:`wetcontact.collide.case`) makes every
+point one impact; ``models`` then name force sets (``"reference"`` or
+:data:`wetcontact.collide.record.FORCE_SET_NAMES`), and each point's curve is the
+collision's one-row record (:mod:`wetcontact.collide.record`).
 
-Collision studies: a base that is a collision case (``[impact]`` and ``[solid]``,
-:mod:`wetcontact.collide.case`) makes every point one impact, and ``models`` name force
-sets: ``"reference"`` (the toolkit's default models) or a DEM code's
-(:data:`wetcontact.collide.record.FORCE_SET_NAMES`). The collision tables' fields are
-field paths like any other (``impact.velocity``, ``solid.restitution``,
-``contact.cutoff``, ...). Each point's curve in the store is the collision's one-row
-record (:mod:`wetcontact.collide.record`): restitution, stick or rebound, energies.
-
-``S_c`` is the rupture distance of the point's bridge from the finite-element
-Young-Laplace solution (:func:`wetcontact.solver.meniscus.rupture_distance` at the
-``fast`` preset's resolution, relative accuracy about 1e-5). Gap fields take one value
-per point as an axis, or a list / range in ``[set]`` (every point gets that many gaps).
-Setting one ``amount`` field removes the base's other amount; setting
-``liquid.contact_angle`` removes per-surface angles and setting a per-surface angle
-splits the base's ``contact_angle`` into both.
-
-Every error is one :class:`~wetcontact.errors.CaseError` naming the study file, the key,
-the value and the allowed range; an invalid generated scene is reported against the axis
-(or ``set`` entry) that produced the bad value. A derived field reads the point's other
-fields (``gap_over_rupture`` its radius, angles and volume): a bad value there is blamed
-on the entry that set it, and the derived entry only when the rest of the point is valid.
+Every error is one :class:`~wetcontact.errors.CaseError` naming the study file, the key, the
+value and the allowed range, blamed on the axis or ``set`` entry that produced it. The
+guide's page *Sweeps* (``docs/jobs/sweeps.md``) has the rules for amounts, angles and gaps.
 """
 
 from __future__ import annotations

@@ -6,68 +6,37 @@ positive = pushing the particles apart (a bridge's attraction is negative), ``r2
 for a plane:
 
 ``viscous_force_immersed(r1, r2, viscosity, approach_speed, gap)``
-    The shipped ``calibrated-viscous`` closure (immersed part): ``F = 6 pi eta R v lambda``
-    (wall) or ``6 pi eta R (v/2) lambda`` (equal spheres, v the relative approach speed),
-    lambda from the Chebyshev table in ln(S/R) (Brenner 1961; Maude 1961; held-out error
-    about 5e-9). Domain: a plane or equal spheres, S/R in [1e-5, 100].
+    ``calibrated-viscous`` (immersed): ``F = 6 pi eta R v lambda`` (wall) or
+    ``6 pi eta R (v/2) lambda`` (equal spheres, v the relative approach speed), lambda a
+    Chebyshev table in ln(S/R) (Brenner 1961; Maude 1961; held-out error about 5e-9).
+    Domain: a plane or equal spheres, S/R in [1e-5, 100].
 ``viscous_force_bridge(r1, r2, viscosity, volume, approach_speed, gap)``
-    The shipped ``calibrated-viscous`` closure (bridge part): the Reynolds force times the
-    refitted finite-liquid factor (held-out error 0.2-0.3 % against ``lubrication``).
-    Domain: V/r_small^3 in [1e-4, 0.1], S/H in [0.01, 0.95], radius ratio 1-10; below
-    S/H = 0.01 the near-contact branch of
-    :func:`~wetcontact.reduced_models.calibrated.bridge_force`, which tends to Reynolds'
-    ``6 pi eta R*^2 v/S`` as S/H -> 0.
+    ``calibrated-viscous`` (bridge): the Reynolds force times the refitted finite-liquid
+    factor (held-out error 0.2-0.3 % against ``lubrication``). Domain: V/r_small^3 in
+    [1e-4, 0.1], S/H in [0.01, 0.95], radius ratio 1-10; below S/H = 0.01 the near-contact
+    branch of :func:`~wetcontact.reduced_models.calibrated.bridge_force`.
 ``rupture_distance(r1, r2, volume, theta1_deg, theta2_deg)``
-    The shipped ``calibrated-capillary`` closure (:mod:`wetcontact.reduced_models.
-    calibrated_capillary`): ``S_c = R_s v^(1/3) exp(sum C T_i(w) T_j(a) T_k(b))``, a tensor
+    ``calibrated-capillary``: ``S_c = R_s v^(1/3) exp(sum C T_i(w) T_j(a) T_k(b))``, a tensor
     Chebyshev interpolant of ``meniscus``. Domain: a plane or a sphere pair with
-    ``r = R_l/R_s`` in [1, 10], ``v = V/R_s^3`` in [1e-4, 0.1], ONE contact angle
-    (theta1 = theta2) in [0, 70] deg; or a plane with TWO angles, the sphere's theta1 and
-    the plane's theta2, each in [0, 70] deg (the table ``sphere-wall-two-angles``, in
-    bands of the sphere's angle, e.g. [0, 35] and [35, 70] deg, theta1 = 35 in the first,
-    each a table ``S_c = R v^(1/3) exp(sum C T_i(a) T_j(b1) T_k(b2))``, b1 from theta1 over
-    its band, b2 from theta2 within its piece, the pieces meeting at the band's ridge
-    theta2*(a, b1); a band's end may be the onset angle theta_on(V) = sum_k o_k T_k(a) where
-    the ridge's jump appears, so that e.g. [0, theta_on], [theta_on, 35] and [35, 70] deg
-    split the lower range along that curve, b1 then mapped over the point's own range);
-    or two spheres with TWO angles where the package data has their table
-    (``sphere-sphere-two-angles``): theta1 the smaller sphere's angle, the same bands with
-    lead coordinates (w, a) instead of (a): the onset a series in (w, a), the ridge
-    theta2*(w, a, b1), tables over (w, a, b1, b2), the piece above the ridge ending at its
-    number plus theta2* - theta1).
+    ``r = R_l/R_s`` in [1, 10], ``v = V/R_s^3`` in [1e-4, 0.1], contact angles in [0, 70]
+    deg: one angle, or two where the package data has the two-angle table (a plane:
+    ``sphere-wall-two-angles``; two spheres: ``sphere-sphere-two-angles``), carried in bands
+    of the sphere's angle split along the ridge theta2* of S_c.
 ``capillary_force(r1, r2, volume, gap, surface_tension, theta1_deg, theta2_deg)``
-    The shipped ``calibrated-capillary`` closure: ``F = -2 pi sigma R* (2 cos theta)
-    exp(sum C T_i(w) T_j(a) T_k(b) T_l(c))`` (two angles on a plane: ``-2 pi sigma R
-    (cos theta1 + cos theta2) exp(sum C T_i(a) T_j(b1) T_k(b2) T_l(c))``), c the gap
-    coordinate (:func:`~wetcontact.reduced_models.calibrated_capillary.gap_coordinate`);
-    same domain, any gap ``S >= 0`` (``S = 0`` is the limit at contact), exactly 0 at and
-    past ``S_c``.
+    ``calibrated-capillary``: ``F = -2 pi sigma R* (2 cos theta) exp(sum C T_i(w) T_j(a)
+    T_k(b) T_l(c))`` (two angles: ``cos theta1 + cos theta2``), c the gap coordinate
+    (:func:`~wetcontact.reduced_models.calibrated_capillary.gap_coordinate`); same domain,
+    any gap ``S >= 0``, exactly 0 at and past ``S_c``.
 ``rupture_distance_refit``, ``capillary_force_refit`` (same arguments)
-    The REFITTED ``lian-rupture`` (``S_c = R ((a + b theta) V*^(1/3) + c V*^(2/3))``, Lian
-    et al. 1993) and ``willett`` (Willett et al. 2000, eq. A1, 48 coefficients) families:
-    equal spheres only, V* = V/R^3 in [1e-4, 0.1], the cosine mean of two contact angles in
-    [0, 50] deg, the force also S/S_c(Willett) in the fitted range; 0 at and past the
-    refitted Lian rupture distance. Kept for contacts with two different contact angles
-    between two spheres, which ``calibrated-capillary`` covers only where its package data
-    has the ``sphere-sphere-two-angles`` table (elsewhere it refuses and names
-    ``meniscus``).
+    The refitted ``lian-rupture`` (Lian et al. 1993) and ``willett`` (Willett et al. 2000)
+    families: equal spheres, V* in [1e-4, 0.1], angles' cosine mean in [0, 50] deg.
 
-:class:`CapillarySource` is the one place that names the capillary tables the exports
-carry: the shipped ``calibrated-capillary`` table (whatever geometries, theta pieces, split
-angle and node counts its package data holds: ``pieces`` in theta, with a ``theta_split``
-series where a piece ends at the split angle; a plane with two angles in ``bands`` of the
-sphere's angle, each with such pieces and its ridge series, a band's end possibly the onset
-angle of the series ``theta_sphere_split``; two spheres with two angles likewise over
-(w, a)) and the two refits. Where a piece carries its tables' tensor trains
-(:class:`TensorTrain`, the two-angle pair table's), the package evaluates the trains, and
-so do the exports (the json export writes their dense tensors).
-
-Outside the calibrated domain (or for inputs no closure covers: unequal spheres for the
-immersed part, a geometry whose table is not generated, e.g. two contact angles between
-spheres without their table, a non-finite number) every function returns NaN: this is the
-documented contract of the exported C and Python code, where an exception is not available; the
-package itself (:func:`package_evaluation`) reports the same points as refusals
-(:class:`~wetcontact.errors.ValidityError`) and maps them to NaN only here, for comparison.
+:class:`CapillarySource` is the one place that names the capillary tables the exports carry
+(pieces, bands, ridge and onset series, tensor trains where a piece has them). Outside the
+calibrated domain every function returns NaN, the contract of the exported C and Python
+code; the package (:func:`package_evaluation`) reports the same points as
+:class:`~wetcontact.errors.ValidityError`, mapped to NaN here for comparison. How the
+exports carry the tables: the guide's record *Export tables* (``docs/export.md``).
 """
 
 from __future__ import annotations

@@ -12,48 +12,27 @@ the working directory as ``"M(r=" + r + ")" + suffCapFiles``. Layout (Yade's ``T
     D* u* V* F* delta1 delta2 nn11* nn33*     (n_rows rows, u* increasing)
     ...                          (n_D such blocks, D* increasing; each block one D*)
 
-with the larger radius R2 as unit (Yade's scaling): ``D* = D/R2``, ``u* = u R2/sigma``
-(u = -dp the suction), ``V* = V/R2^3``, ``F* = F/(2 pi sigma R2)`` (attraction > 0),
-``delta1``, ``delta2`` the half-filling angles on the small and the large sphere (degrees),
+with the larger radius R2 as unit: ``D* = D/R2``, ``u* = u R2/sigma`` (u = -dp the
+suction), ``V* = V/R2^3``, ``F* = F/(2 pi sigma R2)`` (attraction > 0), ``delta1``,
+``delta2`` the half-filling angles on the small and the large sphere (degrees),
 ``nn11* = pi \int r sin^2(psi) ds / R2^2`` and ``nn33* = 2 pi \int r cos^2(psi) ds / R2^2``
-(the 11 and 33 terms of the integral of n n over the liquid-gas interface, axis 3 along the
-line of centres; ``2 nn11 + nn33`` is the area; Duriez & Wan 2017). Yade reads 8 columns
-since 2017 (nn11, nn33); blocks must not be empty.
+(``2 nn11 + nn33`` is the area; Duriez & Wan 2017). Blocks must not be empty.
 
-Grids (as Yade's own generator): ``n_distances`` distances evenly spaced from 0 to the
-largest rupture distance (at zero suction), ``u* = 0`` then ``n_suctions - 1`` values
-geometric from 0.002 to the suction at which the bridge at contact has a mean filling angle
-of 0.7 deg (near a contact angle of 90 deg, where that bridge is convex, u* < 0, or would
-pass the filling-angle cap below, a smaller one: at least u* = 1, and 0.9 of the cap on the
-small sphere; Yade's generator too has its own floor, the initial guess of its search). Each D
-block lists the suctions whose stable branch reaches D. Rows come from the
-suction-controlled continuation of :class:`wetcontact.solver.meniscus.SuctionBridges` (stable:
-the large-volume side of the fold). Filling angles on the small sphere are capped at
-``min(90 deg - theta, 70 deg)`` (the meniscus model's range; Yade's generator goes to
-``90 - theta``): below that suction's smallest admitted gap no row is written and Yade
-extrapolates in suction from the rows it has. A branch's start (contact, or the cap) and
-its fold both fall as the suction rises, so on a coarse suction grid a distance can lie
-above the fold of one grid suction and below the start of the next lower one; such a block
-(which no grid suction reaches, and which Yade cannot read empty) takes the rows of
-suctions between those two, geometric, bisected until two of them reach it
-(:func:`_fill_holes`; Yade's generator fills it by extrapolating rows in distance instead).
+Grids as Yade's generator: ``n_distances`` distances from 0 to the largest rupture distance
+(at zero suction) times ``1 - FOLD_MARGIN``; ``u* = 0`` then ``n_suctions - 1`` values
+geometric from 0.002 to the suction whose bridge at contact has a 0.7 deg mean filling
+angle. Rows are stable bridges from :class:`wetcontact.solver.meniscus.SuctionBridges`,
+filling angles on the small sphere capped at ``min(90 deg - theta, 70 deg)``; a distance
+no grid suction reaches takes bisected suctions between its neighbours
+(:func:`_fill_holes`). Near the fold every column varies like ``sqrt(S_fold - D)``, so rows
+whose secant ``|d ln V / dD*|`` exceeds ``POLISH_SLOPE``, the rows of a branch's last
+interval, and rows of small suction elasticity (below ``POLISH_ELASTICITY``) are re-solved
+at fixed (D*, u*) on ``POLISH_ELEMENTS`` elements.
 
-Near the fold every quantity at fixed (D*, u*) varies like ``sqrt(S_fold - D)``: the
-discretisation error of the gap at fixed (u*, delta1) (up to 5e-8 R2 at 32 elements,
-measured against the ODE shooting of tests/export/yade_rows.py) reaches a row as that error
-times ``d ln V / dD`` (and the like for the other columns), which grows like
-``1/sqrt(S_fold - D)``. Rows where the branch's secant ``|d ln V / dD*|`` exceeds
-``POLISH_SLOPE`` (a V* error above 10 x 5e-8 at 32 elements), and all rows of the
-branch's last interval before its fold, are therefore re-solved at fixed (D*, u*) on
-``POLISH_ELEMENTS`` elements (4096x smaller error at the declared 4th order than 32); no
-row is written closer than ``FOLD_MARGIN`` (relative) to its fold, where no mesh would
-hold it to 1e-6 (the largest distance of the grid is the largest rupture distance times
-``1 - FOLD_MARGIN``; Yade's own generator puts the rupture distances 1e-3 apart from the
-exact ones). At small suction the volume hardly depends on the suction: read back through
-the volume (the volume-controlled reading of a row, ``u(D*, V*)``), the suction's relative
-error is the volume's divided by ``max(u*, 0.002) |d ln V / du*|`` (about 2e-3 at
-u* = 0.002), so rows where that factor is below ``POLISH_ELASTICITY`` are re-solved on
-``POLISH_ELEMENTS`` elements as well.
+Accuracy: every row within 1e-6 of an independent ODE shooting (largest 4.4e-7, in nn11*;
+``tests/export/yade_rows.py``, ``benchmarks/bench_export_yade.py``); Yade reading the files
+within 5.8e-4 of ``meniscus`` off the grid. Commands, grids and checks: the guide's pages
+*Export to DEM codes* and *Verification*.
 """
 
 from __future__ import annotations

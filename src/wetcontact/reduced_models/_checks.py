@@ -27,6 +27,11 @@ def non_negative(name: str, value: Any, unit: str = "") -> np.ndarray:
     return arr
 
 
+def gap(value: Any) -> np.ndarray:
+    """A surface gap in m: ``value`` as floats, each finite and >= 0."""
+    return non_negative("gap", value, "m")
+
+
 def angle(name: str, value: Any, hi: float = np.pi) -> np.ndarray:
     """A contact angle in radians, each in [0, hi)."""
     arr = np.asarray(value, dtype=float)

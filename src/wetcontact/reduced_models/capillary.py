@@ -20,18 +20,35 @@ angles not at all.
 
 Registered models (``component = "capillary"``, ``level = 0``): ``toroidal``, ``mikami``,
 ``willett``, ``willett-simple``, ``rabinovich``, ``lambert``, ``bagheri``.
+The toroidal bridge (:mod:`.capillary_toroidal`) and the Rabinovich and Lambert forces
+(:mod:`.capillary_rabinovich`) live in sibling modules; their names are importable from here.
 """
 
 from __future__ import annotations
 
-from typing import Any, ClassVar, NamedTuple
+from typing import Any, ClassVar
 
 import numpy as np
 
-from wetcontact.errors import InputError, SolverError, ValidityError
+from wetcontact.errors import SolverError, ValidityError
 from wetcontact.models import ForceCurve, Model, register
 from wetcontact.reduced_models import bounds, rupture
-from wetcontact.reduced_models._checks import angle, non_negative, positive
+from wetcontact.reduced_models._checks import angle, positive
+from wetcontact.reduced_models._checks import gap as _gap
+from wetcontact.reduced_models.capillary_rabinovich import (
+    lambert_force_sphere_sphere,
+    lambert_force_sphere_wall,
+    rabinovich_force_sphere_sphere,
+    rabinovich_force_sphere_wall,
+    rabinovich_immersion_height,
+)
+from wetcontact.reduced_models.capillary_toroidal import (
+    ToroidalBridge,
+    toroidal_bridge,
+    toroidal_force_sphere_sphere,
+    toroidal_force_sphere_wall,
+    toroidal_volume,
+)
 from wetcontact.scene import Scene
 
 __all__ = [
@@ -57,10 +74,6 @@ __all__ = [
 # ---- input checks ---------------------------------------------------------------------
 
 
-def _gap(value: Any) -> np.ndarray:
-    return non_negative("gap", value, "m")
-
-
 def mean_contact_angle(theta1: Any, theta2: Any) -> np.ndarray:
     r"""Cosine-averaged contact angle, :math:`\arccos((\cos\theta_1 + \cos\theta_2)/2)`.
 
@@ -71,225 +84,6 @@ def mean_contact_angle(theta1: Any, theta2: Any) -> np.ndarray:
     t1 = angle("theta1", theta1)
     t2 = angle("theta2", theta2)
     return np.arccos(0.5 * (np.cos(t1) + np.cos(t2)))
-
-
-# ---- toroidal (Fisher) approximation ---------------------------------------------------
-
-
-class ToroidalBridge(NamedTuple):
-    """Geometry and force of a toroidal bridge (arrays over the gaps).
-
-    Attributes
-    ----------
-    filling_angle
-        Half-filling angle b on the sphere (rad).
-    meridian_radius
-        r1, radius of the circular meridian (m).
-    neck_radius
-        r2, radius of the toroid's neck (m).
-    suction
-        u = sigma (1/r1 - 1/r2) (Pa), positive when the liquid is below gas pressure.
-    force
-        Attractive force (N) by the chosen method.
-    """
-
-    filling_angle: np.ndarray
-    meridian_radius: np.ndarray
-    neck_radius: np.ndarray
-    suction: np.ndarray
-    force: np.ndarray
-
-
-def _toroid(b: np.ndarray, gap: np.ndarray, radius: float, theta_s: float, theta_w: float,
-            kind: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """r1, xc (centre distance from the axis), zc, zs for filling angle b (arrays)."""
-    cap = radius * (1.0 - np.cos(b))
-    if kind == "sphere-sphere":
-        zs = 0.5 * gap + cap                      # contact height above the mid-plane
-        r1 = zs / np.cos(b + theta_s)             # = (2R(1 - cos b) + a)/(2 cos(b + theta))
-        zc = np.zeros_like(r1)
-    else:
-        zs = gap + cap                            # contact height above the wall
-        r1 = zs / (np.cos(theta_w) + np.cos(theta_s + b))
-        zc = r1 * np.cos(theta_w)
-    xc = radius * np.sin(b) + r1 * np.sin(b + theta_s)
-    return r1, xc, zc, zs
-
-
-def _half_circle_integral(z: np.ndarray, r1: np.ndarray) -> np.ndarray:
-    """Antiderivative of sqrt(r1^2 - z^2)."""
-    w = np.clip(z / r1, -1.0, 1.0)
-    return 0.5 * (z * np.sqrt(np.maximum(r1**2 - z**2, 0.0)) + r1**2 * np.arcsin(w))
-
-
-def toroidal_volume(filling_angle: Any, gap: Any, radius: float, theta_s: float,
-                    theta_w: float | None = None, kind: str = "sphere-sphere") -> np.ndarray:
-    r"""Liquid volume of a toroidal bridge with half-filling angle b (closed form).
-
-    The meridian is a circular arc of radius r1 centred at distance x_c from the axis;
-    the volume is :math:`\pi\int x(z)^2 dz` between the wall (or the mid-plane) and the
-    contact line, :math:`x(z) = x_c - \sqrt{r_1^2 - (z - z_c)^2}`, minus the immersed sphere
-    cap :math:`\pi h^2 (3R - h)/3`, h = R(1 - cos b); doubled for two equal spheres.
-    Meridian (Fisher 1926; Weigert & Ripperger 1999, eqs. 5-6 for two spheres):
-    two spheres ``r1 = (2R(1 - cos b) + a)/(2 cos(b + theta))``; sphere-wall
-    ``r1 = (a + R(1 - cos b))/(cos theta_w + cos(b + theta_s))``, both
-    ``x_c = R sin b + r1 sin(b + theta_s)``.
-
-    Parameters
-    ----------
-    filling_angle
-        b (rad).
-    gap
-        Surface gap a (m), >= 0.
-    radius
-        Sphere radius R (m).
-    theta_s, theta_w
-        Contact angles (rad) on the sphere(s) and on the wall (sphere-wall only).
-    kind
-        ``"sphere-sphere"`` (equal spheres) or ``"sphere-wall"``.
-
-    Returns
-    -------
-    numpy.ndarray
-        Volume V (m^3); meaningful where the neck radius x_c - r1 is positive.
-    """
-    b = np.asarray(filling_angle, dtype=float)
-    a = np.asarray(gap, dtype=float)
-    tw = theta_s if theta_w is None else theta_w
-    r1, xc, zc, zs = _toroid(b, a, radius, theta_s, tw, kind)
-    lo, hi = -zc, zs - zc                      # integration limits relative to the centre
-    integral = ((xc**2 + r1**2) * (hi - lo) - (hi**3 - lo**3) / 3.0
-                - 2.0 * xc * (_half_circle_integral(hi, r1) - _half_circle_integral(lo, r1)))
-    h = radius * (1.0 - np.cos(b))
-    v = np.pi * integral - np.pi * h**2 * (3.0 * radius - h) / 3.0
-    return 2.0 * v if kind == "sphere-sphere" else v
-
-
-def _max_filling_angle(theta_s: float, theta_w: float, kind: str) -> float:
-    if kind == "sphere-sphere":
-        return min(0.5 * np.pi - theta_s, 0.5 * np.pi)
-    return min(np.pi - theta_w - theta_s, 0.5 * np.pi)
-
-
-def _solve_filling_angle(volume: float, gap: float, radius: float, theta_s: float,
-                         theta_w: float, kind: str) -> float:
-    """Smallest b with toroidal_volume(b) = V and a positive neck radius (bracketed root)."""
-    bmax = _max_filling_angle(theta_s, theta_w, kind)
-    if bmax <= 0.0:
-        raise InputError(f"contact angles ({theta_s:.6g}, {theta_w:.6g}) rad leave no "
-                         "concave toroidal bridge; allowed: theta_s + theta_w < pi")
-    grid = np.linspace(bmax * 1e-4, bmax * (1.0 - 1e-9), 600)
-    r1, xc, _, _ = _toroid(grid, np.full_like(grid, gap), radius, theta_s, theta_w, kind)
-    vol = toroidal_volume(grid, gap, radius, theta_s, theta_w, kind)
-    ok = (xc - r1) > 0.0
-    f = np.where(ok, vol - volume, -np.inf)
-    # a sign change between two grid points that both have a positive neck radius; the
-    # volume is not meaningful (and may change sign) where the neck radius is negative
-    idx = np.nonzero((f[:-1] < 0.0) & ok[:-1] & (f[1:] >= 0.0) & ok[1:])[0]
-    if idx.size == 0:
-        raise SolverError(
-            f"toroidal: no bridge of volume {volume:.6g} m3 at gap {gap:.6g} m "
-            f"(R = {radius:.6g} m); the volume exceeds the toroid's maximum "
-            f"{np.nanmax(np.where(ok, vol, np.nan)) if ok.any() else 0.0:.6g} m3 "
-            "or the gap is beyond the toroid's existence")
-    i = int(idx[0])
-    from scipy.optimize import brentq  # here, not at import: `solve` with a closure starts fast
-
-    def resid(b: float) -> float:
-        return float(toroidal_volume(b, gap, radius, theta_s, theta_w, kind)) - volume
-
-    return float(brentq(resid, grid[i], grid[i + 1], xtol=1e-14, rtol=1e-13, maxiter=200))
-
-
-def toroidal_bridge(gap: Any, volume: float, radius: float, surface_tension: float,
-                    theta_s: float, theta_w: float | None = None,
-                    kind: str = "sphere-sphere", method: str = "boundary") -> ToroidalBridge:
-    r"""Toroidal (Fisher) bridge at fixed volume: filling angle, curvatures and force.
-
-    For each gap the half-filling angle b is found from the volume by a bracketed root
-    find (Brent) of :func:`toroidal_volume`. Suction ``u = sigma (1/r1 - 1/r2)``,
-    neck radius ``r2 = x_c - r1`` (Weigert & Ripperger 1999, eqs. 5, 6, 22). Force:
-
-    - ``method="boundary"`` (at the contact line on the sphere, Weigert & Ripperger eq. 21):
-      :math:`F = 2\pi\sigma R\sin b\,\sin(b + \theta_s) + \pi R^2 \sin^2 b\; u`
-    - ``method="gorge"`` (at the neck, Fisher 1926):
-      :math:`F = 2\pi\sigma r_2 + \pi r_2^2 u`
-
-    The toroid is not an exact Young-Laplace surface, so the two differ; only the gorge
-    method gives Fisher's zero-gap result :math:`2\pi R\sigma/(1 + \tan(b/2))`
-    (theta = 0). Lian et al. (1993) put the toroidal error within about 10 % of the exact
-    solution for small bridges.
-
-    Parameters
-    ----------
-    gap
-        Surface gaps (m), >= 0.
-    volume
-        Bridge volume V (m^3), > 0.
-    radius
-        Sphere radius R (m); unequal spheres: pass R_eff = 2 R1 R2/(R1 + R2) (Derjaguin).
-    surface_tension
-        sigma (N/m).
-    theta_s, theta_w
-        Contact angle on the sphere(s), and on the wall for ``kind="sphere-wall"``
-        (defaults to theta_s), radians.
-    kind
-        ``"sphere-sphere"`` or ``"sphere-wall"``.
-    method
-        ``"boundary"`` or ``"gorge"``.
-
-    Returns
-    -------
-    ToroidalBridge
-        Arrays over the gaps; ``force`` is the attractive magnitude (N).
-
-    Raises
-    ------
-    InputError
-        Bad inputs.
-    SolverError
-        No toroidal bridge with this volume at some gap (volume too large for the toroid).
-    """
-    a = np.atleast_1d(_gap(gap))
-    v = float(positive("volume", volume, "m^3"))
-    r = float(positive("radius", radius, "m"))
-    sig = float(positive("surface_tension", surface_tension, "N/m"))
-    ts = float(angle("theta_s", theta_s))
-    tw = ts if theta_w is None else float(angle("theta_w", theta_w))
-    if kind not in ("sphere-sphere", "sphere-wall"):
-        raise InputError(f"kind = {kind!r}; allowed: 'sphere-sphere', 'sphere-wall'")
-    if method not in ("boundary", "gorge"):
-        raise InputError(f"method = {method!r}; allowed: 'boundary', 'gorge'")
-    b = np.array([_solve_filling_angle(v, float(ai), r, ts, tw, kind) for ai in a])
-    r1, xc, _, _ = _toroid(b, a, r, ts, tw, kind)
-    r2 = xc - r1
-    u = sig * (1.0 / r1 - 1.0 / r2)
-    if method == "boundary":
-        f = 2.0 * np.pi * sig * r * np.sin(b) * np.sin(b + ts) + np.pi * (r * np.sin(b)) ** 2 * u
-    else:
-        f = 2.0 * np.pi * sig * r2 + np.pi * r2**2 * u
-    return ToroidalBridge(b, r1, r2, u, f)
-
-
-def toroidal_force_sphere_sphere(gap: Any, volume: float, radius: float,
-                                 surface_tension: float, theta: float,
-                                 method: str = "boundary") -> np.ndarray:
-    """Toroidal force between two equal spheres (N, attractive); see :func:`toroidal_bridge`.
-
-    Unequal spheres: radius = 2 R1 R2/(R1 + R2) (Derjaguin). Validity: small bridges
-    (V/R^3 below about 0.1), concave meridian (theta + b < pi/2).
-    """
-    return toroidal_bridge(gap, volume, radius, surface_tension, theta, theta,
-                           "sphere-sphere", method).force
-
-
-def toroidal_force_sphere_wall(gap: Any, volume: float, radius: float,
-                               surface_tension: float, theta_s: float, theta_w: float,
-                               method: str = "boundary") -> np.ndarray:
-    """Toroidal force between a sphere and a plane (N, attractive); see
-    :func:`toroidal_bridge`. Validity: small bridges, theta_s + b + theta_w < pi."""
-    return toroidal_bridge(gap, volume, radius, surface_tension, theta_s, theta_w,
-                           "sphere-wall", method).force
 
 
 # ---- Willett et al. (2000) -------------------------------------------------------------
@@ -468,134 +262,6 @@ def mikami_force_pw(gap: Any, volume: Any, radius: Any, surface_tension: Any,
     sig = positive("surface_tension", surface_tension, "N/m")
     th = angle("theta", theta)
     return _mikami(s, v, r, sig, th, _MIKAMI_PW)
-
-
-# ---- Rabinovich et al. (2005), Lambert et al. (2008) -----------------------------------
-
-
-def rabinovich_immersion_height(gap: Any, volume: Any, radius: Any,
-                                kind: str = "sphere-sphere") -> np.ndarray:
-    r"""Immersion height d of the sphere(s) in a bridge of volume V (parabolic gap).
-
-    Two spheres (Rabinovich et al. 2005, eq. 20): volume of the gap
-    :math:`h = H + \rho^2/R` up to :math:`\rho^2 = 2Rd` gives
-    :math:`d = (H/2)(-1 + \sqrt{1 + 2V/(\pi R H^2)})`.
-    Sphere-plane (:math:`h = H + \rho^2/(2R)`):
-    :math:`d = H(-1 + \sqrt{1 + V/(\pi R H^2)})`.
-    Evaluated in the cancellation-free form :math:`q/(\sqrt{H^2 + q} + H)`, finite at H = 0.
-    """
-    h = _gap(gap)
-    v = positive("volume", volume, "m^3")
-    r = positive("radius", radius, "m")
-    if kind == "sphere-sphere":
-        q = 2.0 * v / (np.pi * r)
-        return 0.5 * q / (np.sqrt(h**2 + q) + h)
-    if kind == "sphere-wall":
-        q = v / (np.pi * r)
-        return q / (np.sqrt(h**2 + q) + h)
-    raise InputError(f"kind = {kind!r}; allowed: 'sphere-sphere', 'sphere-wall'")
-
-
-def lambert_force_sphere_sphere(gap: Any, volume: Any, radius: Any, surface_tension: Any,
-                                theta: Any) -> np.ndarray:
-    r"""Lambert et al. (2008): first term of Rabinovich et al. (2005), two spheres.
-
-    .. math:: F = \frac{2\pi R\sigma\cos\theta}{1 + H/(2d)}
-
-    d from :func:`rabinovich_immersion_height` (P. Lambert, A. Chau, A. Delchambre,
-    S. Regnier, Langmuir 24, 3157 (2008), eq. 65). R: equal spheres' radius, unequal
-    spheres R = 2 R1 R2/(R1 + R2) (Derjaguin). Exact contact limit 2 pi R sigma cos theta
-    at H = 0 for any V.
-
-    Returns
-    -------
-    numpy.ndarray
-        Attractive force (N). Validity: Derjaguin/parabolic-gap approximation, small V*
-        and H << R.
-    """
-    h = _gap(gap)
-    sig = positive("surface_tension", surface_tension, "N/m")
-    th = angle("theta", theta)
-    r = positive("radius", radius, "m")
-    d = rabinovich_immersion_height(h, volume, r, "sphere-sphere")
-    return 2.0 * np.pi * r * sig * np.cos(th) / (1.0 + h / (2.0 * d))
-
-
-def lambert_force_sphere_wall(gap: Any, volume: Any, radius: Any, surface_tension: Any,
-                              theta_s: Any, theta_w: Any) -> np.ndarray:
-    r"""Lambert et al. (2008) / Rabinovich first term, sphere-plane.
-
-    .. math:: F = \frac{2\pi R\sigma(\cos\theta_s + \cos\theta_w)}{1 + H/d},
-              \quad d = H(-1 + \sqrt{1 + V/(\pi R H^2)})
-
-    i.e. :math:`2\pi R\sigma(\cos\theta_s + \cos\theta_w)(1 - H/\sqrt{H^2 + V/(\pi R)})`,
-    the two-sphere formula with the Derjaguin radius 2R (the same as haloless/StupidCFD's
-    ``DerjaguinRadius`` for a flat). Exact contact limit 2 pi R sigma (cos theta_s +
-    cos theta_w) at H = 0.
-    """
-    h = _gap(gap)
-    sig = positive("surface_tension", surface_tension, "N/m")
-    ts = angle("theta_s", theta_s)
-    tw = angle("theta_w", theta_w)
-    r = positive("radius", radius, "m")
-    d = rabinovich_immersion_height(h, volume, r, "sphere-wall")
-    return 2.0 * np.pi * r * sig * (np.cos(ts) + np.cos(tw)) / (1.0 + h / d)
-
-
-def rabinovich_force_sphere_sphere(gap: Any, volume: Any, radius: Any,
-                                   surface_tension: Any, theta: Any) -> np.ndarray:
-    r"""Rabinovich et al. (2005), two spheres, both terms.
-
-    .. math::
-        F = \frac{2\pi R\sigma\cos\theta}{1 + H/(2d)}
-            + 2\pi R\sigma\sin\alpha\,\sin(\theta + \alpha), \quad
-        \alpha = \sqrt{(H/R)(-1 + \sqrt{1 + 2V/(\pi R H^2)})} = \sqrt{2d/R}
-
-    (Y. I. Rabinovich, M. S. Esayanur, B. M. Moudgil, Langmuir 21, 10992 (2005), eqs. 19,
-    20, A3). R as :func:`lambert_force_sphere_sphere`. At H -> 0 the second term tends to
-    :math:`2\pi R\sigma\sin\alpha_0\sin(\theta + \alpha_0)`,
-    :math:`\alpha_0 = (2V^*/\pi)^{1/4}` (Yade sets alpha = 0 at H = 0, a discontinuity);
-    it vanishes for V -> 0, recovering 2 pi R sigma cos theta.
-
-    Returns
-    -------
-    numpy.ndarray
-        Attractive force (N). Validity: small bridges, H << R (parabolic gap).
-    """
-    h = _gap(gap)
-    sig = positive("surface_tension", surface_tension, "N/m")
-    th = angle("theta", theta)
-    r = positive("radius", radius, "m")
-    d = rabinovich_immersion_height(h, volume, r, "sphere-sphere")
-    alpha = np.sqrt(2.0 * d / r)
-    first = 2.0 * np.pi * r * sig * np.cos(th) / (1.0 + h / (2.0 * d))
-    return first + 2.0 * np.pi * r * sig * np.sin(alpha) * np.sin(th + alpha)
-
-
-def rabinovich_force_sphere_wall(gap: Any, volume: Any, radius: Any, surface_tension: Any,
-                                 theta_s: Any, theta_w: Any) -> np.ndarray:
-    r"""Rabinovich et al. (2005), sphere-plane: Lambert's term plus the contact-line term.
-
-    .. math::
-        F = \frac{2\pi R\sigma(\cos\theta_s + \cos\theta_w)}{1 + H/d}
-            + 2\pi R\sigma\sin\alpha\,\sin(\theta_s + \alpha),\quad \alpha = \sqrt{2d/R}
-
-    with the sphere-plane d of :func:`rabinovich_immersion_height` (wetted radius
-    :math:`\rho^2 = 2Rd` on the sphere of radius R). The first term is the sphere-plane
-    form of Rabinovich et al. (2005) (= the two-sphere form with Derjaguin radius 2R).
-    The second term's sphere-plane alpha is derived here from the same parabolic geometry;
-    substituting 2R into the two-sphere alpha, as a code reusing the two-sphere function
-    with R = 2R would, gives alpha half as large.
-    """
-    h = _gap(gap)
-    sig = positive("surface_tension", surface_tension, "N/m")
-    ts = angle("theta_s", theta_s)
-    tw = angle("theta_w", theta_w)
-    r = positive("radius", radius, "m")
-    d = rabinovich_immersion_height(h, volume, r, "sphere-wall")
-    alpha = np.sqrt(2.0 * d / r)
-    first = 2.0 * np.pi * r * sig * (np.cos(ts) + np.cos(tw)) / (1.0 + h / d)
-    return first + 2.0 * np.pi * r * sig * np.sin(alpha) * np.sin(ts + alpha)
 
 
 # ---- Bagheri, Roy & Poeschel (2024) -------------------------------------------------------

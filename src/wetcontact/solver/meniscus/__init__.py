@@ -1,68 +1,40 @@
 r"""Finite-element Young-Laplace liquid bridge: the capillary reference (model ``meniscus``).
 
 The static, axisymmetric liquid bridge between a sphere and a wall, or between two spheres
-of unequal radii (and, for analytic checks, between two parallel plates), with a contact
-angle on each solid; volume-controlled (given V) or suction-controlled (given the Laplace
-pressure).
+of unequal radii (and, for analytic checks, two parallel plates), with a contact angle on
+each solid; volume-controlled (given V) or suction-controlled (given the Laplace pressure,
+:class:`SuctionBridges`).
 
-Equations
----------
-The meridian is the curve ``(r(s), z(s))``, ``s`` the arc length from the contact line on
-the lower solid (a wall at ``z = 0`` or sphere 2, centre ``(0, -R2)``) to the contact line on
-sphere 1 (centre ``(0, S + R1)``), ``psi`` the angle of the tangent. Young-Laplace
-(PHYSICS.md section 2, liquid on the axis side, pressure ``dp = p_liquid - p_gas``,
-``Bo = rho g l^2 / sigma`` for an optional gravity along ``-z``):
+The meridian ``(r(s), z(s))``, ``s`` the arc length from the lower contact line to the one
+on sphere 1, ``psi`` the tangent angle, obeys Young-Laplace (liquid on the axis side,
+``dp = p_liquid - p_gas``, optional gravity along ``-z``):
 
 .. math::
     r' = \cos\psi,\quad z' = \sin\psi,\quad
-    \psi' = \frac{\Delta p - \rho g z}{\sigma} - \frac{\sin\psi}{r}.
+    \psi' = \frac{\Delta p - \rho g z}{\sigma} - \frac{\sin\psi}{r},
 
-Boundary conditions (contact lines are unknowns): on sphere 1 at half-filling angle
-``phi1``: ``r = R1 sin phi1``, ``z = S + R1 (1 - cos phi1)``, ``psi = phi1 + theta1``; on
-sphere 2 at ``phi2``: ``r = R2 sin phi2``, ``z = -R2 (1 - cos phi2)``,
-``psi = pi - phi2 - theta2``; on the wall at wetted radius ``r_w``: ``z = 0``,
-``psi = pi - theta_w``. The volume constraint
+with the contact lines unknown (on sphere 1 ``psi = phi1 + theta1``, on sphere 2
+``psi = pi - phi2 - theta2``, on the wall ``psi = pi - theta_w``) and the volume
+``V = int pi r^2 dz - V_cap(phi1, R1) - V_cap(phi2, R2)`` closing the system with ``dp``
+as its multiplier. Discretisation: continuous P2 fields in ``t = s/L`` tested with
+discontinuous P1 under the two-point Gauss rule (two-stage Gauss collocation, order 4;
+Hairer, Norsett & Wanner, *Solving ODEs I*, II.7), solved by Newton with a line search.
 
-.. math:: V = \int \pi r^2 \, dz - V_{cap}(\phi_1, R_1) - V_{cap}(\phi_2, R_2),\qquad
-          V_{cap}(\phi, R) = \pi R^3 (1-\cos\phi)^2 (2+\cos\phi)/3,
+Force (Lambert et al. 2008): the first integral ``G = 2 pi sigma r sin(psi) - pi r^2 (dp -
+rho g z)``, evaluated at both contact lines and the neck (their spread is a self-check).
+Rupture: pseudo-arclength continuation in S from contact to the fold ``dS = 0``, or,
+between equal spheres with equal angles, the symmetry-breaking bifurcation before it
+(``diagnostics.rupture``); stability by the sign change of ``det J`` (Maddocks 1987,
+Arch. Ration. Mech. Anal. 99, 301).
 
-closes the system with ``dp`` as its multiplier (or ``dp`` is given: suction control).
+Domain: V/R^3 >= 2e-11, contact angles up to 150 deg, half-filling angle at contact up to
+70 deg. Accuracy: within 4e-8 of an independent ODE shooting (rupture 6e-8), V* 1e-4 to
+0.2, 0-60 deg; declared order 4. Formulation in full: the guide's *Solver notes*
+(``docs/solvers.md``).
 
-Discretisation
---------------
-The normalised arc length ``t = s/L`` in [0, 1] (``L`` an unknown) is meshed with
-scikit-fem's :class:`~skfem.MeshLine`; ``r``, ``z``, ``psi`` are continuous P2 fields
-(:class:`~skfem.ElementLineP2`) and the first-order system is tested with discontinuous P1
-functions under the two-point Gauss rule (a continuous Petrov-Galerkin cG(2)/dG(1) method,
-equivalent to two-stage Gauss collocation). Its nodal values converge at order 4
-(Hairer, Norsett & Wanner, *Solving ODEs I*, sec. II.7); the force, the pressure and the
-filling angles inherit it. The unknowns ``(r, z, psi, L, dp, phi1, phi2|r_w, S)`` are
-solved by Newton's method with a backtracking line search on a sparse Jacobian.
-
-Force (PHYSICS.md section 2, Lambert et al. 2008): the axial cut force
-``G = 2 pi sigma r sin(psi) - pi r^2 (dp - rho g z)`` is a first integral (with gravity
-``dG/dz = rho g pi r^2``). It is evaluated at the contact line on sphere 1, at the lower
-contact line and at the neck (where ``psi = pi/2``, from a quintic Hermite reconstruction
-through the order-4 vertex values); their relative spread is reported as a self-check.
-The free energy is ``E = sigma (A - cos(theta1) A1 - cos(theta2) A2)`` (A the liquid-gas
-area, A1, A2 the wetted solid areas); ``dE/dS`` at fixed V is computed by implicit
-differentiation of the discrete system.
-
-Rupture and stability
----------------------
-The force-separation curve is followed by pseudo-arclength continuation in ``S`` from
-``S = 0``; rupture is the turning point ``dS = 0`` (located to machine precision as the
-root of ``dS/dphi1`` on the branch). By Maddocks (1987, Arch. Ration. Mech. Anal. 99, 301)
-the number of negative eigenvalues of the constrained second variation (axisymmetric
-perturbations, fixed volume) changes by one exactly at a simple fold of this branch, which
-is where ``det J`` changes sign; ``stability`` is +1 on the branch connected to ``S = 0``
-before the fold and -1 after it.
-
-Layout: :mod:`.geometry` (solids), :mod:`.young_laplace` (residual, Jacobian, closings,
-Newton), :mod:`.guess` (the toroidal guess), :mod:`.continuation` (volume- and
-suction-controlled, folds, stability), :mod:`.post` (forces, extras, profile), :mod:`.solve`
-(the public solves), :mod:`.suction` (the public suction-controlled API,
-:class:`SuctionBridges`), :mod:`.model` (the registered model).
+Layout: :mod:`.geometry`, :mod:`.young_laplace`, :mod:`.guess`, :mod:`.continuation`,
+:mod:`.post`, :mod:`.solve` (the public solves), :mod:`.suction` (the public
+suction-controlled API), :mod:`.division` (liquid division at rupture), :mod:`.model`.
 """
 
 from wetcontact.solver.meniscus.geometry import DEFAULT_ELEMENTS, PHI_MAX, THETA_MAX, Bridge

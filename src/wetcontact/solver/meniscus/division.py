@@ -1,61 +1,34 @@
-r"""Division of a bridge's liquid between the two bodies at rupture (PHYSICS.md section 7).
+r"""Division of a bridge's liquid between the two bodies at rupture (physics notes section 7).
 
-Model: the quasi-static split of the critical bridge
------------------------------------------------------
-A volume-controlled bridge pulled apart slowly follows its stable branch up to the rupture
-distance ``S_c`` (:mod:`.continuation`: the fold ``dS = 0`` or, between equal spheres with
-equal angles, the symmetry-breaking bifurcation before it). The liquid is divided there: the
-critical bridge is cut at its **neck**, the plane ``z = z_n`` where the meridian ``r(z)`` is
-smallest, and each body keeps the liquid on its side of that plane,
+A volume-controlled bridge pulled apart slowly follows its stable branch to the rupture
+distance ``S_c`` (the fold, or the symmetry-breaking bifurcation between equal spheres
+with equal angles). The critical bridge is cut at its **neck**, the plane ``z = z_n`` where
+the meridian ``r(z)`` is smallest, and each body keeps the liquid on its side:
 
 .. math::
     V_1 = \int_{z_n}^{z_{c1}} \pi r^2\, dz - V_{solid}(z > z_n),\qquad
     V_2 = \int_{z_{c2}}^{z_n} \pi r^2\, dz - V_{solid}(z < z_n),\qquad
     f = \frac{V_1}{V_1 + V_2},
 
-``z_c1``, ``z_c2`` the heights of the contact lines on body 1 (the upper sphere) and body 2
-(sphere 2 or the wall), ``V_solid`` the part of the two spheres' caps inside the bridge that
-lies on that side of the plane (a whole cap when the plane does not cut it; a cap of height
-``h`` has the volume ``pi h^2 (3R - h)/3``, and the part of a cap beyond a plane is the
-difference of two such caps). ``f`` is the fraction that stays on body 1, ``1 - f`` on body 2;
-``V_1 + V_2`` is the bridge volume. This is the rule stated in PHYSICS.md section 7 (the
-critical shape cut at its neck): the quasi-static limit of the stretching and pinch-off of
-a bridge, whose liquid distribution Darabi et al. (2010, Chem. Eng. Sci. 65, 4472) follow
-by CFD (slow stretching: surface tension dominant); equal spheres with equal angles give
-1/2 by symmetry.
+``z_c1``, ``z_c2`` the contact-line heights on body 1 (the upper sphere) and body 2 (sphere
+2 or the wall), ``V_solid`` the part of the spheres' caps inside the bridge on that side
+(caps of height h: ``pi h^2 (3R - h)/3``). ``f`` stays on body 1, ``1 - f`` on body 2. The
+quasi-static limit of stretching and pinch-off (Darabi et al. 2010, Chem. Eng. Sci. 65,
+4472); equal spheres with equal angles give 1/2.
 
-Numerics: the meridian of the FE solution (:mod:`.young_laplace`: P2 fields, two-stage
-Gauss collocation); the neck is the solver's own reconstruction (:mod:`.post`: a quintic
-Hermite through the order-4 vertex values and the ODE's first and second derivatives there,
-minimised on the element where ``cos psi`` changes sign), kept only where it is a minimum
-of ``r``, and compared with the two contact lines. The integrals use the solver's Gauss rule
-on the whole elements (the rule of its volume constraint) and an 8-point Gauss-Legendre rule
-on the two parts of the element holding the neck. Nodal values and the neck converge at
-order 4, so the fraction does (observed: ``MeniscusModel.extras_convergence_data``).
+Numerics: the FE meridian of :mod:`.young_laplace`; the neck from the solver's quintic
+Hermite reconstruction (:mod:`.post`); the solver's Gauss rule on whole elements and an
+8-point Gauss-Legendre rule on the two parts of the neck's element. Order 4
+(``MeniscusModel.extras_convergence_data``).
 
-Limits
-------
-* **Neck at a contact line.** With a large receding angle on one body (``phi + theta``
-  above 90 deg at rupture) the meridian still narrows where it meets that body: ``r(z)``
-  has no interior minimum on that side, and its smallest value is the contact line itself.
-  The cut plane is then the plane of the contact line, and that body keeps no liquid:
-  ``f = 0`` (body 1) or ``f = 1`` (body 2), ``neck = "contact1"`` or ``"contact2"``. The
-  model predicts that the receding contact line leaves the body dry; what a real body keeps
-  there (a film or a sessile drop far smaller than the bridge) is below its resolution.
-  The fraction goes to 0 (1) continuously as the interior neck approaches the contact line,
-  so the switch is no jump. Where an interior minimum exists but a contact line is narrower
-  still, the contact line is taken (the narrowest section).
-* **Near symmetry.** Between equal spheres with nearly equal angles the stable branch ends
-  at a fold close to the symmetric bifurcation (an imperfect pitchfork): the critical shape
-  is already asymmetric by ``~ eps^(1/3)`` (``eps`` the angle difference), so ``f``
-  departs from 1/2 like ``eps^(1/3)``: steeply, though continuously.
-* **Quasi-static.** The cut is the shape of the last stable bridge; the dynamics after it
-  (the neck thinning, a satellite drop, viscous and inertial effects at Ca, We > 0, the
-  contact lines receding while the neck thins) are not modelled. The angles are the
-  receding ones; gravity, when the bridge has it, is kept in the shape.
-* Sphere-wall and sphere-sphere; checked against an ODE shooting solution
-  (tests/solver/test_division.py) for radius ratios 1-10, angles 0-70 deg and
-  V/R_small^3 in [1e-4, 0.1].
+Limits: where ``r(z)`` has no interior minimum on one side (``phi + theta`` above 90 deg
+at rupture) or a contact line is narrower than the neck, the cut is at that contact line
+and that body keeps nothing (``f = 0`` or 1, ``neck = "contact1"``/``"contact2"``),
+continuously. Near symmetry ``f - 1/2 ~ eps^(1/3)`` (``eps`` the angle difference). The
+dynamics after the last stable shape are not modelled; the angles are the receding ones.
+Domain checked against an ODE shooting solution (tests/solver/test_division.py): radius
+ratios 1-10, angles 0-70 deg, V/R_small^3 in [1e-4, 0.1]. In full: the guide's *Solver
+notes* (``docs/solvers.md``).
 """
 
 from __future__ import annotations

@@ -1,122 +1,42 @@
 """Axisymmetric Stokes flow by Taylor-Hood finite elements: the viscous-force reference (level 3).
 
-Equations
----------
 Steady Stokes flow ``-div(sigma) = 0``, ``div u = 0``, ``sigma = -p I + 2 eta e(u)`` in the
-meridian half-plane (r, z), r >= 0, for an axisymmetric velocity u = (u_r, u_z) without
-swirl. With the volume element 2 pi r dr dz the weak form is: find (u, p) with
+meridian half-plane (r, z), r >= 0, without swirl. With the volume element 2 pi r dr dz the
+weak form is: find (u, p) with
 
     a(u, w) - b(w, p) = 0,   b(u, q) = 0,
     a(u, w) = int 2 eta [e_rr(u) e_rr(w) + e_zz e_zz + 2 e_rz e_rz + (u_r/r)(w_r/r)] r dr dz,
     b(w, q) = int q (r d_r w_r + w_r + r d_z w_z) dr dz,
 
-where ``(u_r/r)(w_r/r)`` is the hoop strain e_thth (the hoop term); the 2 pi cancels and is
-restored in the force. Elements: P2 velocity / P1 pressure (Taylor-Hood) on a second-order,
-isoparametric triangle mesh from gmsh (``wetcontact.meshes``).
+``(u_r/r)(w_r/r)`` the hoop term. P2 velocity / P1 pressure on a second-order gmsh mesh
+(``wetcontact.meshes``). Boundaries by name: ``axis`` u_r = 0; ``wall``, ``far`` u = 0;
+``symmetry`` u_z = 0, shear-free; ``sphere``/``sphere2`` the body's velocity;
+``free_surface`` traction-free. Navier slip (length b) adds ``int (eta/b) u_t w_t r ds``
+(:func:`navier_slip_form`), the normal condition in a rotated frame (Engelman, Sani &
+Gresho 1982). A quasi-static meniscus (``solve_stokes(surface=...)``, bridges) has its
+normal velocity prescribed and the pressure constant fixed so that it does no net work;
+the force is then the dissipation over the speed, ``F = Phi / v``. Films: a flat,
+traction-free top meeting the no-slip sphere in an integrable stick-slip corner
+(Richardson 1970), graded to 2e-3, 5e-4, 1e-4 delta (fast, default, accurate).
 
-Boundary conditions (by named physical group): ``axis`` u_r = 0; ``wall`` and ``far``
-u = 0; ``symmetry`` (shear-free plane) u_z = 0 with zero tangential traction (natural);
-``sphere`` u = (0, U), ``sphere2`` u = (0, U2); ``free_surface`` traction-free (natural; the
-quasi-static surface moves with the flow, so the force is the instantaneous one for the
-current shape). Navier slip (Navier 1823) on a solid boundary with slip length b: the
-normal velocity is the body's, ``u . n = U . n``, and the tangential traction balances the
-slip velocity, ``sigma_nt = (eta/b)(u - U) . t``; the friction term
-``int (eta/b) u_t w_t r ds`` (:func:`navier_slip_form`) enters the weak form, and the normal
-condition is imposed at the boundary nodes in a rotated (n, t) frame with the exact nodal
-normal (Engelman, Sani & Gresho 1982). Checks: Basset's (1888) drag of a slipping sphere,
-``6 pi eta a U (1 + 2b/a)/(1 + 3b/a)``, within 2e-5, and Vinogradova's (1995) slip factors
-as S/R -> 0 (tests/solver/test_stokes.py). When every boundary fixes the normal velocity the
-pressure is defined up to a constant, fixed by p = 0 at one far-boundary vertex (a constant
-pressure exerts no net force on the closed sphere).
+Force on the sphere: the **reaction**, ``F_z = -2 pi sum_i [A u - B^T p]_i`` on the sphere's
+u_z degrees of freedom (O(h^4); reported), and the **traction** integral (O(h^2);
+``force_traction``). Units R = eta = 1, unit speed; ``F = eta R v f(S/R)``. Far boundary
+u = 0 at L = max(``far``, 100 (S/R + 2)) R (truncation below 1e-6 for S/R <= 10 at 1e3 R).
 
-Quasi-static free surface (``solve_stokes(surface=...)``; liquid bridges,
-:mod:`wetcontact.solver.stokes.bridge`): the meniscus is the static one at each instant, its
-normal velocity is prescribed (the rate of change of the static shape at fixed volume, by
-implicit differentiation of the meniscus system), its tangential traction is zero, and a
-contact-line node takes the velocity meeting both normal conditions (Navier slip on the
-solid lets the line move). Every boundary then fixes the normal velocity, so the pressure
-is defined up to a constant; it is fixed so that the free surface does no net work,
-``int u_n sigma_nn dA = 0``. Why: to O(Ca) the meniscus deforms at fixed volume about an
-equilibrium shape, whose free energy is stationary, so the power balance gives the viscous
-force on the sphere as the dissipation over the speed, ``F = Phi / v``; with that constant
-the reaction and the traction integral tend to it as the contact-line elements shrink
-(90/90 deg, contact size 4, 1, 0.25, 0.06 slip lengths: 2.4, 0.64, 0.16, 0.07 %; within
-4e-3 at the presets where the film dominates, S/R <= 1e-2), while the dissipation itself
-converges much faster (it is the reported force). The previous constant (zero mean pressure
-on the free surface) added the free surface's work to the reaction: at S/R = 1e-3,
-V/R^3 = 1e-3, theta = 20 deg, b = 1e-6 R it gave 1.37 times the lubrication force where the
-dissipation gives 1.19. The remaining 19 % is physical: the two
-contact lines move along the solids 5.1 times faster than the sphere, and their Huh-Scriven
-dissipation (``~ ln(1/b)``, absent from lubrication) is the excess; it stays nearly
-constant as S -> 0 while the film force grows like 1/S (excess 5.8 % at S/R = 3e-4, 0.63 %
-at 3e-5). Towards rupture the contact lines race (u_n ~ (S_c - S)^(-1/2)) and the
-quasi-static force grows like 1/(S_c - S) (equal spheres, 20 deg: 8.2, 149 and 1680 eta R v
-at 0.5, 0.99 and 0.999 S_c); the quasi-static limit itself fails there, but the flow of that
-limit is resolved: the half and the full bridge agree within 3e-6 and halving the grading
-moves the force by 7e-6, up to 0.999 S_c; fast and default are within 3.1e-5 and 1.1e-5 of
-accurate from 0.01 to 0.99 S_c (sphere-wall, equal spheres, R2 = 2R). That needs the
-pressure pin away from the contact lines (:func:`_pressure_pin`): pinned at a contact
-line, the discrete flux error of the prescribed motion was a point source among elements a
-slip length across, and the force moved by +-3e-3 between gradings at 0.5 S_c and by 2-3 %
-between the half and the full bridge at 0.99 S_c. Verified
-on an exact rigid translation, against lubrication and the Huh-Scriven slope, and the
-symmetric half against the full two-sphere bridge (tests/solver/test_stokes_bridge.py).
+Sign and speed: the axial force on the sphere, positive when it pushes the surfaces apart;
+for two spheres v is the relative approach speed ``-dS/dt`` and the force is on the first.
+Domain: S/R >= 1e-5; R2/R in [0.1, 10].
 
-Film (``amount = film``, :func:`wetcontact.meshes.builders.sphere_film`): the sphere dips
-into a film of thickness delta on the wall; the film top is flat and traction-free
-(:data:`~wetcontact.solver.stokes.model.FILM_TOPS`), the sphere no-slip unless the scene
-gives a slip length. Where the sphere meets the top the fluid moves with the sphere (the
-traction-free surface follows it), so there is no Huh-Scriven divergence and no slip is
-needed: the corner is the integrable singularity of a no-slip wall meeting a traction-free
-surface (velocity ~ rho^(1/2) in the distance rho from it, the stick-slip corner of
-Richardson 1970; see :func:`~wetcontact.meshes.builders.sphere_film`), whose force error is
-first order in the element size there, ``film_corner`` delta (measured order 1.0-1.1 where
-it dominates). The presets grade the corner to 2e-3, 5e-4 and 1e-4 delta (fast, default,
-accurate). It was 0.25 delta/n_film, 0.031-0.018 delta, whose corner error (2.7e-3 at the
-default preset and 1.4e-3 at the accurate one at delta/R = 0.1 and S = 0.95 delta) shrank
-only as fast as n_film grew. Refining every size by f and the corner size by f^4 (so that it
-keeps pace with the order-4 bulk) the film force shows order 3.5-4.1 (from the fast and the
-default preset's resolution, delta/R = 0.01 and 0.1, S/delta = 0.5 and 0.95), and fast and
-default are within 3.3e-4 and 5.7e-5 of accurate for delta/R = 1e-3 to 0.2 and S/delta = 0.5
-and 0.95 (tests/solver/test_stokes.py). A default slip length (as bridges get, whose contact
-lines do move along the solids) would change the film force everywhere by about -2 b/S
-(Vinogradova's slip factor: -4e-3 at b/R = 1e-6 and S/R = 5e-4), not only at the corner; the
-scene's ``slip_length_sphere`` and ``slip_length_wall`` apply when given.
+Accuracy (``benchmarks/bench_stokes.py``; Brenner 1961 and the two-sphere series, S/R 1e-4
+to 10): ``fast`` <= 5e-4, ``default`` <= 1e-4, ``accurate`` <= 6e-6, all errors positive;
+Basset's slipping sphere within 2e-5; unequal spheres against Jeffrey & Onishi (1984);
+bridges: presets within 3.1e-5 (fast) and 1.1e-5 (default) of accurate up to 0.99 S_c; films:
+within 3.3e-4 and 5.7e-5. Formulation, limits and checks in full: the guide's *Solver notes*
+(``docs/solvers.md``).
 
-Force on the sphere, two ways (Brezzi & Fortin; the reaction is the "consistent" or
-"variationally consistent" flux of e.g. Carey, Chow & Seager 1985):
-
-* **reaction**: the residual of the assembled momentum equations on the sphere's u_z degrees
-  of freedom, ``F_z = -2 pi sum_i [A u - B^T p]_i``. It equals the dissipation identity
-  ``F . U = -2 pi a(u, u)`` exactly for the discrete solution when the other boundaries are at
-  rest or traction-free, and converges at twice the energy-norm rate (O(h^4) for P2/P1 on a
-  P2 geometry); this is the reported force.
-* **traction**: ``F_z = 2 pi int_sphere (sigma n)_z r ds`` with the pointwise stress of the
-  discrete solution (O(h^2)); returned as ``force_traction`` for comparison.
-
-The problem is solved in units R = eta = 1 with unit sphere speed; by linearity
-``F = eta R v f(S/R)``.
-
-Far boundary: u = 0 on a circle of radius L = max(``far``, 100 (S/R + 2)) R about the contact
-point (``far`` = 1e3 in the presets). Next to a wall or a symmetry plane the disturbance decays
-at least like a force dipole, and the measured truncation error at L = 1e3 R is below 1e-6 for
-S/R <= 10 (compared with L = 1e4). An isolated sphere (a test geometry only) decays like a
-Stokeslet, error (9/4) R/L; there the exact container factor
-:func:`~wetcontact.solver.stokes.model.container_factor` is applied.
-
-Accuracy (``benchmarks/bench_stokes.py``, sphere-wall against Brenner 1961, two spheres
-against the two-sphere series, S/R from 1e-4 to 10): ``fast`` <= 5e-4, ``default`` <= 1e-4,
-``accurate`` <= 6e-6. The discrete force is an upper bound in practice (all errors positive).
-
-Sign and speed convention: the force is the axial force on the sphere, positive when it pushes
-the surfaces apart, so the resistance to approach (``scene.velocity > 0``) is positive. For two
-spheres ``scene.velocity`` v is the relative approach speed ``-dS/dt``; each sphere moves at
-v/2 toward the other, and the force is the one on the first sphere (radius R; for equal
-spheres equal and opposite to the other's). Reference checks: equal spheres
-``F = 6 pi eta R (v/2) lambda_fs(S/R)`` (Brenner 1961, Maude 1961); unequal spheres (R2/R in
-[0.1, 10], far boundary at 1e6 R because the pair's net force makes a Stokeslet far field)
-the singular terms ``6 pi eta R v [g1/xi + g2 ln(1/xi) + g3 xi ln(1/xi)]`` of Jeffrey & Onishi
-(1984), xi = 2S/(R + R2), which do not depend on how the relative speed is shared.
+Sources: Brezzi & Fortin (mixed FEM); Carey, Chow & Seager (1985) (reaction flux); Navier
+(1823); Basset (1888); Vinogradova (1995); Brenner (1961); Maude (1961); Huh & Scriven (1971).
 """
 
 from __future__ import annotations

@@ -3,48 +3,37 @@ r"""The sharp wetting contact: a quasi-static Young-Laplace meniscus joined to t
 The liquid under the sphere is split at the **foot** :math:`a(t)`, the minimum of the liquid
 surface around the sphere (where the film's slope vanishes):
 
-- **inner** (:math:`r < a`): the meniscus is quasi-static (capillary number
-  :math:`Ca = \eta v/\sigma \ll 1`), a Young-Laplace surface of uniform pressure
-  :math:`p_e` spanning from its contact line on the sphere (contact angle
-  :math:`\theta_s`, the wetted radius :math:`r_c` an unknown, not a smoothed switch) down
-  to the foot, where it meets the film tangentially. It is the finite-element bridge of
-  :mod:`wetcontact.solver.meniscus` between the sphere and the plane :math:`z = h_b` (the
-  film's height at the foot) with contact angle 0 on that plane, solved at the gap
-  :math:`S - h_b` (negative once the sphere dips below the film's level) and the pressure
-  :math:`p_e - \rho g h_b` (the bridge's pressure is referred to its own plane). Inside the
-  wetted zone the squeeze flow obeys the Reynolds equation, whose pressure above
-  :math:`p_e` is the viscous force :math:`F_{\rm visc} = 6\pi\eta v\int_0^{r_c}r^3/g^3dr`
-  (PHYSICS.md section 1; parabolic gap: :math:`6\pi\eta R^2 v/S\,(1 - S/H)^2`,
-  :math:`H = g(r_c)`). The capillary force is the bridge's,
-  :math:`F_{\rm cap} = \pi r_c^2 p_e - 2\pi\sigma r_c\sin(\phi_1 + \theta_s)` (+ the
-  hydrostatic cap term with gravity), negative = suction (PHYSICS.md section 2).
-- **outer** (:math:`a < r < L`): the small-slope thin-film equation of the package, with
-  :math:`h'(a) = 0` and :math:`p(a) = p_e` (the surface is continuous to its curvature),
-  zero flux and :math:`h' = 0` at :math:`r = L`.
+- **inner** (:math:`r < a`): a quasi-static (:math:`Ca = \eta v/\sigma \ll 1`)
+  Young-Laplace surface of uniform pressure :math:`p_e` from its contact line on the sphere
+  (angle :math:`\theta_s`, wetted radius :math:`r_c` an unknown) down to the foot, where it
+  meets the film tangentially: the finite-element bridge of
+  :mod:`wetcontact.solver.meniscus` between the sphere and the plane :math:`z = h_b` with
+  contact angle 0 there, at the gap :math:`S - h_b` and pressure :math:`p_e - \rho g h_b`.
+  The squeeze flow in the wetted zone gives
+  :math:`F_{\rm visc} = 6\pi\eta v\int_0^{r_c}r^3/g^3dr`; the capillary force is the
+  bridge's, :math:`F_{\rm cap} = \pi r_c^2 p_e - 2\pi\sigma r_c\sin(\phi_1 + \theta_s)`
+  (+ the hydrostatic cap term), negative = suction.
+- **outer** (:math:`a < r < L`): the small-slope thin-film equation, with
+  :math:`h'(a) = 0`, :math:`p(a) = p_e`, zero flux and :math:`h' = 0` at :math:`r = L`.
 
-The unknowns are the film cells, :math:`p_e` and :math:`a`; the two extra equations are
-the foot relation :math:`a = a_{\rm bridge}(S - h_b, p_e - \rho g h_b)` and the liquid
-volume, :math:`\pi a^2 h_b + V_{\rm bridge} + \int_a^L 2\pi r h\,dr = V_0` (the bridge's
-volume counts the liquid above its plane less the sphere below it), imposed to round-off at
-every step: the inner volume changes only by the film's flux through the foot. No
-regularisation parameter enters: the contact line is sharp on the sphere and the junction
-sits where the surface is flat. Valid while the film around the sphere has a minimum (the
-meniscus draws liquid from the film: :math:`Ca^*` of order 1 and below) and the inner
-meniscus is quasi-static (:math:`Ca \ll 1`).
+The unknowns are the film cells, :math:`p_e` and :math:`a`; the two extra equations are the
+foot relation :math:`a = a_{\rm bridge}(S - h_b, p_e - \rho g h_b)` and the liquid volume,
+:math:`\pi a^2 h_b + V_{\rm bridge} + \int_a^L 2\pi r h\,dr = V_0`, imposed to round-off at
+every step. No regularisation parameter enters. Domain: the film around the sphere has a
+minimum (:math:`Ca^*` of order 1 and below), the inner meniscus is quasi-static
+(:math:`Ca \ll 1`) and :math:`\theta_s < 90` deg.
 
-Numerics: the film lives on a moving grid :math:`r = a + \xi (L - a)`, :math:`\xi` fixed
-and graded (fine at the foot), in conservative arbitrary-Lagrangian-Eulerian form,
-:math:`d(V_i h_i)/dt = -[A(q - w h)]_{i-1/2}^{i+1/2}`, face speed
+Numerics: the film on a moving graded grid :math:`r = a + \xi (L - a)` in conservative
+arbitrary-Lagrangian-Eulerian form, :math:`d(V_i h_i)/dt = -[A(q - w h)]_{i-1/2}^{i+1/2}`,
 :math:`w = (1 - \xi)\,\dot a`; variable-step BDF2 with Newton on the bordered
-pentadiagonal system (film cells, :math:`p_e`, :math:`a`), the bridge's sensitivities to
-its gap and pressure from its own LU factors, which also give the tangent predictor that
-warm-starts the bridge at every film iteration.
+pentadiagonal system, the bridge's sensitivities and tangent predictor from its own LU
+factors. Accuracy: see :mod:`wetcontact.solver.thinfilm`; checks in the guide's *Solver
+notes* (``docs/solvers.md``).
 
 Sources: Oron, Davis & Bankoff (1997) Rev. Mod. Phys. 69, 931 (thin-film equation);
 Donea, Huerta, Ponthot & Rodriguez-Ferran (2004), "Arbitrary Lagrangian-Eulerian methods",
-Encyclopedia of Computational Mechanics, vol. 1 ch. 14 (moving-grid conservation form);
-Hairer & Wanner, "Solving ODEs II", sec. III.5 and VI.1 (variable-step BDF2, index-1
-DAEs); PHYSICS.md sections 1-3 (Reynolds force, bridge force, film limits).
+Encyclopedia of Computational Mechanics, vol. 1 ch. 14; Hairer & Wanner, "Solving ODEs II",
+sec. III.5 and VI.1 (variable-step BDF2, index-1 DAEs).
 """
 
 from __future__ import annotations
