@@ -12,7 +12,12 @@ bifurcation) at the default preset (128 elements):
    MercuryDPM, Shi & McCarthy read backwards), for orientation (the report's table of their
    errors is not made here);
 4. the cusp of the fraction near symmetry: equal spheres, theta2 = 35 deg, theta1 scanned
-   over 0-70 deg (V/R^3 = 10^-2.5): ``f - 1/2 ~ sign(eps) |eps|^(1/3)``.
+   over 0-70 deg (V/R^3 = 10^-2.5): ``f - 1/2 ~ sign(eps) |eps|^(1/3)``;
+5. the per-point cost of the calibrated closure
+   (:func:`~wetcontact.reduced_models.transfer_fraction.calibrated_transfer_fraction`, one
+   vectorised call on N seeded points over its domain, N = 1e3, 1e4, 1e5): median of 7 runs
+   after one warm-up, divided by N. ``--closure`` measures only this and keeps the rest of
+   the JSON.
 
 Writes ``benchmarks/results/division.json`` and ``division.png``. Run:
 ``.venv/bin/python benchmarks/bench_division.py`` (``--chart`` redraws from the JSON).
@@ -20,6 +25,7 @@ Writes ``benchmarks/results/division.json`` and ``division.png``. Run:
 
 from __future__ import annotations
 
+import json
 import math
 import sys
 import time
@@ -32,6 +38,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import main_or_chart, median_time, save_chart, write_json  # noqa: E402
 
 from wetcontact.reduced_models.division import (  # noqa: E402
+    calibrated_transfer_fraction,
     even_split_fraction,
     mercurydpm_fraction,
     shi_mccarthy_fraction,
@@ -57,7 +64,40 @@ def configurations() -> list[tuple[str, float | None, float, float, float]]:
     return out
 
 
+def closure_cost(sizes: tuple[int, ...] = (1000, 10_000, 100_000)) -> dict:
+    """Per-point wall time of the calibrated closure, one vectorised call per size."""
+    rng = np.random.default_rng(56)
+    out = {}
+    for n in sizes:
+        r1 = np.full(n, 1e-3)
+        r2 = 1e-3 * np.exp(rng.uniform(0.0, math.log(10.0), n))
+        r2[: n // 4] = np.inf  # a quarter on a wall
+        v = 1e-9 * np.exp(rng.uniform(math.log(1e-4), math.log(0.1), n))
+        t1, t2 = rng.uniform(0, 70, n), rng.uniform(0, 70, n)
+        args = (r1, r2, v, t1, t2)
+        med, f = median_time(lambda args=args: calibrated_transfer_fraction(*args),
+                             repeats=7)
+        out[str(n)] = {"median_s": med, "per_point_us": 1e6 * med / n,
+                       "nan_fraction": float(np.mean(np.isnan(f)))}
+        print(f"closure: {n} points, {1e6 * med / n:.3f} us a point", flush=True)
+    return out
+
+
+def closure_only() -> None:
+    """Measure the closure's cost and keep the rest of the stored JSON."""
+    from _common import RESULTS
+
+    data = json.loads((RESULTS / "division.json").read_text())
+    data.pop("machine", None)
+    data.pop("cpu_count", None)
+    data["closure_cost"] = closure_cost()
+    write_json("division", data)
+
+
 def main() -> None:
+    if "--closure" in sys.argv:
+        closure_only()
+        return
     t0 = time.perf_counter()
     rows = []
     for kind, r2, v_star, th1, th2 in configurations():
@@ -86,6 +126,7 @@ def main() -> None:
             "cut_time_s_median": float(np.median([r["cut_time_s"] for r in rows])),
             "cusp_scan": {"radius_ratio": 1.0, "v_star": v0, "theta2_deg": 35.0,
                           "theta1_deg": scan.tolist(), "fraction": cusp},
+            "closure_cost": closure_cost(),
             "wall_time_s": round(time.perf_counter() - t0, 1),
             "note": "timings on 2 cores shared with other jobs (loaded); one process, "
                     "one BLAS thread not enforced"}

@@ -1342,7 +1342,8 @@ def test_cli_json_summary(tmp_path, capsys, source):
     info = json.loads(capsys.readouterr().out)
     assert info["functions"] == ["wc_viscous_force_immersed", "wc_viscous_force_bridge",
                                  "wc_capillary_force", "wc_rupture_distance",
-                                 "wc_capillary_force_refit", "wc_rupture_distance_refit"]
+                                 "wc_capillary_force_refit", "wc_rupture_distance_refit",
+                                 "wc_transfer_fraction"]
     assert Path(info["out"]).is_file() and info["wall_time_s"] >= 0
     assert info["bytes"] > 1000
 

@@ -69,3 +69,21 @@ def test_equal_spheres_with_equal_angles_split_evenly(rendered):
     for r in eq:
         assert abs(float(r["f_ref"]) - 0.5) < 1e-9
         assert float(r["error_even_split"]) < 1e-9
+
+
+def test_closure_heldout_table(rendered):
+    """The closure's held-out table: one CSV row per held-out point of the generation
+    record, and the summary's max is the CSV's (outside the band)."""
+    import json
+
+    from wetcontact.reduced_models import DATA_DIR
+    from wetcontact.reduced_models.transfer_fraction import RECORD_FILE
+
+    md, _, out = rendered
+    with open(out / "division_closure_heldout.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    rec = json.loads((DATA_DIR / RECORD_FILE).read_text())
+    assert len(rows) == rec["held_out"]["points"]
+    errs = [float(r["error"]) for r in rows if r["in_band"] == "False"]
+    assert max(errs) == pytest.approx(rec["held_out"]["max"], rel=1e-9)
+    assert "held-out table" in md and f"{max(errs):.3g}" in md

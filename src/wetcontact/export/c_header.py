@@ -36,7 +36,9 @@ from wetcontact.reduced_models.calibrated import viscous_table
 
 HEADER_NAME = "wetcontact_closures.h"
 FUNCTIONS = ("wc_viscous_force_immersed", "wc_viscous_force_bridge", "wc_capillary_force",
-             "wc_rupture_distance", "wc_capillary_force_refit", "wc_rupture_distance_refit")
+             "wc_rupture_distance", "wc_capillary_force_refit", "wc_rupture_distance_refit",
+             "wc_transfer_fraction")
+ENDIF = "#endif /* WETCONTACT_CLOSURES_H */"
 
 
 def c_array(values: Any, per_line: int = 4, indent: int = 8) -> str:
@@ -1058,8 +1060,11 @@ def header_text(source: CapillarySource, refits: Sequence[RefitTable] = ()) -> s
         v_lo=repr(v_lo), v_hi=repr(v_hi), t_lo=repr(t_lo), t_hi=repr(t_hi),
         lian=c_array(rup.coefficients), willett=_nested(cap.coefficients),
         s_lo_cap=repr(s_lo_cap), s_hi_cap=repr(s_hi_cap))
-    end = "#endif /* WETCONTACT_CLOSURES_H */\n"
+    from wetcontact.export.transfer_fraction import c_text as transfer_fraction_c  # issue 56
+
+    end = ENDIF + "\n"
     assert body.endswith(end)
+    body = body[:-len(end)] + transfer_fraction_c().lstrip("\n") + "\n" + end
     if refits:
         body = body[:-len(end)] + c_text(refits).lstrip("\n") + "\n" + end
     return head + body

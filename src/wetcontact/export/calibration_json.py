@@ -352,9 +352,17 @@ def capillary_document(table: CapillaryTable | None = None) -> dict[str, Any]:
                            + "".join(f"; {k}: not generated" for k in KINDS
                                      if k not in t.parts),
             "units": UNITS, "sign_convention": SIGN, "outside_domain": OUTSIDE,
-            "parts": parts, "provenance": _provenance(
+            "parts": parts, "transfer_fraction": _transfer_fraction(),
+            "provenance": _provenance(
                 Path(t.source), str((capillary_table() or {}).get("generated_by", "")),
                 "meniscus")}
+
+
+def _transfer_fraction() -> dict[str, Any]:
+    """The division at rupture (its own module, :mod:`wetcontact.export.transfer_fraction`)."""
+    from wetcontact.export.transfer_fraction import json_entry
+
+    return json_entry()
 
 
 def _capillary_piece_parts(t: CapillaryTable, kind: str, part: CapillaryPart,

@@ -643,8 +643,15 @@ def module_text(source: CapillarySource, refits: Sequence[RefitTable] = ()) -> s
         log_lo=repr(lo), log_hi=repr(hi), s_lo_r=repr(math.exp(lo)), s_hi_r=repr(math.exp(hi)),
         v_lo_r=repr(v_lo), v_hi_r=repr(v_hi), t_lo_r=repr(t_lo), t_hi_r=repr(t_hi),
         sc_lo_r=repr(sc_lo), sc_hi_r=repr(sc_hi), lian=_list(rup.coefficients),
-        willett=_list(cap.coefficients))
+        willett=_list(cap.coefficients)) + _transfer_fraction()
     return text + python_text(refits)
+
+
+def _transfer_fraction() -> str:
+    """``transfer_fraction`` (its own module, :mod:`wetcontact.export.transfer_fraction`)."""
+    from wetcontact.export.transfer_fraction import python_text as transfer_fraction_py
+
+    return transfer_fraction_py()
 
 
 def _fill(text: str) -> str:

@@ -36,6 +36,11 @@ TABLES: dict[str, tuple[str, str, str]] = {
         "wetcontact.generate.calibrated_capillary_pairs.generate_pair_table",
         "the calibrated-capillary closure's tables, one contact angle on a wall and between "
         "spheres, two on a wall, two between spheres (meniscus solves on --workers processes)"),
+    "transfer-fraction": (
+        "transfer_fraction.json",
+        "wetcontact.generate.transfer_fraction.generate_transfer_fraction",
+        "the calibrated transfer fraction at rupture: the jump and the two side tables, "
+        "held-out table in transfer_fraction_record.json (meniscus solves, one process)"),
     "bounds": (
         DATA_PATH.name,
         "wetcontact.generate.bounds.measure_bounds",
@@ -120,6 +125,9 @@ def parser() -> argparse.ArgumentParser:
                         "each band's own ridge series (searched again only at the w nodes a "
                         "pair band's ridge gains), and measure the table's held-out tables "
                         "again, once")
+    t = sub.add_parser("transfer-fraction", help=TABLES["transfer-fraction"][2])
+    t.add_argument("--held-out", type=int, default=200, help="held-out points (default 200)")
+    t.add_argument("--workers", type=int, default=None, help="not used (one process)")
     b = sub.add_parser("bounds", help=TABLES["bounds"][2])
     b.add_argument("--quick", action="store_true",
                    help="fewer held-out scenes per table (a smoke run; the shipped tables "
@@ -270,6 +278,16 @@ def main(argv: list[str] | None = None) -> int:
         _check_capillary(p, args)
         _say("calibrated-capillary", args.out)
         _capillary(args)
+    if args.command in ("transfer-fraction", "all"):
+        from wetcontact.generate.transfer_fraction import generate_transfer_fraction
+
+        _say("transfer-fraction")
+        _workers_unused("transfer-fraction",
+                        None if args.command == "all" else args.workers)
+        n = args.held_out if args.command == "transfer-fraction" else 200
+        rec = generate_transfer_fraction(n_held_out=n)
+        print(f"{rec['build_wall_time_this_run_s']} s build, {rec['solves_this_run']} solves "
+              f"(of {rec['solve_calls']})")
     if args.command in ("bounds", "all"):
         if args.command == "bounds":
             _say("bounds", args.out or (Path("bounds-quick.json") if args.quick else None))

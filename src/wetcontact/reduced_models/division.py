@@ -23,6 +23,10 @@ Sources (the code as published):
 * Shi & McCarthy (2008), Powder Technol. 184, 64: the liquid a particle gives to a new
   bridge, ``V_i,b = V_i (1 - sqrt(1 - R_j^2/(R_i + R_j)^2))/2`` (the film on the cap of
   particle i facing particle j; LIGGGHTS builds its bridges so).
+
+Beside them, the closure calibrated to the reference over the issue's domain,
+:func:`~wetcontact.reduced_models.transfer_fraction.calibrated_transfer_fraction` (its form,
+domain, band and accuracy in :mod:`wetcontact.reduced_models.transfer_fraction`).
 """
 
 from __future__ import annotations
@@ -33,8 +37,10 @@ import numpy as np
 
 from wetcontact.errors import InputError
 from wetcontact.reduced_models._checks import positive
+from wetcontact.reduced_models.transfer_fraction import calibrated_transfer_fraction
 
 __all__ = [
+    "calibrated_transfer_fraction",
     "even_split_fraction",
     "mercurydpm_fraction",
     "shi_mccarthy_fraction",

@@ -17,6 +17,14 @@ V* = V/R_small^3 in {1e-3, 1e-2}, sigma = 0.072 N/m, no gravity: 160 configurati
 The swapped pairs (ratio 1/2, ...) are not swept: the reference (tested within 1e-9 in
 tests/solver/test_division.py) and every rule give ``1 - f`` when the bodies swap, so their
 errors are those of the rows with the angles swapped. Error: ``|f_rule - f_ref|``.
+
+The closure calibrated to the reference
+(:func:`~wetcontact.reduced_models.transfer_fraction.calibrated_transfer_fraction`) has its
+own held-out table, ``division_closure_heldout.csv``: the seeded Latin hypercube of its
+generation record (``reduced_models/data/transfer_fraction_record.json``: the ``meniscus``
+references at the default preset, computed when the table was built), the closure evaluated
+now; max, mean, p95 of the absolute error, where the max sits, the points in the band at the
+jump where the closure answers NaN.
 """
 
 from __future__ import annotations
@@ -31,6 +39,7 @@ import numpy as np
 
 from wetcontact.errors import SolverError
 from wetcontact.reduced_models.division import (
+    calibrated_transfer_fraction,
     even_split_fraction,
     mercurydpm_fraction,
     shi_mccarthy_fraction,
@@ -44,6 +53,8 @@ GAP = 1e-3
 """The gap solved, in units of R_small (below every rupture distance of the grid)."""
 WALL = math.inf
 """The ``ratio`` of a sphere on a wall (R2 = infinity)."""
+GOAL = 1e-3
+"""Issue 56's accuracy goal for the calibrated closure (absolute)."""
 
 RULES: dict[str, tuple[str, Callable[..., np.ndarray]]] = {
     "even_split": ("even split (Yade, LIGGGHTS)", even_split_fraction),
@@ -199,7 +210,55 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
               f"**{RULES[best][0]}**, is off by {st[best]['mean']:.2f} on average and up to "
               f"{st[best]['max']:.2f}; the contact angles, which none of the rules takes, "
               f"decide it{_trends(rows)}."]
+    lines += ["", *closure_heldout(out)]
     return "\n".join(lines) + "\n"
+
+
+def closure_heldout(out: Path) -> list[str]:
+    """Write ``division_closure_heldout.csv`` (one row per held-out point) and return the
+    Markdown of its summary."""
+    import json
+
+    from wetcontact.reduced_models import DATA_DIR
+    from wetcontact.reduced_models.transfer_fraction import RECORD_FILE
+
+    rec = json.loads((DATA_DIR / RECORD_FILE).read_text())
+    rows = []
+    for p in rec["held_out_points"]:
+        f = float(calibrated_transfer_fraction(p["r1"], p["r2"], p["volume"],
+                                               p["theta1_deg"], p["theta2_deg"]))
+        small = p["r1"] if p["r2"] is None else min(p["r1"], p["r2"])
+        rows.append({"r1": p["r1"], "r2": "wall" if p["r2"] is None else p["r2"],
+                     "V*": p["volume"] / small**3, "theta1_deg": p["theta1_deg"],
+                     "theta2_deg": p["theta2_deg"], "f_ref": p["f_ref"], "f_closure": f,
+                     "error": abs(f - p["f_ref"]) if math.isfinite(f) else "",
+                     "in_band": not math.isfinite(f)})
+    with open(out / "division_closure_heldout.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    ok = [r for r in rows if not r["in_band"]]
+    e = np.array([r["error"] for r in ok])
+    worst = ok[int(np.argmax(e))]
+    geo = ("a wall" if worst["r2"] == "wall"
+           else f"R2/R1 = {worst['r2'] / worst['r1']:.3g}")
+    return ["### The calibrated closure: held-out table", "",
+            "`calibrated_transfer_fraction` (reduced_models/transfer_fraction.py: tensor "
+            "Chebyshev tables on the two sides of the jump of the division, the jump itself "
+            f"tabulated) against the `meniscus` reference at {len(rows)} seeded Latin-hypercube "
+            "points over its whole domain (sphere-wall and R_l/R_s 1-10 in either order, "
+            "theta1, theta2 0-70 deg, V* 1e-4 to 0.1; not on the build grid; references from "
+            "the generation record). Every point: `division_closure_heldout.csv`.", "",
+            "| points | in the band (NaN) | max abs. error | mean | p95 | max at |",
+            "|---|---|---|---|---|---|",
+            f"| {len(rows)} | {len(rows) - len(ok)} | {e.max():.3g} | {e.mean():.3g} | "
+            f"{np.percentile(e, 95):.3g} | {geo}, theta1 {worst['theta1_deg']:.1f}, theta2 "
+            f"{worst['theta2_deg']:.1f} deg, V* {worst['V*']:.3g} (f_ref "
+            f"{worst['f_ref']:.4f}) |", "",
+            f"Conclusion: the closure is within {e.max():.2g} of the reference outside the "
+            f"band at the jump ({len(rows) - len(ok)} of {len(rows)} points inside it answer "
+            f"NaN): {'within' if e.max() <= GOAL else 'above'} issue 56's goal of {GOAL:g} "
+            f"({int(np.sum(e > GOAL))} points above it)."]
 
 
 def _trends(rows: list[dict[str, Any]]) -> str:
