@@ -223,7 +223,7 @@ class CapillaryBand:
 
 
 USAGE = """\
-FOR A DEM CONTACT LAW (measured 2026-11-27 against the package's own models):
+FOR A DEM CONTACT LAW (the figures below are measured against the package's own models):
 - Arguments: r1 is the particle the force acts on, r2 the other (INF for a plane: the
   plane is always r2; r1 = INF returns NAN). Each contact angle goes with its own radius
   (theta1 with r1, theta2 with r2); on a plane theta1 is the sphere's. Between spheres the
