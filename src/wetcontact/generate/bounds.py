@@ -26,7 +26,9 @@ contact to 0.999 S_c (capillary) or over the whole S/H range (viscous), as the f
 measure their corner films; ``calibrated-capillary``'s sphere-pair table measures seeded
 pairs with both angles low at large volumes too (:data:`PAIR_LOW_ANGLES`), where its
 two-angle table had oscillated in the radius ratio unseen by either, and one-angle pairs at
-the top angle between its volume nodes (:data:`PAIR_TOP_ANGLE`); each of its scenes is
+the top angle between its volume nodes (:data:`PAIR_TOP_ANGLE`), pairs with both angles at
+the top (:data:`PAIR_TWO_TOP_ANGLES`), and both two-angle tables walls and pairs with low
+angles just outside the ridge zone (:data:`LOW_OFF_RIDGE`); each of its scenes is
 measured at the upper edges of the bins toward rupture too, counted in the bins on both
 sides (:data:`CC_EDGE_X`), where the error peaks (issue 58).
 
@@ -336,9 +338,16 @@ def _random_bridges(rng: np.random.Generator, kind: str, n: int, edges: np.ndarr
         vstar = float(np.exp(rng.uniform(*np.log(v_range))))
         th = float(rng.uniform(*theta_range))
         th_w = float(rng.uniform(*theta_range)) if two else th
-        x = np.concatenate([rng.uniform(lo, hi, 1) for lo, hi in zip(edges[:-1], edges[1:],
-                                                                      strict=True)])
-        yield ratio, vstar, (th, th_w), np.sort(np.append(np.maximum(x, 1e-3), x_extra))
+        yield ratio, vstar, (th, th_w), _bin_gaps(rng, edges, x_extra)
+
+
+def _bin_gaps(rng: np.random.Generator, edges: np.ndarray, x_extra: tuple[float, ...] = ()
+              ) -> np.ndarray:
+    """S/S_c of a seeded bridge: one uniform per bin of ``edges``, at least 1e-3, and
+    ``x_extra``, sorted."""
+    x = np.concatenate([rng.uniform(lo, hi, 1) for lo, hi in zip(edges[:-1], edges[1:],
+                                                                  strict=True)])
+    return np.sort(np.append(np.maximum(x, 1e-3), x_extra))
 
 
 def corner_bridges(kind: str, angles: str, edges: np.ndarray
@@ -472,14 +481,11 @@ the angles, ratios and S/S_c here at the volumes midway (in the Chebyshev angle)
 the table's nodes in ln V, then seeded scenes drawn by ``random`` (:func:`_random_bridges`),
 V* over the domain.
 
-Tried and left out (2026-12): a bin of its own above 65 deg (the bins below it kept only
-the random scenes, 13 per S/S_c bin, since the corner scenes' angle is 70 deg, and a seeded
-pair broke one of them: 2.2e-5 against 2.0e-5); and seeded pairs with two angles, both in
-55-70 deg (R2/R1 1-3), which raised every 55-70 deg bin above 0.1 S_c by 1.07-2.2x, for
-one angle too (where 60 seeded held-out pairs, 55-70 deg, stay below 0.43 of the bound).
-That two-angle region errs above its bound in places of its own (4 of 60 seeded pairs, 5-8
-deg from the ridge, up to 1.6x at 0.9 S_c; 9 of 60 before this stratum): left to a change
-of its own."""
+Tried and left out: a bin of its own above 65 deg (the bins below it kept only the random
+scenes, 13 per S/S_c bin, since the corner scenes' angle is 70 deg, and a seeded pair broke
+one of them: 2.2e-5 against 2.0e-5). Pairs with two angles both in 55-70 deg err above
+the bins this stratum measures, in places of their own: :data:`PAIR_TWO_TOP_ANGLES`
+measures them (one angle and two share the bins, so their bins rise for one angle too)."""
 
 
 def midway_volumes(n_nodes: int) -> np.ndarray:
@@ -511,6 +517,91 @@ def top_angle_pairs(rng: np.random.Generator | None, n: int, edges: np.ndarray,
         yield from _random_bridges(rng, "sphere-sphere", n, edges, **d["random"])
 
 
+_CC_BELOW = CC_S_OVER_SC_EDGES[:CC_S_OVER_SC_EDGES.index(0.999) + 1]
+CC_BIN_X = tuple(sorted({*_CC_BELOW[1:], *(round(0.5 * (lo + hi), 12) for lo, hi in zip(
+    _CC_BELOW[:-1], _CC_BELOW[1:], strict=True))}))
+"""S/S_c at which the two-angle strata below (:data:`PAIR_TWO_TOP_ANGLES`,
+:data:`LOW_OFF_RIDGE`) measure every scene besides its random gaps: each bin's interior edges
+up to 0.999 (counted in the bins on both sides, as :data:`CC_EDGE_X`) and the middles of
+the bins below it (the last one's end is the rupture window's, :data:`CC_WINDOW_INSET`). Their
+errors are smooth in the gap and lie above the bins' others over a wide range of gaps
+(0.2-0.95 S_c), so that each scene's largest error within a bin is found, not one random
+gap's."""
+CC_WINDOW_INSET = 1e-9
+"""Every scene of ``calibrated-capillary``'s tables is measured at S/S_c = (1 - w)(1 -
+this), just below its rupture window (``CalibratedCapillary.rupture_window``), where the
+bins toward rupture end: the last bin's (0.999-1 S_c) supremum, as :data:`CC_EDGE_X` are
+the others' (:func:`window_edge_x`)."""
+STRATUM_SCALE = 1.5
+"""Scenes of the two-angle strata (:data:`PAIR_TWO_TOP_ANGLES`, :data:`LOW_OFF_RIDGE`) per
+scene of the other draws."""
+
+
+def window_edge_x(model: cc.CalibratedCapillary, scene: Scene) -> float:
+    """S/S_c just below the closure's rupture window on ``scene`` (:data:`CC_WINDOW_INSET`):
+    there the bound tables, not the window's floor, bound its error, and the error toward
+    rupture is largest (the fold's square root amplifies the error of S_c)."""
+    return (1.0 - model.rupture_window(scene)) * (1.0 - CC_WINDOW_INSET)
+
+
+PAIR_TWO_TOP_ANGLES = {"theta_range": (55.0, 70.0), "ratio_range": (1.0, 3.0),
+                       "x_extra": CORNER_X_EXTRA + CC_BIN_X}
+"""The two-angle top stratum of ``calibrated-capillary``'s sphere-pair table: seeded pairs
+with both angles in 55-70 deg (``theta_range``, each drawn on its own), R2/R1 log-uniform in
+``ratio_range``, V* over the domain, at :data:`CORNER_X_EXTRA` too. The two-angle pair
+table errs there by more than with one angle at the same larger angle (the bins' one-angle
+scenes, the top-angle stratum, :data:`PAIR_TOP_ANGLE`, included), 4-15 deg from its ridge,
+outside the ridge zone where :meth:`CalibratedCapillary.bound_floor` floors the bound
+(``calibrated_capillary.RIDGE_ZONE_DEG``): R2/R1 = 2.88, V* = 1.37e-4, 69.3/55.7 deg,
+3.8e-5 at 0.25 S_c against 3.5e-5. The uniform two-angle pairs (both angles in 0-70 deg)
+put about 2 of 40 there, and the corner scenes none (their two angles differ by 35 or 70
+deg)."""
+
+LOW_OFF_RIDGE = {"theta_range": (0.0, 20.0),
+                 "from_ridge_deg": (cc.RIDGE_ZONE_DEG, cc.RIDGE_ZONE_DEG + 5.0),
+                 "x_extra": CORNER_X_EXTRA + CC_BIN_X}
+"""The low-angle off-ridge stratum of ``calibrated-capillary``'s two-angle tables (a wall
+and sphere pairs; :func:`off_ridge_bridges`): the (small) sphere's angle uniform in
+``theta_range`` (deg), the other solid's ``from_ridge_deg`` (uniform, deg) above or below
+the two-angle table's ridge (``calibrated_capillary.ridge_deg``; the other side where that
+leaves 0-70 deg), at :data:`CORNER_X_EXTRA` too. Within ``RIDGE_ZONE_DEG`` of the ridge
+the closure floors its bound at the held-out near-ridge maximum (1.2e-4 between spheres,
+4.0e-5 on a wall, times 1.25); just outside, its bound is the bin's, and the bins below 20
+deg at middle gaps were measured by one-angle scenes and the few uniform two-angle scenes
+with both angles below 20 deg (about 3 of 40), so they claimed 0.9-1.8e-5 between spheres
+and 5-9e-6 on a wall where the two-angle tables err by up to 3.5e-5 (pairs: R2/R1 = 5.9,
+V* = 2.9e-4, 2.4/19.6 deg, 5.4 deg from the ridge, 2.3e-5 at 0.75 S_c against 8.9e-6) and
+9.6e-6 (a wall: V* = 1.5e-4, 10.5/11.6 deg, 5.8 deg from the ridge, 9.0e-6 at 0.55 S_c
+against 5.7e-6). Both strata measure :data:`CC_BIN_X` too, and :data:`STRATUM_SCALE` times
+as many scenes as the other draws."""
+
+
+def off_ridge_bridges(rng: np.random.Generator, kind: str, n: int, edges: np.ndarray,
+                      theta_range: tuple[float, float], from_ridge_deg: tuple[float, float],
+                      x_extra: tuple[float, ...] = ()
+                      ) -> Iterator[tuple[float, float, tuple[float, float], np.ndarray]]:
+    """``n`` seeded bridges with two angles, as :func:`_random_bridges` yields them, the
+    other solid's angle at a seeded distance from the two-angle table's ridge
+    (:data:`LOW_OFF_RIDGE`): radius ratio log-uniform in [1, 10] (1 on a wall), V*
+    log-uniform over the domain, the (small) sphere's angle uniform in ``theta_range``
+    (deg), a side of the ridge, a distance uniform in ``from_ridge_deg`` (deg; the other
+    side where the angle would leave the domain), S/S_c one per bin of ``edges`` and
+    ``x_extra``; drawn in this order from ``rng``."""
+    if cc.capillary_table() is None:  # not generated: the closure refuses every scene
+        return
+    lo, hi = cc.THETA_RANGE_DEG
+    for _ in range(n):
+        ratio = 1.0 if kind == "sphere-wall" else float(
+            np.exp(rng.uniform(0.0, math.log(cc.RATIO_RANGE[1]))))
+        vstar = float(np.exp(rng.uniform(*np.log(cc.V_RANGE))))
+        th = float(rng.uniform(*theta_range))
+        side = 1.0 if rng.uniform() < 0.5 else -1.0
+        off = float(rng.uniform(*from_ridge_deg))
+        ridge = float(cc.ridge_deg(vstar, th, ratio=None if kind == "sphere-wall" else ratio))
+        th_w = ridge + side * off if lo <= ridge + side * off <= hi else ridge - side * off
+        yield ratio, vstar, (th, float(np.clip(th_w, lo, hi))), _bin_gaps(rng, edges, x_extra)
+
+
 def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
                                 progress: bool = False,
                                 rng_two: np.random.Generator | None = None,
@@ -518,7 +609,10 @@ def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
                                 corners: bool = True,
                                 rng_pair_low: np.random.Generator | None = None,
                                 rng_pair_top: np.random.Generator | None = None,
-                                top_angle: bool = True, quick: bool = False
+                                top_angle: bool = True, quick: bool = False,
+                                rng_pair_two_top: np.random.Generator | None = None,
+                                rng_wall_off_ridge: np.random.Generator | None = None,
+                                rng_pair_off_ridge: np.random.Generator | None = None
                                 ) -> list[dict[str, Any]]:
     """``calibrated-capillary`` against ``meniscus`` on its own domain, binned like the
     other capillary closures: ``n_scenes`` per geometry with one contact angle on both
@@ -533,9 +627,14 @@ def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
     own stream) as many sphere pairs with two low angles at large volumes
     (:data:`PAIR_LOW_ANGLES`), into the pair table, at :data:`CORNER_X_EXTRA` too. With
     ``top_angle``, the top-angle stratum's pairs (:func:`top_angle_pairs`; its seeded
-    scenes, as many, from ``rng_pair_top``; ``quick``: its design reduced). Every scene is
-    measured at :data:`CC_EDGE_X` too. Binned in S/S_c by :data:`CC_S_OVER_SC_EDGES`, a
-    point on an interior edge in the bins on both sides."""
+    scenes, as many, from ``rng_pair_top``; ``quick``: its design reduced). From
+    ``rng_pair_two_top`` as many sphere pairs with both angles at the top
+    (:data:`PAIR_TWO_TOP_ANGLES`), and from ``rng_wall_off_ridge`` and
+    ``rng_pair_off_ridge`` as many walls and pairs with low angles just outside the ridge
+    zone (:data:`LOW_OFF_RIDGE`, :func:`off_ridge_bridges`), each its own stream, into the
+    geometry's table. Every scene is measured at :data:`CC_EDGE_X` too. Binned in S/S_c
+    by :data:`CC_S_OVER_SC_EDGES`, a point on an interior edge in the bins on both
+    sides."""
     men = get_model("meniscus")
     model = get_model("calibrated-capillary")
     se = np.asarray(CC_S_OVER_SC_EDGES)
@@ -549,12 +648,24 @@ def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
         draws.append(("sphere-sphere", rng_pair_low, True, PAIR_LOW_ANGLES))
     if top_angle:
         draws.append(("sphere-sphere", rng_pair_top, False, PAIR_TOP_ANGLE))
+    if rng_pair_two_top is not None:
+        draws.append(("sphere-sphere", rng_pair_two_top, True, PAIR_TWO_TOP_ANGLES))
+    for kind, stream in (("sphere-wall", rng_wall_off_ridge),
+                         ("sphere-sphere", rng_pair_off_ridge)):
+        if stream is not None:
+            draws.append((kind, stream, True, LOW_OFF_RIDGE))
     found: dict[str, tuple[list, list]] = {}
     for kind, stream, two, ranges in draws:
         errs, coords = found.setdefault(kind, ([], []))
         t0 = time.perf_counter()
         if ranges is PAIR_TOP_ANGLE:
             scenes: Iterator = top_angle_pairs(stream, n_scenes, se, quick)
+        elif ranges is LOW_OFF_RIDGE:
+            scenes = off_ridge_bridges(stream, kind, round(STRATUM_SCALE * n_scenes), se,
+                                       **ranges)
+        elif ranges is PAIR_TWO_TOP_ANGLES:
+            scenes = _random_bridges(stream, kind, round(STRATUM_SCALE * n_scenes), se, two,
+                                     **ranges)
         else:
             scenes = chain(_random_bridges(stream, kind, n_scenes, se, two, **ranges),
                            corner_bridges(kind, "two" if two else "one", se)
@@ -566,6 +677,7 @@ def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
             if model.applicable(base) is not None:
                 continue
             sc = model.rupture_distance(base)
+            x = np.union1d(x, [window_edge_x(model, base)])
             gaps = x * sc
             ref = men.force(base, gaps=gaps).force_capillary
             f = model.force(base, gaps=gaps).force_capillary
@@ -574,6 +686,8 @@ def calibrated_capillary_tables(rng: np.random.Generator, n_scenes: int = 40,
                                            np.full(x.size, vstar), np.full(x.size, ratio)]))
             if progress:
                 what = (" (top angle)" if ranges is PAIR_TOP_ANGLE
+                        else " (two top angles)" if ranges is PAIR_TWO_TOP_ANGLES
+                        else " (low angles off the ridge)" if ranges is LOW_OFF_RIDGE
                         else " (two angles)" if two else "")
                 print(f"  calibrated-capillary {kind}{what}: "
                       f"{i + 1} scenes, {time.perf_counter() - t0:.0f} s", flush=True)
@@ -602,7 +716,10 @@ def _calibrated_capillary(seed: int, quick: bool, progress: bool) -> list[dict[s
                                        rng_pair_two=np.random.default_rng([seed, 13]),
                                        rng_pair_low=np.random.default_rng([seed, 15]),
                                        rng_pair_top=np.random.default_rng([seed, 16]),
-                                       quick=quick)
+                                       quick=quick,
+                                       rng_pair_two_top=np.random.default_rng([seed, 17]),
+                                       rng_wall_off_ridge=np.random.default_rng([seed, 18]),
+                                       rng_pair_off_ridge=np.random.default_rng([seed, 19]))
 
 
 ALONE = {"calibrated-capillary": _calibrated_capillary}

@@ -1002,6 +1002,16 @@ class CalibratedCapillary(Model):
                                             if self.in_ridge_window(scene, dist) else ())
         return geometry, [e[k] for k in names if k in e and applies(k)]
 
+    def rupture_window(self, scene: Scene) -> float:
+        """``w``, the rupture window's half-width over S_c (:meth:`bound_floor`): the
+        largest held-out error of the rupture distance among the tables that describe the
+        scene (:meth:`held_out_tables`), at least :data:`RIDGE_JUMP_MAX` within the ridge's
+        window, times :data:`NEAR_RIDGE_MARGIN`."""
+        geometry, ridge = self.held_out_tables(scene)
+        return NEAR_RIDGE_MARGIN * max(
+            [ho["rupture_distance"]["max"] for ho in geometry + ridge]
+            + ([RIDGE_JUMP_MAX] if self.in_ridge_window(scene) else []))
+
     def bound_floor(self, scene: Scene, rupture_distance: float | None = None
                     ) -> np.ndarray:
         """Smallest error bound this closure may claim at each of the scene's gaps, where
@@ -1009,9 +1019,9 @@ class CalibratedCapillary(Model):
 
         - Its **rupture window**: within ``w S_c`` of its own rupture distance, ``w`` the
           held-out maximum of the rupture distance's error (:meth:`held_out_tables`) times
-          :data:`NEAR_RIDGE_MARGIN`, the bridge may or may not exist: below S_c the
-          closure's force may be spurious (:data:`SPURIOUS`), above it the closure's 0 may
-          miss a force (relative error 1, times the margin).
+          :data:`NEAR_RIDGE_MARGIN` (:meth:`rupture_window`), the bridge may or may not
+          exist: below S_c the closure's force may be spurious (:data:`SPURIOUS`), above
+          it the closure's 0 may miss a force (relative error 1, times the margin).
         - With two angles (a wall or sphere pairs) within :data:`RIDGE_ZONE_DEG` of the
           ridge, where the table is coarser: at the gaps below the window, the largest
           held-out force error of the zone's strata among points where the closure's
@@ -1023,10 +1033,8 @@ class CalibratedCapillary(Model):
         """
         gap = scene.gap_array
         sc = self.rupture_distance(scene) if rupture_distance is None else rupture_distance
-        geometry, ridge = self.held_out_tables(scene)
-        w = NEAR_RIDGE_MARGIN * max(
-            [ho["rupture_distance"]["max"] for ho in geometry + ridge]
-            + ([RIDGE_JUMP_MAX] if self.in_ridge_window(scene) else []))
+        _, ridge = self.held_out_tables(scene)
+        w = self.rupture_window(scene)
         out = np.zeros(gap.shape)
         if ridge:
             out[:] = NEAR_RIDGE_MARGIN * max(
