@@ -201,9 +201,7 @@ capillary closures' hard limit, V* = 1)."""
 def bridge_gaps(kind: str, v_star: float, ratio: float, x: np.ndarray) -> np.ndarray:
     """Gaps (m) of a bridge of volume ``v_star`` R^3 at S/H = ``x``, H = sqrt(V/(pi R*))
     the edge gap of :func:`wetcontact.reduced_models.bounds.scene_coords` (R* = R on a
-    wall, R R2/(R + R2) between spheres of radii R and ``ratio`` R): S = x H/sqrt(1 - x^2).
-    (Until 2026-11-27 a wall's gaps were placed with R/2, so its errors were binned at an
-    S/H up to 26 % smaller than the scene's own.)"""
+    wall, R R2/(R + R2) between spheres of radii R and ``ratio`` R): S = x H/sqrt(1 - x^2)."""
     rstar = R if kind == "sphere-wall" else R * ratio / (1 + ratio)
     x = np.asarray(x, dtype=float)
     return x * np.sqrt(v_star * R**3 / (math.pi * rstar)) / np.sqrt(1 - x**2)
@@ -438,8 +436,8 @@ def capillary_tables(rng: np.random.Generator, n_scenes: int = 90,
 CC_S_OVER_SC_EDGES = [*S_OVER_SC_EDGES[:S_OVER_SC_EDGES.index(0.9) + 1], 0.95, 0.99, 0.999,
                       *S_OVER_SC_EDGES[S_OVER_SC_EDGES.index(1.0):]]
 """``calibrated-capillary``'s S/S_c bins: finer toward rupture, where its error grows as the
-fold's square root amplifies the error of its S_c (up to 5e-3 at 0.999 S_c in corners of
-its domain before the refits of 2026-11-27, 6.3e-4 since; 1e-5 at half of it)."""
+fold's square root amplifies the error of its S_c (up to 6.3e-4 at 0.999 S_c in corners of
+its domain, 1e-5 at half of it)."""
 
 
 PAIR_LOW_ANGLES = {"v_range": LOW_ANGLES_V, "theta_range": LOW_ANGLES_DEG,

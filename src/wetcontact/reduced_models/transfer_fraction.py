@@ -1,67 +1,39 @@
 r"""Calibrated closure of the liquid division at rupture: ``calibrated_transfer_fraction``.
 
-The quantity
-------------
 ``f``, the fraction of a ruptured bridge's liquid that body 1 keeps (body 2 keeps
-``1 - f``): the ``meniscus`` model's ``transfer_fraction``
+``1 - f``), as the ``meniscus`` model's ``transfer_fraction`` gives it
 (:func:`wetcontact.solver.meniscus.division.transfer_fraction`: the critical bridge of the
-volume-controlled branch, cut at its neck; PHYSICS.md section 7).
+volume-controlled branch cut at its neck; PHYSICS.md section 7).
 
-Domain
-------
-A sphere and a wall, or two spheres of radius ratio ``R_l/R_s`` in [1, 10]; receding
-contact angles theta1, theta2 in [0, 70] deg; ``V* = V/R_s^3`` in [1e-4, 0.1] (``R_s`` the
-smaller sphere, the sphere on a wall); no gravity. Outside, :class:`InputError`.
+Domain: a sphere and a wall, or two spheres of radius ratio ``R_l/R_s`` in [1, 10];
+receding contact angles theta1, theta2 in [0, 70] deg; ``V* = V/R_s^3`` in [1e-4, 0.1]
+(``R_s`` the smaller sphere, the sphere on a wall); no gravity. Outside: InputError.
 
-Form
-----
-The closure works with the smaller sphere as body ``s`` (angle theta_s) and the other body
-as ``l`` (theta_l): ``f = f_s`` when body 1 is the smaller sphere (or the sphere on a wall),
-``f = 1 - f_s`` otherwise, so that swapping the bodies gives ``1 - f`` exactly. Its
-coordinates are ``y = ln V*``, theta_s and ``xi = (1 - R_s/R_l)^(1/3)`` (0: equal spheres,
-1: a wall). ``f_s`` jumps across a surface inside the domain,
-
-.. math:: \theta_l = K(\theta_s, V^*, \xi) \ (\ge \theta_s),
-
-where the fold of the branch changes side (the unfolding of the symmetry-breaking
-bifurcation of equal spheres with equal angles, where ``K = theta_s``): below it
-(theta_l < K) the neck of the critical bridge sits towards the small body and
-``f_s < 1/2``, above it ``f_s > 1/2``. Between equal spheres ``f_s`` is continuous there,
-``f_s - 1/2 ~ sign(eps) |eps|^(1/3)``; otherwise it jumps (by up to about 0.3), and on both
-sides it approaches its limit like ``d^(1/3)``, ``d = |theta_l - K|``. So ``K`` is a
-tensor Chebyshev series in (theta_s, y, xi), located by bisection of ``f_s - 1/2`` to
-5e-4 deg, and each side has its own tensor Chebyshev series in the distance's cube root,
+Form: with the smaller sphere as body ``s`` (angle theta_s) and the other as ``l``,
+``f = f_s`` or ``1 - f_s``, so swapping the bodies gives ``1 - f`` exactly. ``f_s`` jumps
+across the surface ``theta_l = K(theta_s, V*, xi) >= theta_s``, ``xi = (1 - R_s/R_l)^(1/3)``
+(0: equal spheres, 1: a wall), where the fold of the branch changes side; on both sides it
+approaches its limit like ``d^(1/3)``, ``d = |theta_l - K|`` (between equal spheres it is
+continuous, ``f_s - 1/2 ~ sign(eps) |eps|^(1/3)``). ``K`` is a tensor Chebyshev series in
+(theta_s, ln V*, xi); each side of the jump has its own tensor Chebyshev series with a
+coordinate linear in ``d^(1/3)``:
 
 .. math::
-    f_s = \sum C^{\pm}_{ijkl}\, T_i(\cdot) T_j(\cdot) T_k(\cdot) T_l(s),\qquad
-    s \text{ linear in } d^{1/3} \text{ over } [d_{min}, d_{max}],
+    f_s = \sum C^{\pm}_{ijkl}\, T_i(\cdot) T_j(\cdot) T_k(\cdot) T_l(s).
 
-below: coordinates (theta_s, y, xi, s), ``d = K - theta_l`` up to ``d_max = K``; above:
-(``v = theta_s/theta_e``, y, xi, s), ``d = theta_l - K`` up to
-``d_max = d_min + (u + sqrt(u^2 + 4))/2``, ``u = 70 - K`` (deg), theta_e(y, xi) the angle
-theta_s where ``K = 70`` (a series in (y, xi)). Values at tensor Chebyshev-Lobatto points
-(barycentric interpolation), from ``meniscus`` at its fast preset (64 elements, 1e-6),
-built by :mod:`wetcontact.generate.transfer_fraction`
-(``python -m wetcontact.generate transfer-fraction``); the package data
-``data/transfer_fraction.json`` (its generation record and held-out table:
-``data/transfer_fraction_record.json``).
+Values at tensor Chebyshev-Lobatto points from ``meniscus`` at its fast preset, built by
+``python -m wetcontact.generate transfer-fraction`` into ``data/transfer_fraction.json``
+(generation record and held-out table: ``data/transfer_fraction_record.json``). The
+coordinates of each side and the band are in the guide (``docs/reference/division.md``).
 
-The band at the jump
---------------------
-Within ``d_min`` (:data:`BAND_DEG` in the data, deg) of the jump the closure does not
-answer: ``f_s`` changes there by up to ``0.12 d^(1/3)`` per degree-scale error of ``K``, so
-the value returned is ``NaN`` and ``reason`` (with ``return_reason=True``) names the band.
-The held-out table counts those points separately.
+Within ``d_min`` of the jump (``band_deg`` in the data, 0.2 deg) the closure answers ``NaN``
+and, with ``return_reason=True``, the reason (:data:`BAND_REASON`).
 
-Accuracy
---------
-Absolute error against ``meniscus`` (default preset) on the 200 seeded held-out points of
-the generation record (a Latin hypercube over the domain, outside the band; ``held_out`` in
-``data/transfer_fraction_record.json``, the report's ``division_closure_heldout.csv``): max
-2.2e-3, mean 2.1e-4, p95 5.6e-4. The largest errors sit within a few degrees below the jump
-(up to 6e-3 within 3 deg of it between nearly equal spheres, in line scans across it) and
-at theta_s below 1 deg; issue 56's 1e-3 is not met there. Cost: about 3 us a point
-(vectorised, ``benchmarks/bench_division.py``).
+Accuracy: absolute error against ``meniscus`` (default preset) on 200 seeded held-out
+points outside the band (the report's ``division_closure_heldout.csv``): max 2.2e-3, mean
+2.1e-4, p95 5.6e-4; the largest errors sit within a few degrees below the jump (up to 6e-3
+within 3 deg of it between nearly equal spheres) and at theta_s below 1 deg, so issue 56's
+1e-3 is not met there. Cost: about 3 us a point (``benchmarks/bench_division.py``).
 """
 
 from __future__ import annotations
