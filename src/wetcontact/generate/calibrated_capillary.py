@@ -896,7 +896,7 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = KIND
     calls for)."""
     t0 = time.perf_counter()
     start = dict(BRANCHES)
-    out = Path(out) if out else Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
+    out = Path(out) if out else Path(cc.__file__).parents[1] / "data" / cc.CAPILLARY_FILE
     old = json.loads(out.read_text()) if out.is_file() else {}
     data: dict[str, Any] = {
         "generated_by": "python -m wetcontact.generate calibrated-capillary",
@@ -1017,7 +1017,7 @@ def add_corner_strata(out: Path | None = None, kinds: tuple[str, ...] = CORNER_K
     file's data. A table's held-out strata bound its rupture window
     (:meth:`~wetcontact.reduced_models.calibrated_capillary.CalibratedCapillary
     .bound_floor`), so the corner stratum widens it where S_c errs most."""
-    out = Path(out) if out else Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
+    out = Path(out) if out else Path(cc.__file__).parents[1] / "data" / cc.CAPILLARY_FILE
     data = json.loads(out.read_text())
     for kind in kinds:
         if kind not in data:

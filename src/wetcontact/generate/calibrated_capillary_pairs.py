@@ -626,7 +626,7 @@ def refine_band(kind: str, band: int | Sequence[int], out: Path | None = None,
     the held-out tables', ``held_out_wall_time_s``). What ``calibrated_capillary.fit_kind``
     and :func:`fit_pair_table` would fit from scratch, without their searches. It lives here,
     above both tables' generators, because a pair band needs this module's pieces."""
-    out = Path(out) if out else Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
+    out = Path(out) if out else Path(cc.__file__).parents[1] / "data" / cc.CAPILLARY_FILE
     data = json.loads(out.read_text())
     if kind not in (cc.WALL_TWO_ANGLES, cc.PAIR_TWO_ANGLES) or kind not in data:
         raise InputError(f"{out}: field {kind!r} missing or not a two-angle table; allowed: "
@@ -690,7 +690,7 @@ def generate_pair_table(stage: str = "coarse", out: Path | None = None, workers:
     (``stage`` is then the one ``out`` holds)."""
     t0 = time.perf_counter()
     start = dict(gen.BRANCHES)
-    out = Path(out) if out else Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
+    out = Path(out) if out else Path(cc.__file__).parents[1] / "data" / cc.CAPILLARY_FILE
     data = json.loads(out.read_text()) if out.is_file() else {}
     if retrain:
         if PAIR_TWO_ANGLES not in data:
