@@ -179,11 +179,11 @@ def in_core_precision(entry: dict[str, Any], pts: tuple[np.ndarray, ...]
         dtype = train["cores"][0].dtype
         return inner(train, [r.astype(dtype, copy=False) for r in rows])
 
-    cc.train_sum = cast
+    cc.kernel.train_sum = cast
     try:
         return evaluate(entry, None, pts)
     finally:
-        cc.train_sum = inner
+        cc.kernel.train_sum = inner
 
 
 def train_macs(piece: dict[str, Any]) -> int:
@@ -202,11 +202,11 @@ def piece_points(entry: dict[str, Any], subs: Any, pts: tuple[np.ndarray, ...]
         seen.append((piece, idx.size))
         return np.zeros(idx.size), np.ones(idx.size)
 
-    cc._piece = counting
+    cc.kernel._piece = counting
     try:
         evaluate(entry, subs, pts)
     finally:
-        cc._piece = inner
+        cc.kernel._piece = inner
     return seen
 
 
@@ -250,12 +250,12 @@ def main() -> None:
     fns.update({name: (lambda t=t: in_core_precision(t, pts)) for name, t in low.items()})
     inner = cc.train_sum
     cost = alternating_medians(fns)
-    cc.train_sum = lambda train, rows: np.zeros(rows[0].shape[1])
+    cc.kernel.train_sum = lambda train, rows: np.zeros(rows[0].shape[1])
     try:
         cost["no train sums"] = alternating_medians(
             {"x": lambda: evaluate(entry, None, pts)})["x"]
     finally:
-        cc.train_sum = inner
+        cc.kernel.train_sum = inner
     forms: dict[str, Any] = {}
     for name, t in cost.items():
         forms[name] = {"s_per_point": t / N}

@@ -278,11 +278,11 @@ def main() -> None:
     forms[FLOOR] = lambda train, rows: np.zeros(rows[0].shape[1])
 
     def run(fn: Any) -> tuple[np.ndarray, np.ndarray]:
-        cc.train_sum = fn
+        cc.kernel.train_sum = fn
         try:
             return cc.force_star("sphere-sphere", v, th, gap, ratio, theta_wall=tw)
         finally:
-            cc.train_sum = shipped
+            cc.kernel.train_sum = shipped
 
     compile_s, values = {}, {}
     for name, fn in forms.items():  # first call: numba compiles both precisions here

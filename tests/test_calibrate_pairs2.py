@@ -199,7 +199,7 @@ def test_model_takes_the_small_spheres_angle_first(synthetic_table, monkeypatch)
 
     table = {**cc.capillary_table(),
              cc.PAIR_TWO_ANGLES: cc.as_arrays({"e": synthetic_table})["e"]}
-    monkeypatch.setattr(cc, "capillary_table", lambda: table)
+    monkeypatch.setattr(cc.kernel, "capillary_table", lambda: table)
     model = get_model("calibrated-capillary")
     rs, ratio, v = 1e-3, 3.0, 2e-3
 
@@ -515,7 +515,7 @@ def test_wall_retrain_keeps_the_fit_and_rebuilds_its_trains(tmp_path) -> None:
     from wetcontact.errors import InputError
     from wetcontact.reduced_models import calibrated_capillary as cc
 
-    path = Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
+    path = Path(cc.__file__).parents[1] / "data" / cc.CAPILLARY_FILE
     old = json.loads(path.read_text())
     if cc.WALL_TWO_ANGLES not in old:
         pytest.skip("the package data has no two-angle wall table")
@@ -544,7 +544,7 @@ def test_capillary_generator_keeps_the_pair_table(tmp_path) -> None:
     stays as it was (it was dropped before)."""
     from wetcontact.reduced_models import calibrated_capillary as cc
 
-    src = Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
+    src = Path(cc.__file__).parents[1] / "data" / cc.CAPILLARY_FILE
     old = json.loads(src.read_text())
     if cc.PAIR_TWO_ANGLES not in old:
         pytest.skip("the package data has no two-angle pair table")
@@ -570,7 +570,7 @@ def test_one_angle_retrain_keeps_the_fit(tmp_path, kind) -> None:
     from wetcontact.reduced_models import calibrated_capillary as cc
 
     assert generate_cli.PAIR_KIND == p2.PAIR_TWO_ANGLES  # the CLI's copy of the name
-    path = Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
+    path = Path(cc.__file__).parents[1] / "data" / cc.CAPILLARY_FILE
     old = json.loads(path.read_text())
     new = gen._retrained(path, old, kind)
     assert {k for k in old[kind] if k.startswith("held_out")}  # there were some to drop
@@ -609,7 +609,7 @@ def test_refine_band_refits_only_the_pieces_whose_nodes_changed(tmp_path, monkey
     """With the shipped node counts nothing is solved: the band's pieces, its ridge and
     every other band stay as the file holds them; only the held-out tables are measured
     again (stubbed here: they solve meniscus)."""
-    src = Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
+    src = Path(cc.__file__).parents[1] / "data" / cc.CAPILLARY_FILE
     out = tmp_path / "cap.json"
     out.write_text(src.read_text())
     old = json.loads(src.read_text())[cc.WALL_TWO_ANGLES]

@@ -14,12 +14,13 @@ with two angles at the sphere angle where S_c's top over the wall angle becomes 
 held-out design is seeded and disjoint from the nodes: random bridges, each with its
 rupture distance and the force at random fractions of it, solved by the same ``meniscus``
 branch machinery at those points; sphere pairs also on a stress stratum of nearly equal
-spheres around the split angle (:data:`NEAR_EQUAL`).
+spheres around the split angle (:data:`NEAR_EQUAL`). The nodes, the coefficients and their
+compressed forms are in :mod:`wetcontact.generate.calibrated_capillary_series`, the
+held-out designs and strata in :mod:`wetcontact.generate.calibrated_capillary_strata`.
 """
 
 from __future__ import annotations
 
-import itertools
 import json
 import math
 import sys
@@ -30,10 +31,37 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from scipy.fft import dct
 
 from wetcontact.branch_cache import NodeCache
 from wetcontact.errors import InputError, SolverError
+from wetcontact.generate.calibrated_capillary_series import (  # re-exported
+    FACTOR_LEFT_AXES,  # noqa: F401
+    FACTOR_TOL,  # noqa: F401
+    TRAIN_TOL,  # noqa: F401
+    TRAINS,  # noqa: F401
+    WALL_TRAINS,
+    factor_table,
+    gauss,  # noqa: F401
+    lobatto,
+    lobatto_coefficients,
+    train_fits,  # noqa: F401
+    train_of,  # noqa: F401
+    train_piece,
+    tt_svd,  # noqa: F401
+)
+from wetcontact.generate.calibrated_capillary_strata import (  # re-exported
+    CORNER_FRACTIONS,
+    CORNER_LEVELS,
+    NEAR_EQUAL,  # noqa: F401
+    NEAR_RIDGE_DEG,  # noqa: F401
+    RIDGE_ONSET,  # noqa: F401
+    RIDGE_TOP_BAND_DEG,  # noqa: F401
+    RIDGE_WINDOW_FLOOR_DEG,  # noqa: F401
+    WALL_STRATA,
+    corner_design,
+    held_out_design,
+    ridge_window_band,  # noqa: F401
+)
 from wetcontact.reduced_models import calibrated_capillary as cc
 
 PIECES: dict[str, list[dict[str, Any]]] = {
@@ -48,14 +76,12 @@ PIECES: dict[str, list[dict[str, Any]]] = {
 """Theta pieces per kind (``None``: the split angle, or the ridge on a wall with two angles)
 and their Lobatto nodes per axis ((w,) a = ln v, b = theta within the piece, c = gap; two
 angles on a wall: a, b1 = the sphere's angle within its band, b2 = the wall's angle within
-the piece, c). Sphere pairs have 13 nodes in w (9 until 2026-11-27: S_c oscillated in the
-radius ratio by up to 1.7e-4 at V* = 0.1, the force at 0.999 S_c by 2.5e-3; along that line
-13 nodes interpolate S_c to 1.5e-5, 17 to 5e-7). The two-angle wall table's piece above the
-ridge has 27 Gauss nodes in b2 (11 until 2026-11-28, in every band: ``--refine-band``):
-past the ridge near the onset angle the force's approach to rupture changes within
-hundredths of a degree, and with 11 it alternated between the nodes at 0.999 S_c by up to
-1.2e-3 (V* = 0.1 on the onset, 0.031 deg past the ridge; 1.34e-3 in the stratum
-``held_out_ridge_onset_rupture``, 4.5e-4 with 27), S_c within 4e-8 there."""
+the piece, c). Sphere pairs have 13 nodes in w: along the radius ratio at V* = 0.1 they
+interpolate S_c to 1.5e-5 (17 to 5e-7). The two-angle wall table's piece above the ridge
+has 27 Gauss nodes in b2 in every band: past the ridge near the onset angle the force's
+approach to rupture changes within hundredths of a degree (the stratum
+``held_out_ridge_onset_rupture``: 4.5e-4 at 0.999 S_c). ``docs/calibrated_capillary.md``
+has how the counts were chosen."""
 TWO_ANGLE_BANDS_DEG: tuple[tuple[float | None, float | None], ...] = (
     (0.0, None), (None, 35.0), (35.0, 70.0))
 """The sphere angle's ranges (``bands``) of the two-angle wall table, each a
@@ -72,36 +98,6 @@ SPLIT_NODES = 7
 """Lobatto nodes in ln v of the split angle (equal spheres: fold below, bifurcation above)."""
 SPLIT_BRACKET_DEG = (24.0, 36.0)
 SPLIT_TOL_DEG = 2e-3
-
-
-def lobatto(n: int) -> np.ndarray:
-    """Chebyshev-Lobatto points ``-cos(pi k/(n-1))`` on [-1, 1], increasing."""
-    return -np.cos(np.pi * np.arange(n) / (n - 1))
-
-
-def gauss(n: int) -> np.ndarray:
-    """Chebyshev-Gauss points ``-cos(pi (k + 1/2)/n)`` on (-1, 1), increasing (no endpoint)."""
-    return -np.cos(np.pi * (np.arange(n) + 0.5) / n)
-
-
-def lobatto_coefficients(values: np.ndarray, gauss_axes: tuple[int, ...] = ()) -> np.ndarray:
-    """Chebyshev coefficients of the tensor interpolant through values at :func:`lobatto`
-    points (a type-I DCT on each axis), or at :func:`gauss` points on ``gauss_axes`` (a
-    type-II DCT there)."""
-    c = values[tuple(slice(None, None, -1) for _ in values.shape)]
-    for ax, n in enumerate(values.shape):
-        idx0 = [slice(None)] * values.ndim
-        idx0[ax] = 0
-        if ax in gauss_axes:
-            c = dct(c, type=2, axis=ax) / n
-            c[tuple(idx0)] /= 2.0
-        else:
-            c = dct(c, type=1, axis=ax) / (n - 1)
-            idx1 = list(idx0)
-            idx1[ax] = -1
-            c[tuple(idx0)] /= 2.0
-            c[tuple(idx1)] /= 2.0
-    return c
 
 
 def _volume_nodes(n: int) -> np.ndarray:
@@ -428,46 +424,6 @@ def _map_jobs(fn, jobs: list, workers: int, label: str, on_result=None) -> list:
     return out
 
 
-FACTOR_TOL = 5e-5
-"""Largest change of the force exponent (a relative change of the force) that the low-rank
-form may make on its probe: 5 % of the 1e-3 force goal."""
-FACTOR_LEFT_AXES = 2
-"""Axes on the left of the factorised unfolding: (a, b) on a wall, (w, a) for pairs."""
-
-
-def factor_table(coef: np.ndarray, n_left: int = FACTOR_LEFT_AXES, tol: float = FACTOR_TOL,
-                 n_probe: int = 20000, seed: int = 0
-                 ) -> tuple[np.ndarray, np.ndarray, float]:
-    """Low-rank form of a tensor Chebyshev table: ``C_{IJ} = sum_{k<r} L_{Ik} R_{kJ}``.
-
-    ``(L, R)`` is the truncated SVD (Eckart & Young 1936) of the unfolding of ``coef``
-    over its first ``n_left`` axes (I) against the rest (J), at the smallest rank r whose
-    sum changes by at most ``tol`` at every probe point: the Chebyshev-Lobatto grid of the
-    table's shape and ``n_probe`` seeded uniform points in [-1, 1]^d.
-
-    Returns
-    -------
-    left, right, err
-        ``left`` of shape (*coef.shape[:n_left], r), ``right`` (r, *coef.shape[n_left:]),
-        and the largest change on the probe.
-    """
-    sh = coef.shape
-    u, sv, vt = np.linalg.svd(coef.reshape(int(np.prod(sh[:n_left])), -1),
-                              full_matrices=False)
-    rng = np.random.default_rng(seed)
-    grid = np.meshgrid(*(lobatto(m) for m in sh), indexing="ij")
-    pts = [np.concatenate([g.ravel(), rng.uniform(-1.0, 1.0, n_probe)]) for g in grid]
-    a = cc._outer_rows(pts[:n_left], sh[:n_left]) @ (u * sv)
-    b = cc._outer_rows(pts[n_left:], sh[n_left:]) @ vt.T
-    terms = a * b  # the rank-one terms at each probe point
-    full = terms.sum(axis=1)
-    # change of the sum when truncated after k terms, for every k
-    change = np.abs(full[:, None] - np.cumsum(terms, axis=1)).max(axis=0)
-    r = int(np.argmax(change <= tol)) + 1 if np.any(change <= tol) else sv.size
-    return ((u[:, :r] * sv[:r]).reshape(*sh[:n_left], r), vt[:r].reshape(r, *sh[n_left:]),
-            float(change[r - 1]))
-
-
 def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
               workers: int = 2, cache_dir: Path | None = None,
               theta_range: SphereRange = cc.THETA_RANGE_DEG,
@@ -533,120 +489,21 @@ def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
             "force_rank": int(left.shape[-1]), "force_factor_change": err}
 
 
-WALL_TRAINS = ("force_train",)
-"""The tensor trains a two-angle wall piece carries (:func:`train_piece`): its force table's,
-0.56-0.74 of the low-rank form's multiply-adds. On the probe :func:`factor_table` chose the
-rank on they change the force sum by at most 9.1e-5 (7.2e-5 on the grid short of S_c), the
-held-out maxima by at most 6e-6. Its rupture table stays dense: a train would save nothing
-measurable (0.70 against 0.71 us a point) and would break the bands' join, where both tables
-interpolate the same nodes and S_c is continuous to round-off (a train moved it by up to
-1.5e-6 there)."""
-
-
-TRAIN_TOL = {"rupture_train": 1e-6, "force_train": 1e-5}
-"""Truncation of each piece's tensor trains (:func:`tt_svd`): the 2-norm of the singular values
-dropped at each unfolding of the Chebyshev coefficient tensor. Measured against the fit
-(``benchmarks/bench_pair_tt.py``): the force moves by at most 1.1e-4 on the cost benchmark's
-points, the held-out maxima by at most 1.3e-5, and a point costs 1.34 us instead of 4.05. On
-the probe the force factors' rank was chosen on (:func:`factor_table`: the Lobatto grid and
-20 000 uniform points) the force sum changes by up to 1.6e-4 short of the rupture distance,
-and 9.4e-4 at it (c = -1, where no held-out point goes); the rupture sum by up to 1.1e-5.
-Trains held to 5e-5 / 5e-6 there cost 1.56 us a point, with the same held-out maxima. The
-two-angle wall table's force trains are built at the same tolerance (:data:`WALL_TRAINS`)."""
-
-
-def tt_svd(coef: np.ndarray, tol: float,
-           max_ranks: list[int] | None = None) -> list[np.ndarray]:
-    """Tensor-train cores ``G_k`` (r_{k-1}, n_k, r_k) of ``coef`` by sequential truncated
-    SVDs of its unfoldings (Oseledets 2011, SIAM J. Sci. Comput. 33, 2295, algorithm 1),
-    each dropping the trailing singular values whose 2-norm is at most ``tol`` (and those
-    beyond ``max_ranks[k]``, if given); the last core carries the singular values."""
-    cores, rank, rest = [], 1, np.asarray(coef, dtype=float)
-    for k, n_k in enumerate(coef.shape[:-1]):
-        u, sv, vt = np.linalg.svd(rest.reshape(rank * n_k, -1), full_matrices=False)
-        tail = np.sqrt(np.cumsum(sv[::-1] ** 2))[::-1]  # 2-norm of sv[j:]
-        keep = max(1, int(np.sum(tail > tol)))
-        if max_ranks is not None:
-            keep = max(1, min(keep, max_ranks[k]))
-        cores.append(u[:, :keep].reshape(rank, n_k, keep))
-        rest, rank = sv[:keep, None] * vt[:keep], keep
-    cores.append(rest.reshape(rank, coef.shape[-1], 1))
-    return cores
-
-
-def train_of(coef: np.ndarray, tol: float,
-             order: tuple[int, ...] | None = None) -> dict[str, Any]:
-    """The tensor train of ``coef`` over the axis order with the fewest multiply-adds a
-    point (all orders tried; or over ``order``), as a piece stores it
-    (:func:`~wetcontact.reduced_models.calibrated_capillary.train_sum`)."""
-    def cost(order: tuple[int, ...]) -> int:
-        return sum(g.size for g in tt_svd(coef.transpose(order), tol))
-
-    if order is None:
-        order = min(itertools.permutations(range(coef.ndim)), key=cost)
-    cores = tt_svd(coef.transpose(order), tol)
-    return {"order": list(order), "tol": tol, "ranks": [g.shape[2] for g in cores[:-1]],
-            "cores": [g.tolist() for g in cores]}
-
-
-TRAINS = ("rupture_train", "force_train")
-"""The trains a piece may carry, in the order they are built and evaluated."""
-
-
-def train_fits(piece: dict[str, Any], fields: tuple[str, ...] = TRAINS
-               ) -> dict[str, np.ndarray]:
-    """The Chebyshev coefficient tensors a piece's trains (those of ``fields``) are built
-    from, by train field: its rupture table, and the product of its low-rank force
-    factors."""
-    make = {"rupture_train": lambda: np.asarray(piece["rupture"], dtype=float),
-            "force_train": lambda: np.tensordot(np.asarray(piece["force_left"], dtype=float),
-                                                np.asarray(piece["force_right"], dtype=float),
-                                                1)}
-    return {k: make[k]() for k in fields}
-
-
-def train_piece(piece: dict[str, Any],
-                orders: dict[str, tuple[int, ...]] | None = None,
-                fields: tuple[str, ...] = TRAINS) -> dict[str, Any]:
-    """A piece with its rupture and force tables' tensor trains (:data:`TRAIN_TOL`; those
-    of ``fields``) beside the fit they are built from (:func:`train_fits`), each over the
-    cheapest axis order (:func:`train_of`) or the one ``orders`` gives it (by field)."""
-    return {**piece, **{k: train_of(c, TRAIN_TOL[k], (orders or {}).get(k))
-                        for k, c in train_fits(piece, fields).items()}}
-
-
 BAND_NODES: dict[str, dict[int, dict[int, list[int]]]] = {
     cc.PAIR_TWO_ANGLES: {0: {0: [13, 9, 9, 15, 19]}}}
 """Node counts that differ from :data:`PIECES` (or ``calibrated_capillary_pairs.STAGES``' full
 stage) in one band of a two-angle table, ``{kind: {band: {piece: nodes}}}``. A band refitted
 with other counts than its neighbour no longer interpolates the same nodes at their common
-break, so S_c steps there: by up to 4.4e-6 when only the upper two bands of the wall had 23
-points below the ridge, which the wall's band-join test (S_c to 1e-9) caught, so all three of
-the wall's were refitted.
-
-The wall's piece below the ridge has 23 Gauss points in the wall's angle since 2026-11-27
-(15 before): toward a wall angle of 0, S_c's curvature changes within 1-3 deg, which 15
-points (the first two at 0.47 and 4.2 deg) resolved to 2.5e-4 at theta_s = 70 deg,
-V* = 0.1 (the force at 0.999 S_c to 5e-3), 4.5e-5 at 35 deg; 19 points to 5.6e-5, 23 to
-1.4e-5, 27 to 3.5e-6 (the interpolant along the line at 70 deg).
-
-The sphere-pair table with two angles had the same defect (2.5e-4 at theta1 = 70,
-theta2 = 0 deg, V* = 0.1; 23 points: 1.3e-5 along that line). Its bands over theta1 in
-[35, 70] deg and from the onset to 35 deg have 23 points below the ridge since 2026-11-27
-(``python -m wetcontact.generate calibrated-capillary --kind sphere-sphere-two-angles
---refine-band 2``, then ``1``: 16 767 and 14 904 branches); the corners they hold fell from
-S_c 2.5e-4 / force 4.9e-3 (theta1 = 70 deg) and 5.4e-5 / 9.1e-4 (35 deg) to 3.4e-5 /
-6.3e-4 and 2.4e-5 / 4.4e-4 (at 0.999 S_c). The band below the onset keeps 15 there (S_c
-is flat in theta2 toward 0 there: 15 points resolve it), but its piece below the ridge
-has 13 ratio nodes since 2026-11-28 (``--refine-band 0``: 15 789 branches, 61 min on 2
-processes): with 9, S_c oscillated in the radius ratio at both angles low and V* near 0.1
-by up to 2.1e-4 (r = 1.63, theta = 0 and 3 deg; the force 3e-3 at 0.999 S_c), as the
-one-angle pair table had before its 13 (:data:`PIECES`); now 1.9e-5 at most along those
-lines (the force 8.6e-5). Its small sphere's angles and ridge at the new nodes come from
-the band's onset and ridge series (``calibrated_capillary_pairs.lead_grid``), as the model maps a
-point; the piece above the ridge and the other bands keep 9, so S_c steps at the ridge and
-at the onset by their interpolation error there (the pair band-join test holds it to the
-rupture goal)."""
+break, so S_c steps there (the band-join tests hold it: to 1e-9 on the wall, to the rupture
+goal between spheres). The pieces below the ridge have 23 Gauss points in the other angle
+(toward an angle of 0, S_c's curvature changes within 1-3 deg; 23 points resolve it to
+1.4e-5 at theta_s = 70 deg, V* = 0.1); the sphere pairs' band below the onset keeps 15 there
+(S_c is flat in theta2 toward 0) but has 13 ratio nodes below the ridge (with 9, S_c
+oscillated in the radius ratio at both angles low and V* near 0.1 by up to 2.1e-4; with 13,
+1.9e-5). Its small sphere's angles and ridge at those nodes come from the band's onset and
+ridge series (``calibrated_capillary_pairs.lead_grid``), as the model maps a point; the piece
+above the ridge and the other bands keep 9 w nodes. ``docs/calibrated_capillary.md`` has
+the record of these counts."""
 
 
 def band_pieces(kind: str, band: int) -> list[dict[str, Any]]:
@@ -678,121 +535,6 @@ def fit_kind(kind: str, workers: int = 2, cache_dir: Path | None = None) -> dict
         split = fit_split(workers, cache_dir)
     return {"theta_split": split,
             "pieces": [fit_piece(kind, p, split, workers, cache_dir) for p in PIECES[kind]]}
-
-
-NEAR_EQUAL = {"radius_ratio": (1.0, 1.1), "theta_deg": (20.0, 45.0)}
-"""The stress stratum of sphere pairs: nearly equal spheres around the split angle, where
-the fold of unequal spheres unfolds the equal spheres' bifurcation."""
-
-
-NEAR_RIDGE_DEG = 3.0
-"""The stress stratum of a wall with two angles: the wall angle within this of the rupture
-distance's ridge (where the pieces meet)."""
-RIDGE_TOP_BAND_DEG = (1e-4, cc.RIDGE_TOP_ZONE_DEG)
-"""The ridge-top stratum of a wall with two angles: the wall angle's distance from the
-ridge log-uniform in this range (deg), on either side: the sharp top of S_c, which a
-uniform draw over :data:`NEAR_RIDGE_DEG` rarely comes close to."""
-RIDGE_WINDOW_FLOOR_DEG = 1e-7
-"""The ridge-window stratum's least distance from the ridge series (deg)."""
-
-
-def ridge_window_band(kind: str) -> tuple[float, float]:
-    """The ridge-window stratum's range of distances (deg) from a two-angle table's ridge
-    series, log-uniform on either side: :data:`RIDGE_WINDOW_FLOOR_DEG` to the table's
-    :data:`~wetcontact.reduced_models.calibrated_capillary.RIDGE_WINDOW_DEG`, where the true
-    ridge may lie on the other side of the point, so that the table evaluates the other
-    side of S_c's jump (found on 2026-11-28; the ridge-top stratum starts at 1e-4 deg)."""
-    return (RIDGE_WINDOW_FLOOR_DEG, cc.RIDGE_WINDOW_DEG[kind])
-
-
-RIDGE_ONSET = {"theta_sphere_deg": (17.5, 35.0), "theta_wall_deg_from_ridge": (1e-4, 3e-2)}
-"""The ridge-onset stratum of a wall with two angles: the sphere angles where the jump of
-S_c at the ridge's top appears (the onset angle theta_on(V) runs from 29.9 to 18.1 deg),
-with the wall angle's distance from the table's ridge series log-uniform in the second
-range (deg), on either side: where a series that does not follow the locus's curvature
-kink at the onset misses the true top (one table over [0, 35] deg: by up to 1.2e-2 deg,
-and 1.5e-3 off the rupture distance here), so that the table evaluates the other side's
-arm. The ridge-top stratum, over all sphere angles and out to 0.3 deg, rarely lands in
-that sliver. Its maximum has a long tail (of that table: the worst of 60 bridges was
-1.3e-3, of 200 others 1.7e-3), so it has twice the uniform design's bridges."""
-
-
-def held_out_design(kind: str, n: int, gaps_per: int, seed: int,
-                    near_equal: bool = False, near_ridge: dict[str, Any] | None = None,
-                    ridge_band: tuple[float, float] | None = None,
-                    theta_range: tuple[float, float] | None = None,
-                    theta2_range: tuple[float, float] | None = None,
-                    v_range: tuple[float, float] | None = None,
-                    fractions: tuple[float, ...] | None = None) -> list[dict[str, Any]]:
-    """Seeded bridges (v log-uniform, theta uniform, ratio log-uniform; in the
-    :data:`NEAR_EQUAL` ranges if ``near_equal``) with ``gaps_per`` uniform fractions of the
-    rupture distance in [0, 0.999] each. With two angles (a wall's, or the large sphere's)
-    the other angle is uniform too, or, given a table ``near_ridge``, within
-    :data:`NEAR_RIDGE_DEG` of its ridge, uniformly, or (``ridge_band``, deg) at a distance
-    log-uniform in that band on either side (redrawn until inside the domain).
-    ``theta_range`` (deg): the (small sphere's) angle's range, default the whole domain's;
-    ``theta2_range`` (deg) the other angle's, ``v_range`` the volume's (V/R_s^3);
-    ``fractions``: these fractions of the rupture distance on every bridge instead of
-    random ones (``gaps_per`` ignored)."""
-    rng = np.random.default_rng(seed)
-    r_hi = NEAR_EQUAL["radius_ratio"][1] if near_equal else cc.RATIO_RANGE[1]
-    th = (NEAR_EQUAL["theta_deg"] if near_equal else
-          cc.THETA_RANGE_DEG if theta_range is None else theta_range)
-    out = []
-    while len(out) < n:
-        row = {"v": float(np.exp(rng.uniform(*np.log(v_range or cc.V_RANGE)))),
-               "theta_deg": float(rng.uniform(*th)),
-               "ratio": (float(np.exp(rng.uniform(0.0, math.log(r_hi))))
-                         if kind in ("sphere-sphere", cc.PAIR_TWO_ANGLES) else None),
-               "theta_wall_deg": None,
-               "fractions": (list(fractions) if fractions is not None else
-                             np.sort(rng.uniform(0.0, 0.999, gaps_per)).tolist())}
-        if kind in (cc.WALL_TWO_ANGLES, cc.PAIR_TWO_ANGLES):
-            tw = rng.uniform(*(theta2_range or cc.THETA_RANGE_DEG))
-            if near_ridge is not None:
-                d = (rng.choice([-1.0, 1.0]) * math.exp(rng.uniform(*np.log(ridge_band)))
-                     if ridge_band else rng.uniform(-NEAR_RIDGE_DEG, NEAR_RIDGE_DEG))
-                tw = float(cc.ridge_deg(row["v"], row["theta_deg"], near_ridge,
-                                        row["ratio"])) + d
-                if not cc.THETA_RANGE_DEG[0] <= tw <= cc.THETA_RANGE_DEG[1]:
-                    continue
-            row["theta_wall_deg"] = float(tw)
-        out.append(row)
-    return out
-
-
-CORNER_LEVELS = {"v": (cc.V_RANGE[0], math.sqrt(cc.V_RANGE[0] * cc.V_RANGE[1]), cc.V_RANGE[1]),
-                 "theta_deg": (cc.THETA_RANGE_DEG[0], 0.5 * sum(cc.THETA_RANGE_DEG),
-                               cc.THETA_RANGE_DEG[1]),
-                 "ratio": (cc.RATIO_RANGE[0], math.sqrt(cc.RATIO_RANGE[0] * cc.RATIO_RANGE[1]),
-                           cc.RATIO_RANGE[1])}
-"""The corner stratum's levels per axis: both ends of the domain and its (geometric) middle.
-A seeded uniform design seldom lands near a corner of the box, where a tensor interpolant
-errs most (a small sphere at 70 deg against a solid at 0 deg: S_c 1-2.5e-4 off, five times
-the uniform design's maximum on a wall)."""
-CORNER_FRACTIONS = (1e-6, 0.5, 0.9, 0.99, 0.999)
-"""Gaps of each corner bridge, in fractions of its rupture distance: at contact and toward
-rupture, where an error of S_c is amplified by the fold's square root."""
-
-
-def corner_design(kind: str) -> list[dict[str, Any]]:
-    """The corner stratum's bridges of a table: every combination of :data:`CORNER_LEVELS`
-    (volume, angle or angles, radius ratio between spheres) at the gaps
-    :data:`CORNER_FRACTIONS`; with two angles only combinations whose angles differ (equal
-    ones are the one-angle table's)."""
-    pair = kind in ("sphere-sphere", cc.PAIR_TWO_ANGLES)
-    two = kind in (cc.WALL_TWO_ANGLES, cc.PAIR_TWO_ANGLES)
-    lv = CORNER_LEVELS
-    out = []
-    for v, th, th2, ratio in itertools.product(lv["v"], lv["theta_deg"],
-                                               lv["theta_deg"] if two else (None,),
-                                               lv["ratio"] if pair else (None,)):
-        if two and th == th2:
-            continue
-        out.append({"v": float(v), "theta_deg": float(th), "ratio": ratio,
-                    "theta_wall_deg": None if th2 is None else float(th2),
-                    "fractions": list(CORNER_FRACTIONS)})
-    return out
 
 
 def _held_job(args: tuple) -> tuple[float, np.ndarray, np.ndarray]:
@@ -896,7 +638,7 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = KIND
     calls for)."""
     t0 = time.perf_counter()
     start = dict(BRANCHES)
-    out = Path(out) if out else Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
+    out = Path(out) if out else Path(cc.__file__).parents[1] / "data" / cc.CAPILLARY_FILE
     old = json.loads(out.read_text()) if out.is_file() else {}
     data: dict[str, Any] = {
         "generated_by": "python -m wetcontact.generate calibrated-capillary",
@@ -943,38 +685,6 @@ def generate_calibrated_capillary(out: Any = None, kinds: tuple[str, ...] = KIND
     return data
 
 
-WALL_STRATA: dict[str, dict[str, Any]] = {
-    "held_out": {"seed": 2611, "least": 1},
-    "held_out_near_ridge": {
-        "seed": 2613, "near_ridge": True, "part": 3,
-        "stratum": {"theta_wall_deg_from_ridge": [-NEAR_RIDGE_DEG, NEAR_RIDGE_DEG]}},
-    "held_out_ridge_top": {
-        "seed": 2614, "ridge_band": RIDGE_TOP_BAND_DEG, "part": 2,
-        "stratum": {"theta_wall_deg_from_ridge_abs_log_uniform": list(RIDGE_TOP_BAND_DEG)}},
-    "held_out_ridge_onset": {
-        "seed": 2615, "ridge_band": RIDGE_ONSET["theta_wall_deg_from_ridge"], "scale": 2,
-        "theta_range": RIDGE_ONSET["theta_sphere_deg"],
-        "stratum": {"theta_sphere_deg": list(RIDGE_ONSET["theta_sphere_deg"]),
-                    "theta_wall_deg_from_ridge_abs_log_uniform":
-                    list(RIDGE_ONSET["theta_wall_deg_from_ridge"])}},
-    "held_out_ridge_onset_rupture": {
-        "seed": 2617, "ridge_band": RIDGE_TOP_BAND_DEG,
-        "theta_range": RIDGE_ONSET["theta_sphere_deg"], "fractions": CORNER_FRACTIONS,
-        "stratum": {"theta_sphere_deg": list(RIDGE_ONSET["theta_sphere_deg"]),
-                    "theta_wall_deg_from_ridge_abs_log_uniform": list(RIDGE_TOP_BAND_DEG)}},
-    "held_out_ridge_window": {
-        "seed": 2616, "ridge_band": ridge_window_band(cc.WALL_TWO_ANGLES), "part": 2,
-        "fractions": CORNER_FRACTIONS,
-        "stratum": {"theta_wall_deg_from_ridge_abs_log_uniform":
-                    list(ridge_window_band(cc.WALL_TWO_ANGLES))}},
-}
-"""The two-angle wall table's held-out design (against ``meniscus``): the uniform design
-and the strata near the ridge, at its top, where its jump appears (at random gaps, and at
-the corners' gaps to 0.999 S_c over the ridge's top) and within the ridge's window
-(:func:`ridge_window_band`, at the corners' gaps); the corner stratum besides
-(:func:`strata_held_out`)."""
-
-
 def strata_held_out(kind: str, strata: dict[str, dict[str, Any]], entry: dict[str, Any],
                     n: int, workers: int, cache_dir: Path | None) -> dict[str, dict[str, Any]]:
     """The held-out tables of a two-angle table (``entry``: its arrays) per stratum of
@@ -1017,7 +727,7 @@ def add_corner_strata(out: Path | None = None, kinds: tuple[str, ...] = CORNER_K
     file's data. A table's held-out strata bound its rupture window
     (:meth:`~wetcontact.reduced_models.calibrated_capillary.CalibratedCapillary
     .bound_floor`), so the corner stratum widens it where S_c errs most."""
-    out = Path(out) if out else Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
+    out = Path(out) if out else Path(cc.__file__).parents[1] / "data" / cc.CAPILLARY_FILE
     data = json.loads(out.read_text())
     for kind in kinds:
         if kind not in data:

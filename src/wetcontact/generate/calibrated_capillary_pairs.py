@@ -194,8 +194,8 @@ shipped table (with ``calibrated_capillary.BAND_NODES``' exceptions): the medium
 b2 nodes above the ridge left one held-out force point 1.06e-3 off (theta2 0.023 deg past
 the ridge on the top's jump side, between its first two nodes), and its 15 below the
 ridge S_c 2.5e-4 off toward theta2 = 0 at theta1 = 70 deg (the force 4.9e-3 at 0.999 S_c;
-23 since 2026-11-27 above the onset; below it, 13 w nodes in the piece below the ridge
-since 2026-11-28; docs/notes/sphere_pair_two_angles.md). Every node of
+hence 23 above the onset, and below it 13 w nodes in the piece below the ridge;
+docs/notes/sphere_pair_two_angles.md). Every node of
 a stage is a node of the next, with the same floats (:func:`ratio_nodes`,
 :func:`~wetcontact.generate.calibrated_capillary._volume_nodes`, and the band ends and ridge taken
 at their own nodes, not from a series), so that the node cache keeps what a coarser
@@ -219,7 +219,7 @@ the pieces' ratio nodes among them). Above the onset S_c jumps at the ridge (by 
 9.2e-4), and a point between the series and the true top is evaluated on the jump's other
 side; with 9 nodes the series was off by up to 6.3e-4 deg between them where the jump
 exceeds 1e-4 (1.4e-3 deg near the onset, where it is below 2e-5; golden-section searches,
-V* = 0.1, 2026-11-28), with 17 by up to 1.3e-5 (171 points). Between the a nodes the
+V* = 0.1), with 17 by up to 1.3e-5 (171 points). Between the a nodes the
 band from the onset to 35 deg is still off by up to 5e-4 deg near the onset, where the
 jump vanishes (6.5e-5 where it exceeds 1e-4; the band 35-70 deg by 9.6e-6): see
 ``calibrated_capillary.RIDGE_WINDOW_DEG``. Below the onset the top is a smooth maximum:
@@ -316,8 +316,8 @@ def _pair_ridge_job(args: tuple[float, float, float, float]) -> tuple[float, flo
 RIDGE_NEAR_DEG = 0.01
 """Half-width (deg) of the bracket in which the ridge is sought at the w nodes a band's
 ridge series adds to the onset's (:data:`PAIR_RIDGE_W`), about the coarser series' value
-there: that series was off by up to 1.6e-3 deg at the added nodes (40 of them searched
-first, 2026-11-28; 1.4e-3 at 91 midpoints), so the top lies well inside; a top within ten
+there: that series was off by up to 1.6e-3 deg at the added nodes (40 of them searched;
+1.4e-3 at 91 midpoints), so the top lies well inside; a top within ten
 tolerances of the bracket's ends (:func:`~wetcontact.generate.calibrated_capillary.golden_top`'s
 error) is sought again over :data:`PAIR_RIDGE_BRACKET_DEG`."""
 
@@ -532,15 +532,13 @@ _ONSET_SPHERE_DEG = (17.5, 35.0)
 LOW_ANGLES_DEG = (0.0, 15.0)
 LOW_ANGLES_V = (0.01, 0.1)
 """The low-angle stratum of the two-angle pair table: both angles in ``LOW_ANGLES_DEG``
-(deg), V/R_s^3 log-uniform in ``LOW_ANGLES_V``. Found on 2026-11-28 by scanning S_c along
-the radius ratio between the table's 9 ratio nodes: below the onset and the ridge (band 0's
-lower piece) S_c oscillated in r by up to 2.1e-4 (r = 1.63, V* = 0.1, theta = 0 and 3 deg;
-1.4e-4 at r = 3.16), the force at 0.999 S_c by up to 3e-3, three times its goal; at
-theta1 >= 15 deg or V* = 0.02 at most 5e-5. Neither the uniform design (its 0.999 S_c
-gaps rare) nor the corners (angles 0, 35, 70 deg) had landed there. The one-angle pair
-table had the same defect until it got 13 ratio nodes; so has this piece since (this
-stratum: S_c 8.0e-5 -> 3.5e-5, the force 1.43e-3 -> 7.8e-4, at r = 1.02, nearly equal
-angles 12.5 and 14.4 deg, 0.999 S_c)."""
+(deg), V/R_s^3 log-uniform in ``LOW_ANGLES_V``: below the onset and the ridge (band 0's
+lower piece) S_c oscillates in the radius ratio between too few ratio nodes (with 9: by up
+to 2.1e-4 at r = 1.63, V* = 0.1, theta = 0 and 3 deg, the force at 0.999 S_c by up to
+3e-3), where neither the uniform design (its 0.999 S_c gaps rare) nor the corners (angles
+0, 35, 70 deg) land. With the piece's 13 ratio nodes its maxima are S_c 3.5e-5 and the
+force 7.8e-4 (r = 1.02, angles 12.5 and 14.4 deg, 0.999 S_c); the record is in
+``docs/calibrated_capillary.md``."""
 PAIR_STRATA: dict[str, dict[str, Any]] = {
     "held_out": {"seed": 2621},
     "held_out_near_ridge": {"seed": 2622, "near_ridge": True, "part": 3, "stratum": _NEAR},
@@ -626,7 +624,7 @@ def refine_band(kind: str, band: int | Sequence[int], out: Path | None = None,
     the held-out tables', ``held_out_wall_time_s``). What ``calibrated_capillary.fit_kind``
     and :func:`fit_pair_table` would fit from scratch, without their searches. It lives here,
     above both tables' generators, because a pair band needs this module's pieces."""
-    out = Path(out) if out else Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
+    out = Path(out) if out else Path(cc.__file__).parents[1] / "data" / cc.CAPILLARY_FILE
     data = json.loads(out.read_text())
     if kind not in (cc.WALL_TWO_ANGLES, cc.PAIR_TWO_ANGLES) or kind not in data:
         raise InputError(f"{out}: field {kind!r} missing or not a two-angle table; allowed: "
@@ -690,7 +688,7 @@ def generate_pair_table(stage: str = "coarse", out: Path | None = None, workers:
     (``stage`` is then the one ``out`` holds)."""
     t0 = time.perf_counter()
     start = dict(gen.BRANCHES)
-    out = Path(out) if out else Path(cc.__file__).parent / "data" / cc.CAPILLARY_FILE
+    out = Path(out) if out else Path(cc.__file__).parents[1] / "data" / cc.CAPILLARY_FILE
     data = json.loads(out.read_text()) if out.is_file() else {}
     if retrain:
         if PAIR_TWO_ANGLES not in data:
