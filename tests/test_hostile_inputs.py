@@ -622,12 +622,14 @@ def test_a_killed_cluster_sweep_leaves_no_tracker_warning(tmp_path):
     assert got == -signal.SIGKILL and lines == [], lines
 
 
-@pytest.mark.parametrize("delay", [0.3, 1.5, 3.0])
+@pytest.mark.parametrize("delay", [1.5, 3.0])
 def test_ctrl_c_while_the_cluster_starts_prints_no_traceback(tmp_path, delay):
     """A terminal's Ctrl-C (SIGINT to the whole process group) while the modules load or
     the local cluster starts printed the tracebacks of workers interrupted while
     importing. Now: before any work, one line; during the cluster's start the Ctrl-C is
-    ignored (the workers are started ignoring SIGINT) and the next one stops the sweep."""
+    ignored (the workers are started ignoring SIGINT) and the next one stops the sweep.
+    (Not earlier than 1.5 s: in the interpreter's own start-up, before any of the package
+    runs, a Ctrl-C kills Python with its default handling, rc -2 under load.)"""
     store = tmp_path / "s.h5"
     proc = subprocess.Popen(
         [sys.executable, "-m", "wetcontact", "sweep", str(_slow_study(tmp_path)),
