@@ -292,10 +292,12 @@ class _Progress:
         sys.stderr.write(self._text())
         sys.stderr.flush()
 
-    def close(self) -> None:
+    def close(self, count: bool = True) -> None:
+        """Stop the lines; leave the closing count (``count=False``: not, as when the
+        sweep ends in an error, whose one line is then the last word)."""
         if self.ticker is not None:
             self.ticker.stop()
-        failed = self.total > 0 and self.counts["failed"] == self.total
+        failed = not count or (self.total > 0 and self.counts["failed"] == self.total)
         if self.bar is not None:
             self.bar.leave = not failed  # erased when every point failed
             self.bar.close()
@@ -397,8 +399,10 @@ def sweep(points: Sequence[Point], store: Store, workers: int | None = None,
         finally:
             try:
                 bw.flush()
-            finally:  # a failed write (a full disk) must not leave the progress ticking
-                prog.close()
+            except BaseException:  # a failed write (a full disk): stop the lines, no count
+                prog.close(count=False)
+                raise
+            prog.close()
     outcomes = [done[k] for k in keys]
     return SweepResult(outcomes, str(store.path), time.perf_counter() - t0, executor,
                        n_tasks, bw.write_time)
