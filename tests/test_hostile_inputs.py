@@ -572,6 +572,18 @@ def _slow_study(tmp_path: Path) -> Path:
     return p
 
 
+def _start_cluster_sweep(tmp_path: Path, module: str) -> tuple[subprocess.Popen, Path]:
+    """``python -m MODULE sweep --workers 2`` of :func:`_slow_study` in a new session (its
+    own process group, SIGINT at its default as at a terminal); returns it and its store."""
+    store = tmp_path / "s.h5"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", module, "sweep", str(_slow_study(tmp_path)),
+         "--workers", "2", "--store", str(store)], cwd=tmp_path,
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    return proc, store
+
+
 def _signal_a_running_cluster_sweep(tmp_path: Path, sig: int, group: bool = False
                                     ) -> tuple[int, list[str]]:
     """Run ``sweep --workers 2`` in a new session and send ``sig`` (to the main process, or
@@ -579,12 +591,7 @@ def _signal_a_running_cluster_sweep(tmp_path: Path, sig: int, group: bool = Fals
     points and the store holds them; return the exit code and the stderr lines that are
     not progress lines, read to the end (the resource tracker, the last process, writes
     its warnings there as it exits)."""
-    store = tmp_path / "s.h5"
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "wetcontact.cli", "sweep", str(_slow_study(tmp_path)),
-         "--workers", "2", "--store", str(store)], cwd=tmp_path,
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
-        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    proc, store = _start_cluster_sweep(tmp_path, "wetcontact.cli")
     try:
         deadline = time.monotonic() + 60
         while not store.exists():  # the first points written: the workers are running
@@ -630,12 +637,7 @@ def test_ctrl_c_while_the_cluster_starts_prints_no_traceback(tmp_path, delay):
     ignored (the workers are started ignoring SIGINT) and the next one stops the sweep.
     (Not earlier than 1.5 s: in the interpreter's own start-up, before any of the package
     runs, a Ctrl-C kills Python with its default handling, rc -2 under load.)"""
-    store = tmp_path / "s.h5"
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "wetcontact", "sweep", str(_slow_study(tmp_path)),
-         "--workers", "2", "--store", str(store)], cwd=tmp_path,
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
-        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    proc, store = _start_cluster_sweep(tmp_path, "wetcontact")
     try:
         time.sleep(delay)
         if proc.poll() is None:

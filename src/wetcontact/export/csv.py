@@ -56,55 +56,46 @@ def write_csv(points: Sequence[Point], axes: Sequence[str], store: Store,
     curves = store.load_many(set(keys))
     failures = store.failures()
     counts = {"ok": 0, "no-bridge": 0, "failed": 0, "missing": 0, "rows": 0}
-    if any(p.collision is not None for p in points):
-        return _write_collisions(points, keys, axes, curves, failures, counts, out)
+    if any(p.collision is not None for p in points):  # one row per impact
+        columns, rows_of = COLLISION_COLUMNS, _collision_rows
+
+        def blank(p: Point) -> list[list[str]]:
+            return [[""] * (len(COLLISION_COLUMNS) - 3)]
+    else:  # one row per gap
+        columns, rows_of = FIXED_COLUMNS, _curve_rows
+
+        def blank(p: Point) -> list[list[str]]:
+            return [[_cell(g), "", "", ""] for g in p.scene.gaps]
     with atomic_open(out, newline="") as fh:
         w = csv.writer(fh)
-        w.writerow([*axes, *FIXED_COLUMNS])
+        w.writerow([*axes, *columns])
         for p, k in zip(points, keys, strict=True):
             head = [p.axes.get(a, "") for a in axes]
             curve = curves.get(k)
             if curve is None:
                 status = "failed" if k in failures else "missing"
                 reason = failures.get(k, "not in the store: run `wetcontact sweep` first")
-                for g in p.scene.gaps:
-                    w.writerow([*head, p.model, _cell(g), "", "", "", status, reason])
-                counts[status] += len(p.scene.gaps)
+                for cells in blank(p):
+                    w.writerow([*head, p.model, *cells, status, reason])
+                    counts[status] += 1
                 continue
-            for row, status in _curve_rows(curve):
-                w.writerow([*head, p.model, *row, status, ""])
+            for cells, status in rows_of(curve):
+                w.writerow([*head, p.model, *cells, status, ""])
                 counts[status] += 1
     counts["rows"] = sum(v for k, v in counts.items() if k != "rows")
     return counts
 
 
-def _write_collisions(points: Sequence[Point], keys: Sequence[str], axes: Sequence[str],
-                      curves: dict[str, ForceCurve], failures: dict[str, str],
-                      counts: dict[str, int], out: str | Path) -> dict[str, int]:
-    """One row per collision point (:data:`COLLISION_COLUMNS`)."""
+def _collision_rows(curve: ForceCurve):
+    """The one row of a collision record (:data:`COLLISION_COLUMNS` after ``force_set``,
+    before ``status``)."""
     from wetcontact.collide.record import collision_from_curve
 
-    with atomic_open(out, newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow([*axes, *COLLISION_COLUMNS])
-        for p, k in zip(points, keys, strict=True):
-            head = [p.axes.get(a, "") for a in axes]
-            curve = curves.get(k)
-            if curve is None:
-                status = "failed" if k in failures else "missing"
-                reason = failures.get(k, "not in the store: run `wetcontact sweep` first")
-                w.writerow([*head, p.model, *[""] * 9, status, reason])
-                counts[status] += 1
-                continue
-            c = collision_from_curve(curve)
-            w.writerow([*head, p.model, _cell(c.restitution), c.outcome,
-                        _cell(c.stokes_number), _cell(c.contact_velocity),
-                        _cell(c.rebound_velocity), _cell(c.liquid.get("transfer_fraction")),
-                        _cell(c.liquid.get("bridge_volume")), c.models.get("viscous") or "",
-                        c.models.get("capillary") or "", "ok", ""])
-            counts["ok"] += 1
-    counts["rows"] = sum(v for k, v in counts.items() if k != "rows")
-    return counts
+    c = collision_from_curve(curve)
+    yield ([_cell(c.restitution), c.outcome, _cell(c.stokes_number),
+            _cell(c.contact_velocity), _cell(c.rebound_velocity),
+            _cell(c.liquid.get("transfer_fraction")), _cell(c.liquid.get("bridge_volume")),
+            c.models.get("viscous") or "", c.models.get("capillary") or ""], "ok")
 
 
 def _curve_rows(curve: ForceCurve):
