@@ -34,6 +34,23 @@ BASE_CASE: dict[str, Any] = {
 }
 
 
+IMMERSED_TOML = """name = "imm"
+[geometry]
+kind = "sphere-wall"
+radius = 1.0e-3
+[liquid]
+viscosity = 1.0e-3
+surface_tension = 0.072
+density = 998.0
+[amount]
+immersed = true
+[motion]
+velocity = 0.1
+gaps = {gaps}
+"""
+"""An immersed sphere-wall case file; ``IMMERSED_TOML.format(gaps="[1e-4]")``."""
+
+
 def make_scene(**tables: dict[str, Any]) -> Scene:
     """Scene from :data:`BASE_CASE` with whole tables replaced, e.g.
     ``make_scene(amount={"film_thickness": 1e-4}, geometry={...})``."""

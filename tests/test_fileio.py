@@ -18,6 +18,7 @@ from pathlib import Path
 
 import meshio
 import pytest
+from conftest import IMMERSED_TOML
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -26,20 +27,6 @@ from wetcontact.errors import InputError
 from wetcontact.fileio import MAX_STEM, atomic_output, atomic_write_text, safe_stem
 
 ROOT = Path(__file__).resolve().parents[1]
-CASE = """name = "imm"
-[geometry]
-kind = "sphere-wall"
-radius = 1.0e-3
-[liquid]
-viscosity = 1.0e-3
-surface_tension = 0.072
-density = 998.0
-[amount]
-immersed = true
-[motion]
-velocity = 0.1
-gaps = GAPS
-"""
 TEMP = re.compile(r"^\..*\.tmp(\.\w+)?$")  # atomic writers' temporaries (hidden)
 
 
@@ -224,7 +211,7 @@ def test_killed_writer_leaves_a_complete_file(tmp_path, delay):
 
 def _case(tmp_path: Path, gaps: str = "[1.0e-4]") -> Path:
     p = tmp_path / "imm.toml"
-    p.write_text(CASE.replace("GAPS", gaps))
+    p.write_text(IMMERSED_TOML.format(gaps=gaps))
     return p
 
 
@@ -254,7 +241,7 @@ def test_save_fields_on_a_full_disk_keeps_old_files_and_says_so(tmp_path, monkey
         return real(self, path, *a, **k)
 
     monkeypatch.setattr(meshio.Mesh, "write", write)
-    case.write_text(CASE.replace("GAPS", "[1.0e-4, 2.0e-4]").replace("0.1\n", "0.2\n"))
+    case.write_text(IMMERSED_TOML.format(gaps="[1.0e-4, 2.0e-4]").replace("0.1\n", "0.2\n"))
     code, stdout, err = run_cli(["solve", str(case), "--model", "stokes", "--preset", "fast",
                                  "--save-fields", str(out)])
     assert code == 2 and len(err.strip().splitlines()) == 1 and "Traceback" not in err

@@ -21,6 +21,7 @@ import tomllib
 from pathlib import Path
 
 import pytest
+from conftest import IMMERSED_TOML
 
 from wetcontact import cli
 from wetcontact.errors import CaseError
@@ -31,20 +32,6 @@ ROOT = Path(__file__).resolve().parents[1]
 FILM_CASE = ROOT / "cases" / "glass-2mm-water-film.toml"
 WILLETT_JSON = ROOT / "benchmarks" / "results" / "calibration" / "willett.json"
 
-IMMERSED_TOML = """name = "imm"
-[geometry]
-kind = "sphere-wall"
-radius = 1.0e-3
-[liquid]
-viscosity = 1.0e-3
-surface_tension = 0.072
-density = 998.0
-[amount]
-immersed = true
-[motion]
-velocity = 0.1
-gaps = {gaps}
-"""
 
 
 def run_cli(argv: list[str]) -> tuple[int, str, str]:
