@@ -647,3 +647,30 @@ def test_ctrl_c_while_the_cluster_starts_prints_no_traceback(tmp_path, delay):
     assert lines[-1] in ("wetcontact: interrupted before any work",
                          "wetcontact: interrupted; everything saved before is in the store"), err
     assert len(lines) == 1 or lines[0].startswith("Exception ignored"), err
+
+
+def test_a_ctrl_c_in_a_finalizer_is_raised_again_in_the_main_thread():
+    """A KeyboardInterrupt that lands in a finalizer reaches the unraisable hook: printed
+    ("Exception ignored ... KeyboardInterrupt") and lost. The command line's hook raises it
+    again in the main thread; anything else goes to the previous hook."""
+    from wetcontact._entry import _keep_ctrl_c
+
+    seen: list[object] = []
+    hook = _keep_ctrl_c(seen.append)
+
+    class Args:
+        def __init__(self, exc_type: type) -> None:
+            self.exc_type = exc_type
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            hook(Args(KeyboardInterrupt))
+            for _ in range(2000):
+                time.sleep(0.001)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert seen == []
+    other = Args(ValueError)
+    hook(other)
+    assert seen == [other]
