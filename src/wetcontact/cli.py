@@ -505,6 +505,16 @@ def _sweep(args: argparse.Namespace) -> int:
 def _export(args: argparse.Namespace) -> int:
     if args.format == "yade":
         return _export_yade(args)
+    if args.format == "yade-liquid":
+        from wetcontact.export.yade_liquid import write_yade_liquid
+
+        parent = args.out if args.out.is_dir() else args.out.parent
+        if not parent.is_dir():
+            raise InputError(f"--out {args.out}: the folder {parent} does not exist")
+        info = write_yade_liquid(args.out)
+        print(json.dumps(info) if args.json else f"{info['out']}: yade-liquid, "
+              f"{info['bytes']} bytes")
+        return 0
     if args.format == "csv":
         from wetcontact.export.csv import write_csv
         from wetcontact.store import Store

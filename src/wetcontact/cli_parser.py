@@ -191,6 +191,15 @@ def _add_export_parser(sub: argparse._SubParsersAction) -> None:
     c.add_argument("--out", type=path_arg, required=True, help="CSV file to write")
     c.add_argument("--json", action="store_true", help="print one JSON object")
     _add_export_yade(fmt)
+    yl = fmt.add_parser("yade-liquid", help="Yade's liquid-migration terms Vf1, Vf2 from "
+                        "the calibrated division at rupture",
+                        description="A module for Yade scripts: apply_liquid_division(O) "
+                        "sets Vf1 = f Vb and Vf2 = (1 - f) Vb on every active bridge, f the "
+                        "calibrated transfer fraction (needs a Yade built with "
+                        "YADE_LIQMIGRATION).")
+    yl.add_argument("--out", type=file_out_arg, required=True,
+                    help="file to write (or an existing folder: wetcontact_liquid.py in it)")
+    yl.add_argument("--json", action="store_true", help="print one JSON object")
     _add_export_closure_parsers(fmt)
 
 
