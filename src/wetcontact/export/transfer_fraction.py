@@ -68,6 +68,7 @@ C_TEMPLATE = """
  * meniscus: max {ho_max:.2g}, mean {ho_mean:.2g}, p95 {ho_p95:.2g} ({ho_n} points, {ho_band}
  * in the band). Form: wetcontact/reduced_models/transfer_fraction.py. */
 #define WC__TF_NT {nt}
+#define WC__TF_NTJ {ntj}
 #define WC__TF_NY {ny}
 #define WC__TF_NYJ {nyj}
 #define WC__TF_NX {nx}
@@ -146,7 +147,8 @@ static inline double {fn}(double r1, double r2, double volume, double theta1_deg
 {{
     const double y_lo = {y_lo!r}, y_hi = {y_hi!r}, band = {band!r};
     double rs, rl, vstar, xi, y, ts, tl, k, f, d_max, te, s;
-    double wt[WC__TF_NT], wy[WC__TF_NY], wyj[WC__TF_NYJ], wx[WC__TF_NX], ws[WC__TF_NS];
+    double wt[WC__TF_NT], wtj[WC__TF_NTJ], wy[WC__TF_NY], wyj[WC__TF_NYJ], wx[WC__TF_NX];
+    double ws[WC__TF_NS];
     const double one[1] = {{1.0}};
     int swapped;
     if (isnan(r1) || isnan(r2) || isnan(volume) || isnan(theta1_deg) || isnan(theta2_deg))
@@ -170,14 +172,15 @@ static inline double {fn}(double r1, double r2, double volume, double theta1_deg
     y = log(wc__tf_clip(vstar, {v_lo!r}, {v_hi!r}));
     if (xi == 0.0 && ts == tl)
         return 0.5;  /* equal spheres, equal angles: 1/2 by symmetry */
-    wc__tf_weights(wc__tf_unit(ts, 0.0, {t_hi!r}), WC__TF_NT, wt);
+    wc__tf_weights(wc__tf_unit(ts, 0.0, {t_hi!r}), WC__TF_NTJ, wtj);
     wc__tf_weights(wc__tf_unit(y, y_lo, y_hi), WC__TF_NY, wy);
     wc__tf_weights(wc__tf_unit(y, y_lo, y_hi), WC__TF_NYJ, wyj);
     wc__tf_weights(2.0 * xi - 1.0, WC__TF_NX, wx);
-    k = wc__tf_tensor(wc__tf_jump, wt, WC__TF_NT, wyj, WC__TF_NYJ, wx, WC__TF_NX, one, 1);
+    k = wc__tf_tensor(wc__tf_jump, wtj, WC__TF_NTJ, wyj, WC__TF_NYJ, wx, WC__TF_NX, one, 1);
     if (fabs(tl - k) < band)
         return NAN;  /* the band at the jump */
     if (tl < k) {{
+        wc__tf_weights(wc__tf_unit(ts, 0.0, {t_hi!r}), WC__TF_NT, wt);
         s = wc__tf_side(k - tl, k, band);
         wc__tf_weights(wc__tf_clip(s, -1.0, 1.0), WC__TF_NS, ws);
         f = wc__tf_tensor(wc__tf_lower, wt, WC__TF_NT, wy, WC__TF_NY, wx, WC__TF_NX, ws,
@@ -202,11 +205,11 @@ def c_text() -> str:
     d = shipped()
     jump, lower = np.asarray(d["jump"]), np.asarray(d["lower"])
     nt, ny, nx, ns = lower.shape
-    nyj = jump.shape[1]
+    ntj, nyj = jump.shape[:2]
     ho = d["held_out"]
     return C_TEMPLATE.format(
-        fn=FUNCTION, nt=nt, ny=ny, nyj=nyj, nx=nx, ns=ns, n_jump=jump.size, n_end=nx * nyj,
-        n_side=lower.size, jump=_c_array(jump), end=_c_array(d["theta_end"]),
+        fn=FUNCTION, nt=nt, ntj=ntj, ny=ny, nyj=nyj, nx=nx, ns=ns, n_jump=jump.size,
+        n_end=nx * nyj, n_side=lower.size, jump=_c_array(jump), end=_c_array(d["theta_end"]),
         lower=_c_array(lower), upper=_c_array(d["upper"]), y_lo=d["y_range"][0],
         y_hi=d["y_range"][1], band=d["band_deg"], q_hi=tf.RATIO_MAX, t_hi=tf.THETA_MAX,
         v_lo=tf.V_RANGE[0], v_hi=tf.V_RANGE[1], ho_max=ho["max"], ho_mean=ho["mean"],

@@ -34,10 +34,12 @@ from wetcontact.branch_cache import NodeCache
 from wetcontact.reduced_models import DATA_DIR
 from wetcontact.reduced_models import transfer_fraction as tf
 
-NODES = {"theta": 9, "y": 9, "xi": 5, "s": 7, "y_jump": 5}
-"""Chebyshev-Lobatto points per axis (theta_s or v, ln V*, xi, the side coordinate s); the
-jump and theta_e have their own ``y_jump`` points (K is smooth in ln V*: its interpolant is
-within 0.02 deg of a bisection between the nodes)."""
+NODES = {"theta": 17, "y": 9, "xi": 5, "s": 7, "theta_jump": 9, "y_jump": 5}
+"""Chebyshev-Lobatto points per axis of the side tables (theta_s or v, ln V*, xi, the side
+coordinate s): near the jump ``f_s`` turns over theta_s within about 10 deg (sphere-wall
+near theta_s = 25 deg), which 9 points along theta_s follow only to 4e-3. The jump and
+theta_e have their own, nested ``theta_jump`` and ``y_jump`` points (K is smooth: its
+interpolant is within 0.02 deg of a bisection between the nodes)."""
 BAND_DEG = 0.2
 """d_min: the half-width of the band at the jump where the closure does not answer (deg)."""
 JUMP_TOL = 5e-4
@@ -127,6 +129,7 @@ def grids() -> dict[str, np.ndarray]:
     """Node coordinates: theta_s (deg), y = ln V*, xi, v, s (unit)."""
     y_lo, y_hi = (math.log(v) for v in tf.V_RANGE)
     return {"theta": tf.from_unit(tf.lobatto(NODES["theta"]), 0.0, tf.THETA_MAX),
+            "theta_jump": tf.from_unit(tf.lobatto(NODES["theta_jump"]), 0.0, tf.THETA_MAX),
             "v": tf.from_unit(tf.lobatto(NODES["theta"]), 0.0, 1.0),
             "y": tf.from_unit(tf.lobatto(NODES["y"]), y_lo, y_hi),
             "y_jump": tf.from_unit(tf.lobatto(NODES["y_jump"]), y_lo, y_hi),
@@ -135,18 +138,18 @@ def grids() -> dict[str, np.ndarray]:
 
 
 def jump_table(solve: Solver, g: dict[str, np.ndarray], log: Any = print) -> np.ndarray:
-    """K at the nodes (theta_s, y_jump, xi), deg."""
-    nt, ny, nx = len(g["theta"]), len(g["y_jump"]), len(g["xi"])
+    """K at the nodes (theta_jump, y_jump, xi), deg."""
+    nt, ny, nx = len(g["theta_jump"]), len(g["y_jump"]), len(g["xi"])
     k = np.empty((nt, ny, nx))
     for jx, xi in enumerate(g["xi"]):
         x = ratio_of(float(xi))
         for jy, y in enumerate(g["y_jump"]):
             prev = None
-            for it, th in enumerate(g["theta"]):
+            for it, th in enumerate(g["theta_jump"]):
                 if xi == 0.0:
                     k[it, jy, jx] = th
                     continue
-                guess = th + (1.0 if prev is None else prev - g["theta"][it - 1])
+                guess = th + (1.0 if prev is None else prev - g["theta_jump"][it - 1])
                 k[it, jy, jx] = prev = find_jump(solve, x, math.exp(y), float(th), guess)
             log(f"  jump xi {xi:.3f} y {y:.2f}: K {np.round(k[:, jy, jx], 3).tolist()} "
                 f"({solve.solves} solves, {solve.seconds:.0f} s)")
@@ -191,15 +194,22 @@ def _fill_along_theta(t: np.ndarray) -> np.ndarray:
 
 def _on_jump_grid(k: np.ndarray, te: np.ndarray, g: dict[str, np.ndarray], jy: int,
                   jx: int) -> tuple[np.ndarray, float]:
-    """(K along theta_s at the nodes, theta_e) at the table's y node ``jy`` and xi node
-    ``jx``: the jump table's own values where its y grid has that node (every other one of
-    the nested Lobatto grids), else its series in y."""
+    """(K along theta_s at the side tables' theta nodes, theta_e) at their y node ``jy``
+    and xi node ``jx``: the jump table's own values where its grids have that node (the
+    Lobatto grids are nested), else its series."""
     step = (len(g["y"]) - 1) // (len(g["y_jump"]) - 1)
     if jy % step == 0:
-        return k[:, jy // step, jx], float(te[jy // step, jx])
-    y_lo, y_hi = (math.log(v) for v in tf.V_RANGE)
-    w = tf.bary_weights(tf.to_unit(np.array([g["y"][jy]]), y_lo, y_hi), len(g["y_jump"]))
-    return k[:, :, jx] @ w[0], float(te[:, jx] @ w[0])
+        col, t_e = k[:, jy // step, jx], float(te[jy // step, jx])
+    else:
+        y_lo, y_hi = (math.log(v) for v in tf.V_RANGE)
+        w = tf.bary_weights(tf.to_unit(np.array([g["y"][jy]]), y_lo, y_hi),
+                            len(g["y_jump"]))
+        col, t_e = k[:, :, jx] @ w[0], float(te[:, jx] @ w[0])
+    step_t = (len(g["theta"]) - 1) // (len(g["theta_jump"]) - 1)
+    w_t = tf.bary_weights(tf.to_unit(g["theta"], 0.0, tf.THETA_MAX), len(col))
+    series = w_t @ col
+    return np.array([col[i // step_t] if i % step_t == 0 else series[i]
+                     for i in range(len(g["theta"]))]), t_e
 
 
 def side_tables(solve: Solver, k: np.ndarray, te: np.ndarray, g: dict[str, np.ndarray],
@@ -213,6 +223,7 @@ def side_tables(solve: Solver, k: np.ndarray, te: np.ndarray, g: dict[str, np.nd
         for jy, y in enumerate(g["y"]):
             vs = math.exp(y)
             col, te_n = _on_jump_grid(k, te, g, jy, jx)
+            col_j = _on_jump_grid(k, te, {**g, "theta": g["theta_jump"]}, jy, jx)[0]
             for it, th in enumerate(g["theta"]):
                 kn = col[it]
                 for js, s in enumerate(g["s"]):
@@ -223,8 +234,9 @@ def side_tables(solve: Solver, k: np.ndarray, te: np.ndarray, g: dict[str, np.nd
                         lower[it, jy, jx, js] = solve(x, vs, float(th), tl)
             for iv, v in enumerate(g["v"]):
                 th = float(v * te_n)
-                w = tf.bary_weights(tf.to_unit(np.array([th]), 0.0, tf.THETA_MAX), nt)
-                kq = float((w @ col)[0])
+                w = tf.bary_weights(tf.to_unit(np.array([th]), 0.0, tf.THETA_MAX),
+                                    len(col_j))
+                kq = float((w @ col_j)[0])
                 dmax = BAND_DEG + float(tf.upper_width(kq))
                 for js, s in enumerate(g["s"]):
                     tl = kq + float(tf.side_distance(s, dmax, BAND_DEG))

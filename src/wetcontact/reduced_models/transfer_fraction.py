@@ -187,14 +187,16 @@ def evaluate(t: dict[str, Any], y: np.ndarray, xi: np.ndarray, th_s: np.ndarray,
     band, (y_lo, y_hi) = t["band_deg"], t["y_range"]
     jump, lower, upper, end = t["jump"], t["lower"], t["upper"], t["theta_end"]
     u_y = to_unit(y, y_lo, y_hi)
-    w_t = bary_weights(to_unit(th_s, 0.0, THETA_MAX), jump.shape[0])
+    u_t = to_unit(th_s, 0.0, THETA_MAX)
+    w_tj = bary_weights(u_t, jump.shape[0])
     w_yj = bary_weights(u_y, jump.shape[1])
     w_x = bary_weights(2.0 * xi - 1.0, jump.shape[2])
-    k = tensor_eval(jump, [w_t, w_yj, w_x])
+    k = tensor_eval(jump, [w_tj, w_yj, w_x])
     f = np.full(y.shape, np.nan)
     in_band = np.abs(th_l - k) < band
     lo = (th_l < k) & ~in_band
     hi = (th_l > k) & ~in_band
+    w_t = w_tj if lower.shape[0] == jump.shape[0] else bary_weights(u_t, lower.shape[0])
     w_y = w_yj if lower.shape[1] == jump.shape[1] else bary_weights(u_y, lower.shape[1])
     if lo.any():
         s = side_coordinate(k[lo] - th_l[lo], k[lo], band)
