@@ -1,7 +1,7 @@
 """``wetcontact export json|python|c``: the schema, and the exported code against the
 package's own evaluation (through its models) at thousands of points.
 
-Reference: :func:`wetcontact.export.closures.package_evaluation`, which goes through
+Reference: :func:`wetcontact.export.package_evaluation.package_evaluation`, which goes through
 ``get_model("calibrated-viscous")``, ``get_model("calibrated-capillary")`` and the refitted
 closures of :func:`wetcontact.calibrate.load_coefficients` (NaN where they refuse). The
 exported code repeats the arithmetic in another language, so agreement to 1e-12 relative (a
@@ -34,13 +34,9 @@ from wetcontact.export.calibration_json import (
     skeleton,
     write_json,
 )
-from wetcontact.export.closures import (
-    REFIT_DIR,
-    REFIT_FILES,
-    capillary_source,
-    package_evaluation_many,
-    sphere_end_text,
-)
+from wetcontact.export.closure_tables import sphere_end_text
+from wetcontact.export.closures import REFIT_DIR, REFIT_FILES, capillary_source
+from wetcontact.export.package_evaluation import package_evaluation_many
 from wetcontact.export.python_module import write_module
 from wetcontact.reduced_models import calibrated_capillary as cc
 from wetcontact.scene import min_gap
@@ -1007,7 +1003,8 @@ def test_two_angle_layout_is_validated(source):
     top-level layout), naming the file and the field; the one-angle layout still needs
     pieces ending exactly at 70 deg and a 1-D series."""
     from wetcontact.errors import InputError
-    from wetcontact.export.closures import TWO_ANGLES, _capillary_part
+    from wetcontact.export.closure_tables import TWO_ANGLES
+    from wetcontact.export.closures import _capillary_part
 
     assert TWO_ANGLES == cc.WALL_TWO_ANGLES
     if cc.WALL_TWO_ANGLES not in source.table.parts:
@@ -1759,7 +1756,8 @@ def _pair_table(cache_dir: Path) -> dict:
 def pair2(source, tmp_path_factory):
     """``(table, src)``: the synthetic pair table (:func:`_pair_table`) as the package data
     would hold it, and ``source`` carrying it for the exports, read by their reader."""
-    from wetcontact.export.closures import PAIR_TWO_ANGLES, _capillary_part
+    from wetcontact.export.closure_tables import PAIR_TWO_ANGLES
+    from wetcontact.export.closures import _capillary_part
 
     assert PAIR_TWO_ANGLES == cc.PAIR_TWO_ANGLES
     table = _pair_table(tmp_path_factory.mktemp("pair2"))

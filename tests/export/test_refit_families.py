@@ -27,7 +27,8 @@ from wetcontact.calibrate import FAMILIES, domain_coords, get_family, scene_inpu
 from wetcontact.cli import main
 from wetcontact.errors import InputError
 from wetcontact.export.c_header import write_header
-from wetcontact.export.closures import _scene, capillary_source, read_refit
+from wetcontact.export.closures import capillary_source, read_refit
+from wetcontact.export.package_evaluation import _scene
 from wetcontact.export.python_module import write_module
 from wetcontact.export.refits import (
     EQUAL,

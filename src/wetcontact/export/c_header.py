@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from wetcontact import __version__
-from wetcontact.export.closures import (
+from wetcontact.export.closure_tables import (
     ONSET_TEXT,
     PAIR_TWO_ANGLES,
     TWO_ANGLES,
@@ -29,10 +29,9 @@ from wetcontact.export.closures import (
     CapillarySource,
     RefitTable,
     TensorTrain,
-    immersed_tables,
     sphere_end_text,
-    usage_text,
 )
+from wetcontact.export.closures import immersed_tables, usage_text
 from wetcontact.export.refits import REFIT_FORMS, TARGET_ARGS, c_text, comment_lines
 from wetcontact.export.templates import render
 from wetcontact.export.transfer_fraction import c_text as transfer_fraction_c

@@ -21,11 +21,11 @@ from typing import TYPE_CHECKING, Any
 
 from wetcontact import __version__
 from wetcontact.errors import InputError
-from wetcontact.export.closures import sphere_end_text
+from wetcontact.export.closure_tables import sphere_end_text
 from wetcontact.fileio import atomic_write_text
 
 if TYPE_CHECKING:
-    from wetcontact.export.closures import (
+    from wetcontact.export.closure_tables import (
         CapillaryBand,
         CapillaryPart,
         CapillaryPiece,
@@ -301,7 +301,7 @@ def capillary_document(table: CapillaryTable | None = None) -> dict[str, Any]:
     """The shipped ``calibrated-capillary`` closure: per generated geometry a rupture part
     and a force part, each tensor flattened in C order (its shape in the layout; where the
     piece carries tensor trains, the package evaluates them and the tensor written is the
-    train's dense tensor, :attr:`~wetcontact.export.closures.CapillaryPiece.force`); a wall
+    train's dense tensor, :attr:`~wetcontact.export.closure_tables.CapillaryPiece.force`); a wall
     with two contact angles (geometry ``sphere-wall-two-angles``) has axes (a, b1, b2) and
     a 2-D ridge series, per band of the sphere's angle (its parts' ``theta_sphere_deg``:
     the band's range, over which b1 is mapped; an end ``null`` is the onset angle, whose
@@ -312,7 +312,8 @@ def capillary_document(table: CapillaryTable | None = None) -> dict[str, Any]:
 
     ``table``: the capillary table to write (default the shipped one,
     :func:`~wetcontact.export.closures.shipped_capillary`)."""
-    from wetcontact.export.closures import KINDS, shipped_capillary
+    from wetcontact.export.closure_tables import KINDS
+    from wetcontact.export.closures import shipped_capillary
 
     t = shipped_capillary() if table is None else table
     parts = []

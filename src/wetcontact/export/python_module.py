@@ -26,7 +26,7 @@ from wetcontact.export.c_header import (
     held_out_lines,
     onset_text,
 )
-from wetcontact.export.closures import (
+from wetcontact.export.closure_tables import (
     PAIR_TWO_ANGLES,
     TWO_ANGLES,
     CapillaryBand,
@@ -34,9 +34,8 @@ from wetcontact.export.closures import (
     CapillarySource,
     RefitTable,
     TensorTrain,
-    immersed_tables,
-    usage_text,
 )
+from wetcontact.export.closures import immersed_tables, usage_text
 from wetcontact.export.refits import REFIT_FORMS, comment_lines, python_text
 from wetcontact.fileio import atomic_write_text
 from wetcontact.reduced_models.calibrated import viscous_table

@@ -42,7 +42,9 @@ from functools import cache
 from pathlib import Path
 
 from wetcontact.errors import InputError, ValidityError
-from wetcontact.export.closures import RefitTable, _scene, read_refit
+from wetcontact.export.closure_tables import RefitTable
+from wetcontact.export.closures import read_refit
+from wetcontact.export.package_evaluation import _scene
 
 TARGET_ARGS = {
     "capillary": ("r1", "r2", "volume", "gap", "surface_tension", "theta1_deg", "theta2_deg"),
@@ -579,7 +581,7 @@ def package_refit(table: RefitTable, *args: float) -> float:
     refit at one point, the exported function's arguments ``args`` (SI, degrees, ``r2 =
     inf`` a plane); NaN where the package refuses or answers NaN.
 
-    The scene is :func:`wetcontact.export.closures._scene`'s (water-like defaults for what
+    The scene is :func:`wetcontact.export.package_evaluation._scene`'s (water-like defaults for what
     the family does not take); a rupture family is asked at the gap ``1e-3 r1``, which its
     value does not depend on.
     """
