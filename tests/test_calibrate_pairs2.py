@@ -199,7 +199,7 @@ def test_model_takes_the_small_spheres_angle_first(synthetic_table, monkeypatch)
 
     table = {**cc.capillary_table(),
              cc.PAIR_TWO_ANGLES: cc.as_arrays({"e": synthetic_table})["e"]}
-    monkeypatch.setattr(cc.kernel, "capillary_table", lambda: table)
+    monkeypatch.setattr(cc.shipped, "capillary_table", lambda: table)
     model = get_model("calibrated-capillary")
     rs, ratio, v = 1e-3, 3.0, 2e-3
 

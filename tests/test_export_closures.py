@@ -1775,7 +1775,7 @@ def _with_pair_table(table: dict):
     """A context in which the model reads ``table`` as the package data's pair table."""
     full = {**cc.capillary_table(), cc.PAIR_TWO_ANGLES: cc.as_arrays({"e": table})["e"]}
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(cc.kernel, "capillary_table", lambda: full)
+        mp.setattr(cc.shipped, "capillary_table", lambda: full)
         yield
 
 

@@ -30,7 +30,8 @@ with one angle 6.6e-6 / 2.0e-5 on a wall, 7.0e-6 / 1.7e-5 between spheres; with 
 tables are hardest (corners, the ridge and its jump, nearly equal spheres) in :mod:`.model`.
 
 Modules: :mod:`.coordinates` (the domain and the maps to [-1, 1]), :mod:`.kernel` (the
-tables and their evaluation, :func:`force_star`), :mod:`.model` (the registered model,
+tables' evaluation, standalone: the python export ships it), :mod:`.shipped` (the package
+data's table and :func:`force_star` on it), :mod:`.model` (the registered model,
 :class:`CalibratedCapillary`, and its error bound). How the tables were built and measured:
 the guide's page ``docs/calibrated_capillary.md``.
 """
@@ -65,7 +66,6 @@ from wetcontact.reduced_models.calibrated_capillary.coordinates import (
     _take as _take,
 )
 from wetcontact.reduced_models.calibrated_capillary.kernel import (
-    CAPILLARY_FILE,
     CHUNK_FLOATS,
     ONSET_KEY,
     PRECISIONS,
@@ -74,19 +74,17 @@ from wetcontact.reduced_models.calibrated_capillary.kernel import (
     TRAIN_FIELDS,
     as_arrays,
     band_index,
-    capillary_table,
     chebyshev_tensor,
-    force_star,
     low_rank_rows,
     onset_deg,
     piece_chunk,
     reduced_star,
-    ridge_deg,
-    rupture_star,
     sphere_range,
     table_pieces,
+    table_star,
     theta_split_deg,
     train_dense,
+    train_shape,
     train_sum,
 )
 from wetcontact.reduced_models.calibrated_capillary.kernel import (
@@ -97,9 +95,6 @@ from wetcontact.reduced_models.calibrated_capillary.kernel import (
 )
 from wetcontact.reduced_models.calibrated_capillary.kernel import (
     _cheb_rows as _cheb_rows,
-)
-from wetcontact.reduced_models.calibrated_capillary.kernel import (
-    _entry as _entry,
 )
 from wetcontact.reduced_models.calibrated_capillary.kernel import (
     _outer as _outer,
@@ -127,6 +122,16 @@ from wetcontact.reduced_models.calibrated_capillary.model import (
     SPURIOUS,
     CalibratedCapillary,
     ridge_window_deg,
+)
+from wetcontact.reduced_models.calibrated_capillary.shipped import (
+    CAPILLARY_FILE,
+    capillary_table,
+    force_star,
+    ridge_deg,
+    rupture_star,
+)
+from wetcontact.reduced_models.calibrated_capillary.shipped import (
+    _entry as _entry,
 )
 
 __all__ = [
@@ -180,8 +185,10 @@ __all__ = [
     "sphere_coordinate",
     "sphere_range",
     "table_pieces",
+    "table_star",
     "theta_split_deg",
     "train_dense",
+    "train_shape",
     "train_sum",
     "volume_coordinate",
 ]

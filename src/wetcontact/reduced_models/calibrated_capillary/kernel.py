@@ -1,4 +1,8 @@
-r"""The calibrated capillary closure's tables and their evaluation (:func:`force_star`).
+r"""The calibrated capillary closure's evaluation (:func:`table_star`), standalone: it
+imports only numpy, the standard library and :mod:`.coordinates` (likewise), so that
+``wetcontact export python`` ships this module's source, with that of :mod:`.coordinates`,
+as the exported module's evaluator. The shipped table and the package's calls of it are in
+:mod:`.shipped` (:func:`~wetcontact.reduced_models.calibrated_capillary.shipped.force_star`).
 
 Each piece of a table is a tensor Chebyshev series in the coordinates of
 :mod:`~wetcontact.reduced_models.calibrated_capillary.coordinates`. A point is evaluated in
@@ -27,16 +31,12 @@ seeded points.
 
 from __future__ import annotations
 
-import json
 import math
-from collections.abc import Iterator
-from functools import cache
-from importlib import resources
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import numpy as np
 
-from wetcontact.errors import InputError, ValidityError
 from wetcontact.reduced_models.calibrated_capillary.coordinates import (
     ANGLE_TOL,
     PAIR_TWO_ANGLES,
@@ -53,11 +53,8 @@ from wetcontact.reduced_models.calibrated_capillary.coordinates import (
     volume_coordinate,
 )
 
-CAPILLARY_FILE = "calibrated_capillary.json"
-
-
 PRECISIONS = ("mixed", "double")
-"""How :func:`force_star` sums the force's table (a two-angle table's tensor train,
+"""How :func:`table_star` sums the force's table (a two-angle table's tensor train,
 :data:`TRAIN_FIELDS`, a one-angle table's low-rank sum, :func:`low_rank_rows`):
 ``"mixed"`` (the default) in single precision, from its Chebyshev rows and cores or
 factors rounded to it, ``"double"`` in double. Everything else (the coordinates, the
@@ -67,14 +64,6 @@ relative (measured; the tests hold it under 2e-5, 1/50 of the force goal) and cu
 cost by about a fifth (wall, two angles), a third (sphere pairs, two angles), a quarter
 (wall, one angle) and a seventh (sphere pairs, one angle): the module's notes,
 "Precision"."""
-
-
-@cache
-def capillary_table() -> dict[str, Any] | None:
-    """The shipped table, or ``None`` before ``python -m wetcontact.generate
-    calibrated-capillary``."""
-    path = resources.files("wetcontact.reduced_models") / "data" / CAPILLARY_FILE
-    return as_arrays(json.loads(path.read_text())) if path.is_file() else None
 
 
 TABLE_FIELDS = ("rupture", "force_left", "force_right")
@@ -200,24 +189,6 @@ def band_index(entry: dict[str, Any], theta_sphere_deg: np.ndarray,
         hi = band["theta_sphere_deg"][1]
         out[t <= (onset if hi is None else hi)] = k
     return out
-
-
-def ridge_deg(v: Any, theta_sphere_deg: Any, entry: dict[str, Any] | None = None,
-              ratio: Any = None) -> np.ndarray:
-    """The other solid's angle (deg) at the ridge of S_c with two angles, at ``v`` and the
-    (small) sphere's angle (deg): the split series of the two-angle table's band that holds
-    the sphere's angle (``entry``: that table, default the shipped one: the wall's, or,
-    given the radius ratio ``ratio``, the sphere pairs')."""
-    if entry is None:
-        entry = _entry(WALL_TWO_ANGLES if ratio is None else PAIR_TWO_ANGLES)
-    v, t, r = np.broadcast_arrays(np.asarray(v, dtype=float),
-                                  np.asarray(theta_sphere_deg, dtype=float),
-                                  np.asarray(1.0 if ratio is None else ratio, dtype=float))
-    a, out = volume_coordinate(v.ravel()), np.full(v.size, np.nan)
-    lead: Lead = a if ratio is None else [ratio_coordinate(r.ravel()), a]
-    for band, m, b1 in _by_band(entry, t.ravel(), lead):
-        out[m] = theta_split_deg(band, _take(lead, m), b1)
-    return out.reshape(v.shape)
 
 
 def _by_band(entry: dict[str, Any], theta_sphere_deg: np.ndarray, a: Lead
@@ -371,22 +342,13 @@ def train_dense(cores: list[np.ndarray], order: Any) -> np.ndarray:
     return out[..., 0].transpose(np.argsort(order))
 
 
-def _entry(kind: str) -> dict[str, Any]:
-    table = capillary_table()
-    if table is None or kind not in table:
-        raise ValidityError("calibrated-capillary", f"no {kind} coefficient table generated "
-                            "(python -m wetcontact.generate calibrated-capillary)",
-                            "meniscus")
-    return table[kind]
-
-
-def rupture_star(kind: str, v: np.ndarray, theta: np.ndarray,
-                 ratio: np.ndarray | None = None, theta_wall: np.ndarray | None = None
-                 ) -> np.ndarray:
-    """Rupture distance S_c/R_s (``theta_wall``: the wall's own angle, see
-    :func:`force_star`; in double precision whatever its ``precision``)."""
-    v = np.asarray(v, dtype=float)
-    return force_star(kind, v, theta, np.zeros(v.shape), ratio, theta_wall=theta_wall)[1]
+def train_shape(train: dict[str, Any]) -> tuple[int, ...]:
+    """The dense table's shape of a tensor train (:func:`train_sum`), in the table's axis
+    order: core k carries axis ``order[k]``, its middle size that axis's length."""
+    n = [0] * len(train["order"])
+    for g, ax in zip(train["cores"], train["order"], strict=True):
+        n[ax] = int(g.shape[1])
+    return tuple(n)
 
 
 def reduced_star(kind: str, ratio: np.ndarray | None) -> np.ndarray | float:
@@ -394,13 +356,16 @@ def reduced_star(kind: str, ratio: np.ndarray | None) -> np.ndarray | float:
     return 1.0 if kind in ("sphere-wall", WALL_TWO_ANGLES) else ratio / (1.0 + ratio)
 
 
-def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
-               ratio: np.ndarray | None = None, chunk: int | None = None,
-               entry: dict[str, Any] | None = None, theta_wall: np.ndarray | None = None,
-               precision: str = "mixed") -> tuple[np.ndarray, np.ndarray]:
+def table_star(lookup: Callable[[str], dict[str, Any]], kind: str, v: np.ndarray,
+               theta: np.ndarray, s: np.ndarray, ratio: np.ndarray | None = None,
+               chunk: int | None = None, entry: dict[str, Any] | None = None,
+               theta_wall: np.ndarray | None = None, precision: str = "mixed"
+               ) -> tuple[np.ndarray, np.ndarray]:
     """Attractive force ``F/(2 pi sigma R_s)`` at gap ``s = S/R_s`` (0 at and beyond
     rupture) and the rupture distance ``S_c/R_s``, in one pass (the Chebyshev rows of
-    (w,) a, b serve both tables).
+    (w,) a, b serve both tables), from the tables ``lookup(kind)`` returns (the package's
+    :func:`~wetcontact.reduced_models.calibrated_capillary.shipped.force_star` looks up its
+    shipped table; the exported numpy module, its own copy).
 
     Each point is evaluated in the theta piece that contains it: between equal spheres the
     rupture distance has a kink where the branch's end changes from a fold to a
@@ -408,7 +373,7 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
     carry two tables, below and above that angle (``theta_split``). The force exponent is
     the rank-r sum :func:`low_rank_rows` (cost ``r (P_left + P_right)`` multiply-adds a
     point), or, for a piece that carries them (the two-angle tables'), its tensor trains
-    (:func:`train_sum`). ``entry``: one kind's table (default: the shipped one).
+    (:func:`train_sum`). ``entry``: one kind's table (default: ``lookup(kind)``).
 
     On a wall, ``theta_wall`` (rad) gives the wall its own angle (``theta`` is then the
     sphere's): points whose two angles differ by more than :data:`ANGLE_TOL` are evaluated
@@ -420,10 +385,8 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
 
     ``precision`` (:data:`PRECISIONS`): ``"mixed"`` sums the force's tensor train in single
     precision (everything else, S_c and the result included, in double); ``"double"`` sums
-    every table in double precision."""
-    if precision not in PRECISIONS:
-        raise InputError(f"calibrated-capillary: precision = {precision!r}; allowed: "
-                         + ", ".join(PRECISIONS))
+    every table in double precision (any other value counts as ``"double"``: the caller
+    checks it)."""
     v, theta, s = np.broadcast_arrays(np.asarray(v, float), np.asarray(theta, float),
                                       np.asarray(s, float))
     shape = v.shape
@@ -436,12 +399,13 @@ def force_star(kind: str, v: np.ndarray, theta: np.ndarray, s: np.ndarray,
         f, s_c = np.empty(v.size), np.empty(v.size)
         for mask, k in ((~two, kind), (two, TWO_ANGLE_TABLES[kind])):
             if mask.any():
-                f[mask], s_c[mask] = force_star(
-                    k, v[mask], theta[mask], s[mask], None if ratio is None else ratio[mask],
-                    chunk=chunk, entry=entry if k == kind else None,
+                f[mask], s_c[mask] = table_star(
+                    lookup, k, v[mask], theta[mask], s[mask],
+                    None if ratio is None else ratio[mask], chunk=chunk,
+                    entry=entry if k == kind else None,
                     theta_wall=None if k == kind else tw[mask], precision=precision)
         return f.reshape(shape), s_c.reshape(shape)
-    e = _entry(kind) if entry is None else entry
+    e = lookup(kind) if entry is None else entry
     a = volume_coordinate(v)
     rho = np.broadcast_to(np.asarray(reduced_star(kind, ratio), dtype=float), (v.size,))
     dtype = np.float32 if precision == "mixed" else np.float64  # the trains' (_piece)
@@ -499,13 +463,16 @@ def _piece(piece: dict[str, Any], lo: np.ndarray, hi: np.ndarray, idx: np.ndarra
     included, in double precision)."""
     f, s_c = np.empty(idx.size), np.empty(idx.size)
     rup_train, force_train = (piece.get(n) for n in TRAIN_FIELDS)
-    rup = np.asarray(piece["rupture"])
-    left, right = np.asarray(piece["force_left"]), np.asarray(piece["force_right"])
-    dims = (*left.shape[:-1], *right.shape[1:])  # the force table's axes
-    k = left.ndim - 1
-    rup2 = rup.reshape(-1, rup.shape[-1]).T
-    if force_train is None:
+    if force_train is None:  # the low-rank factors
+        left, right = np.asarray(piece["force_left"]), np.asarray(piece["force_right"])
+        dims = (*left.shape[:-1], *right.shape[1:])  # the force table's axes
+        k = left.ndim - 1
         left_d, right_d = left.astype(dtype, copy=False), right.astype(dtype, copy=False)
+    else:
+        dims = train_shape(force_train)
+    if rup_train is None:
+        rup = np.asarray(piece["rupture"])
+        rup2 = rup.reshape(-1, rup.shape[-1]).T
     if chunk is None:
         chunk = 16 * TRAIN_CHUNK if force_train is not None else piece_chunk(dims, k)
     for j in range(0, idx.size, chunk):

@@ -1,6 +1,6 @@
 """The registered ``calibrated-capillary`` model (:class:`CalibratedCapillary`): it checks
 a scene against the closure's domain, evaluates
-:func:`~wetcontact.reduced_models.calibrated_capillary.kernel.force_star` and bounds its error.
+:func:`~wetcontact.reduced_models.calibrated_capillary.shipped.force_star` and bounds its error.
 
 The error bound is the sampled bound tables' (:mod:`wetcontact.reduced_models.bounds`),
 floored where they cannot be trusted to have found the worst
@@ -44,7 +44,7 @@ from wetcontact.reduced_models.calibrated_capillary.coordinates import (
     V_RANGE,
     WALL_TWO_ANGLES,
 )
-from wetcontact.reduced_models.calibrated_capillary.kernel import (
+from wetcontact.reduced_models.calibrated_capillary.shipped import (
     _entry,
     force_star,
     ridge_deg,
