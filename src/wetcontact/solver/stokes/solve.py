@@ -169,7 +169,7 @@ def solve_stokes(mesh: MeshTri2, sphere_velocity: dict[str, float], intorder: in
     if slip:
         pinned = pinned_dofs(bu, names, slip)
         for name, b in slip.items():
-            fb = _facet_basis(mesh, eu, name, intorder)
+            fb = facet_basis(mesh, eu, name, intorder)
             Mb = navier_slip_form.assemble(fb, friction=1.0 / b)
             ub = np.zeros(nu)
             ub[dofs(name, "u^2")] = velocity.get(name, 0.0)
@@ -260,7 +260,7 @@ def solve_stokes(mesh: MeshTri2, sphere_velocity: dict[str, float], intorder: in
         # pressure constant: the free surface does no net work, int u_n sigma_nn r ds = 0
         # (then the reaction and the traction integral equal the dissipation force; see
         # the module docstring); the pin at the contact line only removed the null space
-        ffb = _facet_basis(mesh, eu, "free_surface", intorder)
+        ffb = facet_basis(mesh, eu, "free_surface", intorder)
         ffp = ffb.with_element(ElementTriP1())
         uf, pf = ffb.interpolate(x[:nu]), ffp.interpolate(x[nu:])
         work = float(surface_work.assemble(ffb, u=uf, p=pf))
@@ -285,7 +285,7 @@ def solve_stokes(mesh: MeshTri2, sphere_velocity: dict[str, float], intorder: in
     v_s = sphere_velocity["sphere"]
     movers = sum(1 for vel in sphere_velocity.values() if vel)
     f_diss = -diss / v_s / movers if v_s else float("nan")
-    fb = _facet_basis(mesh, eu, "sphere", intorder)
+    fb = facet_basis(mesh, eu, "sphere", intorder)
     fbp = fb.with_element(ElementTriP1())
     f_trac = 2.0 * math.pi * float(traction_z.assemble(fb, u=fb.interpolate(u),
                                                         p=fbp.interpolate(p)))
@@ -312,7 +312,7 @@ class _Isoparametric(MappingIsoparametric):
                             newton_tol=newton_tol)
 
 
-def _facet_basis(mesh: MeshTri2, elem: Any, name: str, intorder: int) -> FacetBasis:
+def facet_basis(mesh: MeshTri2, elem: Any, name: str, intorder: int) -> FacetBasis:
     """Facet basis on the named boundary (with the tolerant mapping)."""
     mapping = _Isoparametric(mesh, mesh.elem(), mesh.bndelem)
     return FacetBasis(mesh, elem, mapping=mapping, facets=mesh.boundaries[name],

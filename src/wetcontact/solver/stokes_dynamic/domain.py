@@ -1,0 +1,375 @@
+"""The moving liquid domain of a sphere-wall bridge: an ALE mesh of second-order triangles.
+
+Units R = 1 (sphere radius). The sphere's centre is at ``(0, 1 + S)``, the wall is z = 0.
+The boundary is four named chains of P2 edges (:func:`chain`): ``free_surface`` from the
+wall's contact line to the sphere's, ``sphere`` from its apex on the axis to its contact
+line, ``wall`` from the origin to its contact line, ``axis`` from the origin to the apex.
+
+The state of the bridge is the free surface alone (Stokes flow has no memory): every other
+node follows it. Solid nodes keep their reference fractions of the wetted arc (wall: r/r_w;
+sphere: angle from the apex over the filling angle; axis: z/S), on the exact solids;
+interior nodes follow by a harmonic extension of the boundary displacement from the
+reference mesh, stiffened by 1/area so that the small contact-line elements move rigidly
+(Johnson & Tezduyar 1994). The extension matrix is factorised once per reference mesh.
+
+Volume (the meniscus solver's definition, exact solids): ``V = pi int_Gamma r^2 dz -
+V_cap(phi)``, ``V_cap = pi (1 - cos phi)^2 (2 + cos phi)/3`` the sphere cap below the
+contact line, evaluated exactly on the P2 free surface (3-point Gauss, the integrand is a
+polynomial of degree 5).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse.linalg as spla
+from scipy.interpolate import CubicSpline
+from skfem import Basis, BilinearForm, ElementTriP2, MeshTri2
+from skfem.helpers import dot, grad
+
+from wetcontact.errors import SolverError
+from wetcontact.meshes.builders import Resolution, sphere_bridge
+from wetcontact.meshes.io import to_skfem
+
+STIFFENING = 1.0
+"""Exponent chi of the mesh-motion stiffening (A_max/A)^chi."""
+
+_GX, _GW = np.polynomial.legendre.leggauss(3)
+GAUSS3 = (0.5 * (_GX + 1.0), 0.5 * _GW)
+"""3-point Gauss rule on [0, 1] (exact to degree 5)."""
+
+
+def p2_shape(xi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """P2 shape functions on [0, 1] with nodes (start, end, middle) and their derivatives,
+    each of shape (3, len(xi))."""
+    xi = np.asarray(xi, dtype=float)
+    n = np.stack([(1 - xi) * (1 - 2 * xi), xi * (2 * xi - 1), 4 * xi * (1 - xi)])
+    dn = np.stack([4 * xi - 3, 4 * xi - 1, 4 - 8 * xi])
+    return n, dn
+
+
+def chain(mesh: MeshTri2, name: str, start: int) -> np.ndarray:
+    """Nodes of the boundary ``name`` in order from its end vertex ``start``: vertex,
+    mid-edge node, vertex, ... (2N + 1 node indices; a mid-edge node of facet f is
+    ``nvertices + f``, the order of ``mesh.doflocs``)."""
+    facets = mesh.boundaries[name]
+    ends = mesh.facets[:, facets]
+    nxt: dict[int, list[tuple[int, int]]] = {}
+    for k in range(facets.size):
+        a, b = int(ends[0, k]), int(ends[1, k])
+        nxt.setdefault(a, []).append((b, int(facets[k])))
+        nxt.setdefault(b, []).append((a, int(facets[k])))
+    if start not in nxt or len(nxt[start]) != 1:
+        raise SolverError(f"boundary '{name}': vertex {start} is not one of its ends")
+    out, prev, cur = [start], -1, start
+    for _ in range(facets.size):
+        (b, f), = [(b, f) for b, f in nxt[cur] if f != prev]
+        out += [mesh.nvertices + f, b]
+        prev, cur = f, b
+    if len(out) != 2 * facets.size + 1:
+        raise SolverError(f"boundary '{name}' is not one open chain")
+    return np.array(out, dtype=np.int64)
+
+
+def edges_of(nodes: np.ndarray) -> np.ndarray:
+    """(N, 3) edges (start, end, middle) of a chain of 2N + 1 nodes."""
+    return np.column_stack([nodes[0:-1:2], nodes[2::2], nodes[1::2]])
+
+
+def sphere_angle(xy: np.ndarray, gap: float) -> np.ndarray:
+    """Angle from the sphere's apex of points (2, n) on (or near) the sphere."""
+    return np.arctan2(xy[0], 1.0 + gap - xy[1])
+
+
+def on_sphere(angle: np.ndarray, gap: float) -> np.ndarray:
+    """Points (2, n) of the sphere at ``angle`` from its apex."""
+    return np.stack([np.sin(angle), 1.0 + gap - np.cos(angle)])
+
+
+def cap_volume(phi: float) -> float:
+    """Volume of the unit sphere's cap of half-angle phi."""
+    c = math.cos(phi)
+    return math.pi * (1 - c) ** 2 * (2 + c) / 3.0
+
+
+def surface_volume(xs: np.ndarray, gap: float) -> float:
+    """Liquid volume under the free surface ``xs`` (2, 2N + 1) (module docstring)."""
+    n, dn = p2_shape(GAUSS3[0])
+    e = np.stack([xs[:, 0:-1:2], xs[:, 2::2], xs[:, 1::2]], axis=1)  # (2, 3, N)
+    r = np.einsum("kq,kn->nq", n, e[0])
+    dz = np.einsum("kq,kn->nq", dn, e[1])
+    v = math.pi * float(np.sum(r * r * dz * GAUSS3[1]))
+    return v - cap_volume(float(sphere_angle(xs[:, -1:], gap)[0]))
+
+
+def surface_normals(xs: np.ndarray) -> np.ndarray:
+    """Outward unit normals (2, 2N + 1) at the nodes of a free-surface chain (vertices: the
+    mean of the two edges' tangents; the tangent runs from the wall to the sphere and the
+    liquid is on the axis side, so n = (t_z, -t_r))."""
+    t = np.zeros_like(xs)
+    e = np.stack([xs[:, 0:-1:2], xs[:, 2::2], xs[:, 1::2]], axis=1)
+    _, d0 = p2_shape(np.array([0.0, 0.5, 1.0]))
+    tang = np.einsum("kq,ckn->cnq", d0, e)  # (2, N, 3)
+    t[:, 1::2] = tang[:, :, 1]
+    t[:, 0:-1:2] += tang[:, :, 0]
+    t[:, 2::2] += tang[:, :, 2]
+    t /= np.hypot(t[0], t[1])
+    return np.stack([t[1], -t[0]])
+
+
+def neck(xs: np.ndarray) -> tuple[float, float]:
+    """(radius, height) of the narrowest point of the P2 free surface (minimum of r along
+    each quadratic edge)."""
+    e = np.stack([xs[:, 0:-1:2], xs[:, 2::2], xs[:, 1::2]], axis=1)  # (2, 3, N)
+    # r(xi) = a + b xi + c xi^2 from the node values at 0, 1, 1/2
+    r0, r1, rm = e[0]
+    b, c = 4 * rm - 3 * r0 - r1, 2 * r0 + 2 * r1 - 4 * rm
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xs_ = np.where(c > 0, np.clip(-b / (2 * c), 0.0, 1.0), 0.0)
+    best_r, best_z = math.inf, 0.0
+    for xi in (xs_, np.zeros_like(r0), np.ones_like(r0)):
+        n, _ = p2_shape(xi)
+        rr = np.sum(n * e[0], axis=0)
+        k = int(np.argmin(rr))
+        if rr[k] < best_r:
+            best_r, best_z = float(rr[k]), float(np.sum(n[:, k] * e[1][:, k]))
+    return best_r, best_z
+
+
+def redistribute(xs: np.ndarray, fractions: np.ndarray) -> np.ndarray:
+    """Nodes moved along the curve through ``xs`` (a cubic spline in chord length) to the
+    given fractions of its chord length; the ends stay where they are."""
+    s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xs, axis=1)))])
+    sr, sz = CubicSpline(s, xs[0]), CubicSpline(s, xs[1])
+    t = fractions * s[-1]
+    out = np.stack([sr(t), sz(t)])
+    out[:, 0], out[:, -1] = xs[:, 0], xs[:, -1]
+    return out
+
+
+def profile_of(xs: np.ndarray, n: int = 801) -> np.ndarray:
+    """The free surface resampled at ``n`` points uniform in chord length, shape (n, 2)."""
+    return redistribute(xs, np.linspace(0.0, 1.0, n)).T
+
+
+def correct_volume(xs: np.ndarray, gap: float, volume: float, tol: float = 1e-13,
+                   ) -> tuple[np.ndarray, float]:
+    """Shift the free-surface nodes along their normals by ``d sin(pi f)`` (f the chord
+    fraction; the contact lines stay on their solids and the surface keeps its angles there)
+    with the one d that makes the volume ``volume`` (secant iteration; V is a cubic in d).
+    Returns the surface and d.
+    """
+    s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xs, axis=1)))])
+    n = surface_normals(xs) * np.sin(math.pi * s / s[-1])
+    n[:, 0] = n[:, -1] = 0.0
+
+    def vol(d: float) -> float:
+        return surface_volume(xs + d * n, gap) - volume
+
+    area = 2 * math.pi * float(np.sum(xs[0] * np.hypot(*np.gradient(xs, axis=1))
+                                      * np.hypot(n[0], n[1])))
+    d0, f0 = 0.0, vol(0.0)
+    d1 = -f0 / area
+    for _ in range(30):
+        f1 = vol(d1)
+        if abs(f1) <= tol * volume or f1 == f0:
+            break
+        d0, d1, f0 = d1, d1 - f1 * (d1 - d0) / (f1 - f0), f1
+    else:
+        raise SolverError(f"volume correction did not converge ({f1 / volume:.2e} relative)")
+    return xs + d1 * n, d1
+
+
+# ---- element shape ------------------------------------------------------------------
+
+_SAMPLE = np.array([[0, 0], [1, 0], [0, 1], [0.5, 0], [0.5, 0.5], [0, 0.5], [1 / 3, 1 / 3]],
+                   dtype=float)
+
+
+def _p2_det(mesh: MeshTri2, x: np.ndarray) -> np.ndarray:
+    """Jacobian determinant (n_elements, 7) of the isoparametric map with nodes ``x`` at
+    the vertices, edge midpoints and centroid of the reference triangle."""
+    t, t2f, nv = mesh.t, mesh.t2f, mesh.nvertices
+    nodes = np.vstack([t, nv + t2f])  # local order: v0, v1, v2, e01, e12, e02
+    xe = x[:, nodes]  # (2, 6, nel)
+    lam = np.stack([1 - _SAMPLE[:, 0] - _SAMPLE[:, 1], _SAMPLE[:, 0], _SAMPLE[:, 1]])
+    dl = np.array([[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]])  # d lambda_i / d(xi, eta)
+    dN = np.zeros((6, 2, _SAMPLE.shape[0]))
+    for i in range(3):
+        dN[i] = np.outer(dl[i], 4 * lam[i] - 1)
+    for k, (a, b) in enumerate(((0, 1), (1, 2), (0, 2))):
+        dN[3 + k] = 4 * (np.outer(dl[a], lam[b]) + np.outer(dl[b], lam[a]))
+    J = np.einsum("cke,kdq->cdeq", xe, dN)  # (2, 2, nel, nq)
+    return J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0]
+
+
+def element_quality(mesh: MeshTri2, x: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Per element: the vertex triangle's shape ``4 sqrt(3) A / sum l^2`` (1 equilateral, 0
+    degenerate) and the curvature ratio ``min det J / (2 A)`` of the P2 map (1 for straight
+    edges; <= 0 an inverted element)."""
+    x = mesh.doflocs if x is None else x
+    a, b, c = (x[:, mesh.t[i]] for i in range(3))
+    area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+    l2 = sum(np.sum((p - q) ** 2, axis=0) for p, q in ((a, b), (b, c), (c, a)))
+    shape = 4 * math.sqrt(3) * area / l2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        curv = np.min(_p2_det(mesh, x), axis=1) / (2 * area)
+    return shape, np.where(area > 0, curv, -1.0)
+
+
+# ---- the domain -----------------------------------------------------------------------
+
+
+@BilinearForm
+def _stiffened_laplace(u, v, w):
+    return w["k"] * dot(grad(u), grad(v))
+
+
+@dataclass(frozen=True)
+class MeshOptions:
+    """Element sizes of a bridge mesh (units R).
+
+    Attributes
+    ----------
+    h_surface
+        Size on the free surface and in the bulk away from the contact lines; capped at
+        ``neck_radius / n_neck`` at every (re)meshing.
+    contact_size
+        Size at the two contact lines (resolves the slip length).
+    growth
+        Size growth with the distance from a contact line.
+    n_gap
+        Elements across the gap along the axis.
+    n_neck
+        Elements across the neck radius (at least).
+    """
+
+    h_surface: float = 0.01
+    contact_size: float = 1e-3
+    growth: float = 0.15
+    n_gap: int = 4
+    n_neck: int = 8
+
+    def resolution(self, neck_radius: float) -> tuple[Resolution, float]:
+        """The builder's :class:`~wetcontact.meshes.builders.Resolution` and contact size."""
+        h = min(self.h_surface, neck_radius / self.n_neck)
+        return (Resolution(n_gap=self.n_gap, h_sphere=max(h, 1e-4), growth=self.growth,
+                           far=1e3), min(self.contact_size, h))
+
+
+@dataclass
+class Domain:
+    """A bridge mesh with its boundary chains and the map from a free surface to the nodes.
+
+    Attributes
+    ----------
+    mesh
+        The current mesh (``doflocs`` moved, connectivity and boundaries of the reference).
+    gap
+        S/R of the current mesh.
+    surface, sphere, wall, axis
+        Node chains (:func:`chain`).
+    reference
+        Node positions (2, n) of the reference mesh (the last one gmsh made).
+    fractions
+        Per chain, the reference fraction of each node (free surface: chord length; wall:
+        r/r_w; sphere: angle/filling angle; axis: z/S).
+    """
+
+    mesh: MeshTri2
+    gap: float
+    surface: np.ndarray
+    sphere: np.ndarray
+    wall: np.ndarray
+    axis: np.ndarray
+    reference: np.ndarray
+    fractions: dict[str, np.ndarray]
+    quality0: tuple[np.ndarray, np.ndarray]
+    _extension: tuple = field(repr=False, default=())
+
+    @classmethod
+    def from_profile(cls, gap: float, profile: np.ndarray, opts: MeshOptions) -> Domain:
+        """Mesh the bridge whose free surface is ``profile`` (n, 2), from the wall's contact
+        line (z = 0) to a point of the sphere, by gmsh (:func:`~wetcontact.meshes.builders.
+        sphere_bridge`)."""
+        prof = np.asarray(profile, dtype=float)
+        res, cs = opts.resolution(neck(prof.T)[0])
+        mesh = to_skfem(sphere_bridge(gap, prof, res, contact_size=cs))
+        return cls.on_mesh(mesh, gap)
+
+    @classmethod
+    def on_mesh(cls, mesh: MeshTri2, gap: float) -> Domain:
+        x = mesh.doflocs
+        fs = mesh.facets[:, mesh.boundaries["free_surface"]]
+        ends = [v for v in np.unique(fs) if np.count_nonzero(fs == v) == 1]
+        low = min(ends, key=lambda v: x[1, v])
+        high = max(ends, key=lambda v: x[1, v])
+        ax = mesh.facets[:, mesh.boundaries["axis"]]
+        ax_ends = [v for v in np.unique(ax) if np.count_nonzero(ax == v) == 1]
+        origin = min(ax_ends, key=lambda v: x[1, v])
+        apex = max(ax_ends, key=lambda v: x[1, v])
+        surface = chain(mesh, "free_surface", int(low))
+        sphere = chain(mesh, "sphere", int(apex))
+        wall = chain(mesh, "wall", int(origin))
+        axis = chain(mesh, "axis", int(origin))
+        if sphere[-1] != high or wall[-1] != low or axis[-1] != apex:
+            raise SolverError("bridge mesh: the boundary chains do not meet at the contact "
+                              "lines and the axis")
+        xs = x[:, surface]
+        s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xs, axis=1)))])
+        ang = sphere_angle(x[:, sphere], gap)
+        frac = {"surface": s / s[-1], "sphere": ang / ang[-1],
+                "wall": x[0, wall] / x[0, wall[-1]], "axis": x[1, axis] / gap}
+        dom = cls(mesh=mesh, gap=gap, surface=surface, sphere=sphere, wall=wall, axis=axis,
+                  reference=x.copy(), fractions=frac, quality0=element_quality(mesh))
+        dom._extension = dom._factor()
+        return dom
+
+    def _factor(self) -> tuple:
+        """Factorised interior block of the stiffened Laplacian, and the boundary block."""
+        m = self.mesh
+        basis = Basis(m, ElementTriP2(), intorder=2)
+        a, b, c = (m.p[:, m.t[i]] for i in range(3))
+        area = 0.5 * np.abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+        k = np.repeat(((area.max() / area) ** STIFFENING)[:, None], basis.X.shape[1], axis=1)
+        K = _stiffened_laplace.assemble(basis, k=k).tocsr()
+        bnd = np.unique(np.concatenate([self.surface, self.sphere, self.wall, self.axis]))
+        inner = np.setdiff1d(np.arange(K.shape[0]), bnd)
+        lu = spla.splu(K[inner][:, inner].tocsc())
+        return inner, bnd, lu, K[inner][:, bnd].tocsr()
+
+    @property
+    def surface_xy(self) -> np.ndarray:
+        """Free-surface nodes (2, 2N + 1), wall to sphere."""
+        return self.mesh.doflocs[:, self.surface]
+
+    def volume(self) -> float:
+        return surface_volume(self.surface_xy, self.gap)
+
+    def neck(self) -> tuple[float, float]:
+        return neck(self.surface_xy)
+
+    def moved(self, xs: np.ndarray, gap: float) -> Domain:
+        """The domain with free surface ``xs`` (its ends on the wall and on the sphere at
+        ``gap``), the other nodes placed by the rules of the module docstring."""
+        x = self.reference.copy()
+        f = self.fractions
+        x[:, self.surface] = xs
+        x[0, self.wall], x[1, self.wall] = f["wall"] * xs[0, 0], 0.0
+        x[0, self.axis], x[1, self.axis] = 0.0, f["axis"] * gap
+        phi = float(sphere_angle(xs[:, -1:], gap)[0])
+        x[:, self.sphere] = on_sphere(f["sphere"] * phi, gap)
+        inner, bnd, lu, Kib = self._extension
+        d = x[:, bnd] - self.reference[:, bnd]
+        for c in range(2):
+            x[c, inner] = self.reference[c, inner] - lu.solve(Kib @ d[c])
+        mesh = dataclasses.replace(self.mesh, doflocs=x)
+        return dataclasses.replace(self, mesh=mesh, gap=gap)
+
+    def quality(self) -> tuple[float, float]:
+        """(min shape ratio to the reference mesh's, min curvature ratio) over the elements."""
+        shape, curv = element_quality(self.mesh)
+        return float(np.min(shape / self.quality0[0])), float(np.min(curv))

@@ -1,0 +1,190 @@
+r"""One time step of the free-surface Stokes problem on the current mesh (units R = sigma =
+eta = 1: velocity sigma/eta, time eta R/sigma, stress sigma/R, force sigma R).
+
+Find (u, p) on the domain Omega^n of time t_n with
+
+.. math::
+    a(u, w) + f_b(u - U, w) + \Delta t\, l(u, w) - b(w, p) = -l(x^n, w)
+        + \cos\theta_w\, r_w\, w_r + \cos\theta_s\, r_s\, \tau_s \cdot w,
+    \qquad b(u, q) = 0,
+
+``a``, ``b`` the axisymmetric viscous and divergence forms (hoop term included;
+:mod:`wetcontact.solver.stokes.forms`, 2 pi dropped), ``f_b`` Navier's slip friction
+``int (1/b) (u - U)_t w_t r ds`` on the sphere (U its velocity) and on the wall, and the
+surface-tension form (the weak Laplace-Beltrami operator with its hoop term)
+
+.. math::
+    l(v, w) = \int_\Gamma \left(\partial_s v \cdot \partial_s w
+        + \frac{v_r w_r}{r^2}\right) r\, ds,\qquad
+    l(x, w) = \int_\Gamma (t \cdot \partial_s w + w_r / r)\, r\, ds,
+
+the first variation of the area ``dA[w]``. Its evaluation at the new position
+``x^n + dt u`` is Baensch's (2001) semi-implicit curvature, which removes the capillary
+time-step limit. The right-hand side is ``-dE[w]`` of the free energy
+``E = sigma (A - cos theta_w A_wall - cos theta_s A_sphere)``: the contact angles are the
+natural conditions at the lines, where the nodes slide along their solids (normal velocity
+the solid's, imposed in a rotated frame). Axis: u_r = 0; wall: u_z = 0; sphere:
+``u . n = U . n``. The pressure level is set by the free surface (no pin).
+
+Force on the sphere (positive pushing the solids apart): the reaction of the discrete
+system to the test function ``w = e_z`` on the sphere's nodes, ``F = -2 pi [a(u, w) - b(w,
+p) + l(x^n + dt u, w)]``: the liquid's traction plus the interface's pull at the contact
+line (the Young force is internal to the solid and does not enter).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+from skfem import Basis, ElementTriP1, ElementTriP2, ElementVector
+
+from wetcontact.errors import SolverError
+from wetcontact.solver.stokes import (
+    divergence_form,
+    facet_basis,
+    navier_slip_form,
+    viscous_form,
+)
+from wetcontact.solver.stokes_dynamic.domain import Domain, edges_of, p2_shape, sphere_angle
+
+_GX, _GW = np.polynomial.legendre.leggauss(5)
+GAUSS5 = (0.5 * (_GX + 1.0), 0.5 * _GW)
+"""5-point Gauss rule on [0, 1] for the (rational) surface integrands."""
+
+
+@dataclass(frozen=True)
+class Wetting:
+    """Contact angles (rad) and Navier slip lengths (units R) of the sphere and the wall."""
+
+    theta_sphere: float
+    theta_wall: float
+    slip_sphere: float
+    slip_wall: float
+
+    def __post_init__(self) -> None:
+        for name in ("theta_sphere", "theta_wall"):
+            th = getattr(self, name)
+            if not (math.isfinite(th) and 0.0 < th < math.pi):
+                raise SolverError(f"stokes-dynamic: {name} = {th!r} rad; allowed: (0, pi)")
+        for name in ("slip_sphere", "slip_wall"):
+            b = getattr(self, name)
+            if not (math.isfinite(b) and b > 0):
+                raise SolverError(f"stokes-dynamic: {name} = {b!r} R; allowed: finite > 0")
+
+
+@dataclass
+class StepSolution:
+    """Velocity (interleaved P2, per mesh node) and pressure (P1) of one step, and the force.
+
+    ``force`` is on the sphere, ``force_wall`` on the wall (their sum vanishes in Stokes
+    flow: a check), units sigma R.
+    """
+
+    u: np.ndarray
+    p: np.ndarray
+    force: float
+    force_wall: float
+    ndofs: int
+    timings: dict[str, float] = field(default_factory=dict)
+
+    def velocity(self, nodes: np.ndarray) -> np.ndarray:
+        """Velocity (2, n) at mesh nodes."""
+        return np.stack([self.u[2 * nodes], self.u[2 * nodes + 1]])
+
+
+def surface_tension_matrix(domain: Domain, n: int) -> sp.csr_matrix:
+    """The surface form ``l(v, w)`` on the interleaved P2 velocity dofs (size n)."""
+    x = domain.mesh.doflocs
+    e = edges_of(domain.surface)  # (N, 3): start, end, middle
+    N, dN = p2_shape(GAUSS5[0])  # (3, q)
+    xe = x[:, e]  # (2, N, 3)
+    dx = np.einsum("cek,kq->ceq", xe, dN)  # dx/dxi (2, N, q)
+    jac = np.hypot(dx[0], dx[1])  # ds/dxi
+    r = np.einsum("ek,kq->eq", xe[0], N)
+    if np.any(r <= 0):
+        raise SolverError("free surface touches the axis: the bridge has pinched off")
+    wq = GAUSS5[1]
+    # tangential part, the same for both components: int N_k' N_l' / J^2 r J dxi
+    ss = np.einsum("kq,lq,eq->ekl", dN, dN, wq * r / jac)
+    hoop = np.einsum("kq,lq,eq->ekl", N, N, wq * jac / r)
+    rows, cols, vals = [], [], []
+    for c in (0, 1):
+        blk = ss + hoop if c == 0 else ss
+        dof = 2 * e + c
+        rows.append(np.repeat(dof[:, :, None], 3, axis=2).ravel())
+        cols.append(np.repeat(dof[:, None, :], 3, axis=1).ravel())
+        vals.append(blk.ravel())
+    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                         shape=(n, n))
+
+
+def solve_step(domain: Domain, dt: float, speed: float, wet: Wetting,
+               intorder: int = 4) -> StepSolution:
+    """Solve the step's Stokes problem (module docstring) with the sphere moving at
+    ``speed`` = dS/dt (units sigma/eta; > 0 separating)."""
+    t0 = time.perf_counter()
+    mesh = domain.mesh
+    eu = ElementVector(ElementTriP2())
+    bu = Basis(mesh, eu, intorder=intorder)
+    bp = Basis(mesh, ElementTriP1(), intorder=intorder)
+    A = viscous_form.assemble(bu)
+    B = divergence_form.assemble(bu, bp)
+    nu, npr = A.shape[0], B.shape[0]
+    L = surface_tension_matrix(domain, nu)
+    x = mesh.doflocs
+    X = x.T.ravel()  # interleaved positions (r0, z0, r1, z1, ...)
+    sph, wall, axis = domain.sphere, domain.wall, domain.axis
+    # slip friction on both solids; the sphere's moves at (0, speed)
+    Ms = navier_slip_form.assemble(facet_basis(mesh, eu, "sphere", intorder),
+                                   friction=1.0 / wet.slip_sphere)
+    Mw = navier_slip_form.assemble(facet_basis(mesh, eu, "wall", intorder),
+                                   friction=1.0 / wet.slip_wall)
+    ub = np.zeros(nu)
+    ub[2 * sph + 1] = speed
+    f = Ms @ ub - L @ X
+    # contact lines: -dE of the wetted areas, cos(theta) r tau (tau out of the wetted zone)
+    jw, js = domain.surface[0], domain.surface[-1]
+    f[2 * jw] += math.cos(wet.theta_wall) * x[0, jw]
+    phi = float(sphere_angle(x[:, [js]], domain.gap)[0])
+    f[2 * js] += math.cos(wet.theta_sphere) * x[0, js] * math.cos(phi)
+    f[2 * js + 1] += math.cos(wet.theta_sphere) * x[0, js] * math.sin(phi)
+    K = sp.bmat([[A + Ms + Mw + dt * L, -B.T], [-B, None]], format="csr")
+    rhs = np.concatenate([f, np.zeros(npr)])
+    # constraints: axis u_r = 0, wall u_z = 0, sphere u.n = U.n in a rotated frame
+    sol = np.zeros(nu + npr)
+    apex = axis[-1]
+    rot = sph[sph != apex]
+    c = np.array([0.0, 1.0 + domain.gap])[:, None]
+    nr, nz = (x[:, rot] - c) / np.hypot(*(x[:, rot] - c))
+    ir, iz = 2 * rot, 2 * rot + 1
+    other = np.setdiff1d(np.arange(nu + npr), np.concatenate([ir, iz]))
+    T = sp.csr_matrix((np.concatenate([nr, -nz, nz, nr, np.ones(other.size)]),
+                       (np.concatenate([ir, ir, iz, iz, other]),
+                        np.concatenate([ir, iz, ir, iz, other]))), shape=K.shape)
+    sol[ir] = speed * nz  # dof ir carries u_n, iz the tangential velocity
+    sol[2 * apex + 1] = speed
+    fixed = np.unique(np.concatenate([2 * axis, 2 * wall + 1, ir, [2 * apex + 1]]))
+    free = np.setdiff1d(np.arange(nu + npr), fixed, assume_unique=True)
+    Kt = (T.T @ K @ T).tocsr()
+    rt = T.T @ rhs
+    t1 = time.perf_counter()
+    try:
+        sol[free] = spla.spsolve(Kt[free][:, free].tocsc(), rt[free] - Kt[free][:, fixed]
+                                 @ sol[fixed], permc_spec="COLAMD")
+    except RuntimeError as exc:
+        raise SolverError(f"stokes-dynamic: linear solve failed: {exc}") from exc
+    sol = T @ sol
+    if not np.all(np.isfinite(sol)):
+        raise SolverError("stokes-dynamic: the linear solve returned non-finite values")
+    t2 = time.perf_counter()
+    u, p = sol[:nu], sol[nu:]
+    res = A @ u - B.T @ p + L @ (X + dt * u)
+    force = -2 * math.pi * float(res[2 * sph + 1].sum())
+    force_wall = -2 * math.pi * float(res[2 * wall + 1].sum())
+    return StepSolution(u=u, p=p, force=force, force_wall=force_wall, ndofs=nu + npr,
+                        timings={"assemble": t1 - t0, "solve": t2 - t1})
