@@ -80,7 +80,56 @@ def closure_cost(sizes: tuple[int, ...] = (1000, 10_000, 100_000)) -> dict:
         out[str(n)] = {"median_s": med, "per_point_us": 1e6 * med / n,
                        "nan_fraction": float(np.mean(np.isnan(f)))}
         print(f"closure: {n} points, {1e6 * med / n:.3f} us a point", flush=True)
+    c = c_cost()
+    if c is not None:
+        out["c_per_call_us"] = c
+        print(f"closure in C: {c:.3f} us a call", flush=True)
     return out
+
+
+C_MAIN = r"""
+int main(void)
+{
+    const int n = 200000;
+    double acc = 0.0, r2;
+    clock_t c0 = clock();
+    int i;
+    for (i = 0; i < n; ++i) {
+        r2 = (i % 4 == 0) ? INFINITY : 1e-3 * exp(2.302585092994046 * FRAC(i * 0.6180339887));
+        acc += wc_transfer_fraction(1e-3, r2, 1e-13 * exp(6.907755278982137
+                                    * FRAC(i * 0.4142135623730951)),
+                                    70.0 * FRAC(i * 0.7320508075688772),
+                                    70.0 * FRAC(i * 0.2360679774997897));
+    }
+    printf("%.6g %.17g\n", (double)(clock() - c0) / CLOCKS_PER_SEC / n, acc);
+    return 0;
+}
+"""
+
+
+def c_cost() -> float | None:
+    """Median CPU time of one ``wc_transfer_fraction`` call (us), ``cc -O2``, 2e5 calls over
+    the domain (every input varying, a quarter on a wall; NaN in the band kept), 3 runs;
+    None without a C compiler."""
+    import shutil
+    import subprocess
+    import tempfile
+
+    from wetcontact.export.transfer_fraction import c_text
+
+    cc = shutil.which("cc")
+    if cc is None:
+        return None
+    with tempfile.TemporaryDirectory() as tmp:
+        src = Path(tmp) / "tf.c"
+        src.write_text("#include <math.h>\n#include <stdio.h>\n#include <time.h>\n"
+                       "#define WC_PI 3.14159265358979323846\n"
+                       "#define FRAC(x) ((x) - floor(x))\n" + c_text() + C_MAIN)
+        exe = Path(tmp) / "tf"
+        subprocess.run([cc, "-std=c99", "-O2", "-o", str(exe), str(src), "-lm"], check=True)
+        runs = [float(subprocess.run([str(exe)], check=True, capture_output=True,
+                                     text=True).stdout.split()[0]) for _ in range(3)]
+    return 1e6 * float(np.median(runs))
 
 
 def closure_only() -> None:

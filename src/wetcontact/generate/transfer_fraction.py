@@ -49,7 +49,8 @@ THETA_TOP = 89.5
 FAST, DEFAULT = 64, 128
 """Elements of the meniscus meridian: the nodes (fast preset), the held-out reference."""
 HELD_OUT = 200
-SEED = 56
+SEED = 57
+"""Seed of the held-out points (not 56: the errors at those points placed the nodes)."""
 
 
 class Solver:

@@ -104,21 +104,22 @@ def side_distance(s: np.ndarray, d_max: np.ndarray, d_min: float) -> np.ndarray:
 
 def bary_weights(x: np.ndarray, n: int) -> np.ndarray:
     """Barycentric weights (N, n) of the Chebyshev-Lobatto interpolant at the points
-    ``x`` in [-1, 1] (a point on a node gets that node's value exactly)."""
+    ``x`` in [-1, 1] (a point on a node gets that node's value exactly; NaN gives NaN)."""
     x = np.atleast_1d(np.asarray(x, dtype=float))
     nodes = lobatto(n)
     w = np.ones(n)
     w[1::2] = -1.0
     w[0] *= 0.5
     w[-1] *= 0.5
-    diff = x[:, None] - nodes[None, :]
-    hit = diff == 0.0
     with np.errstate(divide="ignore", invalid="ignore"):
-        c = w / diff
-    if hit.any():
-        rows = hit.any(axis=1)
-        c[rows] = hit[rows].astype(float)
-    return c / c.sum(axis=1, keepdims=True)
+        c = w / (x[:, None] - nodes[None, :])
+        total = c.sum(axis=1)
+        c *= (1.0 / total)[:, None]
+    bad = ~np.isfinite(total)  # on a node (an infinite term), or NaN
+    if bad.any():
+        hit = x[bad, None] == nodes[None, :]
+        c[bad] = np.where(hit.any(axis=1, keepdims=True), hit, np.nan)
+    return c
 
 
 def tensor_eval(values: np.ndarray, weights: list[np.ndarray]) -> np.ndarray:
