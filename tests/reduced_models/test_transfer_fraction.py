@@ -3,10 +3,10 @@
 build grid), its symmetry and its domain.
 
 Tolerances: ``GOAL`` = 1e-3 absolute, issue 56's target, on the record's held-out points
-and on points drawn here (:func:`fresh_points`; a strict xfail where it is not met, so that
-meeting it shows); ``measured()``, the held-out max of the generation record, is what the closure
-states of itself, and the held-out points are re-solved here against it. Points inside the
-band at the jump answer NaN by design and are counted, not compared.
+and on points drawn here (:func:`fresh_points`); ``measured()``, the held-out max of the
+generation record, is what the closure states of itself, and the held-out points are
+re-solved here against it. Points inside the band at the jump answer NaN by design and are
+counted, not compared.
 """
 
 from __future__ import annotations
@@ -88,8 +88,6 @@ def test_goal_on_20_fresh_points():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="1.3e-3 at one of these 200 points (R_l/R_s 1.39, "
-                   "1.5 deg above the jump: the side coordinate's 7 points)")
 def test_goal_on_200_fresh_points():
     _check(fresh_points(200, seed=2057), GOAL)
 

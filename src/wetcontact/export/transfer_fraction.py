@@ -68,15 +68,19 @@ C_TEMPLATE = """
  * meniscus: max {ho_max:.2g}, mean {ho_mean:.2g}, p95 {ho_p95:.2g} ({ho_n} points, {ho_band}
  * in the band). Form: wetcontact/reduced_models/transfer_fraction.py. */
 #define WC__TF_NT {nt}
-#define WC__TF_NTJ {ntj}
 #define WC__TF_NY {ny}
-#define WC__TF_NYJ {nyj}
 #define WC__TF_NX {nx}
 #define WC__TF_NS {ns}
+#define WC__TF_NV {nv}
+#define WC__TF_NXU {nxu}
+#define WC__TF_NSU {nsu}
+#define WC__TF_NTJ {ntj}
+#define WC__TF_NYJ {nyj}
+#define WC__TF_NXJ {nxj}
 static const double wc__tf_jump[{n_jump}] = {jump};
 static const double wc__tf_end[{n_end}] = {end};
-static const double wc__tf_lower[{n_side}] = {lower};
-static const double wc__tf_upper[{n_side}] = {upper};
+static const double wc__tf_lower[{n_lower}] = {lower};
+static const double wc__tf_upper[{n_upper}] = {upper};
 
 /* Barycentric weights of the Chebyshev-Lobatto interpolant (nodes -cos(pi j/(n - 1))) at x. */
 static inline void wc__tf_weights(double x, int n, double *w)
@@ -147,8 +151,9 @@ static inline double {fn}(double r1, double r2, double volume, double theta1_deg
 {{
     const double y_lo = {y_lo!r}, y_hi = {y_hi!r}, band = {band!r};
     double rs, rl, vstar, xi, y, ts, tl, k, f, d_max, te, s;
-    double wt[WC__TF_NT], wtj[WC__TF_NTJ], wy[WC__TF_NY], wyj[WC__TF_NYJ], wx[WC__TF_NX];
-    double ws[WC__TF_NS];
+    double wt[WC__TF_NT], wy[WC__TF_NY], wx[WC__TF_NX], ws[WC__TF_NS], wv[WC__TF_NV];
+    double wxu[WC__TF_NXU], wsu[WC__TF_NSU], wtj[WC__TF_NTJ], wyj[WC__TF_NYJ];
+    double wxj[WC__TF_NXJ];
     const double one[1] = {{1.0}};
     int swapped;
     if (isnan(r1) || isnan(r2) || isnan(volume) || isnan(theta1_deg) || isnan(theta2_deg))
@@ -175,25 +180,27 @@ static inline double {fn}(double r1, double r2, double volume, double theta1_deg
     wc__tf_weights(wc__tf_unit(ts, 0.0, {t_hi!r}), WC__TF_NTJ, wtj);
     wc__tf_weights(wc__tf_unit(y, y_lo, y_hi), WC__TF_NY, wy);
     wc__tf_weights(wc__tf_unit(y, y_lo, y_hi), WC__TF_NYJ, wyj);
-    wc__tf_weights(2.0 * xi - 1.0, WC__TF_NX, wx);
-    k = wc__tf_tensor(wc__tf_jump, wtj, WC__TF_NTJ, wyj, WC__TF_NYJ, wx, WC__TF_NX, one, 1);
+    wc__tf_weights(2.0 * xi - 1.0, WC__TF_NXJ, wxj);
+    k = wc__tf_tensor(wc__tf_jump, wtj, WC__TF_NTJ, wyj, WC__TF_NYJ, wxj, WC__TF_NXJ, one, 1);
     if (fabs(tl - k) < band)
         return NAN;  /* the band at the jump */
     if (tl < k) {{
         wc__tf_weights(wc__tf_unit(ts, 0.0, {t_hi!r}), WC__TF_NT, wt);
+        wc__tf_weights(2.0 * xi - 1.0, WC__TF_NX, wx);
         s = wc__tf_side(k - tl, k, band);
         wc__tf_weights(wc__tf_clip(s, -1.0, 1.0), WC__TF_NS, ws);
         f = wc__tf_tensor(wc__tf_lower, wt, WC__TF_NT, wy, WC__TF_NY, wx, WC__TF_NX, ws,
                           WC__TF_NS);
     }} else {{
-        te = wc__tf_tensor(wc__tf_end, wyj, WC__TF_NYJ, wx, WC__TF_NX, one, 1, one, 1);
+        te = wc__tf_tensor(wc__tf_end, wyj, WC__TF_NYJ, wxj, WC__TF_NXJ, one, 1, one, 1);
         d_max = band + 0.5 * (({t_hi!r} - k) + sqrt(({t_hi!r} - k) * ({t_hi!r} - k) + 4.0));
         s = wc__tf_side(tl - k, d_max, band);
-        wc__tf_weights(wc__tf_clip(wc__tf_unit(ts / te, 0.0, 1.0), -1.0, 1.0), WC__TF_NT,
-                       wt);
-        wc__tf_weights(wc__tf_clip(s, -1.0, 1.0), WC__TF_NS, ws);
-        f = wc__tf_tensor(wc__tf_upper, wt, WC__TF_NT, wy, WC__TF_NY, wx, WC__TF_NX, ws,
-                          WC__TF_NS);
+        wc__tf_weights(wc__tf_clip(wc__tf_unit(ts / te, 0.0, 1.0), -1.0, 1.0), WC__TF_NV,
+                       wv);
+        wc__tf_weights(2.0 * xi - 1.0, WC__TF_NXU, wxu);
+        wc__tf_weights(wc__tf_clip(s, -1.0, 1.0), WC__TF_NSU, wsu);
+        f = wc__tf_tensor(wc__tf_upper, wv, WC__TF_NV, wy, WC__TF_NY, wxu, WC__TF_NXU, wsu,
+                          WC__TF_NSU);
     }}
     return swapped ? 1.0 - f : f;
 }}
@@ -203,13 +210,17 @@ static inline double {fn}(double r1, double r2, double volume, double theta1_deg
 def c_text() -> str:
     """The C99 code of :data:`FUNCTION` (needs ``<math.h>`` and ``WC_PI``)."""
     d = shipped()
-    jump, lower = np.asarray(d["jump"]), np.asarray(d["lower"])
+    jump, lower, upper = (np.asarray(d[k]) for k in ("jump", "lower", "upper"))
     nt, ny, nx, ns = lower.shape
-    ntj, nyj = jump.shape[:2]
+    nv, nyu, nxu, nsu = upper.shape
+    ntj, nyj, nxj = jump.shape
+    if nyu != ny:
+        raise ValueError(f"transfer fraction: upper table's y points {nyu} != lower's {ny}")
     ho = d["held_out"]
     return C_TEMPLATE.format(
-        fn=FUNCTION, nt=nt, ntj=ntj, ny=ny, nyj=nyj, nx=nx, ns=ns, n_jump=jump.size,
-        n_end=nx * nyj, n_side=lower.size, jump=_c_array(jump), end=_c_array(d["theta_end"]),
+        fn=FUNCTION, nt=nt, ny=ny, nx=nx, ns=ns, nv=nv, nxu=nxu, nsu=nsu, ntj=ntj, nyj=nyj,
+        nxj=nxj, n_jump=jump.size, n_end=nxj * nyj, n_lower=lower.size, n_upper=upper.size,
+        jump=_c_array(jump), end=_c_array(d["theta_end"]),
         lower=_c_array(lower), upper=_c_array(d["upper"]), y_lo=d["y_range"][0],
         y_hi=d["y_range"][1], band=d["band_deg"], q_hi=tf.RATIO_MAX, t_hi=tf.THETA_MAX,
         v_lo=tf.V_RANGE[0], v_hi=tf.V_RANGE[1], ho_max=ho["max"], ho_mean=ho["mean"],

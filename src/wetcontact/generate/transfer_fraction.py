@@ -34,12 +34,16 @@ from wetcontact.branch_cache import NodeCache
 from wetcontact.reduced_models import DATA_DIR
 from wetcontact.reduced_models import transfer_fraction as tf
 
-NODES = {"theta": 17, "y": 9, "xi": 5, "s": 7, "theta_jump": 9, "y_jump": 5}
-"""Chebyshev-Lobatto points per axis of the side tables (theta_s or v, ln V*, xi, the side
-coordinate s): near the jump ``f_s`` turns over theta_s within about 10 deg (sphere-wall
-near theta_s = 25 deg), which 9 points along theta_s follow only to 4e-3. The jump and
-theta_e have their own, nested ``theta_jump`` and ``y_jump`` points (K is smooth: its
-interpolant is within 0.02 deg of a bisection between the nodes)."""
+NODES = {"theta": 17, "y": 9, "xi": 9, "s": 7,
+         "v": 9, "xi_upper": 5, "s_upper": 13,
+         "theta_jump": 9, "y_jump": 5, "xi_jump": 9}
+"""Chebyshev-Lobatto points per axis: the lower table (theta_s, ln V*, xi, the side
+coordinate s), the upper table (v = theta_s/theta_e, ln V*, ``xi_upper``, ``s_upper``) and
+the jump K (``theta_jump``, ``y_jump``, ``xi_jump``). Each grid nests in the finer ones of
+its axis. Where the counts come from (held-out errors at coarser grids): near the jump f_s
+turns over theta_s within about 10 deg (9 points along theta_s: 4e-3); K between 5 points
+along xi is 0.02 deg off, which the steep f_s near the jump turns into 2e-3; along the
+upper side f_s rises from 1/2 to 0.95 over 50 deg, which 7 points follow to 1.2e-3."""
 BAND_DEG = 0.2
 """d_min: the half-width of the band at the jump where the closure does not answer (deg)."""
 JUMP_TOL = 5e-4
@@ -62,6 +66,15 @@ class Solver:
         self.solves = 0
         self.calls = 0
         self.seconds = 0.0
+        self.near = {self._near(key): key for key in self.cache.rows}
+
+    @staticmethod
+    def _near(key: str) -> str:
+        """The key with its angles to 1e-9 deg: a node whose angle was computed in another
+        order of operations (another array layout, another process) is found again."""
+        x, v, th_s, th_l, n = key.split("|")
+        a, b = (float(t.removeprefix("np.float64(").removesuffix(")")) for t in (th_s, th_l))
+        return f"{x}|{v}|{a:.9f}|{b:.9f}|{n}"
 
     def __call__(self, x: float, vstar: float, th_s: float, th_l: float,
                  n_elements: int = FAST) -> float:
@@ -70,7 +83,7 @@ class Solver:
 
         key = f"{x!r}|{vstar!r}|{th_s!r}|{th_l!r}|{n_elements}"
         self.calls += 1
-        got = self.cache.get(key)
+        got = self.cache.get(key) or self.cache.get(self.near.get(self._near(key), ""))
         if got is not None:
             return float(got[1][0])
         t0 = time.perf_counter()
@@ -81,6 +94,7 @@ class Solver:
         self.seconds += time.perf_counter() - t0
         self.solves += 1
         self.cache.put(key, d.rupture_distance, [d.fraction])
+        self.near[self._near(key)] = key
         return d.fraction
 
 
@@ -131,18 +145,24 @@ def grids() -> dict[str, np.ndarray]:
     y_lo, y_hi = (math.log(v) for v in tf.V_RANGE)
     return {"theta": tf.from_unit(tf.lobatto(NODES["theta"]), 0.0, tf.THETA_MAX),
             "theta_jump": tf.from_unit(tf.lobatto(NODES["theta_jump"]), 0.0, tf.THETA_MAX),
-            "v": tf.from_unit(tf.lobatto(NODES["theta"]), 0.0, 1.0),
+            "v": tf.from_unit(tf.lobatto(NODES["v"]), 0.0, 1.0),
             "y": tf.from_unit(tf.lobatto(NODES["y"]), y_lo, y_hi),
             "y_jump": tf.from_unit(tf.lobatto(NODES["y_jump"]), y_lo, y_hi),
             "xi": tf.from_unit(tf.lobatto(NODES["xi"]), 0.0, 1.0),
-            "s": tf.lobatto(NODES["s"])}
+            "xi_upper": tf.from_unit(tf.lobatto(NODES["xi_upper"]), 0.0, 1.0),
+            "xi_jump": tf.from_unit(tf.lobatto(NODES["xi_jump"]), 0.0, 1.0),
+            "s": tf.lobatto(NODES["s"]), "s_upper": tf.lobatto(NODES["s_upper"])}
 
 
-def jump_table(solve: Solver, g: dict[str, np.ndarray], log: Any = print) -> np.ndarray:
-    """K at the nodes (theta_jump, y_jump, xi), deg."""
-    nt, ny, nx = len(g["theta_jump"]), len(g["y_jump"]), len(g["xi"])
-    k = np.empty((nt, ny, nx))
-    for jx, xi in enumerate(g["xi"]):
+def jump_table(solve: Solver, g: dict[str, np.ndarray], log: Any = print,
+               part: tuple[int, int] = (0, 1)) -> np.ndarray:
+    """K at the nodes (theta_jump, y_jump, xi_jump), deg; with ``part = (i, n)`` only the
+    xi nodes ``j`` with ``j % n == i`` (NaN elsewhere)."""
+    nt, ny, nx = len(g["theta_jump"]), len(g["y_jump"]), len(g["xi_jump"])
+    k = np.full((nt, ny, nx), np.nan)
+    for jx, xi in enumerate(g["xi_jump"]):
+        if jx % part[1] != part[0]:
+            continue
         x = ratio_of(float(xi))
         for jy, y in enumerate(g["y_jump"]):
             prev = None
@@ -186,7 +206,7 @@ def _fill_along_theta(t: np.ndarray) -> np.ndarray:
     for idx in np.ndindex(t.shape[1:]):
         col = t[(slice(None), *idx)]
         bad = np.isnan(col)
-        if bad.any():
+        if bad.any() and not bad.all():
             c = np.polynomial.chebyshev.chebfit(u[~bad], col[~bad], int((~bad).sum()) - 1)
             out[(slice(None), *idx)] = np.where(bad, np.polynomial.chebyshev.chebval(u, c),
                                                 col)
@@ -196,8 +216,8 @@ def _fill_along_theta(t: np.ndarray) -> np.ndarray:
 def _on_jump_grid(k: np.ndarray, te: np.ndarray, g: dict[str, np.ndarray], jy: int,
                   jx: int) -> tuple[np.ndarray, float]:
     """(K along theta_s at the side tables' theta nodes, theta_e) at their y node ``jy``
-    and xi node ``jx``: the jump table's own values where its grids have that node (the
-    Lobatto grids are nested), else its series."""
+    and the jump's xi node ``jx``: the jump table's own values where its grids have that
+    node (the Lobatto grids are nested), else its series."""
     step = (len(g["y"]) - 1) // (len(g["y_jump"]) - 1)
     if jy % step == 0:
         col, t_e = k[:, jy // step, jx], float(te[jy // step, jx])
@@ -214,17 +234,21 @@ def _on_jump_grid(k: np.ndarray, te: np.ndarray, g: dict[str, np.ndarray], jy: i
 
 
 def side_tables(solve: Solver, k: np.ndarray, te: np.ndarray, g: dict[str, np.ndarray],
-                log: Any = print) -> tuple[np.ndarray, np.ndarray, int]:
-    """The lower and the upper table's node values, and how many lower nodes were filled."""
+                log: Any = print, part: tuple[int, int] = (0, 1)
+                ) -> tuple[np.ndarray, np.ndarray, int]:
+    """The lower and the upper table's node values, and how many lower nodes were filled;
+    with ``part = (i, n)`` only the lines (xi node ``jx``, y node ``jy``) with
+    ``(jx * ny + jy) % n == i`` of each table."""
     nt, ny, nx, ns = len(g["theta"]), len(g["y"]), len(g["xi"]), len(g["s"])
     lower = np.full((nt, ny, nx, ns), np.nan)
-    upper = np.full((nt, ny, nx, ns), np.nan)
+    upper = np.full((len(g["v"]), ny, len(g["xi_upper"]), len(g["s_upper"])), np.nan)
+    nj = len(g["xi_jump"]) - 1
     for jx, xi in enumerate(g["xi"]):
         x = ratio_of(float(xi))
         for jy, y in enumerate(g["y"]):
-            vs = math.exp(y)
-            col, te_n = _on_jump_grid(k, te, g, jy, jx)
-            col_j = _on_jump_grid(k, te, {**g, "theta": g["theta_jump"]}, jy, jx)[0]
+            if (jx * ny + jy) % part[1] != part[0]:
+                continue
+            col = _on_jump_grid(k, te, g, jy, jx * nj // (nx - 1))[0]
             for it, th in enumerate(g["theta"]):
                 kn = col[it]
                 for js, s in enumerate(g["s"]):
@@ -232,18 +256,25 @@ def side_tables(solve: Solver, k: np.ndarray, te: np.ndarray, g: dict[str, np.nd
                     if -1e-9 * max(kn, 1.0) < tl < 0.0:  # theta_l = 0 at s = 1, rounded
                         tl = 0.0
                     if tl >= 0.0:
-                        lower[it, jy, jx, js] = solve(x, vs, float(th), tl)
+                        lower[it, jy, jx, js] = solve(x, math.exp(y), float(th), tl)
+        log(f"  lower xi {xi:.3f} ({solve.solves} solves, {solve.seconds:.0f} s)")
+    g_j = {**g, "theta": g["theta_jump"]}
+    for jx, xi in enumerate(g["xi_upper"]):
+        x = ratio_of(float(xi))
+        for jy, y in enumerate(g["y"]):
+            if (jx * ny + jy) % part[1] != part[0]:
+                continue
+            col_j, te_n = _on_jump_grid(k, te, g_j, jy, jx * nj // (len(g["xi_upper"]) - 1))
             for iv, v in enumerate(g["v"]):
                 th = float(v * te_n)
                 w = tf.bary_weights(tf.to_unit(np.array([th]), 0.0, tf.THETA_MAX),
                                     len(col_j))
                 kq = float((w @ col_j)[0])
                 dmax = BAND_DEG + float(tf.upper_width(kq))
-                for js, s in enumerate(g["s"]):
+                for js, s in enumerate(g["s_upper"]):
                     tl = kq + float(tf.side_distance(s, dmax, BAND_DEG))
-                    upper[iv, jy, jx, js] = solve(x, vs, th, tl)
-            log(f"  sides xi {xi:.3f} y {y:.2f} ({solve.solves} solves, "
-                f"{solve.seconds:.0f} s)")
+                    upper[iv, jy, jx, js] = solve(x, math.exp(y), th, tl)
+        log(f"  upper xi {xi:.3f} ({solve.solves} solves, {solve.seconds:.0f} s)")
     filled = int(np.isnan(lower).sum())
     return _fill_along_theta(lower), upper, filled
 
@@ -299,11 +330,43 @@ def held_out_table(points: list[dict[str, Any]], refs: list[float],
             "max_at": {**points[i], "f_ref": float(ref[i]), "f": float(f[i])}}
 
 
-def generate_transfer_fraction(out: Path | None = None, record: Path | None = None,
-                               n_held_out: int = HELD_OUT, log: Any = print
-                               ) -> dict[str, Any]:
-    """Build the tables, write the package data and its record; return the record."""
+def _part(job: tuple[str, int, int, int]) -> tuple[int, float]:
+    """One worker's share of a step (``jump``, ``sides`` or ``held-out``): the xi nodes (or
+    held-out points) ``j % n == i``, solved into the shared cache; (solves, seconds)."""
+    step, i, n, n_held_out = job
+    solve, g = Solver(), grids()
+    quiet = lambda *_: None  # noqa: E731
+    if step == "held-out":
+        for p in held_out_points(n_held_out)[i::n]:
+            reference(p, solve)
+    else:
+        k = jump_table(solve, g, quiet, part=(i, n) if step == "jump" else (0, 1))
+        if step == "sides":
+            side_tables(solve, k, theta_end(k, g), g, quiet, part=(i, n))
+    return solve.solves, solve.seconds
+
+
+def _in_workers(step: str, workers: int, n_held_out: int, log: Any) -> None:
+    """Solve a step's nodes on ``workers`` processes (each appends to the cache file)."""
+    from concurrent.futures import ProcessPoolExecutor
+
     t0 = time.perf_counter()
+    with ProcessPoolExecutor(workers) as ex:
+        done = list(ex.map(_part, [(step, i, workers, n_held_out) for i in range(workers)]))
+    log(f"  {step}: {sum(d[0] for d in done)} solves on {workers} processes, "
+        f"{time.perf_counter() - t0:.0f} s")
+
+
+def generate_transfer_fraction(out: Path | None = None, record: Path | None = None,
+                               n_held_out: int = HELD_OUT, log: Any = print,
+                               workers: int = 1) -> dict[str, Any]:
+    """Build the tables, write the package data and its record; return the record. With
+    ``workers > 1`` the jump, the side tables and the held-out references are solved on
+    that many processes first (split by xi node), then assembled from the cache."""
+    t0 = time.perf_counter()
+    if workers > 1:
+        for step in ("jump", "sides", "held-out"):
+            _in_workers(step, workers, n_held_out, log)
     solve = Solver()
     g = grids()
     log(f"transfer-fraction: nodes {NODES}, cache {solve.cache.path}")
@@ -312,7 +375,7 @@ def generate_transfer_fraction(out: Path | None = None, record: Path | None = No
     lower, upper, filled = side_tables(solve, k, te, g, log)
     data = {"schema_version": tf.SCHEMA_VERSION, "band_deg": BAND_DEG,
             "y_range": [math.log(v) for v in tf.V_RANGE], "nodes": NODES,
-            "axes": {"jump": ["theta_s", "y", "xi"], "theta_end": ["y", "xi"],
+            "axes": {"jump": ["theta_s", "y", "xi"], "theta_end": ["y", "xi"],  # xi_jump
                      "lower": ["theta_s", "y", "xi", "s"], "upper": ["v", "y", "xi", "s"]},
             "jump": np.round(k, 10).tolist(), "theta_end": np.round(te, 10).tolist(),
             "lower": np.round(lower, 12).tolist(), "upper": np.round(upper, 12).tolist()}

@@ -29,11 +29,11 @@ coordinates of each side and the band are in the guide (``docs/reference/divisio
 Within ``d_min`` of the jump (``band_deg`` in the data, 0.2 deg) the closure answers ``NaN``
 and, with ``return_reason=True``, the reason (:data:`BAND_REASON`).
 
-Accuracy: absolute error against ``meniscus`` (default preset) on 200 seeded held-out
-points outside the band (the report's ``division_closure_heldout.csv``): max 2.2e-3, mean
-2.1e-4, p95 5.6e-4; the largest errors sit within a few degrees below the jump (up to 6e-3
-within 3 deg of it between nearly equal spheres) and at theta_s below 1 deg, so issue 56's
-1e-3 is not met there. Cost: about 3 us a point (``benchmarks/bench_division.py``).
+Accuracy: absolute error against ``meniscus`` (default preset) outside the band, on 200
+seeded held-out points (the report's ``division_closure_heldout.csv``): max 6.4e-4, mean
+1.5e-4, p95 4.1e-4; on 200 more drawn by the tests: max 6.5e-4. The largest errors sit at
+theta_s below a few degrees and within a few degrees of the jump. Cost: about 1 us a point
+in one vectorised call (``benchmarks/bench_division.py``).
 """
 
 from __future__ import annotations
@@ -187,29 +187,34 @@ def evaluate(t: dict[str, Any], y: np.ndarray, xi: np.ndarray, th_s: np.ndarray,
     module (:mod:`wetcontact.export.transfer_fraction`)."""
     band, (y_lo, y_hi) = t["band_deg"], t["y_range"]
     jump, lower, upper, end = t["jump"], t["lower"], t["upper"], t["theta_end"]
-    u_y = to_unit(y, y_lo, y_hi)
-    u_t = to_unit(th_s, 0.0, THETA_MAX)
-    w_tj = bary_weights(u_t, jump.shape[0])
-    w_yj = bary_weights(u_y, jump.shape[1])
-    w_x = bary_weights(2.0 * xi - 1.0, jump.shape[2])
-    k = tensor_eval(jump, [w_tj, w_yj, w_x])
+    units = {"t": to_unit(th_s, 0.0, THETA_MAX), "y": to_unit(y, y_lo, y_hi),
+             "x": 2.0 * xi - 1.0}
+    made: dict[tuple[str, int], np.ndarray] = {}
+
+    def w(axis: str, n: int) -> np.ndarray:  # the weights of an axis, once per count
+        if (axis, n) not in made:
+            made[axis, n] = bary_weights(units[axis], n)
+        return made[axis, n]
+
+    k = tensor_eval(jump, [w("t", jump.shape[0]), w("y", jump.shape[1]),
+                           w("x", jump.shape[2])])
     f = np.full(y.shape, np.nan)
     in_band = np.abs(th_l - k) < band
     lo = (th_l < k) & ~in_band
     hi = (th_l > k) & ~in_band
-    w_t = w_tj if lower.shape[0] == jump.shape[0] else bary_weights(u_t, lower.shape[0])
-    w_y = w_yj if lower.shape[1] == jump.shape[1] else bary_weights(u_y, lower.shape[1])
     if lo.any():
         s = side_coordinate(k[lo] - th_l[lo], k[lo], band)
-        f[lo] = tensor_eval(lower, [w_t[lo], w_y[lo], w_x[lo],
+        f[lo] = tensor_eval(lower, [w("t", lower.shape[0])[lo], w("y", lower.shape[1])[lo],
+                                    w("x", lower.shape[2])[lo],
                                     bary_weights(np.clip(s, -1.0, 1.0), lower.shape[3])])
     if hi.any():
-        te = tensor_eval(end, [w_yj[hi], w_x[hi]])
+        te = tensor_eval(end, [w("y", end.shape[0])[hi], w("x", end.shape[1])[hi]])
         s = side_coordinate(th_l[hi] - k[hi], band + upper_width(k[hi]), band)
         f[hi] = tensor_eval(upper, [
             bary_weights(np.clip(to_unit(th_s[hi] / te, 0.0, 1.0), -1.0, 1.0),
                          upper.shape[0]),
-            w_y[hi], w_x[hi], bary_weights(np.clip(s, -1.0, 1.0), upper.shape[3])])
+            w("y", upper.shape[1])[hi], w("x", upper.shape[2])[hi],
+            bary_weights(np.clip(s, -1.0, 1.0), upper.shape[3])])
     exact = (xi == 0.0) & (th_s == th_l)  # equal spheres, equal angles: 1/2 by symmetry
     f[exact], in_band[exact] = 0.5, False
     return f, in_band
@@ -308,9 +313,8 @@ def calibrated_transfer_fraction(r1: Any, r2: Any, volume: Any, theta1_deg: Any,
 
     Notes
     -----
-    Accuracy (absolute, against ``meniscus``, outside the band): held-out max 2.2e-3, mean
-    2.1e-4 (``data/transfer_fraction_record.json``); up to 6e-3 within 3 deg below the jump
-    between nearly equal spheres.
+    Accuracy (absolute, against ``meniscus``, outside the band): held-out max 6.4e-4, mean
+    1.5e-4 (``data/transfer_fraction_record.json``).
     """
     y, xi, th_s, th_l, swapped = coordinates(r1, r2, volume, theta1_deg, theta2_deg)
     shape = y.shape
