@@ -352,11 +352,15 @@ def _cached_map(fn, jobs: list, key, pack, unpack, workers: int, label: str,
 
 
 def solve_branch(kind: str, ratio: float | None, v: float, theta: float,
-                 c_nodes: np.ndarray, theta2: float | None = None) -> tuple[float, np.ndarray]:
+                 c_nodes: np.ndarray, theta2: float | None = None,
+                 n_elements: int | None = None) -> tuple[float, np.ndarray]:
     """``meniscus`` at one bridge (R_s = 1, sigma = 1): S_c and the reduced force
     ``F/(2 pi sigma R* (cos theta + cos theta2))`` at the gap coordinates ``c_nodes``
-    (``theta2``: the other solid's angle, default ``theta``)."""
+    (``theta2``: the other solid's angle, default ``theta``; ``n_elements``: the meridian's
+    elements, default ``meniscus``'s, twice that where a fold is too hard for them)."""
     from wetcontact.solver.meniscus import DEFAULT_ELEMENTS, Bridge, force_separation_curve
+
+    n_elements = DEFAULT_ELEMENTS if n_elements is None else int(n_elements)
 
     theta2 = theta if theta2 is None else theta2
     br = Bridge(radius=1.0, radius2=ratio, contact_angle1=theta, contact_angle2=theta2,
@@ -371,10 +375,10 @@ def solve_branch(kind: str, ratio: float | None, v: float, theta: float,
         return f
 
     try:
-        cur = force_separation_curve(br, v, fractions=fractions)
+        cur = force_separation_curve(br, v, fractions=fractions, n_elements=n_elements)
     except SolverError:  # a harder fold: the finer discretisation (more accurate anyway)
         cur = force_separation_curve(br, v, fractions=fractions,
-                                     n_elements=2 * DEFAULT_ELEMENTS)
+                                     n_elements=2 * n_elements)
     q = np.empty(len(c_nodes))
     q[order] = -cur.force / (2.0 * math.pi * rho * (math.cos(theta) + math.cos(theta2)))
     return cur.rupture_distance, q
@@ -424,17 +428,13 @@ def _map_jobs(fn, jobs: list, workers: int, label: str, on_result=None) -> list:
     return out
 
 
-def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
-              workers: int = 2, cache_dir: Path | None = None,
-              theta_range: SphereRange = cc.THETA_RANGE_DEG,
-              onset: dict[str, Any] | None = None) -> dict[str, Any]:
-    """Coefficients of one theta piece from ``meniscus`` at its tensor nodes.
-
-    The lead axes are (a,) on a wall, (w, a) for sphere pairs and (a, b1) on a wall with
-    two angles; the piece's own angle (the one angle, or the wall's) follows them, mapped
-    from its range at that lead node (an end may be the split angle or the ridge), linearly
-    or, with ``theta_map``, quadratically toward the ridge
-    (:func:`~wetcontact.reduced_models.calibrated_capillary.piece_angle`)."""
+def piece_jobs(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
+               theta_range: SphereRange = cc.THETA_RANGE_DEG,
+               onset: dict[str, Any] | None = None
+               ) -> tuple[list[tuple], np.ndarray, bool]:
+    """The node jobs of one theta piece (:func:`fit_piece`'s: one ``meniscus`` branch each,
+    :func:`_node_job`), the volumes at its a nodes and whether its own angle sits at Gauss
+    points."""
     nodes = tuple(piece["nodes"])
     c_nodes = lobatto(nodes[-1])
     two = kind == cc.WALL_TWO_ANGLES
@@ -472,6 +472,23 @@ def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
                          c_nodes, theta))
         else:
             jobs.append((idx, kind, ratio, float(vs[idx[i_a]]), theta, c_nodes, None))
+    return jobs, vs, gauss_b
+
+
+def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
+              workers: int = 2, cache_dir: Path | None = None,
+              theta_range: SphereRange = cc.THETA_RANGE_DEG,
+              onset: dict[str, Any] | None = None) -> dict[str, Any]:
+    """Coefficients of one theta piece from ``meniscus`` at its tensor nodes.
+
+    The lead axes are (a,) on a wall, (w, a) for sphere pairs and (a, b1) on a wall with
+    two angles; the piece's own angle (the one angle, or the wall's) follows them, mapped
+    from its range at that lead node (an end may be the split angle or the ridge), linearly
+    or, with ``theta_map``, quadratically toward the ridge
+    (:func:`~wetcontact.reduced_models.calibrated_capillary.piece_angle`)."""
+    nodes = tuple(piece["nodes"])
+    i_a = 1 if kind == "sphere-sphere" else 0
+    jobs, vs, gauss_b = piece_jobs(kind, piece, split, theta_range, onset)
     rup = np.empty(nodes[:-1])
     q = np.empty(nodes)
     results = _cached_map(_node_job, jobs, NodeCache.key, lambda j, r: (r[1], r[2]),
