@@ -26,7 +26,6 @@ import math
 import sys
 import time
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any
 
@@ -62,6 +61,7 @@ from wetcontact.generate.calibrated_capillary_strata import (  # re-exported
     held_out_design,
     ridge_window_band,  # noqa: F401
 )
+from wetcontact.generate.workers import map_jobs as _map_jobs
 from wetcontact.reduced_models import calibrated_capillary as cc
 
 PIECES: dict[str, list[dict[str, Any]]] = {
@@ -402,30 +402,6 @@ def _node_job(args: tuple) -> tuple[tuple[int, ...], float, np.ndarray]:
                          "either side of its wall angle (degenerate end)\n")
         s_c, q = 0.5 * (sides[0][0] + sides[1][0]), 0.5 * (sides[0][1] + sides[1][1])
     return idx, s_c, q
-
-
-def _map_jobs(fn, jobs: list, workers: int, label: str, on_result=None) -> list:
-    """``fn`` over jobs on ``workers`` processes, a progress line on stderr every 10 %;
-    ``on_result(job, result)`` sees each result as it arrives (in job order)."""
-    out, t0, step = [], time.perf_counter(), max(1, len(jobs) // 10)
-    pool = ProcessPoolExecutor(max_workers=workers) if workers > 1 and len(jobs) > 1 else None
-    try:
-        # chunks of up to 4 jobs, fewer where they are few (the 10 onset searches, minutes
-        # each, took 4 + 4 + 2 chunks: a third of the time on one process)
-        chunk = max(1, min(4, len(jobs) // (8 * workers)))
-        it = pool.map(fn, jobs, chunksize=chunk) if pool else map(fn, jobs)
-        for k, (job, r) in enumerate(zip(jobs, it, strict=True), 1):
-            out.append(r)
-            if on_result is not None:
-                on_result(job, r)
-            if k % step == 0 or k == len(jobs):
-                sys.stderr.write(f"{label}: {k}/{len(jobs)} branches, "
-                                 f"{time.perf_counter() - t0:.0f} s\n")
-                sys.stderr.flush()
-    finally:
-        if pool:
-            pool.shutdown()
-    return out
 
 
 def piece_jobs(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
