@@ -18,17 +18,21 @@ labelled:
   solves, searches and held-out bridges) and the serial part everything else (tables
   built in one process; the tensor-train and factor fits, recorded).
 
-It also measures, on a seeded sample of the pair table's own nodes, how far the node
-values (log S_c and log of the reduced force at the 19 gap nodes, the quantities the
-tables interpolate) move when the meridian has fewer elements than ``meniscus``'s default
-128, against what the solve then costs; and, from the shipped coefficients, how many
-nodes each axis of each two-angle piece needs for its Chebyshev tail to fall under 1e-5 and
-1e-6 (twice the largest tail sum over the other axes: the interpolation error a piece
-with that many nodes on that axis would add).
+What would make it cheaper, measured on a seeded sample of the pair table's own nodes:
+how far the node values (log S_c and log of the reduced force at the 19 gap nodes, what
+the tables interpolate) move when the meridian has fewer elements than ``meniscus``'s
+default 128, against what the solve then costs; and the overhead of the node solves on a
+local Dask cluster of one worker (``--dask``). From the shipped coefficients (no solve):
+how many nodes each axis of each piece needs for its Chebyshev tail to fall under 1e-5
+and 1e-6 (twice the largest tail sum over the other axes: the interpolation error a piece
+with that many nodes on that axis would add); the pair table's pieces on Smolyak sparse
+grids in (w, a, b1) (points, and the coefficients' mass they drop); and how far series
+from every other node of the onset and the ridge are from the searched values at the
+others (the brackets nested searches could start from).
 
 Writes ``benchmarks/results/regeneration.json``. Run:
-``python benchmarks/bench_regeneration.py`` (about 6 minutes; ``--quick``: no onset
-searches, about 2 minutes).
+``python benchmarks/bench_regeneration.py`` (about 10 minutes on the shared 2-core
+machine; ``--quick``: no onset searches, about 5 minutes).
 """
 
 from __future__ import annotations
@@ -263,6 +267,95 @@ def axis_need(coef: np.ndarray, tol: float) -> list[int]:
     return need
 
 
+def _level(i: int) -> int:
+    """Clenshaw-Curtis level of Chebyshev index i (levels 0, 1, 2, 3 hold 1, 3, 5, 9 nodes)."""
+    return 0 if i == 0 else max(1, math.ceil(math.log2(i)))
+
+
+def _delta(level: int) -> int:
+    """Nodes a nested Lobatto level adds to the one below it."""
+    return 1 if level == 0 else 2 if level == 1 else 2 ** (level - 1)
+
+
+def sparse_lead(data: dict[str, Any]) -> dict[str, Any]:
+    """The two-angle pair table's pieces on a Smolyak sparse grid in their lead axes (w, a,
+    b1) instead of the tensor grid (b2 and c kept whole): per total level L, the lead
+    points (nested Lobatto) and twice the largest sum of the shipped coefficients a sparse
+    grid of that level drops (rupture and force): the error it would add, estimated."""
+    out = {}
+    for i, b in enumerate(data[cc.PAIR_TWO_ANGLES]["bands"]):
+        for j, p in enumerate(b["pieces"]):
+            left = np.asarray(p["force_left"])
+            force = np.tensordot(left, np.asarray(p["force_right"]),
+                                 axes=([left.ndim - 1], [0]))
+            lv = [np.array([_level(k) for k in range(n)]) for n in p["nodes"][:3]]
+            total = np.add.outer(np.add.outer(lv[0], lv[1]), lv[2])
+            rows = []
+            for level in range(4, int(total.max()) + 1):
+                drop = total > level
+                pts = sum(math.prod(_delta(x) for x in ls)
+                          for ls in np.ndindex(*(int(v.max()) + 1 for v in lv))
+                          if sum(ls) <= level)
+                rows.append({"level": level, "lead_points": pts,
+                             "rupture_added": float(2 * np.abs(np.asarray(p["rupture"]))[
+                                 drop].sum(axis=0).max()),
+                             "force_added": float(2 * np.abs(force)[drop].sum(axis=0).max())})
+            out[f"band {i} piece {j}"] = {"lead_points_now": math.prod(p["nodes"][:3]),
+                                          "levels": rows}
+    return out
+
+
+def nested_series(data: dict[str, Any]) -> dict[str, Any]:
+    """How far the pair table's onset and ridge series from every other node (5 Lobatto
+    nodes an axis, nested in 9) are from the searched values at the other nodes (deg): the
+    bracket a search there could start from instead of the full one."""
+    lob5, lob9 = gen.lobatto(5), gen.lobatto(9)
+    p = np.ones((9, 5))
+    for j, xj in enumerate(lob5):
+        for m, xm in enumerate(lob5):
+            if m != j:
+                p[:, j] *= (lob9 - xm) / (xj - xm)
+
+    def up(a: np.ndarray) -> np.ndarray:
+        for ax in range(a.ndim):
+            a = np.moveaxis(np.tensordot(p, np.moveaxis(a, ax, 0), axes=(1, 0)), 0, ax)
+        return a
+
+    e = data[cc.PAIR_TWO_ANGLES]
+    on = np.asarray(e[cc.ONSET_KEY]["at_nodes_deg"])
+    out = {"onset_max_deg": float(np.abs(up(on[::2, ::2]) - on).max())}
+    for i, b in enumerate(e["bands"]):
+        r = np.asarray(b["theta_split"]["at_nodes_deg"])
+        r = r[::(r.shape[0] - 1) // 8]
+        out[f"ridge band {i} max_deg"] = float(np.abs(up(r[::2, ::2, ::2]) - r).max())
+    return out
+
+
+def dask_sample(jobs: list[tuple], n: int, rng: np.random.Generator) -> dict[str, Any]:
+    """n node jobs in this process and on a local Dask cluster of one worker (the
+    generator's --dask): the cluster's start and the per-job overhead (measured; a
+    2-core machine shared with other work cannot time 2 and 4 workers fairly)."""
+    from wetcontact.generate.workers import map_jobs, open_workers
+
+    pick = [jobs[k] for k in rng.choice(len(jobs), n + 2, replace=False)]
+    warm, pick = pick[:2], pick[2:]  # a fresh worker's imports and first-call caches
+    map_jobs(gen._node_job, warm, 1, "in process, warm-up")
+    t0 = time.perf_counter()
+    map_jobs(gen._node_job, pick, 1, "in process")
+    here = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    with open_workers(1, dask=True) as workers:
+        start = time.perf_counter() - t0
+        t1 = time.perf_counter()
+        map_jobs(gen._node_job, warm, workers, "dask, warm-up")
+        warm_s = time.perf_counter() - t1
+        t1 = time.perf_counter()
+        map_jobs(gen._node_job, pick, workers, "dask")
+        there = time.perf_counter() - t1
+    return {"jobs": n, "in_process_s": round(here, 2), "dask_1_worker_s": round(there, 2),
+            "cluster_start_s": round(start, 2), "dask_warm_up_2_jobs_s": round(warm_s, 2)}
+
+
 def amdahl(serial: float, parallel: float) -> dict[str, float]:
     return {str(n): round(serial + parallel / n, 1) for n in WORKERS}
 
@@ -281,6 +374,8 @@ def main() -> None:
     print(searches, flush=True)
     elements = element_study(jobs[cc.PAIR_TWO_ANGLES], ELEMENT_SAMPLE, rng)
     print(elements, flush=True)
+    dask = dask_sample(jobs[cc.PAIR_TWO_ANGLES], 2 * NODE_SAMPLE, rng)
+    print(dask, flush=True)
     tables: dict[str, Any] = {}
     for kind in CAPILLARY:
         s_node = nodes[kind]["s_per_solve"]
@@ -308,7 +403,7 @@ def main() -> None:
             "single_core_s_projected": round(parallel + fits, 1),
             "parallel_fraction_projected": round(parallel / (parallel + fits), 4),
             "workers_s_projected": amdahl(fits, parallel),
-            "parallel_today": "ProcessPoolExecutor per stage (--workers N), stages in turn",
+            "parallel_today": "process pool or Dask workers per stage, stages in turn",
             "resumable": "yes: every solved branch and search in the node cache"}
     viscous = json.loads((DATA_DIR / "calibrated_viscous.json").read_text())["wall_time_s"]
     bounds = json.loads((DATA_DIR / "bounds.json").read_text())["wall_time_s"]
@@ -329,7 +424,19 @@ def main() -> None:
                              "s_per_solve_measured_64_elements": t_tf}
     total = {str(n): round(sum(t["workers_s_projected"][str(n)] for t in tables.values()), 1)
              for n in WORKERS}
+    core_s = sum(t.get("single_core_s_projected", t.get("single_core_s_recorded", 0.0))
+                 for t in tables.values())
+    nodes_64 = sum(len(jobs[k]) * nodes[k]["s_per_solve_64_elements"] for k in CAPILLARY)
+    conclusion = {
+        "all_on_2_workers_h_projected": round(total["2"] / 3600, 1),
+        "budget_h_on_2_workers": BUDGET_S / 3600,
+        "capillary_node_solves_alone_at_64_elements_on_2_workers_h_projected":
+            round(nodes_64 / 2 / 3600, 1),
+        "workers_for_1_h_at_perfect_scaling_projected": math.ceil(core_s / BUDGET_S),
+        "speedup_needed_on_2_workers_projected": round(total["2"] / BUDGET_S, 1)}
+    print(conclusion, flush=True)
     write_json("regeneration", {
+        "conclusion": conclusion,
         "what": "from-scratch regeneration of every shipped table: solves counted from the "
                 "generators' job builders, seconds per solve sampled (measured), times "
                 "projected (single core, and on 1/2/4 workers by Amdahl's law)",
@@ -339,8 +446,13 @@ def main() -> None:
         "searches_measured": searches,
         "node_solve_elements_measured": elements,
         "coefficient_tails": coefficient_tails(data),
+        "pair_sparse_lead_grid": sparse_lead(data),
+        "pair_nested_series": nested_series(data),
+        "dask_measured": dask,
         "generate_all": {"exists": True, "command": "python -m wetcontact.generate all "
-                         "[--workers N]", "dask": False,
+                         "[--workers N] [--dask | --scheduler ADDR]",
+                         "dask": "the capillary tables' node solves and searches (--dask, "
+                                 "--scheduler); the other tables in one process",
                          "resumable": "the capillary tables and transfer-fraction (node "
                                       "cache); calibrated-viscous and bounds start over"},
         "run_s": round(time.perf_counter() - t_run, 1),
