@@ -445,7 +445,7 @@ def _run_dask(todo: list[Point], workers: int | None, scheduler: str | None,
     """Run ``todo`` on a local cluster or at ``scheduler``; feed each answer to ``record``."""
     from distributed import as_completed
 
-    with _dask_client(workers, scheduler, len(todo)) as (client, label):
+    with dask_client(workers, scheduler, len(todo)) as (client, label):
         n = max(1, len(client.scheduler_info().get("workers", {})))
         tasks = _batches(todo, n)
         mine = code_version()
@@ -485,7 +485,7 @@ def _collect(futures: dict[Any, list[Point]], done: Any, mine: str, lost: list[s
 
 
 @contextlib.contextmanager
-def _dask_client(workers: int | None, scheduler: str | None, n_points: int = 1 << 30
+def dask_client(workers: int | None, scheduler: str | None, n_points: int = 1 << 30
                  ) -> Iterator[tuple[Any, str]]:
     """A Client on a new LocalCluster (closed on exit; no more worker processes than
     ``n_points``: 64 workers for 4 points took 56 s to start) or on an existing

@@ -1,9 +1,11 @@
-"""``python -m wetcontact.generate TABLE|all [--workers N]``: rebuild the package data.
+"""``python -m wetcontact.generate TABLE|all [--workers N] [--dask | --scheduler ADDR]``:
+rebuild the package data.
 
 Each table command runs the generator of one shipped file (:data:`TABLES`); ``all`` runs them
 in the order they depend on each other (the bound tables measure the calibrated closures
 last); ``list`` names them; ``fit`` refits one closure family on its default design (a file
-of your own, not package data). Bad input: one line on stderr, exit 2.
+of your own, not package data). The capillary tables' meniscus solves run on ``--workers``
+processes, or on Dask workers (:mod:`.workers`). Bad input: one line on stderr, exit 2.
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ from typing import Any
 from wetcontact.calibrate import FAMILIES, run_family
 from wetcontact.errors import InputError
 from wetcontact.generate.bounds import ALONE, DATA_PATH
+from wetcontact.generate.workers import open_workers
 from wetcontact.reduced_models import DATA_DIR
 from wetcontact.reduced_models import calibrated_capillary as cc
 
@@ -126,6 +129,14 @@ def parser() -> argparse.ArgumentParser:
                         "each band's own ridge series (searched again only at the w nodes a "
                         "pair band's ridge gains), and measure the table's held-out tables "
                         "again, once")
+    for sp in (a, c):
+        sp.add_argument("--dask", action="store_true",
+                        help="solve the meniscus nodes on a local Dask cluster of --workers "
+                             "processes (the sweep's machinery) instead of a process pool")
+        sp.add_argument("--scheduler", default=None, metavar="ADDR",
+                        help="solve the meniscus nodes on the Dask cluster at ADDR "
+                             "(tcp://HOST:PORT; workers started with `dask worker ADDR`, "
+                             "the same code installed)")
     t = sub.add_parser("transfer-fraction", help=TABLES["transfer-fraction"][2])
     t.add_argument("--held-out", type=int, default=200, help="held-out points (default 200)")
     t.add_argument("--workers", type=int, default=2, help="processes for the meniscus solves "
@@ -272,14 +283,16 @@ def main(argv: list[str] | None = None) -> int:
         _viscous()
     if args.command == "all":
         _say("calibrated-capillary")
-        for kind in ("all", PAIR_KIND):  # 'all': the first three kinds; then the pair table
-            _capillary(argparse.Namespace(kind=kind, workers=args.workers, held_out=120,
-                                          stage="full", out=None, retrain=False,
-                                          corners=False, refine_band=None))
+        with open_workers(args.workers, args.scheduler, args.dask) as workers:
+            for kind in ("all", PAIR_KIND):  # 'all': the first three kinds; then the pairs
+                _capillary(argparse.Namespace(kind=kind, workers=workers, held_out=120,
+                                              stage="full", out=None, retrain=False,
+                                              corners=False, refine_band=None))
     elif args.command == "calibrated-capillary":
         _check_capillary(p, args)
         _say("calibrated-capillary", args.out)
-        _capillary(args)
+        with open_workers(args.workers, args.scheduler, args.dask) as workers:
+            _capillary(argparse.Namespace(**{**vars(args), "workers": workers}))
     if args.command in ("transfer-fraction", "all"):
         from wetcontact.generate.transfer_fraction import generate_transfer_fraction
 

@@ -26,7 +26,6 @@ import math
 import sys
 import time
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any
 
@@ -62,6 +61,7 @@ from wetcontact.generate.calibrated_capillary_strata import (  # re-exported
     held_out_design,
     ridge_window_band,  # noqa: F401
 )
+from wetcontact.generate.workers import map_jobs as _map_jobs
 from wetcontact.reduced_models import calibrated_capillary as cc
 
 PIECES: dict[str, list[dict[str, Any]]] = {
@@ -352,11 +352,15 @@ def _cached_map(fn, jobs: list, key, pack, unpack, workers: int, label: str,
 
 
 def solve_branch(kind: str, ratio: float | None, v: float, theta: float,
-                 c_nodes: np.ndarray, theta2: float | None = None) -> tuple[float, np.ndarray]:
+                 c_nodes: np.ndarray, theta2: float | None = None,
+                 n_elements: int | None = None) -> tuple[float, np.ndarray]:
     """``meniscus`` at one bridge (R_s = 1, sigma = 1): S_c and the reduced force
     ``F/(2 pi sigma R* (cos theta + cos theta2))`` at the gap coordinates ``c_nodes``
-    (``theta2``: the other solid's angle, default ``theta``)."""
+    (``theta2``: the other solid's angle, default ``theta``; ``n_elements``: the meridian's
+    elements, default ``meniscus``'s, twice that where a fold is too hard for them)."""
     from wetcontact.solver.meniscus import DEFAULT_ELEMENTS, Bridge, force_separation_curve
+
+    n_elements = DEFAULT_ELEMENTS if n_elements is None else int(n_elements)
 
     theta2 = theta if theta2 is None else theta2
     br = Bridge(radius=1.0, radius2=ratio, contact_angle1=theta, contact_angle2=theta2,
@@ -371,10 +375,10 @@ def solve_branch(kind: str, ratio: float | None, v: float, theta: float,
         return f
 
     try:
-        cur = force_separation_curve(br, v, fractions=fractions)
+        cur = force_separation_curve(br, v, fractions=fractions, n_elements=n_elements)
     except SolverError:  # a harder fold: the finer discretisation (more accurate anyway)
         cur = force_separation_curve(br, v, fractions=fractions,
-                                     n_elements=2 * DEFAULT_ELEMENTS)
+                                     n_elements=2 * n_elements)
     q = np.empty(len(c_nodes))
     q[order] = -cur.force / (2.0 * math.pi * rho * (math.cos(theta) + math.cos(theta2)))
     return cur.rupture_distance, q
@@ -400,41 +404,13 @@ def _node_job(args: tuple) -> tuple[tuple[int, ...], float, np.ndarray]:
     return idx, s_c, q
 
 
-def _map_jobs(fn, jobs: list, workers: int, label: str, on_result=None) -> list:
-    """``fn`` over jobs on ``workers`` processes, a progress line on stderr every 10 %;
-    ``on_result(job, result)`` sees each result as it arrives (in job order)."""
-    out, t0, step = [], time.perf_counter(), max(1, len(jobs) // 10)
-    pool = ProcessPoolExecutor(max_workers=workers) if workers > 1 and len(jobs) > 1 else None
-    try:
-        # chunks of up to 4 jobs, fewer where they are few (the 10 onset searches, minutes
-        # each, took 4 + 4 + 2 chunks: a third of the time on one process)
-        chunk = max(1, min(4, len(jobs) // (8 * workers)))
-        it = pool.map(fn, jobs, chunksize=chunk) if pool else map(fn, jobs)
-        for k, (job, r) in enumerate(zip(jobs, it, strict=True), 1):
-            out.append(r)
-            if on_result is not None:
-                on_result(job, r)
-            if k % step == 0 or k == len(jobs):
-                sys.stderr.write(f"{label}: {k}/{len(jobs)} branches, "
-                                 f"{time.perf_counter() - t0:.0f} s\n")
-                sys.stderr.flush()
-    finally:
-        if pool:
-            pool.shutdown()
-    return out
-
-
-def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
-              workers: int = 2, cache_dir: Path | None = None,
-              theta_range: SphereRange = cc.THETA_RANGE_DEG,
-              onset: dict[str, Any] | None = None) -> dict[str, Any]:
-    """Coefficients of one theta piece from ``meniscus`` at its tensor nodes.
-
-    The lead axes are (a,) on a wall, (w, a) for sphere pairs and (a, b1) on a wall with
-    two angles; the piece's own angle (the one angle, or the wall's) follows them, mapped
-    from its range at that lead node (an end may be the split angle or the ridge), linearly
-    or, with ``theta_map``, quadratically toward the ridge
-    (:func:`~wetcontact.reduced_models.calibrated_capillary.piece_angle`)."""
+def piece_jobs(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
+               theta_range: SphereRange = cc.THETA_RANGE_DEG,
+               onset: dict[str, Any] | None = None
+               ) -> tuple[list[tuple], np.ndarray, bool]:
+    """The node jobs of one theta piece (:func:`fit_piece`'s: one ``meniscus`` branch each,
+    :func:`_node_job`), the volumes at its a nodes and whether its own angle sits at Gauss
+    points."""
     nodes = tuple(piece["nodes"])
     c_nodes = lobatto(nodes[-1])
     two = kind == cc.WALL_TWO_ANGLES
@@ -472,6 +448,23 @@ def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
                          c_nodes, theta))
         else:
             jobs.append((idx, kind, ratio, float(vs[idx[i_a]]), theta, c_nodes, None))
+    return jobs, vs, gauss_b
+
+
+def fit_piece(kind: str, piece: dict[str, Any], split: dict[str, Any] | None,
+              workers: int = 2, cache_dir: Path | None = None,
+              theta_range: SphereRange = cc.THETA_RANGE_DEG,
+              onset: dict[str, Any] | None = None) -> dict[str, Any]:
+    """Coefficients of one theta piece from ``meniscus`` at its tensor nodes.
+
+    The lead axes are (a,) on a wall, (w, a) for sphere pairs and (a, b1) on a wall with
+    two angles; the piece's own angle (the one angle, or the wall's) follows them, mapped
+    from its range at that lead node (an end may be the split angle or the ridge), linearly
+    or, with ``theta_map``, quadratically toward the ridge
+    (:func:`~wetcontact.reduced_models.calibrated_capillary.piece_angle`)."""
+    nodes = tuple(piece["nodes"])
+    i_a = 1 if kind == "sphere-sphere" else 0
+    jobs, vs, gauss_b = piece_jobs(kind, piece, split, theta_range, onset)
     rup = np.empty(nodes[:-1])
     q = np.empty(nodes)
     results = _cached_map(_node_job, jobs, NodeCache.key, lambda j, r: (r[1], r[2]),

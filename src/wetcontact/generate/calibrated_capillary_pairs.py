@@ -454,16 +454,13 @@ def lead_grid(onset: dict[str, Any], ridge: dict[str, Any], band_deg: gen.Sphere
     return rs, vs, t1, np.asarray(top).reshape(shape)
 
 
-def fit_pair_piece(piece: dict[str, Any], nb2: int, onset: dict[str, Any],
-                   ridge: dict[str, Any], workers: int = 2,
-                   cache_dir: Path | None = None, nw: int | None = None,
-                   band_deg: gen.SphereRange | None = None) -> dict[str, Any]:
-    """One piece's rupture and force tables over (w, a, b1, b2, c) from ``meniscus`` at
-    its nodes: b2 at ``nb2`` :func:`nested_gauss` points of the large sphere's angle,
-    mapped within the piece at each (w, a, b1) node from the ridge's own value there
-    (:func:`~wetcontact.reduced_models.calibrated_capillary.piece_angle`). ``nw``: ratio
-    nodes other than the onset's; where the ridge's w nodes nest them, the ridge's own
-    values there, else its series, in the band ``band_deg`` (:func:`lead_grid`)."""
+def pair_piece_jobs(piece: dict[str, Any], nb2: int, onset: dict[str, Any],
+                    ridge: dict[str, Any], nw: int | None = None,
+                    band_deg: gen.SphereRange | None = None
+                    ) -> tuple[list[tuple], np.ndarray, tuple[int, ...]]:
+    """The node jobs of one piece of a two-angle pair table (:func:`fit_pair_piece`'s: one
+    ``meniscus`` branch each, :func:`~wetcontact.generate.calibrated_capillary._node_job`),
+    the volumes at its a nodes and the shape of its (w, a, b1, b2) grid."""
     vs = np.asarray(onset["v_nodes"])
     t1 = np.asarray(ridge["theta_small_nodes_deg"])
     top = np.asarray(ridge["at_nodes_deg"])
@@ -488,7 +485,21 @@ def fit_pair_piece(piece: dict[str, Any], nb2: int, onset: dict[str, Any],
         t2 = float(cc.piece_angle(piece, b2[idx[3]], lo[lead], hi[lead]))
         jobs.append((idx, "sphere-sphere", float(rs[idx[0]]), float(vs[idx[1]]),
                      math.radians(t1[lead]), c_nodes, math.radians(t2)))
-    shape = (*t1.shape, nb2)
+    return jobs, vs, (*t1.shape, nb2)
+
+
+def fit_pair_piece(piece: dict[str, Any], nb2: int, onset: dict[str, Any],
+                   ridge: dict[str, Any], workers: int = 2,
+                   cache_dir: Path | None = None, nw: int | None = None,
+                   band_deg: gen.SphereRange | None = None) -> dict[str, Any]:
+    """One piece's rupture and force tables over (w, a, b1, b2, c) from ``meniscus`` at
+    its nodes: b2 at ``nb2`` :func:`nested_gauss` points of the large sphere's angle,
+    mapped within the piece at each (w, a, b1) node from the ridge's own value there
+    (:func:`~wetcontact.reduced_models.calibrated_capillary.piece_angle`). ``nw``: ratio
+    nodes other than the onset's; where the ridge's w nodes nest them, the ridge's own
+    values there, else its series, in the band ``band_deg`` (:func:`lead_grid`;
+    the jobs: :func:`pair_piece_jobs`)."""
+    jobs, vs, shape = pair_piece_jobs(piece, nb2, onset, ridge, nw, band_deg)
     rup, q = np.empty(shape), np.empty((*shape, GAP_NODES))
     results = gen._cached_map(gen._node_job, jobs, gen.NodeCache.key,
                               lambda j, r: (r[1], r[2]), lambda j, got: (j[0], *got),
