@@ -22,7 +22,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
+import subprocess
+import sys
 from dataclasses import dataclass, field
+from multiprocessing.connection import Connection
 
 import numpy as np
 import scipy.sparse.linalg as spla
@@ -220,6 +224,76 @@ def element_quality(mesh: MeshTri2, x: np.ndarray | None = None) -> tuple[np.nda
     return shape, np.where(area > 0, curv, -1.0)
 
 
+# ---- gmsh in a worker process --------------------------------------------------------
+
+
+def serve(fd_in: int, fd_out: int) -> None:
+    """Worker loop (run by :class:`_Mesher` in its own interpreter): build each requested
+    bridge mesh and send it back, or the error."""
+    conn_in, conn_out = Connection(fd_in, writable=False), Connection(fd_out, readable=False)
+    while True:
+        try:
+            args, kwargs = conn_in.recv()
+        except EOFError:
+            return
+        try:
+            conn_out.send(("ok", sphere_bridge(*args, **kwargs)))
+        except Exception as exc:  # noqa: BLE001 - any gmsh failure goes back as a message
+            conn_out.send(("error", f"{type(exc).__name__}: {exc}"))
+
+
+class _Mesher:
+    """gmsh in a persistent worker process (a fresh interpreter running :func:`serve`), so
+    that a mesh that does not finish within ``timeout`` seconds is abandoned (the worker
+    is killed; the next call starts a new one) and reported as a
+    :class:`~wetcontact.errors.SolverError`, never a hang."""
+
+    def __init__(self) -> None:
+        self.proc: subprocess.Popen | None = None
+
+    def _start(self) -> None:
+        to_child, self.send_end = os.pipe()
+        self.recv_end, from_child = os.pipe()
+        env = {**os.environ, "PYTHONPATH": os.pathsep.join(p for p in sys.path if p)}
+        code = f"from {__name__} import serve; serve({to_child}, {from_child})"
+        self.proc = subprocess.Popen([sys.executable, "-c", code], env=env,
+                                     pass_fds=(to_child, from_child),
+                                     stdout=subprocess.DEVNULL, stdin=subprocess.DEVNULL)
+        os.close(to_child)
+        os.close(from_child)
+        self.send = Connection(self.send_end, readable=False)
+        self.recv = Connection(self.recv_end, writable=False)
+
+    def stop(self) -> None:
+        if self.proc is not None:
+            self.proc.kill()
+            self.proc.wait()
+            self.send.close()
+            self.recv.close()
+        self.proc = None
+
+    def __call__(self, timeout: float, *args, **kwargs):
+        if self.proc is None or self.proc.poll() is not None:
+            self._start()
+        self.send.send((args, kwargs))
+        if not self.recv.poll(timeout):
+            self.stop()
+            raise SolverError(f"gmsh did not finish within {timeout:g} s (the worker was "
+                              "stopped)")
+        try:
+            status, out = self.recv.recv()
+        except EOFError:
+            self.stop()
+            raise SolverError("the gmsh worker died") from None
+        if status != "ok":
+            raise SolverError(f"gmsh failed: {out}")
+        return out
+
+
+MESHER = _Mesher()
+"""The module's gmsh worker (:class:`_Mesher`)."""
+
+
 # ---- the domain -----------------------------------------------------------------------
 
 
@@ -244,7 +318,10 @@ class MeshOptions:
     n_gap
         Elements across the gap along the axis.
     n_neck
-        Elements across the neck radius (at least).
+        Elements across the bridge's local radius, wherever that radius is below
+        ``n_neck h_surface`` (the neck): the builder's ``n_width``.
+    timeout
+        Seconds gmsh may take for one mesh (:class:`_Mesher`); past it the mesh fails.
     """
 
     h_surface: float = 0.01
@@ -252,12 +329,12 @@ class MeshOptions:
     growth: float = 0.15
     n_gap: int = 4
     n_neck: int = 8
+    timeout: float = 60.0
 
-    def resolution(self, neck_radius: float) -> tuple[Resolution, float]:
-        """The builder's :class:`~wetcontact.meshes.builders.Resolution` and contact size."""
-        h = min(self.h_surface, neck_radius / self.n_neck)
-        return (Resolution(n_gap=self.n_gap, h_sphere=max(h, 1e-4), growth=self.growth,
-                           far=1e3), min(self.contact_size, h))
+    def resolution(self) -> Resolution:
+        """The builder's :class:`~wetcontact.meshes.builders.Resolution`."""
+        return Resolution(n_gap=self.n_gap, h_sphere=self.h_surface, growth=self.growth,
+                          far=1e3)
 
 
 @dataclass
@@ -296,9 +373,9 @@ class Domain:
         line (z = 0) to a point of the sphere, by gmsh (:func:`~wetcontact.meshes.builders.
         sphere_bridge`)."""
         prof = np.asarray(profile, dtype=float)
-        res, cs = opts.resolution(neck(prof.T)[0])
-        mesh = to_skfem(sphere_bridge(gap, prof, res, contact_size=cs))
-        return cls.on_mesh(mesh, gap)
+        mesh = MESHER(opts.timeout, gap, prof, opts.resolution(), contact_size=opts.contact_size,
+                      n_width=opts.n_neck)
+        return cls.on_mesh(to_skfem(mesh), gap)
 
     @classmethod
     def on_mesh(cls, mesh: MeshTri2, gap: float) -> Domain:
