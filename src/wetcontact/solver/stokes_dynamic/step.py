@@ -20,7 +20,8 @@ surface-tension form (the weak Laplace-Beltrami operator with its hoop term)
 
 the first variation of the area ``dA[w]``. Its evaluation at the new position
 ``Y + c dt u`` (Y the explicit part of the time scheme's update, :mod:`.run`) is
-Baensch's (2001) semi-implicit curvature, which removes the capillary time-step limit. The right-hand side is ``-dE[w]`` of the free energy
+Baensch's (2001) semi-implicit curvature, which removes the capillary time-step limit.
+The right-hand side is ``-dE[w]`` of the free energy
 ``E = sigma (A - cos theta_w A_wall - cos theta_s A_sphere)``: the contact angles are the
 natural conditions at the lines, where the nodes slide along their solids (normal velocity
 the solid's, imposed in a rotated frame). Axis: u_r = 0; wall: u_z = 0; sphere:
