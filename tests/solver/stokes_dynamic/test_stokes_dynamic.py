@@ -169,21 +169,116 @@ def test_stepping_needs_a_stop():
         Stepping(dt=float("nan"), t_end=1.0)
 
 
-@pytest.mark.slow
-def test_stretched_bridge_outlives_the_static_fold():
-    """At Ca = 1e-2 (dS = 5e-4 per step) the bridge passes the static fold (meniscus
-    solver: S_c/R = 0.1104) with a finite neck, the direction of Pitois et al. (2001),
-    ``S_c = S_c,static (1 + Ca^1/2)``. Measured (17 s, 5 remeshes): the neck reaches 0.2 of
-    its initial radius at S/R = 0.1295, 1.17 S_c (Pitois: 1.10); it reached 0.02 of it at
-    1.27 S_c (242 s: the remeshed mesh is uniformly fine, see the package notes). Not yet a
-    rupture distance: the pinch is not followed to the end."""
+def test_gmsh_that_does_not_finish_is_stopped():
+    """gmsh runs in a worker process: past ``MeshOptions.timeout`` the worker is killed and
+    the mesh fails with a SolverError (a run stops with reason ``"mesh"``); the next mesh
+    starts a new worker."""
+    prof = static_profile(S0, V, WET)
+    with pytest.raises(SolverError, match="did not finish"):
+        Domain.from_profile(S0, prof, MeshOptions(timeout=1e-4))
+    dom = Domain.from_profile(S0, prof, MeshOptions())
+    assert dom.mesh.t.shape[1] > 100
+
+
+def test_thin_neck_is_resolved_locally():
+    """At the static fold's gap the neck (radius w ~ 0.03 R) gets elements of at most about
+    w/n_neck (``sphere_bridge(n_width=...)``, gmsh's sizes are targets: 30 % margin), while
+    away from it the size stays h_surface: the count grows with the neck's resolution only
+    (measured ~2.5x fewer elements than a mesh uniformly at the neck's size)."""
     from wetcontact.solver.meniscus import rupture_distance
 
+    gap = 0.995 * rupture_distance(BRIDGE, V)
+    opts = MeshOptions(n_neck=16)
+    dom = Domain.from_profile(gap, static_profile(gap, V, WET), opts)
+    w, zn = dom.neck()
+    m = dom.mesh
+    a, b, c = (m.p[:, m.t[i]] for i in range(3))
+    edge = np.max([np.hypot(*(p - q)) for p, q in ((a, b), (b, c), (c, a))], axis=0)
+    centre = (a + b + c) / 3
+    near = np.abs(centre[1] - zn) < 0.5 * w
+    assert near.sum() >= opts.n_neck
+    assert edge[near].max() < 1.3 * w / opts.n_neck * 2  # longest edge ~ 2 x size
+    assert edge.max() > 3 * w / opts.n_neck  # coarser away from the neck
+
+
+@pytest.fixture(scope="module")
+def pinched():
+    """Ca = 1e-2 from S/R = 0.02 until the neck is 1.1 % of its initial radius."""
+    return run(V, S0, 1e-2, WET, Stepping(dt=0.05, gap_end=0.5, neck_stop=0.011,
+                                          neck_step=0.05))
+
+
+@pytest.mark.slow
+def test_stretched_bridge_ruptures_beyond_the_static_fold(pinched):
+    """The pinch located from the neck's late law (``locate_pinch`` over its last decade):
+    the rupture distance at Ca = 1e-2 is beyond the static fold of the meniscus solver
+    (S_c/R = 0.11037): measured 0.13217 R, 1.1975 S_c (Pitois et al. 2001: 1.10), with the
+    pinch 1.6e-4 R of gap after the last state (16 s, 3 000 elements at the end; the neck
+    reached 1e-3 of its start in 170 s, 37 000 elements)."""
+    from wetcontact.solver.meniscus import rupture_distance
+    from wetcontact.solver.stokes_dynamic import locate_pinch
+
     sc = rupture_distance(BRIDGE, V)
-    ca = 1e-2
-    r = run(V, S0, ca, WET, Stepping(dt=5e-4 / ca, gap_end=0.5, neck_stop=0.2))
+    r = pinched
     assert r.stopped == "neck"
-    k = int(np.argmin(abs(r.gap - sc)))
-    assert r.neck_radius[k] > 0.3 * r.neck_radius[0]  # at the fold the neck is still thick
-    assert r.gap[-1] > 1.1 * sc
+    p = locate_pinch(r)
+    assert p.gap > 1.1 * sc
+    assert 0 < p.gap - r.gap[-1] < 2e-3 * p.gap  # measured 1.2e-3
     assert np.abs(r.volume / V - 1).max() < 1e-12
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="the neck's rate over its last resolved decade "
+                   "(1.2e-2 .. 1.2e-3 R) is 0.11 .. 0.086 sigma/eta, still falling towards "
+                   "Papageorgiou's 0.0709; below ~1.2e-3 R the neck's rate is noisy "
+                   "(0.03 .. 0.06) and the law is not resolved")
+def test_neck_thins_at_papageorgiou_rate(pinched):
+    """Papageorgiou (1995): h_min = 0.0709 sigma (t_c - t)/eta near pinch, within 2 %."""
+    from wetcontact.solver.stokes_dynamic import PAPAGEORGIOU, locate_pinch
+
+    assert locate_pinch(pinched).slope == pytest.approx(PAPAGEORGIOU, rel=0.02)
+
+
+@pytest.fixture(scope="module")
+def slow_stretch():
+    """Ca = 1e-4 from S/R = 0.02 (dS = 5e-4 per step) until the neck is 1 % of its start."""
+    return run(V, S0, 1e-4, WET, Stepping(dt=5.0, gap_end=0.5, neck_stop=0.01,
+                                          neck_step=0.05))
+
+
+@pytest.mark.slow
+def test_small_ca_force_is_static_plus_quasi_static_viscous(slow_stretch):
+    """At Ca = 1e-4 the force against gap is the meniscus solver's plus Ca times the
+    quasi-static ``stokes`` viscous force within 1e-4 relative at S/R = 0.03, 0.05, 0.08
+    (measured 7.5e-6, 1.5e-5, 1.1e-5; the viscous part is 1.4e-3 .. 1.8e-4 of the force).
+    Near the fold the quasi-static picture fails: 5e-4 at 0.1, 1.3e-3 at 0.105."""
+    from scipy.interpolate import CubicSpline
+
+    r = slow_stretch
+    k = int(np.argmax(r.gap > 0.09))
+    force = CubicSpline(r.gap[1:k], r.force[1:k])
+    R = 1e-3
+    for gap in (0.03, 0.05, 0.08):
+        scene = scene_from_dict({
+            "name": "dynamic-check", "geometry": {"kind": "sphere-wall", "radius": R},
+            "liquid": {"viscosity": 1e-3, "surface_tension": 0.072, "density": 998.0,
+                       "contact_angle": 20.0, "slip_length_sphere": 1e-3 * R,
+                       "slip_length_wall": 1e-3 * R},
+            "amount": {"bridge_volume": V * R**3},
+            "motion": {"velocity": -0.1, "gaps": [gap * R]}})
+        fv = float(get_model("stokes").force(scene).force_viscous[0]) / (1e-3 * R * 0.1)
+        expected = _static(gap).force + 1e-4 * fv
+        assert float(force(gap)) == pytest.approx(expected, rel=1e-4)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="measured rupture at 1.040 S_c at Ca = 1e-4 (the "
+                   "slow passage of the fold delays the collapse), not within 1e-3")
+def test_small_ca_rupture_is_the_static_fold(slow_stretch):
+    """Issue 57's goal: at Ca = 1e-4 the rupture distance is the meniscus solver's static
+    fold within 1e-3."""
+    from wetcontact.solver.meniscus import rupture_distance
+    from wetcontact.solver.stokes_dynamic import locate_pinch
+
+    assert locate_pinch(slow_stretch).gap == pytest.approx(rupture_distance(BRIDGE, V),
+                                                           rel=1e-3)

@@ -35,6 +35,7 @@ Chateau (2001), the dynamic rupture law; Papageorgiou (1995), viscous pinch-off.
 """
 
 from wetcontact.solver.stokes_dynamic.domain import Domain, MeshOptions
+from wetcontact.solver.stokes_dynamic.pinch import PAPAGEORGIOU, Pinch, locate_pinch
 from wetcontact.solver.stokes_dynamic.run import (
     ORDER,
     DynamicRun,
@@ -46,10 +47,13 @@ from wetcontact.solver.stokes_dynamic.step import StepSolution, Wetting, solve_s
 
 __all__ = [
     "ORDER",
+    "PAPAGEORGIOU",
     "Domain",
     "DynamicRun",
     "MeshOptions",
+    "Pinch",
     "StepSolution",
+    "locate_pinch",
     "Stepping",
     "Wetting",
     "run",

@@ -159,6 +159,14 @@ def profile_of(xs: np.ndarray, n: int = 801) -> np.ndarray:
     return redistribute(xs, np.linspace(0.0, 1.0, n)).T
 
 
+def dense_profile(xs: np.ndarray) -> np.ndarray:
+    """The free surface (n, 2) through its own nodes and a point between each two (the
+    spline of :func:`redistribute`): a remesh keeps the nodes' local resolution."""
+    s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xs, axis=1)))])
+    f = s / s[-1]
+    return redistribute(xs, np.sort(np.concatenate([f, 0.5 * (f[1:] + f[:-1])]))).T
+
+
 def correct_volume(xs: np.ndarray, gap: float, volume: float, tol: float = 1e-13,
                    ) -> tuple[np.ndarray, float]:
     """Shift the free-surface nodes along their normals by ``d sin(pi f)`` (f the chord

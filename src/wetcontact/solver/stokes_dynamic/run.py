@@ -46,6 +46,7 @@ from wetcontact.solver.stokes_dynamic.domain import (
     Domain,
     MeshOptions,
     correct_volume,
+    dense_profile,
     on_sphere,
     profile_of,
     redistribute,
@@ -78,7 +79,8 @@ class Stepping:
         The first step (backward Euler) over ``dt``; the steps then grow by ``max_ratio``.
     neck_step
         Adaptive steps: at most this relative change of the neck radius per step
-        (``None``: fixed steps ``dt``, which stays the largest step).
+        (``None``: fixed steps ``dt``, which stays the largest step); a step in which the
+        neck falls by more than three times it is redone with a quarter of the step.
     max_ratio
         Largest ratio of successive steps (variable-step BDF2 is zero-stable below 2.41).
     """
@@ -122,6 +124,8 @@ class DynamicRun:
         ``"max_steps"``; ``message`` has the details.
     remeshes, steps, wall_time
         Number of gmsh remeshings, time steps, and seconds.
+    remesh_times
+        The times of the remeshings after a step.
     domain
         The last domain (its free surface: ``domain.surface_xy``).
     """
@@ -138,6 +142,7 @@ class DynamicRun:
     steps: int
     wall_time: float
     domain: Domain = field(repr=False)
+    remesh_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
     diagnostics: dict[str, float] = field(default_factory=dict)
 
 
@@ -207,6 +212,8 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
     dt, dt_prev = stepping.first * stepping.dt, math.nan
     prev: np.ndarray | None = None  # X^{n-1} at the current mesh's surface fractions
     uprev = np.zeros(0)  # the fluid's velocity at the surface nodes in the last step
+    shifts: list[float] = []
+    remesh_times: list[float] = []
     fresh = False  # the current mesh was just made for an inverted prediction
 
     def record(t_: float, d: Domain, s: StepSolution) -> None:
@@ -218,7 +225,7 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
         hist["V"].append(d.volume())
 
     def remesh(xs_: np.ndarray, gap: float) -> Domain:
-        new = Domain.from_profile(gap, profile_of(xs_), opts)
+        new = Domain.from_profile(gap, dense_profile(xs_), opts)
         xs2, _ = correct_volume(new.surface_xy, gap, volume)
         return new.moved(xs2, gap)
 
@@ -275,11 +282,16 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
             break
         xs = redistribute(xs, dom.fractions["surface"])
         try:
-            xs, _ = correct_volume(xs, s1, volume)
+            xs, shift = correct_volume(xs, s1, volume)
+            shifts.append(abs(shift))
         except SolverError as exc:
             stopped, message = "solver", str(exc)
             break
         new = dom.moved(xs, s1)
+        if (stepping.neck_step is not None and new.neck()[0] < (1 - 3 * stepping.neck_step)
+                * hist["neck"][-1] and dt > stepping.first * stepping.dt * 1e-6):
+            dt *= 0.25  # the neck fell too fast: redo the step with a quarter of it
+            continue
         prev_new, uprev = xn, u
         shape, curv = new.quality()
         if shape < stepping.remesh_shape or curv < stepping.remesh_curvature:
@@ -289,6 +301,7 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
                 stopped, message = "mesh", f"remeshing at t = {t1:.6g} failed: {exc}"
                 break
             remeshes += 1
+            remesh_times.append(t1)
             shape, curv = new.quality()
             if curv < stepping.remesh_curvature:
                 stopped, message = "mesh", (f"a new mesh at t = {t1:.6g} has a P2 map ratio "
@@ -322,8 +335,10 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
     return DynamicRun(time=arr["t"], gap=arr["S"], force=arr["F"], force_wall=arr["Fw"],
                       neck_radius=arr["neck"], volume=arr["V"], stopped=stopped,
                       message=message, remeshes=remeshes, steps=step,
+                      remesh_times=np.asarray(remesh_times),
                       wall_time=time.perf_counter() - t_start, domain=dom,
                       diagnostics={"ndofs": float(sol.ndofs),
+                                   "max_volume_shift": max(shifts, default=0.0),
                                    "elements": float(dom.mesh.t.shape[1])})
 
 
@@ -337,11 +352,13 @@ def _tangential(v: np.ndarray, normals: np.ndarray) -> np.ndarray:
 
 def _next_dt(stepping: Stepping, hist: dict[str, list[float]], dt: float) -> float:
     """The next step: ``stepping.dt``, cut so that the neck radius changes by at most
-    ``stepping.neck_step`` of itself per step, and grown by at most ``max_ratio``."""
+    ``stepping.neck_step`` of itself per step (at the larger of its rates over the last
+    step and the last three), and grown by at most ``max_ratio``."""
     new = stepping.dt
-    if stepping.neck_step is not None and len(hist["neck"]) >= 2:
-        r0, r1 = hist["neck"][-2], hist["neck"][-1]
-        rate = (r0 - r1) / (hist["t"][-1] - hist["t"][-2])
+    h, t = hist["neck"], hist["t"]
+    if stepping.neck_step is not None and len(h) >= 2:
+        k = max(0, len(h) - 4)
+        rate = max((h[-2] - h[-1]) / (t[-1] - t[-2]), (h[k] - h[-1]) / (t[-1] - t[k]))
         if rate > 0:
-            new = min(new, stepping.neck_step * r1 / rate)
+            new = min(new, stepping.neck_step * h[-1] / rate)
     return min(new, stepping.max_ratio * dt)
