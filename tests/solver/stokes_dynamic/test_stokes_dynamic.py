@@ -228,10 +228,12 @@ def test_stretched_bridge_ruptures_beyond_the_static_fold(pinched):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="the neck's rate over its last resolved decade "
-                   "(1.2e-2 .. 1.2e-3 R) is 0.11 .. 0.086 sigma/eta, still falling towards "
-                   "Papageorgiou's 0.0709; below ~1.2e-3 R the neck's rate is noisy "
-                   "(0.03 .. 0.06) and the law is not resolved")
+@pytest.mark.xfail(strict=True, reason="not resolved: over the last decade here "
+                   "(1.2e-2 .. 1.2e-3 R) the fitted rate is 0.088 sigma/eta (local rates "
+                   "0.06 .. 0.11, still falling); below ~1.2e-3 R the rate is noisy and "
+                   "depends on the step (neck_step 0.02: 0.073 over 2.3e-3 .. 2.3e-4 R, local "
+                   "0.085 falling to 0.057 +- 5 %), so Papageorgiou's 0.0709 is not "
+                   "confirmed within 2 %")
 def test_neck_thins_at_papageorgiou_rate(pinched):
     """Papageorgiou (1995): h_min = 0.0709 sigma (t_c - t)/eta near pinch, within 2 %."""
     from wetcontact.solver.stokes_dynamic import PAPAGEORGIOU, locate_pinch
@@ -272,8 +274,10 @@ def test_small_ca_force_is_static_plus_quasi_static_viscous(slow_stretch):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="measured rupture at 1.040 S_c at Ca = 1e-4 (the "
-                   "slow passage of the fold delays the collapse), not within 1e-3")
+@pytest.mark.xfail(strict=True, reason="measured rupture at 1.040 S_c at Ca = 1e-4 "
+                   "(dS = 5e-4 per step; 1.031 at 2.5e-4, 1.028 at 1.25e-4, extrapolated "
+                   "1.027): the slow passage through the fold delays the collapse by a few "
+                   "% of S_c, not within 1e-3")
 def test_small_ca_rupture_is_the_static_fold(slow_stretch):
     """Issue 57's goal: at Ca = 1e-4 the rupture distance is the meniscus solver's static
     fold within 1e-3."""

@@ -16,6 +16,10 @@ Volume (the meniscus solver's definition, exact solids): ``V = pi int_Gamma r^2 
 V_cap(phi)``, ``V_cap = pi (1 - cos phi)^2 (2 + cos phi)/3`` the sphere cap below the
 contact line, evaluated exactly on the P2 free surface (3-point Gauss, the integrand is a
 polynomial of degree 5).
+
+Meshes come from gmsh (:func:`~wetcontact.meshes.builders.sphere_bridge`, with ``n_width``
+elements across the local radius at a thin neck) in a worker process (:class:`_Mesher`):
+one that takes longer than ``MeshOptions.timeout`` is abandoned with a SolverError.
 """
 
 from __future__ import annotations
