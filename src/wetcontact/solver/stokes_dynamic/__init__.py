@@ -1,5 +1,6 @@
-r"""Dynamic liquid bridge between a sphere and a wall (issue 57; not yet a registered model):
-free-surface Stokes flow at a finite capillary number Ca = eta v / sigma.
+r"""Dynamic liquid bridge between a sphere and a wall, or two equal spheres (the half above
+the shear-free mid-plane, ``MeshOptions(plane="symmetry")``): free-surface Stokes flow at
+a finite capillary number Ca = eta v / sigma (issue 57; not yet a registered model).
 
 Equations (units R = sigma = eta = 1; axisymmetric, meridian half-plane r >= 0):
 ``-div(-p I + 2 e(u)) = 0``, ``div u = 0`` in the liquid; on the free surface the traction
@@ -23,10 +24,11 @@ Ca = 1e-4 the force is ``meniscus`` plus Ca times ``stokes`` within 1.5e-5 up to
 0.08 (5e-4 at 0.1: the fold). Rupture at Ca = 1e-2: 1.1975 S_c (S_c the static fold; half
 steps move it by 0.27 %; Pitois: 1.10), 18 s; at Ca = 1e-4: 1.027 S_c (extrapolated in dt),
 not the fold within 1e-3. The neck is followed to 1e-3 of its start (170 s, 37k elements).
+Equal spheres: static force to 1e-6, O(Ca) excess 0.5 % from ``stokes``, rupture 1.165 S_c.
 
 Limits: the neck's rate near pinch is 0.088 over 1.2e-2 .. 1.2e-3 R, still falling, and
 below ~1e-3 R noisy and step-dependent (0.057 .. 0.06 at 2.5e-4 R): Papageorgiou's 0.0709
-is not confirmed; two spheres; a dynamic contact angle; SI units and the model registry.
+is not confirmed; unequal spheres; a dynamic contact angle; SI units and the registry.
 
 Sources: Baensch (2001, Numer. Math. 88, 203), semi-implicit curvature; Ganesan & Tobiska
 (2008), the axisymmetric Laplace-Beltrami form; Navier (1823); Pitois, Moucheront &

@@ -1,6 +1,7 @@
 """The moving liquid domain of a sphere-wall bridge: an ALE mesh of second-order triangles.
 
-Units R = 1 (sphere radius). The sphere's centre is at ``(0, 1 + S)``, the wall is z = 0.
+Units R = 1 (sphere radius). The sphere's centre is at ``(0, 1 + S)``, the wall is z = 0
+(or the mid-plane of two equal spheres, ``plane = "symmetry"``: the same chains).
 The boundary is four named chains of P2 edges (:func:`chain`): ``free_surface`` from the
 wall's contact line to the sphere's, ``sphere`` from its apex on the axis to its contact
 line, ``wall`` from the origin to its contact line, ``axis`` from the origin to the apex.
@@ -334,6 +335,10 @@ class MeshOptions:
         ``n_neck h_surface`` (the neck): the builder's ``n_width``.
     timeout
         Seconds gmsh may take for one mesh (:class:`_Mesher`); past it the mesh fails.
+    plane
+        ``"wall"``: a sphere on a wall; ``"symmetry"``: the upper half of a bridge between
+        two equal spheres (the plane z = 0 is the mid-plane, shear-free, and the surface
+        meets it at right angles: no contact line there; gap and volume are the half's).
     """
 
     h_surface: float = 0.01
@@ -342,6 +347,7 @@ class MeshOptions:
     n_gap: int = 4
     n_neck: int = 8
     timeout: float = 60.0
+    plane: str = "wall"
 
     def resolution(self) -> Resolution:
         """The builder's :class:`~wetcontact.meshes.builders.Resolution`."""
@@ -360,7 +366,8 @@ class Domain:
     gap
         S/R of the current mesh.
     surface, sphere, wall, axis
-        Node chains (:func:`chain`).
+        Node chains (:func:`chain`); ``wall`` is the plane z = 0, named ``plane``
+        (``"wall"`` or ``"symmetry"``, :class:`MeshOptions`).
     reference
         Node positions (2, n) of the reference mesh (the last one gmsh made).
     fractions
@@ -377,6 +384,7 @@ class Domain:
     reference: np.ndarray
     fractions: dict[str, np.ndarray]
     quality0: tuple[np.ndarray, np.ndarray]
+    plane: str = "wall"
     _extension: tuple = field(repr=False, default=())
 
     @classmethod
@@ -386,7 +394,7 @@ class Domain:
         sphere_bridge`)."""
         prof = np.asarray(profile, dtype=float)
         mesh = MESHER(opts.timeout, gap, prof, opts.resolution(), contact_size=opts.contact_size,
-                      n_width=opts.n_neck)
+                      n_width=opts.n_neck, plane=opts.plane)
         return cls.on_mesh(to_skfem(mesh), gap)
 
     @classmethod
@@ -402,7 +410,8 @@ class Domain:
         apex = max(ax_ends, key=lambda v: x[1, v])
         surface = chain(mesh, "free_surface", int(low))
         sphere = chain(mesh, "sphere", int(apex))
-        wall = chain(mesh, "wall", int(origin))
+        plane = "symmetry" if "symmetry" in mesh.boundaries else "wall"
+        wall = chain(mesh, plane, int(origin))
         axis = chain(mesh, "axis", int(origin))
         if sphere[-1] != high or wall[-1] != low or axis[-1] != apex:
             raise SolverError("bridge mesh: the boundary chains do not meet at the contact "
@@ -413,6 +422,7 @@ class Domain:
         frac = {"surface": s / s[-1], "sphere": ang / ang[-1],
                 "wall": x[0, wall] / x[0, wall[-1]], "axis": x[1, axis] / gap}
         dom = cls(mesh=mesh, gap=gap, surface=surface, sphere=sphere, wall=wall, axis=axis,
+                  plane=plane,
                   reference=x.copy(), fractions=frac, quality0=element_quality(mesh))
         dom._extension = dom._factor()
         return dom

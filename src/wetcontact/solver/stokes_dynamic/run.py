@@ -146,17 +146,28 @@ class DynamicRun:
     diagnostics: dict[str, float] = field(default_factory=dict)
 
 
-def static_profile(gap: float, volume: float, wet: Wetting) -> np.ndarray:
+def static_profile(gap: float, volume: float, wet: Wetting, plane: str = "wall"
+                   ) -> np.ndarray:
     """The static meniscus (n, 2) at ``gap`` (S/R) and ``volume`` (V/R^3), units R
-    (:func:`wetcontact.solver.meniscus.solve_volume`)."""
-    br = Bridge(radius=1.0, contact_angle1=wet.theta_sphere, contact_angle2=wet.theta_wall,
+    (:func:`wetcontact.solver.meniscus.solve_volume`). ``plane="symmetry"``: the upper half
+    of the bridge between two equal spheres at 2 gap holding 2 volume, from the mid-plane
+    (z = 0) to the upper sphere (angle ``theta_sphere`` on both)."""
+    sym = plane == "symmetry"
+    br = Bridge(radius=1.0, radius2=1.0 if sym else None,
+                contact_angle1=wet.theta_sphere,
+                contact_angle2=wet.theta_sphere if sym else wet.theta_wall,
                 surface_tension=1.0)
-    sol = solve_volume(br, gap, volume)
+    sol = solve_volume(br, 2 * gap if sym else gap, 2 * volume if sym else volume)
     if not sol.exists:
         raise SolverError(f"stokes-dynamic: no static bridge at S/R = {gap:g}, V/R^3 = "
                           f"{volume:g} ({sol.message})")
-    prof = meniscus_profile(sol, n=801)
-    return np.column_stack([prof["r"], prof["z"]])
+    prof = meniscus_profile(sol, n=1601 if sym else 801)
+    r, z = prof["r"], prof["z"]
+    if not sym:
+        return np.column_stack([r, z])
+    k = int(np.argmax(z > gap))  # the first point above the mid-plane
+    r0 = r[k - 1] + (r[k] - r[k - 1]) * (gap - z[k - 1]) / (z[k] - z[k - 1])
+    return np.vstack([[r0, 0.0], np.column_stack([r[k:], z[k:] - gap])])
 
 
 def gap_history(gap0: float, speed: float | Callable[[float], float]
@@ -197,7 +208,8 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
     """
     t_start = time.perf_counter()
     opts = mesh or MeshOptions()
-    prof = static_profile(gap0, volume, wet) if initial is None else np.asarray(initial)
+    prof = (static_profile(gap0, volume, wet, opts.plane) if initial is None
+            else np.asarray(initial))
     gap_at, speed_at = gap_history(gap0, speed)
     dom = Domain.from_profile(gap0, prof, opts)
     xs, shift = correct_volume(dom.surface_xy, gap0, volume)

@@ -24,7 +24,8 @@ Baensch's (2001) semi-implicit curvature, which removes the capillary time-step 
 The right-hand side is ``-dE[w]`` of the free energy
 ``E = sigma (A - cos theta_w A_wall - cos theta_s A_sphere)``: the contact angles are the
 natural conditions at the lines, where the nodes slide along their solids (normal velocity
-the solid's, imposed in a rotated frame). Axis: u_r = 0; wall: u_z = 0; sphere:
+the solid's, imposed in a rotated frame). Axis: u_r = 0; wall: u_z = 0 (a symmetry plane:
+u_z = 0, no friction, no contact line); sphere:
 ``u . n = U . n``. The pressure level is set by the free surface (no pin).
 
 Force on the sphere (positive pushing the solids apart): the reaction of the discrete
@@ -153,14 +154,16 @@ def solve_step(domain: Domain, dt: float, speed: float, wet: Wetting,
     # slip friction on both solids; the sphere's moves at (0, speed)
     Ms = navier_slip_form.assemble(facet_basis(mesh, eu, "sphere", intorder),
                                    friction=1.0 / wet.slip_sphere)
+    wall_slip = domain.plane == "wall"  # a symmetry plane is shear-free, with no line
     Mw = navier_slip_form.assemble(facet_basis(mesh, eu, "wall", intorder),
-                                   friction=1.0 / wet.slip_wall)
+                                   friction=1.0 / wet.slip_wall) if wall_slip else 0 * Ms
     ub = np.zeros(nu)
     ub[2 * sph + 1] = speed
     f = Ms @ ub - L @ X
     # contact lines: -dE of the wetted areas, cos(theta) r tau (tau out of the wetted zone)
     jw, js = domain.surface[0], domain.surface[-1]
-    f[2 * jw] += math.cos(wet.theta_wall) * x[0, jw]
+    if wall_slip:
+        f[2 * jw] += math.cos(wet.theta_wall) * x[0, jw]
     phi = float(sphere_angle(x[:, [js]], domain.gap)[0])
     f[2 * js] += math.cos(wet.theta_sphere) * x[0, js] * math.cos(phi)
     f[2 * js + 1] += math.cos(wet.theta_sphere) * x[0, js] * math.sin(phi)
