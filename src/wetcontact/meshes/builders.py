@@ -30,6 +30,7 @@ from __future__ import annotations
 import math
 import os
 import tempfile
+from bisect import bisect_right
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -398,7 +399,7 @@ def sphere_film(gap: float, film: float, res: Resolution, extent: float = 30.0) 
 
 def sphere_bridge(gap: float, profile: np.ndarray, res: Resolution,
                   contact_size: float | None = None, radius2: float | None = None,
-                  plane: str = "wall") -> meshio.Mesh:
+                  plane: str = "wall", n_width: int | None = None) -> meshio.Mesh:
     """Unit sphere joined to the wall z = 0 (or to a lower sphere) by a liquid bridge.
 
     Parameters
@@ -421,6 +422,10 @@ def sphere_bridge(gap: float, profile: np.ndarray, res: Resolution,
     plane
         Name of the plane z = 0: ``"wall"`` or ``"symmetry"`` (the mid-plane of a bridge
         between two equal spheres, the profile starting at the neck).
+    n_width
+        At least this many elements across the bridge's local radius w(z) (the smallest r
+        of the profile at the height z): the size is at most ``w(z)/n_width``, which only
+        bites where w(z) < n_width times the other sizes, at a thin neck. ``None``: off.
 
     Boundaries ``axis``, ``sphere``, ``free_surface`` and ``wall`` (``symmetry``,
     ``sphere2``).
@@ -452,6 +457,9 @@ def sphere_bridge(gap: float, profile: np.ndarray, res: Resolution,
     if contact_size is not None and not (math.isfinite(contact_size)
                                          and 1e-9 <= contact_size <= 1.0):
         raise InputError(f"contact_size = {contact_size!r}; allowed: [1e-9, 1] R")
+    if n_width is not None and not (isinstance(n_width, int) and 1 <= n_width <= 100):
+        raise InputError(f"n_width = {n_width!r}; allowed: integer in [1, 100]")
+    width = None if n_width is None else _width_table(prof, n_width)
     with _Gmsh("sphere_bridge") as gmsh:
         g = gmsh.model.geo
         o, pc, pb = g.addPoint(0, 0, 0), g.addPoint(0, c, 0), g.addPoint(0, c - 1.0, 0)
@@ -470,6 +478,8 @@ def sphere_bridge(gap: float, profile: np.ndarray, res: Resolution,
             groups = {"axis": [ax], "sphere2": [lower], "sphere": [sph], "free_surface": [fs]}
             base = _two_sphere_size(res, c, -a2, a2)
         surf = g.addPlaneSurface([g.addCurveLoop([lower, fs, sph, ax])])
+        if width is not None:
+            base = _capped(base, *width)
         if contact_size is None:
             return _mesh_and_read(gmsh, lambda r, z: min(base(r, z), res.h_sphere), groups, surf)
         (r0, z0), (r1, z1) = prof[0], prof[-1]
@@ -490,6 +500,41 @@ def sphere_bridge(gap: float, profile: np.ndarray, res: Resolution,
             return t if t < s else s
 
         return _mesh_and_read(gmsh, size, groups, surf)
+
+
+def _width_table(prof: np.ndarray, n_width: int) -> tuple[list[float], list[float]]:
+    """Heights and sizes ``w(z)/n_width`` (w the smallest r of the profile at height z, on
+    the profile's own heights and where it crosses them), sorted by height."""
+    r, z = prof[:, 0], prof[:, 1]
+    zs = np.unique(z)
+    lo, hi = np.minimum(z[:-1], z[1:]), np.maximum(z[:-1], z[1:])
+    w = np.full(zs.size, np.inf)
+    for k in range(r.size - 1):  # the segment's r at each height it spans
+        m = (zs >= lo[k]) & (zs <= hi[k])
+        if hi[k] > lo[k]:
+            w[m] = np.minimum(w[m], r[k] + (r[k + 1] - r[k]) * (zs[m] - z[k]) / (z[k + 1] - z[k]))
+        else:
+            w[m] = np.minimum(w[m], min(r[k], r[k + 1]))
+    return zs.tolist(), (w / n_width).tolist()
+
+
+def _capped(size: SizeFn, zs: list[float], cap: list[float]) -> SizeFn:
+    """``size`` capped by the piecewise-linear table (zs, cap) in z (held beyond its ends)."""
+    n = len(zs)
+
+    def capped(r: float, z: float) -> float:
+        s = size(r, z)
+        k = bisect_right(zs, z)
+        if k == 0:
+            c = cap[0]
+        elif k == n:
+            c = cap[-1]
+        else:
+            z0, z1 = zs[k - 1], zs[k]
+            c = cap[k - 1] + (cap[k] - cap[k - 1]) * (z - z0) / (z1 - z0)
+        return c if c < s else s
+
+    return capped
 
 
 def toroidal_bridge_profile(gap: float, half_angle: float, contact_angle: float = math.pi / 6,

@@ -10,6 +10,9 @@ Independent references:
   its O(Ca) deformation does no work to first order: ``F v = Phi + dE_static/dt``);
 * the declared order of the time stepping against runs with halved steps.
 
+Every force is the force at the time it is recorded (``DynamicRun.force[k]`` at
+``time[k]``; the first entry is the instantaneous flow of the initial shape).
+
 Units R = sigma = eta = 1 (speed = Ca, time eta R/sigma, force sigma R). The tolerances
 are the measured errors (in each docstring) with a margin.
 """
@@ -98,37 +101,36 @@ def test_perturbed_bridge_relaxes_to_the_meniscus():
 
 @pytest.fixture(scope="module")
 def stretched():
-    """Ca = 1e-3 separation from S/R = 0.02 to 0.03 at two time steps (dS = 2e-4, 1e-4)."""
+    """Ca = 1e-3 separation from S/R = 0.02 to 0.03 (t = 10) at two time steps (dS = 2e-4,
+    1e-4)."""
     ca = 1e-3
-    return ca, [run(V, S0, ca, WET, Stepping(dt=ds / ca, gap_end=0.0301)) for ds in (2e-4, 1e-4)]
+    return ca, [run(V, S0, ca, WET, Stepping(dt=ds / ca, t_end=0.01 / ca)) for ds in (2e-4, 1e-4)]
 
 
 def test_volume_is_kept_while_stretching(stretched):
     """The volume stays within 1e-12 relative at every step (measured 1e-13: the normal
-    correction each step; without it the drift is about 3e-7 per step), remeshing
-    included (forced here by a strict quality threshold)."""
+    correction each step), remeshing included (forced here by a strict quality
+    threshold)."""
     _, runs = stretched
     remeshed = run(V, S0, 1e-3, WET, Stepping(dt=0.5, gap_end=0.03, remesh_shape=0.95))
     assert remeshed.remeshes >= 2
+    assert remeshed.stopped == "gap_end"
     for r in [*runs, remeshed]:
-        assert r.stopped == "gap_end"
         assert np.abs(r.volume / V - 1).max() < 1e-12
 
 
 def test_small_ca_force_excess_is_the_quasi_static_viscous_force(stretched):
-    """(F - F_static)/Ca at S/R = 0.03, extrapolated to dt -> 0 (Richardson, order 1), against
-    the quasi-static ``stokes`` bridge's viscous force per unit speed (same slip lengths,
-    contact angles and volume): measured -26.5 against -25.7 (3 %; the O(Ca) shape lag and
-    the two meshes). Before extrapolation the first-order time error is large: -38 at
-    dS = 1e-4 per step."""
+    """(F - F_static)/Ca at S/R = 0.03 (the force of the step that ends there: BDF2 gives
+    the force at the end of its step), against the quasi-static ``stokes`` bridge's
+    viscous force per unit speed (same slip lengths, contact angles and volume): measured
+    -25.90 at both steps (they differ by 4e-5 relative; dS = 4e-4 gives -25.97) against
+    the quasi-static -25.7 (0.8 %: the O(Ca) shape lag and the two meshes)."""
     ca, runs = stretched
     fst = _static(0.03).force
     excess = []
     for r in runs:
-        k = int(np.argmin(abs(r.gap - 0.03)))
-        assert abs(r.gap[k] - 0.03) < 1e-9
-        excess.append((r.force[k] - fst) / ca)
-    extrapolated = 2 * excess[1] - excess[0]
+        assert r.stopped == "t_end" and r.gap[-1] == pytest.approx(0.03, abs=1e-12)
+        excess.append((r.force[-1] - fst) / ca)
     R = 1e-3
     scene = scene_from_dict({
         "name": "dynamic-check", "geometry": {"kind": "sphere-wall", "radius": R},
@@ -138,21 +140,26 @@ def test_small_ca_force_excess_is_the_quasi_static_viscous_force(stretched):
         "amount": {"bridge_volume": V * R**3},
         "motion": {"velocity": -0.1, "gaps": [0.03 * R]}})
     fv = float(get_model("stokes").force(scene).force_viscous[0]) / (1e-3 * R * 0.1)
-    assert fv < 0 and extrapolated < 0  # separation is resisted
-    assert extrapolated == pytest.approx(fv, rel=0.05)
-    assert abs(excess[1] - fv) > abs(extrapolated - fv)  # the extrapolation helps
+    assert fv < 0  # separation is resisted
+    for e in excess:
+        assert e == pytest.approx(fv, rel=0.015)
+    assert excess[0] == pytest.approx(excess[1], rel=1e-3)  # the time error is small
 
 
 def test_time_stepping_has_the_declared_order():
-    """Relaxation of the perturbed bridge to t = 0.16 with dt = 0.02 ... 0.0025: the neck
-    radius' successive differences fall at the declared order (1; their ratios were 1.49,
-    2.006, 1.998 from dt = 0.04 down: dt = 0.04 is not yet asymptotic, nor is dt = 0.02 at
-    t = 0.08, while the fastest surface modes of the perturbation still decay)."""
-    dts = [0.02, 0.01, 0.005, 0.0025]
-    neck = [run(V, S0, 0.0, WET, Stepping(dt=dt, t_end=0.16), initial=_perturbed())
-            .neck_radius[-1] for dt in dts]
-    diffs = np.abs(np.diff(neck))
-    assert observed_order(dts[:-1], diffs) == pytest.approx(ORDER, abs=0.15)
+    """Stretching from the static bridge at Ca = 1e-2 to t = 0.8 (no remeshing) with dt =
+    0.025, 0.0125, 0.00625: the neck radius' and the force's successive differences fall at
+    the declared order (2; measured ratios 3.96 and 3.88, then 4.04 and 4.01 at dt =
+    0.003125; the steps start at dt/8 and grow by 1.5, so every run has the same shape of
+    step sequence)."""
+    dts = [0.025, 0.0125, 0.00625]
+    runs = [run(V, S0, 1e-2, WET, Stepping(dt=dt, t_end=0.8, remesh_shape=0.0,
+                                           remesh_curvature=0.05)) for dt in dts]
+    for r in runs:
+        assert r.stopped == "t_end" and r.remeshes == 0
+    for values in ([r.neck_radius[-1] for r in runs], [r.force[-1] for r in runs]):
+        diffs = np.abs(np.diff(values))
+        assert observed_order(dts[:-1], diffs) == pytest.approx(ORDER, abs=0.15)
 
 
 def test_stepping_needs_a_stop():
@@ -162,21 +169,184 @@ def test_stepping_needs_a_stop():
         Stepping(dt=float("nan"), t_end=1.0)
 
 
-@pytest.mark.slow
-def test_stretched_bridge_outlives_the_static_fold():
-    """At Ca = 1e-2 (dS = 5e-4 per step) the bridge passes the static fold (meniscus
-    solver: S_c/R = 0.1104) with a finite neck, the direction of Pitois et al. (2001),
-    ``S_c = S_c,static (1 + Ca^1/2)``. Measured (17 s, 5 remeshes): the neck reaches 0.2 of
-    its initial radius at S/R = 0.1295, 1.17 S_c (Pitois: 1.10); it reached 0.02 of it at
-    1.27 S_c (242 s: the remeshed mesh is uniformly fine, see the package notes). Not yet a
-    rupture distance: the pinch is not followed to the end."""
+def test_gmsh_that_does_not_finish_is_stopped():
+    """gmsh runs in a worker process: past ``MeshOptions.timeout`` the worker is killed and
+    the mesh fails with a SolverError (a run stops with reason ``"mesh"``); the next mesh
+    starts a new worker."""
+    prof = static_profile(S0, V, WET)
+    with pytest.raises(SolverError, match="did not finish"):
+        Domain.from_profile(S0, prof, MeshOptions(timeout=1e-4))
+    dom = Domain.from_profile(S0, prof, MeshOptions())
+    assert dom.mesh.t.shape[1] > 100
+
+
+def test_thin_neck_is_resolved_locally():
+    """At the static fold's gap the neck (radius w ~ 0.03 R) gets elements of at most about
+    w/n_neck (``sphere_bridge(n_width=...)``, gmsh's sizes are targets: 30 % margin), while
+    away from it the size stays h_surface: the count grows with the neck's resolution only
+    (measured ~2.5x fewer elements than a mesh uniformly at the neck's size)."""
     from wetcontact.solver.meniscus import rupture_distance
 
+    gap = 0.995 * rupture_distance(BRIDGE, V)
+    opts = MeshOptions(n_neck=16)
+    dom = Domain.from_profile(gap, static_profile(gap, V, WET), opts)
+    w, zn = dom.neck()
+    m = dom.mesh
+    a, b, c = (m.p[:, m.t[i]] for i in range(3))
+    edge = np.max([np.hypot(*(p - q)) for p, q in ((a, b), (b, c), (c, a))], axis=0)
+    centre = (a + b + c) / 3
+    near = np.abs(centre[1] - zn) < 0.5 * w
+    assert near.sum() >= opts.n_neck
+    assert edge[near].max() < 1.3 * w / opts.n_neck * 2  # longest edge ~ 2 x size
+    assert edge.max() > 3 * w / opts.n_neck  # coarser away from the neck
+
+
+@pytest.fixture(scope="module")
+def pinched():
+    """Ca = 1e-2 from S/R = 0.02 until the neck is 1.1 % of its initial radius."""
+    return run(V, S0, 1e-2, WET, Stepping(dt=0.05, gap_end=0.5, neck_stop=0.011,
+                                          neck_step=0.05))
+
+
+@pytest.mark.slow
+def test_stretched_bridge_ruptures_beyond_the_static_fold(pinched):
+    """The pinch located from the neck's late law (``locate_pinch`` over its last decade):
+    the rupture distance at Ca = 1e-2 is beyond the static fold of the meniscus solver
+    (S_c/R = 0.11037): measured 0.13217 R, 1.1975 S_c (Pitois et al. 2001: 1.10), with the
+    pinch 1.6e-4 R of gap after the last state (16 s, 3 000 elements at the end; the neck
+    reached 1e-3 of its start in 170 s, 37 000 elements)."""
+    from wetcontact.solver.meniscus import rupture_distance
+    from wetcontact.solver.stokes_dynamic import locate_pinch
+
     sc = rupture_distance(BRIDGE, V)
-    ca = 1e-2
-    r = run(V, S0, ca, WET, Stepping(dt=5e-4 / ca, gap_end=0.5, neck_stop=0.2))
+    r = pinched
     assert r.stopped == "neck"
-    k = int(np.argmin(abs(r.gap - sc)))
-    assert r.neck_radius[k] > 0.3 * r.neck_radius[0]  # at the fold the neck is still thick
-    assert r.gap[-1] > 1.1 * sc
+    p = locate_pinch(r)
+    assert p.gap > 1.1 * sc
+    assert 0 < p.gap - r.gap[-1] < 2e-3 * p.gap  # measured 1.2e-3
     assert np.abs(r.volume / V - 1).max() < 1e-12
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="not resolved: over the last decade here "
+                   "(1.2e-2 .. 1.2e-3 R) the fitted rate is 0.088 sigma/eta (local rates "
+                   "0.06 .. 0.11, still falling); below ~1.2e-3 R the rate is noisy and "
+                   "depends on the step (neck_step 0.02: 0.073 over 2.3e-3 .. 2.3e-4 R, local "
+                   "0.085 falling to 0.057 +- 5 %), so Papageorgiou's 0.0709 is not "
+                   "confirmed within 2 %")
+def test_neck_thins_at_papageorgiou_rate(pinched):
+    """Papageorgiou (1995): h_min = 0.0709 sigma (t_c - t)/eta near pinch, within 2 %."""
+    from wetcontact.solver.stokes_dynamic import PAPAGEORGIOU, locate_pinch
+
+    assert locate_pinch(pinched).slope == pytest.approx(PAPAGEORGIOU, rel=0.02)
+
+
+@pytest.fixture(scope="module")
+def slow_stretch():
+    """Ca = 1e-4 from S/R = 0.02 (dS = 5e-4 per step) until the neck is 1 % of its start."""
+    return run(V, S0, 1e-4, WET, Stepping(dt=5.0, gap_end=0.5, neck_stop=0.01,
+                                          neck_step=0.05))
+
+
+@pytest.mark.slow
+def test_small_ca_force_is_static_plus_quasi_static_viscous(slow_stretch):
+    """At Ca = 1e-4 the force against gap is the meniscus solver's plus Ca times the
+    quasi-static ``stokes`` viscous force within 1e-4 relative at S/R = 0.03, 0.05, 0.08
+    (measured 7.5e-6, 1.5e-5, 1.1e-5; the viscous part is 1.4e-3 .. 1.8e-4 of the force).
+    Near the fold the quasi-static picture fails: 5e-4 at 0.1, 1.3e-3 at 0.105."""
+    from scipy.interpolate import CubicSpline
+
+    r = slow_stretch
+    k = int(np.argmax(r.gap > 0.09))
+    force = CubicSpline(r.gap[1:k], r.force[1:k])
+    R = 1e-3
+    for gap in (0.03, 0.05, 0.08):
+        scene = scene_from_dict({
+            "name": "dynamic-check", "geometry": {"kind": "sphere-wall", "radius": R},
+            "liquid": {"viscosity": 1e-3, "surface_tension": 0.072, "density": 998.0,
+                       "contact_angle": 20.0, "slip_length_sphere": 1e-3 * R,
+                       "slip_length_wall": 1e-3 * R},
+            "amount": {"bridge_volume": V * R**3},
+            "motion": {"velocity": -0.1, "gaps": [gap * R]}})
+        fv = float(get_model("stokes").force(scene).force_viscous[0]) / (1e-3 * R * 0.1)
+        expected = _static(gap).force + 1e-4 * fv
+        assert float(force(gap)) == pytest.approx(expected, rel=1e-4)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="measured rupture at 1.040 S_c at Ca = 1e-4 "
+                   "(dS = 5e-4 per step; 1.031 at 2.5e-4, 1.028 at 1.25e-4, extrapolated "
+                   "1.027): the slow passage through the fold delays the collapse by a few "
+                   "% of S_c, not within 1e-3")
+def test_small_ca_rupture_is_the_static_fold(slow_stretch):
+    """Issue 57's goal: at Ca = 1e-4 the rupture distance is the meniscus solver's static
+    fold within 1e-3."""
+    from wetcontact.solver.meniscus import rupture_distance
+    from wetcontact.solver.stokes_dynamic import locate_pinch
+
+    assert locate_pinch(slow_stretch).gap == pytest.approx(rupture_distance(BRIDGE, V),
+                                                           rel=1e-3)
+
+
+BRIDGE2 = Bridge(radius=1.0, radius2=1.0, contact_angle1=TH, contact_angle2=TH,
+                 surface_tension=1.0)
+HALF = MeshOptions(plane="symmetry")  # two equal spheres: the upper half, mid-plane z = 0
+
+
+def test_equal_spheres_static_bridge_is_an_equilibrium():
+    """Two equal spheres at S/R = 0.04 holding V/R^3 = 1e-3, as the half above the
+    shear-free mid-plane (gap 0.02, volume 5e-4): one step at rest from the meniscus
+    solver's two-sphere bridge gives its force within 1e-5 (measured 9e-7), the mid-plane
+    the opposite force, a spurious velocity below 1e-4."""
+    dom = Domain.from_profile(S0, static_profile(S0, V / 2, WET, "symmetry"), HALF)
+    assert dom.plane == "symmetry"
+    xs, _ = correct_volume(dom.surface_xy, S0, V / 2)
+    dom = dom.moved(xs, S0)
+    st = solve_volume(BRIDGE2, 2 * S0, V)
+    for dt in (0.0, 1e-1):
+        sol = solve_step(dom, dt, 0.0, WET)
+        assert sol.force == pytest.approx(st.force, rel=1e-5)
+        assert sol.force_wall == pytest.approx(-sol.force, rel=1e-12)
+        assert np.abs(sol.u).max() < 1e-4
+
+
+def test_equal_spheres_force_excess_is_the_quasi_static_viscous_force():
+    """Equal spheres separated at Ca = 1e-3 (relative speed; the half's sphere moves at
+    Ca/2) from S/R = 0.04 to 0.06, dS = 2e-4 per step: (F - F_static)/Ca against the
+    quasi-static ``stokes`` two-sphere bridge's viscous force per unit relative speed:
+    measured -1.9349 against -1.9256 (0.5 %; dS = 4e-4 gives -1.9353)."""
+    ca = 1e-3
+    r = run(V / 2, S0, ca / 2, WET, Stepping(dt=0.2, t_end=0.02 / ca), mesh=HALF)
+    assert r.stopped == "t_end" and 2 * r.gap[-1] == pytest.approx(0.06, abs=1e-12)
+    assert np.abs(r.volume / (V / 2) - 1).max() < 1e-12
+    excess = (r.force[-1] - solve_volume(BRIDGE2, 0.06, V).force) / ca
+    R = 1e-3
+    scene = scene_from_dict({
+        "name": "dynamic-check", "geometry": {"kind": "sphere-sphere", "radius": R,
+                                              "radius2": R},
+        "liquid": {"viscosity": 1e-3, "surface_tension": 0.072, "density": 998.0,
+                   "contact_angle": 20.0, "slip_length_sphere": 1e-3 * R,
+                   "slip_length_wall": 1e-3 * R},
+        "amount": {"bridge_volume": V * R**3},
+        "motion": {"velocity": -0.1, "gaps": [0.06 * R]}})
+    fv = float(get_model("stokes").force(scene).force_viscous[0]) / (1e-3 * R * 0.1)
+    assert fv < 0
+    assert excess == pytest.approx(fv, rel=0.01)
+
+
+@pytest.mark.slow
+def test_equal_spheres_rupture_beyond_the_static_rupture():
+    """Equal spheres stretched at Ca = 1e-2 to pinch at the mid-plane (12 s, 2 700
+    elements at the end): the rupture distance is beyond the meniscus solver's static
+    rupture distance (S_c/R = 0.11431): measured 0.13320, 1.165 S_c (Pitois: 1.10); the
+    volume is kept within 1e-12."""
+    from wetcontact.solver.meniscus import rupture_distance
+    from wetcontact.solver.stokes_dynamic import locate_pinch
+
+    sc = rupture_distance(BRIDGE2, V)
+    r = run(V / 2, S0, 0.5e-2, WET, Stepping(dt=0.05, gap_end=0.5, neck_stop=0.011,
+                                            neck_step=0.05), mesh=HALF)
+    assert r.stopped == "neck"
+    p = locate_pinch(r)
+    assert 2 * p.gap > 1.1 * sc
+    assert np.abs(r.volume / (V / 2) - 1).max() < 1e-12

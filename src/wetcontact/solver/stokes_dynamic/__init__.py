@@ -1,32 +1,34 @@
-r"""Dynamic liquid bridge between a sphere and a wall (issue 57; not yet a registered model):
-free-surface Stokes flow at a finite capillary number Ca = eta v / sigma.
+r"""Dynamic liquid bridge between a sphere and a wall, or two equal spheres (the half above
+the shear-free mid-plane, ``MeshOptions(plane="symmetry")``): free-surface Stokes flow at
+a finite capillary number Ca = eta v / sigma (issue 57; not yet a registered model).
 
 Equations (units R = sigma = eta = 1; axisymmetric, meridian half-plane r >= 0):
-``-div(-p I + 2 e(u)) = 0``, ``div u = 0`` in the liquid; on the free surface Gamma the
-traction ``sigma n = -kappa n`` (kappa the total curvature, weakly: the Laplace-Beltrami
-form with its hoop term, :mod:`.step`), no tangential traction, and the kinematic condition
-``dx/dt . n = u . n``; on the solids the normal velocity of the solid and Navier slip
-(lengths b); at each contact line the static contact angle as the natural condition of the
-free energy ``A - cos theta A_wet``. The sphere's gap follows a prescribed history S(t).
+``-div(-p I + 2 e(u)) = 0``, ``div u = 0`` in the liquid; on the free surface the traction
+``sigma n = -kappa n`` (the weak Laplace-Beltrami form with its hoop term, :mod:`.step`),
+the kinematic condition ``dx/dt . n = u . n``; Navier slip (lengths b) on the solids; the
+static contact angles as natural conditions at the lines; the gap follows a given S(t).
 
-Discretisation: Taylor-Hood P2/P1 on an ALE mesh of second-order triangles (scikit-fem;
-the forms of :mod:`wetcontact.solver.stokes`), surface tension at the new position
-(Baensch 2001), semi-implicit Euler in time (declared order 1, :data:`ORDER`), volume
-restored every step by a normal shift of the surface, gmsh remeshing from the surface when
-the elements degrade (:mod:`.run`). Initial shape: the static meniscus
-(:mod:`wetcontact.solver.meniscus`) at the start gap, or any given meridian.
+Discretisation: Taylor-Hood P2/P1 on an ALE mesh of second-order triangles (scikit-fem),
+variable-step BDF2 on a domain extrapolated to the new time with Baensch's (2001)
+semi-implicit curvature (:data:`ORDER` = 2; ``force[k]`` is the force at ``time[k]``),
+volume restored each step, gmsh remeshing from the surface's own nodes with elements of
+``w(z)/n_neck`` across the local radius w (small only at the neck), gmsh in a worker
+process with a timeout (stop reason ``"mesh"``), adaptive steps as the neck thins, and the
+pinch located from the neck's late linear law (:func:`locate_pinch`).
 
-Accuracy (tests/solver/stokes_dynamic; V/R^3 = 1e-3, 20 deg, b = 1e-3 R, S/R = 0.02-0.03):
+Accuracy (tests/solver/stokes_dynamic; V/R^3 = 1e-3, 20 deg, b = 1e-3 R, from S/R = 0.02):
 a static meniscus is an equilibrium to 2e-6 in force; a perturbed bridge relaxes to it
-(force 1e-5, neck 3e-7, shape 2e-6 R); volume kept to 1e-13 relative, remeshing included;
-the O(Ca) force excess at Ca = 1e-3, extrapolated in dt, is the quasi-static ``stokes``
-viscous force within 3 %. The first-order time error is large: at dt = 0.1 eta R/sigma the
-excess is 45 % off (-38 against -26.5); a second-order scheme is the next step.
+(force 1e-5); volume kept to 1e-13; observed time order 2.0 (difference ratios 3.96, 4.04);
+the O(Ca) force excess at Ca = 1e-3 is the quasi-static ``stokes`` force within 0.8 %; at
+Ca = 1e-4 the force is ``meniscus`` plus Ca times ``stokes`` within 1.5e-5 up to S/R =
+0.08 (5e-4 at 0.1: the fold). Rupture at Ca = 1e-2: 1.1975 S_c (S_c the static fold; half
+steps move it by 0.27 %; Pitois: 1.10), 18 s; at Ca = 1e-4: 1.027 S_c (extrapolated in dt),
+not the fold within 1e-3. The neck is followed to 1e-3 of its start (170 s, 37k elements).
+Equal spheres: static force to 1e-6, O(Ca) excess 0.5 % from ``stokes``, rupture 1.165 S_c.
 
-Limits (what is not done yet): two spheres; the pinch itself (remeshing refines the whole
-mesh to the neck's size, so a neck below about 0.02 R costs minutes; the rupture distance
-and Papageorgiou's law are not checked); a dynamic contact angle; SI units, a
-:class:`~wetcontact.models.Model` and the store.
+Limits: the neck's rate near pinch is 0.088 over 1.2e-2 .. 1.2e-3 R, still falling, and
+below ~1e-3 R noisy and step-dependent (0.057 .. 0.06 at 2.5e-4 R): Papageorgiou's 0.0709
+is not confirmed; unequal spheres; a dynamic contact angle; SI units and the registry.
 
 Sources: Baensch (2001, Numer. Math. 88, 203), semi-implicit curvature; Ganesan & Tobiska
 (2008), the axisymmetric Laplace-Beltrami form; Navier (1823); Pitois, Moucheront &
@@ -34,6 +36,7 @@ Chateau (2001), the dynamic rupture law; Papageorgiou (1995), viscous pinch-off.
 """
 
 from wetcontact.solver.stokes_dynamic.domain import Domain, MeshOptions
+from wetcontact.solver.stokes_dynamic.pinch import PAPAGEORGIOU, Pinch, locate_pinch
 from wetcontact.solver.stokes_dynamic.run import (
     ORDER,
     DynamicRun,
@@ -45,10 +48,13 @@ from wetcontact.solver.stokes_dynamic.step import StepSolution, Wetting, solve_s
 
 __all__ = [
     "ORDER",
+    "PAPAGEORGIOU",
     "Domain",
     "DynamicRun",
     "MeshOptions",
+    "Pinch",
     "StepSolution",
+    "locate_pinch",
     "Stepping",
     "Wetting",
     "run",

@@ -1,6 +1,7 @@
 """The moving liquid domain of a sphere-wall bridge: an ALE mesh of second-order triangles.
 
-Units R = 1 (sphere radius). The sphere's centre is at ``(0, 1 + S)``, the wall is z = 0.
+Units R = 1 (sphere radius). The sphere's centre is at ``(0, 1 + S)``, the wall is z = 0
+(or the mid-plane of two equal spheres, ``plane = "symmetry"``: the same chains).
 The boundary is four named chains of P2 edges (:func:`chain`): ``free_surface`` from the
 wall's contact line to the sphere's, ``sphere`` from its apex on the axis to its contact
 line, ``wall`` from the origin to its contact line, ``axis`` from the origin to the apex.
@@ -16,13 +17,21 @@ Volume (the meniscus solver's definition, exact solids): ``V = pi int_Gamma r^2 
 V_cap(phi)``, ``V_cap = pi (1 - cos phi)^2 (2 + cos phi)/3`` the sphere cap below the
 contact line, evaluated exactly on the P2 free surface (3-point Gauss, the integrand is a
 polynomial of degree 5).
+
+Meshes come from gmsh (:func:`~wetcontact.meshes.builders.sphere_bridge`, with ``n_width``
+elements across the local radius at a thin neck) in a worker process (:class:`_Mesher`):
+one that takes longer than ``MeshOptions.timeout`` is abandoned with a SolverError.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
+import os
+import subprocess
+import sys
 from dataclasses import dataclass, field
+from multiprocessing.connection import Connection
 
 import numpy as np
 import scipy.sparse.linalg as spla
@@ -155,6 +164,14 @@ def profile_of(xs: np.ndarray, n: int = 801) -> np.ndarray:
     return redistribute(xs, np.linspace(0.0, 1.0, n)).T
 
 
+def dense_profile(xs: np.ndarray) -> np.ndarray:
+    """The free surface (n, 2) through its own nodes and a point between each two (the
+    spline of :func:`redistribute`): a remesh keeps the nodes' local resolution."""
+    s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xs, axis=1)))])
+    f = s / s[-1]
+    return redistribute(xs, np.sort(np.concatenate([f, 0.5 * (f[1:] + f[:-1])]))).T
+
+
 def correct_volume(xs: np.ndarray, gap: float, volume: float, tol: float = 1e-13,
                    ) -> tuple[np.ndarray, float]:
     """Shift the free-surface nodes along their normals by ``d sin(pi f)`` (f the chord
@@ -220,6 +237,76 @@ def element_quality(mesh: MeshTri2, x: np.ndarray | None = None) -> tuple[np.nda
     return shape, np.where(area > 0, curv, -1.0)
 
 
+# ---- gmsh in a worker process --------------------------------------------------------
+
+
+def serve(fd_in: int, fd_out: int) -> None:
+    """Worker loop (run by :class:`_Mesher` in its own interpreter): build each requested
+    bridge mesh and send it back, or the error."""
+    conn_in, conn_out = Connection(fd_in, writable=False), Connection(fd_out, readable=False)
+    while True:
+        try:
+            args, kwargs = conn_in.recv()
+        except EOFError:
+            return
+        try:
+            conn_out.send(("ok", sphere_bridge(*args, **kwargs)))
+        except Exception as exc:  # noqa: BLE001 - any gmsh failure goes back as a message
+            conn_out.send(("error", f"{type(exc).__name__}: {exc}"))
+
+
+class _Mesher:
+    """gmsh in a persistent worker process (a fresh interpreter running :func:`serve`), so
+    that a mesh that does not finish within ``timeout`` seconds is abandoned (the worker
+    is killed; the next call starts a new one) and reported as a
+    :class:`~wetcontact.errors.SolverError`, never a hang."""
+
+    def __init__(self) -> None:
+        self.proc: subprocess.Popen | None = None
+
+    def _start(self) -> None:
+        to_child, self.send_end = os.pipe()
+        self.recv_end, from_child = os.pipe()
+        env = {**os.environ, "PYTHONPATH": os.pathsep.join(p for p in sys.path if p)}
+        code = f"from {__name__} import serve; serve({to_child}, {from_child})"
+        self.proc = subprocess.Popen([sys.executable, "-c", code], env=env,
+                                     pass_fds=(to_child, from_child),
+                                     stdout=subprocess.DEVNULL, stdin=subprocess.DEVNULL)
+        os.close(to_child)
+        os.close(from_child)
+        self.send = Connection(self.send_end, readable=False)
+        self.recv = Connection(self.recv_end, writable=False)
+
+    def stop(self) -> None:
+        if self.proc is not None:
+            self.proc.kill()
+            self.proc.wait()
+            self.send.close()
+            self.recv.close()
+        self.proc = None
+
+    def __call__(self, timeout: float, *args, **kwargs):
+        if self.proc is None or self.proc.poll() is not None:
+            self._start()
+        self.send.send((args, kwargs))
+        if not self.recv.poll(timeout):
+            self.stop()
+            raise SolverError(f"gmsh did not finish within {timeout:g} s (the worker was "
+                              "stopped)")
+        try:
+            status, out = self.recv.recv()
+        except EOFError:
+            self.stop()
+            raise SolverError("the gmsh worker died") from None
+        if status != "ok":
+            raise SolverError(f"gmsh failed: {out}")
+        return out
+
+
+MESHER = _Mesher()
+"""The module's gmsh worker (:class:`_Mesher`)."""
+
+
 # ---- the domain -----------------------------------------------------------------------
 
 
@@ -244,7 +331,14 @@ class MeshOptions:
     n_gap
         Elements across the gap along the axis.
     n_neck
-        Elements across the neck radius (at least).
+        Elements across the bridge's local radius, wherever that radius is below
+        ``n_neck h_surface`` (the neck): the builder's ``n_width``.
+    timeout
+        Seconds gmsh may take for one mesh (:class:`_Mesher`); past it the mesh fails.
+    plane
+        ``"wall"``: a sphere on a wall; ``"symmetry"``: the upper half of a bridge between
+        two equal spheres (the plane z = 0 is the mid-plane, shear-free, and the surface
+        meets it at right angles: no contact line there; gap and volume are the half's).
     """
 
     h_surface: float = 0.01
@@ -252,12 +346,13 @@ class MeshOptions:
     growth: float = 0.15
     n_gap: int = 4
     n_neck: int = 8
+    timeout: float = 60.0
+    plane: str = "wall"
 
-    def resolution(self, neck_radius: float) -> tuple[Resolution, float]:
-        """The builder's :class:`~wetcontact.meshes.builders.Resolution` and contact size."""
-        h = min(self.h_surface, neck_radius / self.n_neck)
-        return (Resolution(n_gap=self.n_gap, h_sphere=max(h, 1e-4), growth=self.growth,
-                           far=1e3), min(self.contact_size, h))
+    def resolution(self) -> Resolution:
+        """The builder's :class:`~wetcontact.meshes.builders.Resolution`."""
+        return Resolution(n_gap=self.n_gap, h_sphere=self.h_surface, growth=self.growth,
+                          far=1e3)
 
 
 @dataclass
@@ -271,7 +366,8 @@ class Domain:
     gap
         S/R of the current mesh.
     surface, sphere, wall, axis
-        Node chains (:func:`chain`).
+        Node chains (:func:`chain`); ``wall`` is the plane z = 0, named ``plane``
+        (``"wall"`` or ``"symmetry"``, :class:`MeshOptions`).
     reference
         Node positions (2, n) of the reference mesh (the last one gmsh made).
     fractions
@@ -288,6 +384,7 @@ class Domain:
     reference: np.ndarray
     fractions: dict[str, np.ndarray]
     quality0: tuple[np.ndarray, np.ndarray]
+    plane: str = "wall"
     _extension: tuple = field(repr=False, default=())
 
     @classmethod
@@ -296,9 +393,9 @@ class Domain:
         line (z = 0) to a point of the sphere, by gmsh (:func:`~wetcontact.meshes.builders.
         sphere_bridge`)."""
         prof = np.asarray(profile, dtype=float)
-        res, cs = opts.resolution(neck(prof.T)[0])
-        mesh = to_skfem(sphere_bridge(gap, prof, res, contact_size=cs))
-        return cls.on_mesh(mesh, gap)
+        mesh = MESHER(opts.timeout, gap, prof, opts.resolution(), contact_size=opts.contact_size,
+                      n_width=opts.n_neck, plane=opts.plane)
+        return cls.on_mesh(to_skfem(mesh), gap)
 
     @classmethod
     def on_mesh(cls, mesh: MeshTri2, gap: float) -> Domain:
@@ -313,7 +410,8 @@ class Domain:
         apex = max(ax_ends, key=lambda v: x[1, v])
         surface = chain(mesh, "free_surface", int(low))
         sphere = chain(mesh, "sphere", int(apex))
-        wall = chain(mesh, "wall", int(origin))
+        plane = "symmetry" if "symmetry" in mesh.boundaries else "wall"
+        wall = chain(mesh, plane, int(origin))
         axis = chain(mesh, "axis", int(origin))
         if sphere[-1] != high or wall[-1] != low or axis[-1] != apex:
             raise SolverError("bridge mesh: the boundary chains do not meet at the contact "
@@ -324,6 +422,7 @@ class Domain:
         frac = {"surface": s / s[-1], "sphere": ang / ang[-1],
                 "wall": x[0, wall] / x[0, wall[-1]], "axis": x[1, axis] / gap}
         dom = cls(mesh=mesh, gap=gap, surface=surface, sphere=sphere, wall=wall, axis=axis,
+                  plane=plane,
                   reference=x.copy(), fractions=frac, quality0=element_quality(mesh))
         dom._extension = dom._factor()
         return dom

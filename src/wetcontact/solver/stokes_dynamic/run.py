@@ -1,19 +1,29 @@
 """Time stepping of a sphere-wall bridge: kinematic update, volume, mesh motion, remeshing,
 stopping (the equations are in :mod:`.step`, the domain in :mod:`.domain`).
 
-One step from t_n to t_{n+1} = t_n + dt (semi-implicit Euler, order 1 in time):
+One step from t_n to t_{n+1} = t_n + dt (variable-step BDF2, order 2 in time; the first
+step backward Euler on the current domain, at ``first`` dt, the next ones growing by
+``max_ratio``):
 
-1. solve Stokes on Omega^n with the sphere at the mean speed ``(S_{n+1} - S_n)/dt`` of the
-   prescribed gap history and the surface tension at ``x^n + dt u`` (:func:`.step.solve_step`);
-2. move the free-surface nodes with the fluid, ``x^{n+1} = x^n + dt u`` (the kinematic
-   condition; the wall's contact line slides on z = 0, the sphere's is put back on the
-   sphere at S_{n+1});
-3. slide the nodes along the new surface back to their reference fractions of its length
-   (a tangential motion: the shape is unchanged to the interpolation error);
-4. restore the volume by a uniform normal shift of the surface (:func:`.domain.correct_volume`);
+1. predict the domain at t_{n+1} by linear extrapolation of the surface,
+   ``x* = x^n + omega (x^n - x^{n-1})`` (omega = dt_n/dt_{n-1}), its ends put back on the
+   solids at S_{n+1}, the other nodes by the mesh motion;
+2. on it solve Stokes at t_{n+1} (sphere speed dS/dt(t_{n+1})) with the surface tension at
+   the new surface ``x^{n+1} = a0 x^n + a1 x^{n-1} + c dt w`` (:func:`bdf_weights`; the
+   mesh velocity w is the fluid's u, implicit, plus the tangential part of the history's
+   slide ``(x^n - x^{n-1})/dt_{n-1} - u^n`` that keeps the nodes at their fractions of the
+   surface; :func:`.step.solve_step`);
+3. slide the nodes along the new surface to their reference fractions of its length;
+4. restore the volume by a normal shift of the surface (:func:`.domain.correct_volume`);
 5. place the solid and interior nodes (:meth:`.domain.Domain.moved`); remesh with gmsh from
    the surface when an element's shape falls below ``remesh_shape`` of its reference shape
-   or its P2 map below ``remesh_curvature``.
+   or its P2 map below ``remesh_curvature``; the history x^n, u^n is carried to the new
+   mesh at its surface fractions (no restart).
+
+Force timing: ``force[k]`` is the force at ``time[k]`` (second order: the Stokes problem of
+step 2 is the one at t_{n+1}); the first entry is the instantaneous Stokes flow of the
+initial shape (``dt = 0``). Adaptive steps (``neck_step``) keep the neck's relative change
+per step bounded as it thins.
 
 Stops at ``t_end`` or ``gap_end``, when the neck radius falls below ``neck_stop`` times its
 initial value ("neck"), or when a new mesh is no better ("mesh") or a solve fails
@@ -36,15 +46,17 @@ from wetcontact.solver.stokes_dynamic.domain import (
     Domain,
     MeshOptions,
     correct_volume,
+    dense_profile,
     on_sphere,
     profile_of,
     redistribute,
     sphere_angle,
+    surface_normals,
 )
 from wetcontact.solver.stokes_dynamic.step import StepSolution, Wetting, solve_step
 
-ORDER = 1
-"""Declared order in time of the stepping (semi-implicit Euler)."""
+ORDER = 2
+"""Declared order in time of the stepping (BDF2 with an extrapolated domain)."""
 
 
 @dataclass(frozen=True)
@@ -63,6 +75,14 @@ class Stepping:
         Remesh thresholds (:meth:`~.domain.Domain.quality`).
     max_steps
         Hard limit on the number of steps.
+    first
+        The first step (backward Euler) over ``dt``; the steps then grow by ``max_ratio``.
+    neck_step
+        Adaptive steps: at most this relative change of the neck radius per step
+        (``None``: fixed steps ``dt``, which stays the largest step); a step in which the
+        neck falls by more than three times it is redone with a quarter of the step.
+    max_ratio
+        Largest ratio of successive steps (variable-step BDF2 is zero-stable below 2.41).
     """
 
     dt: float
@@ -72,8 +92,15 @@ class Stepping:
     remesh_shape: float = 0.4
     remesh_curvature: float = 0.3
     max_steps: int = 100_000
+    first: float = 0.125
+    neck_step: float | None = None
+    max_ratio: float = 1.5
 
     def __post_init__(self) -> None:
+        if not 0.0 < self.first <= 1.0:
+            raise SolverError(f"stokes-dynamic: first = {self.first!r}; allowed: (0, 1]")
+        if not 1.0 <= self.max_ratio <= 2.0:
+            raise SolverError(f"stokes-dynamic: max_ratio = {self.max_ratio!r}; allowed: [1, 2]")
         if not (math.isfinite(self.dt) and self.dt > 0):
             raise SolverError(f"stokes-dynamic: dt = {self.dt!r}; allowed: finite > 0")
         if self.t_end is None and self.gap_end is None:
@@ -97,6 +124,8 @@ class DynamicRun:
         ``"max_steps"``; ``message`` has the details.
     remeshes, steps, wall_time
         Number of gmsh remeshings, time steps, and seconds.
+    remesh_times
+        The times of the remeshings after a step.
     domain
         The last domain (its free surface: ``domain.surface_xy``).
     """
@@ -113,29 +142,58 @@ class DynamicRun:
     steps: int
     wall_time: float
     domain: Domain = field(repr=False)
+    remesh_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
     diagnostics: dict[str, float] = field(default_factory=dict)
 
 
-def static_profile(gap: float, volume: float, wet: Wetting) -> np.ndarray:
+def static_profile(gap: float, volume: float, wet: Wetting, plane: str = "wall"
+                   ) -> np.ndarray:
     """The static meniscus (n, 2) at ``gap`` (S/R) and ``volume`` (V/R^3), units R
-    (:func:`wetcontact.solver.meniscus.solve_volume`)."""
-    br = Bridge(radius=1.0, contact_angle1=wet.theta_sphere, contact_angle2=wet.theta_wall,
+    (:func:`wetcontact.solver.meniscus.solve_volume`). ``plane="symmetry"``: the upper half
+    of the bridge between two equal spheres at 2 gap holding 2 volume, from the mid-plane
+    (z = 0) to the upper sphere (angle ``theta_sphere`` on both)."""
+    sym = plane == "symmetry"
+    br = Bridge(radius=1.0, radius2=1.0 if sym else None,
+                contact_angle1=wet.theta_sphere,
+                contact_angle2=wet.theta_sphere if sym else wet.theta_wall,
                 surface_tension=1.0)
-    sol = solve_volume(br, gap, volume)
+    sol = solve_volume(br, 2 * gap if sym else gap, 2 * volume if sym else volume)
     if not sol.exists:
         raise SolverError(f"stokes-dynamic: no static bridge at S/R = {gap:g}, V/R^3 = "
                           f"{volume:g} ({sol.message})")
-    prof = meniscus_profile(sol, n=801)
-    return np.column_stack([prof["r"], prof["z"]])
+    prof = meniscus_profile(sol, n=1601 if sym else 801)
+    r, z = prof["r"], prof["z"]
+    if not sym:
+        return np.column_stack([r, z])
+    k = int(np.argmax(z > gap))  # the first point above the mid-plane
+    r0 = r[k - 1] + (r[k] - r[k - 1]) * (gap - z[k - 1]) / (z[k] - z[k - 1])
+    return np.vstack([[r0, 0.0], np.column_stack([r[k:], z[k:] - gap])])
 
 
 def gap_history(gap0: float, speed: float | Callable[[float], float]
-                ) -> Callable[[float], float]:
-    """S(t) from S(0) = gap0 and dS/dt = speed (a constant or a function of t)."""
+                ) -> tuple[Callable[[float], float], Callable[[float], float]]:
+    """S(t) and dS/dt from S(0) = gap0 and dS/dt = speed (a constant or a function of t)."""
     if callable(speed):
-        return lambda t: gap0 + quad(speed, 0.0, t, limit=200)[0]
+        return (lambda t: gap0 + quad(speed, 0.0, t, limit=200)[0]), speed
     v = float(speed)
-    return lambda t: gap0 + v * t
+    return (lambda t: gap0 + v * t), (lambda t: v)
+
+
+def _on_solids(xs: np.ndarray, gap: float) -> np.ndarray:
+    """The surface with its ends put back on the wall and on the sphere at ``gap``."""
+    xs = xs.copy()
+    xs[1, 0] = 0.0
+    xs[:, -1] = on_sphere(sphere_angle(xs[:, -1:], gap), gap)[:, 0]
+    return xs
+
+
+def bdf_weights(omega: float | None) -> tuple[float, float, float]:
+    """(a0, a1, c) of ``x^{n+1} = a0 x^n + a1 x^{n-1} + c dt w^{n+1}``: variable-step BDF2
+    with ``omega = dt_n / dt_{n-1}``, or backward Euler (``omega = None``)."""
+    if omega is None:
+        return 1.0, 0.0, 1.0
+    c = (1 + omega) / (1 + 2 * omega)
+    return c * (1 + omega), -c * omega**2 / (1 + omega), c
 
 
 def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet: Wetting,
@@ -150,8 +208,9 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
     """
     t_start = time.perf_counter()
     opts = mesh or MeshOptions()
-    prof = static_profile(gap0, volume, wet) if initial is None else np.asarray(initial)
-    gap_at = gap_history(gap0, speed)
+    prof = (static_profile(gap0, volume, wet, opts.plane) if initial is None
+            else np.asarray(initial))
+    gap_at, speed_at = gap_history(gap0, speed)
     dom = Domain.from_profile(gap0, prof, opts)
     xs, shift = correct_volume(dom.surface_xy, gap0, volume)
     if abs(shift) > 0.1 * opts.contact_size:  # a large correction: mesh the corrected shape
@@ -162,8 +221,12 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
     hist: dict[str, list[float]] = {k: [] for k in ("t", "S", "F", "Fw", "neck", "V")}
     remeshes, stopped, message = 0, "", ""
     t, step = 0.0, 0
-    dt = stepping.dt
-    sol: StepSolution | None = None
+    dt, dt_prev = stepping.first * stepping.dt, math.nan
+    prev: np.ndarray | None = None  # X^{n-1} at the current mesh's surface fractions
+    uprev = np.zeros(0)  # the fluid's velocity at the surface nodes in the last step
+    shifts: list[float] = []
+    remesh_times: list[float] = []
+    fresh = False  # the current mesh was just made for an inverted prediction
 
     def record(t_: float, d: Domain, s: StepSolution) -> None:
         hist["t"].append(t_)
@@ -173,49 +236,94 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
         hist["neck"].append(d.neck()[0])
         hist["V"].append(d.volume())
 
+    def remesh(xs_: np.ndarray, gap: float) -> Domain:
+        new = Domain.from_profile(gap, dense_profile(xs_), opts)
+        xs2, _ = correct_volume(new.surface_xy, gap, volume)
+        return new.moved(xs2, gap)
+
+    try:  # the instantaneous flow at t = 0: the initial force
+        sol = solve_step(dom, 0.0, speed_at(0.0), wet, intorder=intorder)
+    except SolverError as exc:
+        raise SolverError(f"stokes-dynamic: the initial solve failed: {exc}") from exc
+    record(0.0, dom, sol)
     while True:
         if step >= stepping.max_steps:
             stopped, message = "max_steps", f"{step} steps"
             break
         t1 = t + dt
         s1 = gap_at(t1)
+        xn = dom.surface_xy
+        if prev is None:  # backward Euler on the current domain (first order, one step)
+            omega, star = None, xn
+        else:  # BDF2 on the linear extrapolation
+            omega = dt / dt_prev
+            star = xn + omega * (xn - prev)
+        a0, a1, c = bdf_weights(omega)
+        star = _on_solids(star, s1)
+        if np.any(star[0] <= 0):
+            stopped, message = "neck", f"the predicted surface reaches the axis at t = {t1:.6g}"
+            break
+        dstar = dom.moved(redistribute(star, dom.fractions["surface"]), s1)
+        if dstar.quality()[1] <= 0:  # the predicted mesh is inverted: remesh X^n first
+            if fresh:
+                stopped, message = "mesh", f"the predicted mesh at t = {t1:.6g} is inverted"
+                break
+            try:
+                dom, prev, fresh = remesh(xn, dom.gap), None, True
+            except SolverError as exc:
+                stopped, message = "mesh", f"remeshing at t = {t:.6g} failed: {exc}"
+                break
+            remeshes += 1
+            continue
         try:
-            sol = solve_step(dom, dt, (s1 - dom.gap) / dt, wet, intorder=intorder)
+            base = a0 * xn
+            if prev is not None:  # the nodes' tangential motion follows the history
+                slide = (xn - prev) / dt_prev - uprev
+                base = base + a1 * prev + c * dt * _tangential(
+                    slide, surface_normals(dstar.surface_xy))
+            sol = solve_step(dstar, dt, speed_at(t1), wet, intorder=intorder, base=base,
+                             coef=c)
         except SolverError as exc:
             stopped, message = "solver", str(exc)
             break
-        if step == 0:
-            record(0.0, dom, sol)
-        u = sol.velocity(dom.surface)
-        xs = dom.surface_xy + dt * u
-        xs[1, 0] = 0.0
-        xs[:, -1] = on_sphere(sphere_angle(xs[:, -1:], s1), s1)[:, 0]
+        u = sol.velocity(dstar.surface)
+        xs = base + c * dt * u
+        xs = _on_solids(xs, s1)
         if np.any(xs[0] <= 0) or not np.all(np.isfinite(xs)):
             stopped, message = "neck", f"the free surface reached the axis at t = {t1:.6g}"
             break
         xs = redistribute(xs, dom.fractions["surface"])
         try:
-            xs, _ = correct_volume(xs, s1, volume)
+            xs, shift = correct_volume(xs, s1, volume)
+            shifts.append(abs(shift))
         except SolverError as exc:
             stopped, message = "solver", str(exc)
             break
         new = dom.moved(xs, s1)
+        if (stepping.neck_step is not None and new.neck()[0] < (1 - 3 * stepping.neck_step)
+                * hist["neck"][-1] and dt > stepping.first * stepping.dt * 1e-6):
+            dt *= 0.25  # the neck fell too fast: redo the step with a quarter of it
+            continue
+        prev_new, uprev = xn, u
         shape, curv = new.quality()
         if shape < stepping.remesh_shape or curv < stepping.remesh_curvature:
             try:
-                new = Domain.from_profile(s1, profile_of(xs), opts)
-                xs2, _ = correct_volume(new.surface_xy, s1, volume)
-                new = new.moved(xs2, s1)
+                new = remesh(xs, s1)
             except SolverError as exc:
                 stopped, message = "mesh", f"remeshing at t = {t1:.6g} failed: {exc}"
                 break
             remeshes += 1
+            remesh_times.append(t1)
             shape, curv = new.quality()
             if curv < stepping.remesh_curvature:
                 stopped, message = "mesh", (f"a new mesh at t = {t1:.6g} has a P2 map ratio "
                                             f"{curv:.3g} < {stepping.remesh_curvature}")
                 break
-        dom, t, step = new, t1, step + 1
+            # the history on the new mesh: X^n at the new surface fractions
+            f_old, f_new = dom.fractions["surface"], new.fractions["surface"]
+            prev_new = _on_solids(redistribute(xn, f_new), dom.gap)
+            uprev = np.stack([np.interp(f_new, f_old, uc) for uc in u])
+        dom, prev, t, step, dt_prev, fresh = new, prev_new, t1, step + 1, dt, False
         record(t, dom, sol)
         r_neck = hist["neck"][-1]
         if r_neck < stepping.neck_stop * neck0:
@@ -229,12 +337,40 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
                 dom.gap - gap0) >= 0 and dom.gap != gap0:
             stopped, message = "gap_end", f"S/R = {dom.gap:.6g}"
             break
-    if not hist["t"]:
-        raise SolverError(f"stokes-dynamic: the first step failed: {message}")
+        dt = _next_dt(stepping, hist, dt)
+        if stepping.t_end is not None:
+            dt = min(dt, stepping.t_end - t)
+        if dt < 1e-14 * max(1.0, t):
+            stopped, message = "solver", f"time step {dt:.3g} underflows at t = {t:.6g}"
+            break
     arr = {k: np.asarray(v, dtype=float) for k, v in hist.items()}
     return DynamicRun(time=arr["t"], gap=arr["S"], force=arr["F"], force_wall=arr["Fw"],
                       neck_radius=arr["neck"], volume=arr["V"], stopped=stopped,
                       message=message, remeshes=remeshes, steps=step,
+                      remesh_times=np.asarray(remesh_times),
                       wall_time=time.perf_counter() - t_start, domain=dom,
-                      diagnostics={"ndofs": float(sol.ndofs) if sol else 0.0,
+                      diagnostics={"ndofs": float(sol.ndofs),
+                                   "max_volume_shift": max(shifts, default=0.0),
                                    "elements": float(dom.mesh.t.shape[1])})
+
+
+def _tangential(v: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """The part of the nodal vectors v (2, m) along the surface (interior nodes; the ends
+    have no tangential part: their whole motion is in the implicit term)."""
+    out = v - np.sum(v * normals, axis=0) * normals
+    out[:, 0] = out[:, -1] = 0.0
+    return out
+
+
+def _next_dt(stepping: Stepping, hist: dict[str, list[float]], dt: float) -> float:
+    """The next step: ``stepping.dt``, cut so that the neck radius changes by at most
+    ``stepping.neck_step`` of itself per step (at the larger of its rates over the last
+    step and the last three), and grown by at most ``max_ratio``."""
+    new = stepping.dt
+    h, t = hist["neck"], hist["t"]
+    if stepping.neck_step is not None and len(h) >= 2:
+        k = max(0, len(h) - 4)
+        rate = max((h[-2] - h[-1]) / (t[-1] - t[-2]), (h[k] - h[-1]) / (t[-1] - t[k]))
+        if rate > 0:
+            new = min(new, stepping.neck_step * h[-1] / rate)
+    return min(new, stepping.max_ratio * dt)

@@ -1,10 +1,10 @@
 r"""One time step of the free-surface Stokes problem on the current mesh (units R = sigma =
 eta = 1: velocity sigma/eta, time eta R/sigma, stress sigma/R, force sigma R).
 
-Find (u, p) on the domain Omega^n of time t_n with
+Find (u, p) on the (predicted) domain Omega* of time t_{n+1} with
 
 .. math::
-    a(u, w) + f_b(u - U, w) + \Delta t\, l(u, w) - b(w, p) = -l(x^n, w)
+    a(u, w) + f_b(u - U, w) + c\,\Delta t\, l(u, w) - b(w, p) = -l(Y, w)
         + \cos\theta_w\, r_w\, w_r + \cos\theta_s\, r_s\, \tau_s \cdot w,
     \qquad b(u, q) = 0,
 
@@ -19,16 +19,18 @@ surface-tension form (the weak Laplace-Beltrami operator with its hoop term)
     l(x, w) = \int_\Gamma (t \cdot \partial_s w + w_r / r)\, r\, ds,
 
 the first variation of the area ``dA[w]``. Its evaluation at the new position
-``x^n + dt u`` is Baensch's (2001) semi-implicit curvature, which removes the capillary
-time-step limit. The right-hand side is ``-dE[w]`` of the free energy
+``Y + c dt u`` (Y the explicit part of the time scheme's update, :mod:`.run`) is
+Baensch's (2001) semi-implicit curvature, which removes the capillary time-step limit.
+The right-hand side is ``-dE[w]`` of the free energy
 ``E = sigma (A - cos theta_w A_wall - cos theta_s A_sphere)``: the contact angles are the
 natural conditions at the lines, where the nodes slide along their solids (normal velocity
-the solid's, imposed in a rotated frame). Axis: u_r = 0; wall: u_z = 0; sphere:
+the solid's, imposed in a rotated frame). Axis: u_r = 0; wall: u_z = 0 (a symmetry plane:
+u_z = 0, no friction, no contact line); sphere:
 ``u . n = U . n``. The pressure level is set by the free surface (no pin).
 
 Force on the sphere (positive pushing the solids apart): the reaction of the discrete
 system to the test function ``w = e_z`` on the sphere's nodes, ``F = -2 pi [a(u, w) - b(w,
-p) + l(x^n + dt u, w)]``: the liquid's traction plus the interface's pull at the contact
+p) + l(Y + c dt u, w)]``: the liquid's traction plus the interface's pull at the contact
 line (the Young force is internal to the solid and does not enter).
 """
 
@@ -124,9 +126,16 @@ def surface_tension_matrix(domain: Domain, n: int) -> sp.csr_matrix:
 
 
 def solve_step(domain: Domain, dt: float, speed: float, wet: Wetting,
-               intorder: int = 4) -> StepSolution:
+               intorder: int = 4, base: np.ndarray | None = None,
+               coef: float = 1.0) -> StepSolution:
     """Solve the step's Stokes problem (module docstring) with the sphere moving at
-    ``speed`` = dS/dt (units sigma/eta; > 0 separating)."""
+    ``speed`` = dS/dt (units sigma/eta; > 0 separating).
+
+    The surface tension is evaluated at ``Y = base + coef dt u`` (the new position of the
+    free surface, linear in u): ``base`` (2, m) its explicit part per surface node
+    (default: the current nodes). ``dt = 0`` gives the instantaneous Stokes flow of the
+    current shape.
+    """
     t0 = time.perf_counter()
     mesh = domain.mesh
     eu = ElementVector(ElementTriP2())
@@ -138,22 +147,27 @@ def solve_step(domain: Domain, dt: float, speed: float, wet: Wetting,
     L = surface_tension_matrix(domain, nu)
     x = mesh.doflocs
     X = x.T.ravel()  # interleaved positions (r0, z0, r1, z1, ...)
+    if base is not None:
+        X = X.copy()
+        X[2 * domain.surface], X[2 * domain.surface + 1] = base
     sph, wall, axis = domain.sphere, domain.wall, domain.axis
     # slip friction on both solids; the sphere's moves at (0, speed)
     Ms = navier_slip_form.assemble(facet_basis(mesh, eu, "sphere", intorder),
                                    friction=1.0 / wet.slip_sphere)
+    wall_slip = domain.plane == "wall"  # a symmetry plane is shear-free, with no line
     Mw = navier_slip_form.assemble(facet_basis(mesh, eu, "wall", intorder),
-                                   friction=1.0 / wet.slip_wall)
+                                   friction=1.0 / wet.slip_wall) if wall_slip else 0 * Ms
     ub = np.zeros(nu)
     ub[2 * sph + 1] = speed
     f = Ms @ ub - L @ X
     # contact lines: -dE of the wetted areas, cos(theta) r tau (tau out of the wetted zone)
     jw, js = domain.surface[0], domain.surface[-1]
-    f[2 * jw] += math.cos(wet.theta_wall) * x[0, jw]
+    if wall_slip:
+        f[2 * jw] += math.cos(wet.theta_wall) * x[0, jw]
     phi = float(sphere_angle(x[:, [js]], domain.gap)[0])
     f[2 * js] += math.cos(wet.theta_sphere) * x[0, js] * math.cos(phi)
     f[2 * js + 1] += math.cos(wet.theta_sphere) * x[0, js] * math.sin(phi)
-    K = sp.bmat([[A + Ms + Mw + dt * L, -B.T], [-B, None]], format="csr")
+    K = sp.bmat([[A + Ms + Mw + (coef * dt) * L, -B.T], [-B, None]], format="csr")
     rhs = np.concatenate([f, np.zeros(npr)])
     # constraints: axis u_r = 0, wall u_z = 0, sphere u.n = U.n in a rotated frame
     sol = np.zeros(nu + npr)
@@ -183,7 +197,7 @@ def solve_step(domain: Domain, dt: float, speed: float, wet: Wetting,
         raise SolverError("stokes-dynamic: the linear solve returned non-finite values")
     t2 = time.perf_counter()
     u, p = sol[:nu], sol[nu:]
-    res = A @ u - B.T @ p + L @ (X + dt * u)
+    res = A @ u - B.T @ p + L @ (X + coef * dt * u)
     force = -2 * math.pi * float(res[2 * sph + 1].sum())
     force_wall = -2 * math.pi * float(res[2 * wall + 1].sum())
     return StepSolution(u=u, p=p, force=force, force_wall=force_wall, ndofs=nu + npr,
