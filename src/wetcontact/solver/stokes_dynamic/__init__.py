@@ -20,15 +20,15 @@ Accuracy (tests/solver/stokes_dynamic; V/R^3 = 1e-3, 20 deg, b = 1e-3 R, from S/
 a static meniscus is an equilibrium to 2e-6 in force; a perturbed bridge relaxes to it
 (force 1e-5); volume kept to 1e-13; observed time order 2.0 (difference ratios 3.96, 4.04);
 the O(Ca) force excess at Ca = 1e-3 is the quasi-static ``stokes`` force within 0.8 %; at
-Ca = 1e-4 the force is ``meniscus`` plus Ca times ``stokes`` within 1.5e-5 up to S/R =
-0.08 (5e-4 at 0.1: the fold). Rupture at Ca = 1e-2: 1.1975 S_c (S_c the static fold; half
-steps move it by 0.27 %; Pitois: 1.10), 18 s; at Ca = 1e-4: 1.027 S_c (extrapolated in dt),
-not the fold within 1e-3. The neck is followed to 1e-3 of its start (170 s, 37k elements).
+Ca = 1e-4 the force is ``meniscus`` plus Ca times ``stokes`` within 1.7e-5 up to S/R =
+0.08 (1.4e-4 at 0.105, near the fold). Rupture at Ca = 1e-2: 1.20 S_c (S_c the static fold;
+half steps move it by 0.3 %; Pitois: 1.10), 20 s; at Ca = 1e-4: 1.027 S_c (extrapolated in
+dt), not the fold within 1e-3. The neck is followed to 2e-3 of its start (380 s, 17k
+elements), where its rate is 0.066 sigma/eta (Papageorgiou 1995: 0.0709).
 Equal spheres: static force to 1e-6, O(Ca) excess 0.5 % from ``stokes``, rupture 1.165 S_c.
 
-Limits: the neck's rate near pinch is 0.088 over 1.2e-2 .. 1.2e-3 R, still falling, and
-below ~1e-3 R noisy and step-dependent (0.057 .. 0.06 at 2.5e-4 R): Papageorgiou's 0.0709
-is not confirmed; unequal spheres; a dynamic contact angle; SI units and the registry.
+Limits: Papageorgiou's rate is not confirmed within 2 % (6.5 % below at 2.3e-4 R; not
+converged in the step); unequal spheres; a dynamic contact angle; SI units, the registry.
 
 Sources: Baensch (2001, Numer. Math. 88, 203), semi-implicit curvature; Ganesan & Tobiska
 (2008), the axisymmetric Laplace-Beltrami form; Navier (1823); Pitois, Moucheront &

@@ -22,8 +22,9 @@ step backward Euler on the current domain, at ``first`` dt, the next ones growin
 
 Force timing: ``force[k]`` is the force at ``time[k]`` (second order: the Stokes problem of
 step 2 is the one at t_{n+1}); the first entry is the instantaneous Stokes flow of the
-initial shape (``dt = 0``). Adaptive steps (``neck_step``) keep the neck's relative change
-per step bounded as it thins.
+initial shape (``dt = 0``). Adaptive steps keep the neck's relative change per step
+(``neck_step``) and the lag of the history's tangential slide behind the fluid
+(``slide_limit``) bounded as the neck thins.
 
 Stops at ``t_end`` or ``gap_end``, when the neck radius falls below ``neck_stop`` times its
 initial value ("neck"), or when a new mesh is no better ("mesh") or a solve fails
@@ -75,6 +76,11 @@ class Stepping:
         Remesh thresholds (:meth:`~.domain.Domain.quality`).
     max_steps
         Hard limit on the number of steps.
+    slide_limit
+        Adaptive steps: the BDF2 history's lagged tangential slide of a surface node,
+        ``c dt |(u^{n+1} - u^n) . t|``, is at most this fraction of its node spacing (a
+        step past it is redone shorter; ``None``: off). Near pinch the fluid's tangential
+        velocity in the thread grows fast, and an unbounded lag makes the neck noisy.
     first
         The first step (backward Euler) over ``dt``; the steps then grow by ``max_ratio``.
     neck_step
@@ -94,6 +100,7 @@ class Stepping:
     max_steps: int = 100_000
     first: float = 0.125
     neck_step: float | None = None
+    slide_limit: float | None = 0.1
     max_ratio: float = 1.5
 
     def __post_init__(self) -> None:
@@ -277,16 +284,20 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
             continue
         try:
             base = a0 * xn
+            nstar = surface_normals(dstar.surface_xy)
             if prev is not None:  # the nodes' tangential motion follows the history
                 slide = (xn - prev) / dt_prev - uprev
-                base = base + a1 * prev + c * dt * _tangential(
-                    slide, surface_normals(dstar.surface_xy))
+                base = base + a1 * prev + c * dt * _tangential(slide, nstar)
             sol = solve_step(dstar, dt, speed_at(t1), wet, intorder=intorder, base=base,
                              coef=c)
         except SolverError as exc:
             stopped, message = "solver", str(exc)
             break
         u = sol.velocity(dstar.surface)
+        lag = 0.0 if prev is None else _lag(c * dt * _tangential(u - uprev, nstar), xn)
+        if stepping.slide_limit is not None and lag > stepping.slide_limit:
+            dt *= max(0.25, 0.9 * math.sqrt(stepping.slide_limit / lag))  # redo the step
+            continue
         xs = base + c * dt * u
         xs = _on_solids(xs, s1)
         if np.any(xs[0] <= 0) or not np.all(np.isfinite(xs)):
@@ -338,6 +349,8 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
             stopped, message = "gap_end", f"S/R = {dom.gap:.6g}"
             break
         dt = _next_dt(stepping, hist, dt)
+        if stepping.slide_limit is not None and lag > 0:
+            dt = min(dt, dt_prev * 0.9 * math.sqrt(stepping.slide_limit / lag))
         if stepping.t_end is not None:
             dt = min(dt, stepping.t_end - t)
         if dt < 1e-14 * max(1.0, t):
@@ -360,6 +373,14 @@ def _tangential(v: np.ndarray, normals: np.ndarray) -> np.ndarray:
     out = v - np.sum(v * normals, axis=0) * normals
     out[:, 0] = out[:, -1] = 0.0
     return out
+
+
+def _lag(shift: np.ndarray, xs: np.ndarray) -> float:
+    """Largest tangential ``shift`` (2, m) of a surface node over the shorter of its two
+    chords on the surface ``xs``."""
+    chord = np.hypot(*np.diff(xs, axis=1))
+    near = np.minimum(np.r_[chord, chord[-1]], np.r_[chord[0], chord])
+    return float(np.max(np.hypot(*shift) / near))
 
 
 def _next_dt(stepping: Stepping, hist: dict[str, list[float]], dt: float) -> float:
