@@ -227,8 +227,8 @@ def c_text() -> str:
         ho_p95=ho["p95"], ho_n=ho["points"], ho_band=ho["in_band"])
 
 
-PY_FUNCTIONS = (tf.lobatto, tf.to_unit, tf.upper_width, tf.side_coordinate, tf.bary_weights,
-                tf.tensor_eval, tf.canonical, tf.evaluate)
+PY_FUNCTIONS = (tf.lobatto, tf.lobatto_basis, tf.to_unit, tf.upper_width, tf.side_coordinate,
+                tf.node_weights, tf.outer_rows, tf.tensor_eval, tf.canonical, tf.evaluate)
 """The closure's evaluation, copied verbatim into the numpy module."""
 
 
@@ -251,6 +251,7 @@ __all__.append("transfer_fraction")
 THETA_MAX = {tf.THETA_MAX!r}
 RATIO_MAX = {tf.RATIO_MAX!r}
 V_RANGE = {tuple(tf.V_RANGE)!r}
+LOBATTO_BASES: dict[int, tuple[np.ndarray, np.ndarray]] = {{}}  # lobatto_basis's cache
 _TF_TABLES = {{"band_deg": {d["band_deg"]!r}, "y_range": {tuple(d["y_range"])!r}, {tables}}}
 
 
