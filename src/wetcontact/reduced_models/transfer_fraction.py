@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import json
 from functools import lru_cache
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 
@@ -175,7 +175,23 @@ def tensor_eval(values: np.ndarray, weights: list[np.ndarray]) -> np.ndarray:
 def coordinates(r1: Any, r2: Any, volume: Any, theta1_deg: Any, theta2_deg: Any
                 ) -> tuple[np.ndarray, ...]:
     """Check the inputs and return ``(y, xi, theta_s, theta_l, swapped)`` broadcast
-    together: ``swapped`` where body 1 is the larger sphere or the wall."""
+    together: ``swapped`` where body 1 is the larger sphere or the wall. Inputs all in the
+    domain (:func:`canonical`'s ``inside``) take no further pass; otherwise
+    :func:`domain_error` names the input and its allowed range."""
+    args = [np.inf if a is None else np.asarray(a, dtype=float)
+            for a in (r1, r2, volume, theta1_deg, theta2_deg)]
+    try:
+        y, xi, th_s, th_l, swapped, inside = canonical(*np.broadcast_arrays(*args))
+    except ValueError:  # shapes that do not broadcast: domain_error says which error first
+        inside = np.array(False)
+    if not np.all(inside):
+        domain_error(r1, r2, volume, theta1_deg, theta2_deg)
+    return y, xi, th_s, th_l, swapped
+
+
+def domain_error(r1: Any, r2: Any, volume: Any, theta1_deg: Any, theta2_deg: Any) -> NoReturn:
+    """Raise the InputError that names the first input outside the domain (NaN, radii,
+    two walls, radius ratio, V*, each angle, in that order)."""
     def arr(name: str, value: Any) -> np.ndarray:
         a = np.asarray(value, dtype=float)
         if np.any(np.isnan(a)):
@@ -212,10 +228,10 @@ def coordinates(r1: Any, r2: Any, volume: Any, theta1_deg: Any, theta2_deg: Any
         if np.any(t < 0.0) or np.any(t > THETA_MAX):
             raise InputError(f"calibrated_transfer_fraction: {name} outside [0, "
                              f"{THETA_MAX:g}] deg (receding); outside, use meniscus")
-    y, xi, th_s, th_l, swapped, inside = canonical(a1, a2, v, t1, t2)
-    if not np.all(inside):  # the checks above name the input; this keeps them one rule
-        raise InputError("calibrated_transfer_fraction: outside the domain; use meniscus")
-    return y, xi, th_s, th_l, swapped
+    # the checks above name the input; this keeps them one rule with canonical's
+    raise InputError("calibrated_transfer_fraction: outside the domain; use meniscus")
+
+
 
 
 def evaluate(t: dict[str, Any], y: np.ndarray, xi: np.ndarray, th_s: np.ndarray,
