@@ -158,3 +158,107 @@ def test_band_answers_nan_with_its_reason():
 def test_domain_errors_name_the_input(args, words):
     with pytest.raises(InputError, match=words):
         calibrated_transfer_fraction(*args)
+
+
+def _lagrange(x: np.ndarray, n: int) -> np.ndarray:
+    """Lagrange basis (N, n) at the Chebyshev-Lobatto nodes by its product formula: a
+    reference independent of the closure's barycentric weights (exact on a node)."""
+    nodes = -np.cos(np.pi * np.arange(n) / (n - 1))
+    out = np.ones((x.size, n))
+    for j in range(n):
+        for k in range(n):
+            if k != j:
+                out[:, j] *= (x - nodes[k]) / (nodes[j] - nodes[k])
+    return out
+
+
+def _reference_evaluate(t: dict, y: np.ndarray, xi: np.ndarray, th_s: np.ndarray,
+                        th_l: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The closure's form written out plainly: full tensor sums (einsum over every axis)
+    with Lagrange weights, point by point the side of the jump."""
+    from wetcontact.reduced_models import transfer_fraction as tf
+
+    def unit(v, lo, hi):
+        return (2.0 * v - (lo + hi)) / (hi - lo)
+
+    jump, lower, upper, end = t["jump"], t["lower"], t["upper"], t["theta_end"]
+    band, (y_lo, y_hi) = t["band_deg"], t["y_range"]
+    ut, uy, ux = unit(th_s, 0.0, tf.THETA_MAX), unit(y, y_lo, y_hi), 2.0 * xi - 1.0
+    k = np.einsum("ijk,pi,pj,pk->p", jump, _lagrange(ut, jump.shape[0]),
+                  _lagrange(uy, jump.shape[1]), _lagrange(ux, jump.shape[2]))
+    f, in_band = np.full(y.size, np.nan), np.abs(th_l - k) < band
+    for p in range(y.size):
+        if in_band[p]:
+            continue
+        one = slice(p, p + 1)
+        if th_l[p] < k[p]:
+            s = tf.side_coordinate(k[p] - th_l[p], k[p], band)
+            ws = [_lagrange(ut[one], lower.shape[0]), _lagrange(uy[one], lower.shape[1]),
+                  _lagrange(ux[one], lower.shape[2]),
+                  _lagrange(np.clip(np.atleast_1d(s), -1.0, 1.0), lower.shape[3])]
+            f[p] = np.einsum("ijkl,pi,pj,pk,pl->p", lower, *ws)[0]
+        elif th_l[p] > k[p]:
+            te = np.einsum("jk,pj,pk->p", end, _lagrange(uy[one], end.shape[0]),
+                           _lagrange(ux[one], end.shape[1]))
+            s = tf.side_coordinate(th_l[p] - k[p], band + tf.upper_width(k[p]), band)
+            v = np.clip(unit(th_s[one] / te, 0.0, 1.0), -1.0, 1.0)
+            ws = [_lagrange(v, upper.shape[0]), _lagrange(uy[one], upper.shape[1]),
+                  _lagrange(ux[one], upper.shape[2]),
+                  _lagrange(np.clip(np.atleast_1d(s), -1.0, 1.0), upper.shape[3])]
+            f[p] = np.einsum("ijkl,pi,pj,pk,pl->p", upper, *ws)[0]
+    exact = (xi == 0.0) & (th_s == th_l)
+    f[exact], in_band[exact] = 0.5, False
+    return f, in_band
+
+
+def _on_nodes(count: int, lo: float, hi: float) -> np.ndarray:
+    """The coordinates in [lo, hi] of the ``count`` Chebyshev-Lobatto nodes that the
+    closure maps back onto a node exactly (the ends, the middle and a few more)."""
+    from wetcontact.reduced_models.transfer_fraction import from_unit, lobatto, to_unit
+
+    nodes = from_unit(lobatto(count), lo, hi)
+    exact = nodes[to_unit(nodes, lo, hi) == lobatto(count)]
+    assert exact.size >= 3
+    return exact
+
+
+def test_fast_evaluation_matches_a_plain_reference():
+    """The vectorised evaluation (barycentric weights, Khatri-Rao products, one matrix
+    product a side) against full tensor sums with Lagrange weights: 1e-13 absolute on
+    seeded points with exact node hits on every axis, both sides of the jump and the band
+    (NaN in the same places, the same band flags)."""
+    from wetcontact.reduced_models.transfer_fraction import THETA_MAX, load_table
+
+    tab = load_table()
+    t = tab.tables
+    rng = np.random.default_rng(1313)
+    n = 600
+    y_lo, y_hi = t["y_range"]
+    th_s = rng.uniform(0.0, THETA_MAX, n)
+    y = rng.uniform(y_lo, y_hi, n)
+    xi = rng.uniform(0.0, 1.0, n)
+    for values, nodes in ((th_s, _on_nodes(t["jump"].shape[0], 0.0, THETA_MAX)),
+                          (th_s, _on_nodes(t["lower"].shape[0], 0.0, THETA_MAX)),
+                          (y, _on_nodes(t["lower"].shape[1], y_lo, y_hi)),
+                          (xi, _on_nodes(t["jump"].shape[2], 0.0, 1.0)),
+                          (xi, _on_nodes(t["upper"].shape[2], 0.0, 1.0))):
+        values[rng.choice(n, n // 8, replace=False)] = rng.choice(nodes, n // 8)
+    xi[n // 20: n // 20 + 5] = 0.0  # equal spheres, equal angles (below): exactly 1/2
+    k = np.einsum("ijk,pi,pj,pk->p", t["jump"],
+                  _lagrange((2.0 * th_s - THETA_MAX) / THETA_MAX, t["jump"].shape[0]),
+                  _lagrange((2.0 * y - (y_lo + y_hi)) / (y_hi - y_lo), t["jump"].shape[1]),
+                  _lagrange(2.0 * xi - 1.0, t["jump"].shape[2]))
+    # both sides of the jump (at up to 40 deg, often clipped to 0 or 70), a few in the band
+    offset = rng.choice([-1.0, 1.0], n) * np.exp(rng.uniform(np.log(0.25), np.log(40.0), n))
+    offset[: n // 20] = rng.uniform(-0.15, 0.15, n // 20)
+    th_l = np.clip(k + offset, 0.0, THETA_MAX)
+    th_l[n // 20: n // 20 + 10] = th_s[n // 20: n // 20 + 10]
+    f, band = tab.evaluate(y, xi, th_s, th_l)
+    f_ref, band_ref = _reference_evaluate(t, y, xi, th_s, th_l)
+    assert np.array_equal(band, band_ref)
+    assert np.array_equal(np.isnan(f), np.isnan(f_ref))
+    ok = np.isfinite(f_ref)
+    assert ok.sum() > 0.8 * n
+    below = ok & (th_l < k)
+    assert 0.2 * n < below.sum() < 0.8 * n  # both sides well represented
+    assert np.max(np.abs(f[ok] - f_ref[ok])) <= 1e-13, np.max(np.abs(f[ok] - f_ref[ok]))
