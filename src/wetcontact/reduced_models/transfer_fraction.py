@@ -150,13 +150,16 @@ def bary_weights(x: np.ndarray, n: int) -> np.ndarray:
     return node_weights(x, n).T
 
 
-def outer_rows(weights: list[np.ndarray]) -> np.ndarray:
+def outer_rows(weights: list[np.ndarray], out: np.ndarray) -> np.ndarray:
     """The products ``W0[i, p] W1[j, p] ...`` of per-axis weights (n_a, N), row
-    ``(i, j, ...)`` in C order (the column-wise Kronecker or Khatri-Rao product)."""
-    out = weights[0]
-    for w in weights[1:]:
-        out = (out[:, None, :] * w[None, :, :]).reshape(-1, out.shape[1])
-    return out
+    ``(i, j, ...)`` in C order (the column-wise Kronecker or Khatri-Rao product), into
+    ``out`` (n_0 n_1 ..., N); one axis: its weights themselves."""
+    rows = weights[0]
+    for i, w in enumerate(weights[1:], start=2):
+        shape = (rows.shape[0], w.shape[0], rows.shape[1])
+        last = out.reshape(shape) if i == len(weights) else None
+        rows = np.multiply(rows[:, None, :], w[None, :, :], out=last).reshape(-1, shape[2])
+    return rows
 
 
 def tensor_eval(values: np.ndarray, weights: list[np.ndarray]) -> np.ndarray:
@@ -165,10 +168,18 @@ def tensor_eval(values: np.ndarray, weights: list[np.ndarray]) -> np.ndarray:
     of the first half's weights and ``R`` of the others' (:func:`outer_rows`), ``sum_r
     (T^T L)[r, p] R[r, p]``, the table ``T`` reshaped to a matrix. Its matrix product (all
     points at once, in BLAS) does the bulk of the work. Exact to rounding: the sums are
-    ordered differently from a nested loop's, at 1e-16 relative."""
-    split = values.ndim // 2
-    left, right = outer_rows(weights[:split]), outer_rows(weights[split:])
-    m = values.reshape(left.shape[0], -1).T @ left
+    ordered differently from a nested loop's, at 1e-16 relative. Two axes or more.
+
+    ``L``, ``R`` and ``T^T L`` share one block of memory: as separate arrays of under 1 MB
+    each, glibc handed the freed memory back after every chunk and faulted it in again in
+    the next (2.3x the cost a point at 1e4 points in a fresh process); one block of a few
+    MB raises its thresholds so that the memory is kept and reused."""
+    split, points = values.ndim // 2, weights[0].shape[1]
+    n_left, n_right = int(np.prod(values.shape[:split])), int(np.prod(values.shape[split:]))
+    block = np.empty((n_left + 2 * n_right, points))
+    left = outer_rows(weights[:split], block[:n_left])
+    right = outer_rows(weights[split:], block[n_left:n_left + n_right])
+    m = np.matmul(values.reshape(n_left, n_right).T, left, out=block[n_left + n_right:])
     return np.einsum("rp,rp->p", m, right)
 
 
