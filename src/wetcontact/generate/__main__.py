@@ -45,6 +45,12 @@ TABLES: dict[str, tuple[str, str, str]] = {
         "the calibrated transfer fraction at rupture: the jump and the two side tables, "
         "held-out table in transfer_fraction_record.json (meniscus solves on --workers "
         "processes)"),
+    "dynamic-rupture": (
+        "dynamic_rupture.json",
+        "wetcontact.generate.dynamic_rupture.generate_dynamic_rupture",
+        "the dynamic rupture closure S_c(Ca)/S_c: stokes-dynamic stretching runs to the pinch "
+        "over Ca, volume, angle, sphere-wall and equal spheres, fitted, with held-out runs "
+        "(--workers processes)"),
     "bounds": (
         DATA_PATH.name,
         "wetcontact.generate.bounds.measure_bounds",
@@ -140,6 +146,9 @@ def parser() -> argparse.ArgumentParser:
     t = sub.add_parser("transfer-fraction", help=TABLES["transfer-fraction"][2])
     t.add_argument("--held-out", type=int, default=200, help="held-out points (default 200)")
     t.add_argument("--workers", type=int, default=2, help="processes for the meniscus solves "
+                   "(default 2)")
+    d = sub.add_parser("dynamic-rupture", help=TABLES["dynamic-rupture"][2])
+    d.add_argument("--workers", type=int, default=2, help="processes for the stretching runs "
                    "(default 2)")
     b = sub.add_parser("bounds", help=TABLES["bounds"][2])
     b.add_argument("--quick", action="store_true",
@@ -301,6 +310,12 @@ def main(argv: list[str] | None = None) -> int:
         rec = generate_transfer_fraction(n_held_out=n, workers=max(1, args.workers))
         print(f"{rec['build_wall_time_this_run_s']} s build, {rec['solves_this_run']} solves "
               f"(of {rec['solve_calls']})")
+    if args.command in ("dynamic-rupture", "all"):
+        from wetcontact.generate.dynamic_rupture import generate_dynamic_rupture
+
+        _say("dynamic-rupture")
+        data = generate_dynamic_rupture(workers=max(1, args.workers))
+        print(f"{data['wall_time_s']} s")
     if args.command in ("bounds", "all"):
         if args.command == "bounds":
             _say("bounds", args.out or (Path("bounds-quick.json") if args.quick else None))

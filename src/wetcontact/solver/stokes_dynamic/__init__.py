@@ -44,6 +44,11 @@ from wetcontact.solver.stokes_dynamic.run import (
     run,
     static_profile,
 )
+from wetcontact.solver.stokes_dynamic.rupture import (
+    RuptureCase,
+    RuptureResult,
+    dynamic_rupture,
+)
 from wetcontact.solver.stokes_dynamic.step import StepSolution, Wetting, solve_step
 
 __all__ = [
@@ -53,6 +58,9 @@ __all__ = [
     "DynamicRun",
     "MeshOptions",
     "Pinch",
+    "RuptureCase",
+    "RuptureResult",
+    "dynamic_rupture",
     "StepSolution",
     "locate_pinch",
     "Stepping",

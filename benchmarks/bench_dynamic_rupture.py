@@ -1,0 +1,149 @@
+"""The dynamic rupture distance: its Ca -> 0 limit, and error against time of the presets.
+
+1. **Ca -> 0.** A sphere on a wall, V/R^3 = 1e-3, 30 deg, stretched at Ca = 1e-7 .. 1e-3
+   (default preset) from 0.2 S_c to its pinch: ``S_c(Ca)/S_c = 1 + delta_0 + a Ca^b`` fitted
+   through the runs at Ca <= 1e-4; ``delta_0`` is how far the limit is from the static fold
+   of ``meniscus`` (issue 57: within 1e-3).
+2. **Presets.** The same bridge at Ca = 1e-2 and 1e-4, and two equal spheres at Ca = 1e-2,
+   at the fast, default and accurate presets (each halves the gap step and the neck step of
+   the one before): the observed order in the step, the extrapolated rupture distance
+   (Richardson at that order) and each preset's error against it and wall time.
+
+Runs go through the generator's cache (:class:`wetcontact.generate.dynamic_rupture.RunCache`):
+a run the generator or an earlier benchmark already made is not made again (its wall time
+is the one recorded then). Writes ``benchmarks/results/dynamic_rupture.json`` and
+``dynamic_rupture.png``. Run: ``.venv/bin/python benchmarks/bench_dynamic_rupture.py``
+(``--chart`` redraws from the JSON).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+from pathlib import Path
+
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import numpy as np  # noqa: E402
+from scipy.optimize import curve_fit  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from _common import main_or_chart, save_chart, write_json  # noqa: E402
+
+from wetcontact.generate.dynamic_rupture import RunCache, solve_all  # noqa: E402
+from wetcontact.solver.stokes_dynamic.rupture import RuptureCase  # noqa: E402
+
+LIMIT_CAS = (1e-7, 1e-6, 1e-5, 1e-4, 1e-3)
+FIT_MAX = 1e-4
+"""The limit is fitted through the runs at Ca <= FIT_MAX (the excess bends above)."""
+PRESET_CASES = (RuptureCase("wall", 1e-2, 1e-3, 30.0), RuptureCase("wall", 1e-4, 1e-3, 30.0),
+                RuptureCase("pair", 1e-2, 1e-3, 30.0))
+PRESETS = ("fast", "default", "accurate")
+
+
+def _row(r: dict) -> dict:
+    if "error" in r:
+        return {"case": r["case"], "preset": r["preset"], "error": r["error"]}
+    return {"case": r["case"], "preset": r["preset"], **r["result"]}
+
+
+def limit(cache: RunCache) -> dict:
+    rows = [_row(solve_all([RuptureCase("wall", ca, 1e-3, 30.0)], 1, cache=cache)[0])
+            for ca in LIMIT_CAS]
+    low = [r for r in rows if r["case"]["capillary_number"] <= FIT_MAX]
+    ca = np.array([r["case"]["capillary_number"] for r in low])
+    ratio = np.array([r["ratio"] for r in low])
+    (d0, a, b), cov = curve_fit(lambda c, d0, a, b: 1.0 + d0 + a * c**b, ca, ratio,
+                                p0=(0.0, 1.0, 0.35))
+    return {"runs": rows, "fit": {"delta_0": float(d0), "a": float(a), "b": float(b),
+                                  "delta_0_sd": float(math.sqrt(cov[0, 0]))},
+            "goal": 1e-3}
+
+
+def presets(cache: RunCache) -> list[dict]:
+    out = []
+    for case in PRESET_CASES:
+        rows = [_row(solve_all([case], 1, preset=p, cache=cache)[0]) for p in PRESETS]
+        g = np.array([r["gap"] for r in rows])
+        p = math.log2(abs(g[0] - g[1]) / abs(g[1] - g[2]))
+        exact = g[2] + (g[2] - g[1]) / (2**p - 1)
+        out.append({"case": rows[0]["case"], "observed_order": p, "extrapolated_gap": exact,
+                    "static_gap": rows[0]["static_gap"],
+                    "presets": [{"preset": pr, "gap": r["gap"], "ratio": r["ratio"],
+                                 "error": abs(r["gap"] / exact - 1.0), "steps": r["steps"],
+                                 "wall_time_s": r["wall_time"]}
+                                for pr, r in zip(PRESETS, rows, strict=True)]})
+    return out
+
+
+def main() -> None:
+    cache = RunCache()
+    lim = limit(cache)
+    f = lim["fit"]
+    print(f"Ca -> 0: S_c(Ca)/S_c = 1 + {f['delta_0']:.2e} + {f['a']:.3g} Ca^{f['b']:.3f}",
+          flush=True)
+    pre = presets(cache)
+    for p in pre:
+        c = p["case"]
+        print(f"{c['kind']} Ca {c['capillary_number']:g}: order {p['observed_order']:.2f}, "
+              + ", ".join(f"{q['preset']} {q['error']:.2e} ({q['wall_time_s']:.0f} s)"
+                          for q in p["presets"]), flush=True)
+    data = {"limit": lim, "presets": pre,
+            "conclusion": (f"the Ca -> 0 limit is {1 + f['delta_0']:.5f} S_c (goal: the "
+                           "static fold within 1e-3); presets: "
+                           + "; ".join(f"{p['case']['kind']} Ca {p['case']['capillary_number']:g}"
+                                       f" order {p['observed_order']:.2f}, default error "
+                                       f"{p['presets'][1]['error']:.1e}" for p in pre))}
+    write_json("dynamic_rupture", data)
+    chart(data)
+
+
+def chart(data: dict) -> None:
+    from wetcontact.plotting import pyplot, styles
+
+    plt = pyplot()
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
+    lim = data["limit"]
+    ca = np.array([r["case"]["capillary_number"] for r in lim["runs"]])
+    ratio = np.array([r["ratio"] for r in lim["runs"]])
+    f = lim["fit"]
+    names = ["stokes-dynamic runs", "fit 1 + d0 + a Ca^b", "Pitois 2001, 1 + Ca^1/2"]
+    st = styles(names + [f"{p['case']['kind']} Ca {p['case']['capillary_number']:g}"
+                         for p in data["presets"]])
+    cc = np.geomspace(ca.min(), ca.max(), 100)
+    ax1.plot(ca, ratio - 1, ms=7, label=names[0], **{**st[names[0]], "linestyle": "none"})
+    ax1.plot(cc, f["delta_0"] + f["a"] * cc ** f["b"], label=f"{names[1]}: d0 = "
+             f"{f['delta_0']:.1e}, b = {f['b']:.3f}", **{**st[names[1]], "marker": None})
+    ax1.plot(cc, np.sqrt(cc), label=names[2], **{**st[names[2]], "marker": None})
+    ax1.axhline(1e-3, color="0.5", lw=0.8, ls=":")
+    ax1.set_xscale("log")
+    ax1.set_yscale("log")
+    ax1.set_xlabel("Ca = eta v / sigma")
+    ax1.set_ylabel("S_c(Ca)/S_c - 1")
+    ax1.set_title("sphere on a wall, V/R^3 = 1e-3, 30 deg: the Ca -> 0 limit", fontsize=9)
+    ax1.legend(fontsize=8)
+    for p in data["presets"]:
+        name = f"{p['case']['kind']} Ca {p['case']['capillary_number']:g}"
+        t = [q["wall_time_s"] for q in p["presets"]]
+        e = [max(q["error"], 1e-7) for q in p["presets"]]
+        ax2.plot(t, e, label=f"{name} (order {p['observed_order']:.2f})", **st[name])
+        for q, ti, ei in zip(p["presets"], t, e, strict=True):
+            ax2.annotate(q["preset"], (ti, ei), fontsize=7, xytext=(3, 3),
+                         textcoords="offset points")
+    ax2.set_xscale("log")
+    ax2.set_yscale("log")
+    ax2.set_xlabel("wall time of the run (s)")
+    ax2.set_ylabel("relative error of S_c(Ca) (against Richardson)")
+    ax2.set_title("presets fast, default, accurate: V/R^3 = 1e-3, 30 deg", fontsize=9)
+    ax2.legend(fontsize=8)
+    ax2.grid(True, alpha=0.3)
+    fig.suptitle("Dynamic rupture distance (stokes-dynamic, bridge stretched from 0.2 S_c at "
+                 "constant speed)", fontsize=10)
+    save_chart(fig, "dynamic_rupture")
+
+
+if __name__ == "__main__":
+    main_or_chart("dynamic_rupture", main, chart)

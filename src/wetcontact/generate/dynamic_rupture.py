@@ -1,0 +1,179 @@
+"""Offline builder of the dynamic rupture table and its closure (``dynamic_rupture.json``).
+
+Solves :func:`wetcontact.solver.stokes_dynamic.rupture.dynamic_rupture` (a bridge stretched
+at constant speed to its pinch, default preset) on the fit grid :func:`fit_cases` and on
+seeded held-out cases :func:`held_out_cases`, each result (or the reason a run failed)
+appended to a JSON-lines cache in ``$XDG_CACHE_HOME/wetcontact`` as it arrives, so a killed
+build loses nothing; then fits :mod:`wetcontact.reduced_models.dynamic_rupture`'s form to
+the fit grid and measures it on the held-out cases. Run:
+``python -m wetcontact.generate dynamic-rupture --workers N``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import time
+from dataclasses import asdict
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from wetcontact.errors import InputError, SolverError
+from wetcontact.generate.workers import map_jobs
+from wetcontact.reduced_models import DATA_DIR
+from wetcontact.reduced_models import dynamic_rupture as dr
+from wetcontact.solver.stokes_dynamic.rupture import START, RuptureCase, dynamic_rupture
+
+CAS = (1e-4, 1e-3, 1e-2, 0.1, 0.3)
+VOLUMES = (1e-4, 1e-3, 1e-2)
+THETAS = (10.0, 30.0, 50.0)
+HELD_OUT = 12
+SEED = 57
+SOURCES = ("solver/meniscus", *(f"solver/stokes_dynamic/{m}.py" for m in
+                                ("domain", "step", "run", "pinch", "rupture")))
+"""What a run depends on (the cache file is per version of these sources)."""
+
+
+def fit_cases() -> list[RuptureCase]:
+    """The fit grid: both kinds, Ca in :data:`CAS`, V/R^3 in :data:`VOLUMES`, theta in
+    :data:`THETAS`."""
+    return [RuptureCase(k, ca, v, th) for k in ("wall", "pair") for ca in CAS
+            for v in VOLUMES for th in THETAS]
+
+
+def held_out_cases(n: int = HELD_OUT, seed: int = SEED) -> list[RuptureCase]:
+    """Seeded cases between the grid's: log-uniform Ca and V over the grid's ranges,
+    uniform theta, the kinds alternating."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for i in range(n):
+        ca = float(np.exp(rng.uniform(math.log(CAS[0]), math.log(CAS[-1]))))
+        v = float(np.exp(rng.uniform(math.log(VOLUMES[0]), math.log(VOLUMES[-1]))))
+        th = float(rng.uniform(THETAS[0], THETAS[-1]))
+        out.append(RuptureCase("wall" if i % 2 == 0 else "pair", round(ca, 8), round(v, 8),
+                               round(th, 4)))
+    return out
+
+
+class RunCache:
+    """Results of finished runs, one JSON line each (``key``, ``result`` or ``error``)."""
+
+    def __init__(self, folder: Path | None = None):
+        from wetcontact.store import source_hash
+
+        base = folder or Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / \
+            "wetcontact"
+        self.path = base / f"dynamic_rupture-{source_hash(SOURCES)}.jsonl"
+        self.rows: dict[str, dict[str, Any]] = {}
+        self.refresh()
+
+    def refresh(self) -> None:
+        """Read the file again (another process may have added runs)."""
+        if self.path.is_file():
+            for line in self.path.read_text().splitlines():
+                try:
+                    row = json.loads(line)
+                    self.rows[row["key"]] = row
+                except (ValueError, KeyError):
+                    continue  # a line cut by a kill
+
+    @staticmethod
+    def key(case: RuptureCase, preset: str) -> str:
+        return json.dumps([asdict(case), preset], sort_keys=True)
+
+    def put(self, row: dict[str, Any]) -> None:
+        self.rows[row["key"]] = row
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        with self.path.open("a") as fh:
+            fh.write(json.dumps(row) + "\n")
+
+
+def solve_case(job: tuple[RuptureCase, str]) -> dict[str, Any]:
+    """One run on a worker: ``{key, case, preset, result}`` or ``{..., error}``."""
+    case, preset = job
+    row: dict[str, Any] = {"key": RunCache.key(case, preset), "case": asdict(case),
+                           "preset": preset}
+    try:
+        row["result"] = asdict(dynamic_rupture(case, preset))
+    except SolverError as exc:
+        row["error"] = str(exc)
+    return row
+
+
+def solve_all(cases: list[RuptureCase], workers: int, preset: str = "default",
+              cache: RunCache | None = None) -> list[dict[str, Any]]:
+    """Rows of ``cases``, from the cache or solved on ``workers`` processes (each appended
+    to the cache as it arrives)."""
+    cache = cache or RunCache()
+    cache.refresh()
+    todo = [(c, preset) for c in cases if RunCache.key(c, preset) not in cache.rows]
+    if todo:
+        map_jobs(solve_case, todo, workers, "dynamic-rupture",
+                 on_result=lambda _job, row: cache.put(row))
+    return [cache.rows[RunCache.key(c, preset)] for c in cases]
+
+
+def _arrays(rows: list[dict[str, Any]]) -> dict[str, np.ndarray]:
+    ok = [r for r in rows if "result" in r]
+    return {"wall": np.array([r["case"]["kind"] == "wall" for r in ok]),
+            "ca": np.array([r["case"]["capillary_number"] for r in ok]),
+            "volume": np.array([r["case"]["volume"] for r in ok]),
+            "theta": np.array([r["case"]["theta_deg"] for r in ok]),
+            "ratio": np.array([r["result"]["ratio"] for r in ok])}
+
+
+def held_out_errors(coef: dict[str, Any], rows: list[dict[str, Any]]) -> dict[str, Any]:
+    """Relative error of the closure's ratio S_c(Ca)/S_c on ``rows`` (and Pitois')."""
+    a = _arrays(rows)
+    fit = dr.ratio_form(coef, a["wall"], a["ca"], a["volume"], a["theta"])
+    pit = 1.0 + np.sqrt(a["ca"])
+    e, ep = np.abs(fit / a["ratio"] - 1.0), np.abs(pit / a["ratio"] - 1.0)
+    i = int(np.argmax(e))
+    return {"points": int(e.size), "max": float(e.max()), "mean": float(e.mean()),
+            "p95": float(np.percentile(e, 95)), "pitois_max": float(ep.max()),
+            "pitois_mean": float(ep.mean()),
+            "max_at": {"kind": "wall" if a["wall"][i] else "pair", "ca": float(a["ca"][i]),
+                       "volume": float(a["volume"][i]), "theta_deg": float(a["theta"][i])}}
+
+
+def generate_dynamic_rupture(out: Path | None = None, workers: int = 1,
+                             log: Any = print) -> dict[str, Any]:
+    """Solve the grid and the held-out cases, fit, write the data and return it."""
+    t0 = time.perf_counter()
+    cache = RunCache()
+    log(f"dynamic-rupture: {len(fit_cases())} grid and {HELD_OUT} held-out runs, cache "
+        f"{cache.path}")
+    grid = solve_all(fit_cases(), workers, cache=cache)
+    held = solve_all(held_out_cases(), workers, cache=cache)
+    failed = [r for r in grid + held if "error" in r]
+    a = _arrays(grid)
+    if a["ca"].size < 10:
+        raise InputError(f"dynamic-rupture: {a['ca'].size} grid runs reached the pinch; at "
+                         "least 10 to fit")
+    coef = dr.fit_form(a["wall"], a["ca"], a["volume"], a["theta"], a["ratio"])
+    coef_ab = dr.fit_form(a["wall"], a["ca"], a["volume"], a["theta"], a["ratio"],
+                          names=("a", "b"))
+    data = {"schema_version": dr.SCHEMA_VERSION, "coefficients": coef,
+            "coefficients_ab": coef_ab,
+            "domain": {"capillary_number": [CAS[0], CAS[-1]],
+                       "volume": [VOLUMES[0], VOLUMES[-1]],
+                       "theta_deg": [THETAS[0], THETAS[-1]], "kinds": ["wall", "pair"]},
+            "fit": held_out_errors(coef, grid), "held_out": held_out_errors(coef, held),
+            "fit_ab": held_out_errors(coef_ab, grid),
+            "held_out_ab": held_out_errors(coef_ab, held),
+            "start_over_static": START, "preset": "default",
+            "command": "python -m wetcontact.generate dynamic-rupture",
+            "wall_time_s": round(time.perf_counter() - t0, 1),
+            "runs": [{"case": r["case"], **({"result": r["result"]} if "result" in r
+                                             else {"error": r["error"]}),
+                      "held_out": i >= len(grid)}
+                     for i, r in enumerate(grid + held)]}
+    path = out or DATA_DIR / dr.DATA_FILE
+    path.write_text(json.dumps(data, indent=1) + "\n")
+    ho = data["held_out"]
+    log(f"dynamic-rupture: fit {coef}; held-out max {ho['max']:.3g}, mean {ho['mean']:.3g} "
+        f"(Pitois max {ho['pitois_max']:.3g}); {len(failed)} runs failed; {path}")
+    return data

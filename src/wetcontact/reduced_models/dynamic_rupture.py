@@ -1,0 +1,141 @@
+r"""Dynamic rupture distance: the static fold stretched by the capillary number.
+
+A bridge separated at the constant relative speed v ruptures farther out than its static
+fold S_c (the last stable static bridge, ``meniscus``). The closure is fitted to the
+``stokes-dynamic`` reference (free-surface Stokes flow to the pinch,
+:mod:`wetcontact.solver.stokes_dynamic.rupture`):
+
+.. math::
+    \frac{S_c(\mathrm{Ca})}{S_c} = 1 + a_k\, \mathrm{Ca}^{\,b_k + c_k \ln \mathrm{Ca}}
+        \left(\frac{V^*}{10^{-3}}\right)^{d_k} e^{e_k \theta},
+    \qquad \mathrm{Ca} = \eta v / \sigma,
+
+with one set ``(a, b, c, d, e)`` per geometry ``k`` (a sphere and a wall; two equal
+spheres), ``V* = V/R^3``, theta in rad (static, equal on both solids). With ``c = d = e = 0``
+it is Pitois, Moucheront & Chateau's (2001) form, whose published ``a = 1, b = 1/2``
+(:func:`~wetcontact.reduced_models.rupture.pitois_rupture_distance`) the report compares.
+
+Domain: Ca, V*, theta within the generation grid (``domain`` in the package data,
+``data/dynamic_rupture.json``, built by ``python -m wetcontact.generate dynamic-rupture``);
+the bridge starts from the static meniscus at 0.2 S_c. Accuracy: the relative error of
+``S_c(Ca)`` on the held-out runs of the data file (``held_out``), in the report's
+``dynamic_rupture.csv``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+
+from wetcontact.errors import InputError
+from wetcontact.reduced_models import DATA_DIR
+
+__all__ = ["dynamic_rupture_ratio", "fit_form", "ratio_form", "DATA_FILE", "SCHEMA_VERSION"]
+
+DATA_FILE = "dynamic_rupture.json"
+SCHEMA_VERSION = 1
+NAMES = ("a", "b", "c", "d", "e")
+
+
+def ratio_form(coef: dict[str, Any], wall: Any, ca: Any, volume: Any, theta_deg: Any
+               ) -> np.ndarray:
+    """``S_c(Ca)/S_c`` of the form above with coefficients ``coef[kind][name]``."""
+    wall, ca, v, th = np.broadcast_arrays(np.asarray(wall, dtype=bool), np.asarray(ca, float),
+                                          np.asarray(volume, float),
+                                          np.radians(np.asarray(theta_deg, float)))
+    out = np.empty(ca.shape)
+    for kind, sel in (("wall", wall), ("pair", ~wall)):
+        if not sel.any():
+            continue
+        a, b, c, d, e = (float(coef[kind][n]) for n in NAMES)
+        lc = np.log(ca[sel])
+        out[sel] = 1.0 + a * np.exp((b + c * lc) * lc + d * np.log(v[sel] / 1e-3)
+                                    + e * th[sel])
+    return out
+
+
+def fit_form(wall: np.ndarray, ca: np.ndarray, volume: np.ndarray, theta_deg: np.ndarray,
+             ratio: np.ndarray, names: tuple[str, ...] = NAMES) -> dict[str, dict[str, float]]:
+    """Least-squares fit of the form to reference ratios, per kind, in
+    ``ln(ratio - 1) = ln a + (b + c ln Ca) ln Ca + d ln(V*/1e-3) + e theta`` (linear in
+    the coefficients); coefficients not in ``names`` are 0."""
+    out: dict[str, dict[str, float]] = {}
+    for kind, sel in (("wall", wall), ("pair", ~wall)):
+        lc, lv = np.log(ca[sel]), np.log(volume[sel] / 1e-3)
+        th = np.radians(theta_deg[sel])
+        y = np.log(ratio[sel] - 1.0)
+        cols = {"a": np.ones_like(lc), "b": lc, "c": lc * lc, "d": lv, "e": th}
+        use = [n for n in NAMES if n in names]
+        m = np.column_stack([cols[n] for n in use])
+        sol, *_ = np.linalg.lstsq(m, y, rcond=None)
+        got = dict(zip(use, sol, strict=True))
+        coef = {n: float(got.get(n, 0.0)) for n in NAMES}
+        coef["a"] = math.exp(coef["a"])
+        out[kind] = coef
+    return out
+
+
+@lru_cache(maxsize=1)
+def load() -> dict[str, Any]:
+    """The shipped coefficients and domain."""
+    path = DATA_DIR / DATA_FILE
+    if not path.is_file():
+        raise InputError(f"dynamic rupture closure: {path} is missing; build it with "
+                         "`python -m wetcontact.generate dynamic-rupture`")
+    data = json.loads(path.read_text())
+    if data.get("schema_version") != SCHEMA_VERSION:
+        raise InputError(f"{path}: schema_version {data.get('schema_version')}; this code "
+                         f"reads {SCHEMA_VERSION}")
+    return data
+
+
+def dynamic_rupture_ratio(kind: str, capillary_number: Any, volume_star: Any,
+                          theta_deg: Any) -> Any:
+    r"""``S_c(Ca) / S_c``: the dynamic rupture distance over the static fold.
+
+    .. math:: S_c(\mathrm{Ca})/S_c = 1 + a\, \mathrm{Ca}^{b + c \ln \mathrm{Ca}}
+              (V^*/10^{-3})^d e^{e\theta}
+
+    (module docstring: the form, the reference, the source).
+
+    Parameters
+    ----------
+    kind
+        ``"wall"`` (a sphere and a wall) or ``"pair"`` (two equal spheres).
+    capillary_number
+        ``Ca = eta v / sigma`` with v the relative separation speed.
+    volume_star
+        ``V/R^3``.
+    theta_deg
+        Contact angle (deg), the same on both solids.
+
+    Returns
+    -------
+    numpy.ndarray or float
+        The ratio (a float for scalar inputs).
+
+    Raises
+    ------
+    InputError
+        An unknown kind, or an input outside the fitted domain (named with its range; use
+        ``stokes-dynamic`` there).
+    """
+    data = load()
+    if kind not in ("wall", "pair"):
+        raise InputError(f"dynamic rupture closure: kind = {kind!r}; allowed: 'wall', 'pair'")
+    dom = data["domain"]
+    vals = {"capillary_number": np.asarray(capillary_number, float),
+            "volume": np.asarray(volume_star, float),
+            "theta_deg": np.asarray(theta_deg, float)}
+    for name, x in vals.items():
+        lo, hi = dom[name]
+        if np.any(~np.isfinite(x)) or np.any(x < lo * (1 - 1e-12)) or np.any(x > hi * (1 + 1e-12)):
+            raise InputError(f"dynamic rupture closure: {name} = {x.min():.6g}-{x.max():.6g} "
+                             f"outside [{lo:g}, {hi:g}]; use stokes-dynamic there")
+    r = ratio_form(data["coefficients"], kind == "wall", vals["capillary_number"],
+                   vals["volume"], vals["theta_deg"])
+    return float(r) if r.ndim == 0 else r
