@@ -1340,7 +1340,7 @@ def test_cli_json_summary(tmp_path, capsys, source):
     assert info["functions"] == ["wc_viscous_force_immersed", "wc_viscous_force_bridge",
                                  "wc_capillary_force", "wc_rupture_distance",
                                  "wc_capillary_force_refit", "wc_rupture_distance_refit",
-                                 "wc_transfer_fraction"]
+                                 "wc_transfer_fraction", "wc_dynamic_rupture_ratio"]
     assert Path(info["out"]).is_file() and info["wall_time_s"] >= 0
     assert info["bytes"] > 1000
 

@@ -44,7 +44,7 @@ from wetcontact.tables import StudyContext
 PRESET_OF_MODE = {"quick": "fast", "default": "default", "full": "accurate"}
 # Study sections, in report order; a module that is not present is skipped.
 SECTIONS = ("lubrication", "stokes", "thinfilm", "capillary_closures", "calibration",
-            "collisions", "division")
+            "collisions", "division", "dynamic_rupture")
 DEFAULT_BENCH = Path("benchmarks/results/thinfilm.json")
 DEFAULT_CALIBRATION = Path("benchmarks/results/calibration")
 PROGRESS_EVERY_S = float(os.environ.get("WETCONTACT_PROGRESS_S", "5"))

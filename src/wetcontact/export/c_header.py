@@ -32,6 +32,7 @@ from wetcontact.export.closure_tables import (
     sphere_end_text,
 )
 from wetcontact.export.closures import immersed_tables, usage_text
+from wetcontact.export.dynamic_rupture import c_text as dynamic_rupture_c
 from wetcontact.export.refits import REFIT_FORMS, TARGET_ARGS, c_text, comment_lines
 from wetcontact.export.templates import render
 from wetcontact.export.transfer_fraction import c_text as transfer_fraction_c
@@ -41,7 +42,7 @@ from wetcontact.reduced_models.calibrated import viscous_table
 HEADER_NAME = "wetcontact_closures.h"
 FUNCTIONS = ("wc_viscous_force_immersed", "wc_viscous_force_bridge", "wc_capillary_force",
              "wc_rupture_distance", "wc_capillary_force_refit", "wc_rupture_distance_refit",
-             "wc_transfer_fraction")
+             "wc_transfer_fraction", "wc_dynamic_rupture_ratio")
 TEMPLATE = "wetcontact_closures.h.in"
 """The header's template (:mod:`wetcontact.export.templates`): the C text with the tables,
 domain limits and comments as placeholders."""
@@ -126,7 +127,8 @@ def header_text(source: CapillarySource, refits: Sequence[RefitTable] = ()) -> s
         "log_lo": lo, "log_hi": hi, "lian": c_array(rup.coefficients),
         "willett": _nested(cap.coefficients),
         "appended": "\n".join(text.lstrip("\n") for text in (
-            transfer_fraction_c(), *([c_text(refits)] if refits else [])))}
+            transfer_fraction_c(), dynamic_rupture_c(),
+            *([c_text(refits)] if refits else [])))}
     return render(TEMPLATE, values)
 
 

@@ -354,6 +354,7 @@ def capillary_document(table: CapillaryTable | None = None) -> dict[str, Any]:
                                      if k not in t.parts),
             "units": UNITS, "sign_convention": SIGN, "outside_domain": OUTSIDE,
             "parts": parts, "transfer_fraction": _transfer_fraction(),
+            "dynamic_rupture": _dynamic_rupture(),
             "provenance": _provenance(
                 Path(t.source), str((capillary_table() or {}).get("generated_by", "")),
                 "meniscus")}
@@ -362,6 +363,13 @@ def capillary_document(table: CapillaryTable | None = None) -> dict[str, Any]:
 def _transfer_fraction() -> dict[str, Any]:
     """The division at rupture (its own module, :mod:`wetcontact.export.transfer_fraction`)."""
     from wetcontact.export.transfer_fraction import json_entry
+
+    return json_entry()
+
+
+def _dynamic_rupture() -> dict[str, Any]:
+    """The dynamic rupture distance (its own module, :mod:`wetcontact.export.dynamic_rupture`)."""
+    from wetcontact.export.dynamic_rupture import json_entry
 
     return json_entry()
 

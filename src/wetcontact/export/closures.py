@@ -1,15 +1,15 @@
 """The calibrated closures the ``python`` and ``c`` exports carry, read from the package
 data and the refit files into the types of :mod:`wetcontact.export.closure_tables`.
 
-Six functions, in SI units, force on the first particle along the line of centres,
-positive = pushing the particles apart (a bridge's attraction is negative), ``r2 = inf``
-for a plane:
+Six functions (and the division and dynamic rupture closures, :mod:`.transfer_fraction`,
+:mod:`.dynamic_rupture`), SI units, force on the first particle along the line of centres,
+positive = pushing apart (a bridge's attraction is negative), ``r2 = inf`` for a plane:
 
 ``viscous_force_immersed(r1, r2, viscosity, approach_speed, gap)``
     ``calibrated-viscous`` (immersed): ``F = 6 pi eta R v lambda`` (wall) or
     ``6 pi eta R (v/2) lambda`` (equal spheres, v the relative approach speed), lambda a
-    Chebyshev table in ln(S/R) (Brenner 1961; Maude 1961; held-out error about 5e-9).
-    Domain: a plane or equal spheres, S/R in [1e-5, 100].
+    Chebyshev table in ln(S/R) (Brenner 1961; Maude 1961; held-out error about 5e-9), S/R
+    in [1e-5, 100].
 ``viscous_force_bridge(r1, r2, viscosity, volume, approach_speed, gap)``
     ``calibrated-viscous`` (bridge): the Reynolds force times the refitted finite-liquid
     factor (held-out error 0.2-0.3 % against ``lubrication``). Domain: V/r_small^3 in
@@ -28,16 +28,15 @@ for a plane:
     (:func:`~wetcontact.reduced_models.calibrated_capillary.gap_coordinate`); same domain,
     any gap ``S >= 0``, exactly 0 at and past ``S_c``.
 ``rupture_distance_refit``, ``capillary_force_refit`` (same arguments)
-    The refitted ``lian-rupture`` (Lian et al. 1993) and ``willett`` (Willett et al. 2000)
-    families: equal spheres, V* in [1e-4, 0.1], angles' cosine mean in [0, 50] deg.
+    Refitted ``lian-rupture`` (Lian 1993), ``willett`` (Willett 2000): equal spheres, V* in
+    [1e-4, 0.1], angles' cosine mean in [0, 50] deg.
 
 :class:`~wetcontact.export.closure_tables.CapillarySource` (:func:`capillary_source`) is the
 one place that names the capillary tables the exports carry (pieces, bands, ridge and onset
 series, tensor trains where a piece has them). Outside the calibrated domain every function
-returns NaN, the contract of the exported C and Python code; the package
-(:func:`~wetcontact.export.package_evaluation.package_evaluation`) reports the same points
-as :class:`~wetcontact.errors.ValidityError`, mapped to NaN there for comparison. How the
-exports carry the tables: the guide's record *Export tables* (``docs/export.md``).
+returns NaN; the package raises :class:`~wetcontact.errors.ValidityError` there (NaN in
+:func:`~wetcontact.export.package_evaluation.package_evaluation`). How the exports carry
+the tables: the guide's record *Export tables* (``docs/export.md``).
 """
 
 from __future__ import annotations

@@ -115,10 +115,12 @@ def module_text(source: CapillarySource, refits: Sequence[RefitTable] = ()) -> s
 
 
 def _transfer_fraction() -> str:
-    """``transfer_fraction`` (its own module, :mod:`wetcontact.export.transfer_fraction`)."""
+    """``transfer_fraction`` and ``dynamic_rupture_ratio`` (their own modules,
+    :mod:`wetcontact.export.transfer_fraction`, :mod:`wetcontact.export.dynamic_rupture`)."""
+    from wetcontact.export.dynamic_rupture import python_text as dynamic_rupture_py
     from wetcontact.export.transfer_fraction import python_text as transfer_fraction_py
 
-    return transfer_fraction_py()
+    return transfer_fraction_py() + dynamic_rupture_py()
 
 
 def _fill(text: str) -> str:

@@ -25,11 +25,17 @@ from wetcontact.errors import InputError, SolverError
 from wetcontact.generate.workers import map_jobs
 from wetcontact.reduced_models import DATA_DIR
 from wetcontact.reduced_models import dynamic_rupture as dr
-from wetcontact.solver.stokes_dynamic.rupture import START, RuptureCase, dynamic_rupture
+from wetcontact.solver.stokes_dynamic.rupture import (
+    PAIR_THETA_MAX,
+    START,
+    RuptureCase,
+    dynamic_rupture,
+)
 
 CAS = (1e-4, 1e-3, 1e-2, 0.1, 0.3)
 VOLUMES = (1e-4, 1e-3, 1e-2)
 THETAS = (10.0, 30.0, 50.0)
+PAIR_THETAS = (10.0, 20.0, PAIR_THETA_MAX)
 HELD_OUT = 12
 SEED = 57
 SOURCES = ("solver/meniscus", *(f"solver/stokes_dynamic/{m}.py" for m in
@@ -39,22 +45,24 @@ SOURCES = ("solver/meniscus", *(f"solver/stokes_dynamic/{m}.py" for m in
 
 def fit_cases() -> list[RuptureCase]:
     """The fit grid: both kinds, Ca in :data:`CAS`, V/R^3 in :data:`VOLUMES`, theta in
-    :data:`THETAS`."""
-    return [RuptureCase(k, ca, v, th) for k in ("wall", "pair") for ca in CAS
-            for v in VOLUMES for th in THETAS]
+    :data:`THETAS` (a wall) or :data:`PAIR_THETAS` (equal spheres)."""
+    return [RuptureCase(k, ca, v, th) for k, ths in (("wall", THETAS), ("pair", PAIR_THETAS))
+            for ca in CAS for v in VOLUMES for th in ths]
 
 
 def held_out_cases(n: int = HELD_OUT, seed: int = SEED) -> list[RuptureCase]:
     """Seeded cases between the grid's: log-uniform Ca and V over the grid's ranges,
-    uniform theta, the kinds alternating."""
+    uniform theta over the kind's range, the kinds alternating."""
     rng = np.random.default_rng(seed)
     out = []
     for i in range(n):
         ca = float(np.exp(rng.uniform(math.log(CAS[0]), math.log(CAS[-1]))))
         v = float(np.exp(rng.uniform(math.log(VOLUMES[0]), math.log(VOLUMES[-1]))))
-        th = float(rng.uniform(THETAS[0], THETAS[-1]))
-        out.append(RuptureCase("wall" if i % 2 == 0 else "pair", round(ca, 8), round(v, 8),
-                               round(th, 4)))
+        u = float(rng.uniform(0.0, 1.0))
+        kind = "wall" if i % 2 == 0 else "pair"
+        ths = THETAS if kind == "wall" else PAIR_THETAS
+        th = ths[0] + u * (ths[-1] - ths[0])
+        out.append(RuptureCase(kind, round(ca, 8), round(v, 8), round(th, 4)))
     return out
 
 
@@ -160,7 +168,9 @@ def generate_dynamic_rupture(out: Path | None = None, workers: int = 1,
             "coefficients_ab": coef_ab,
             "domain": {"capillary_number": [CAS[0], CAS[-1]],
                        "volume": [VOLUMES[0], VOLUMES[-1]],
-                       "theta_deg": [THETAS[0], THETAS[-1]], "kinds": ["wall", "pair"]},
+                       "theta_deg": {"wall": [THETAS[0], THETAS[-1]],
+                                     "pair": [PAIR_THETAS[0], PAIR_THETAS[-1]]},
+                       "kinds": ["wall", "pair"]},
             "fit": held_out_errors(coef, grid), "held_out": held_out_errors(coef, held),
             "fit_ab": held_out_errors(coef_ab, grid),
             "held_out_ab": held_out_errors(coef_ab, held),

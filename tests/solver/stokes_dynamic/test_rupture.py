@@ -8,6 +8,7 @@ import pytest
 
 from wetcontact.errors import InputError
 from wetcontact.solver.stokes_dynamic.rupture import (
+    PAIR_THETA_MAX,
     PRESETS,
     S_REF,
     RuptureCase,
@@ -25,8 +26,17 @@ def test_case_outside_the_method_is_refused_by_name(field, value):
             field: value}
     with pytest.raises(InputError, match=rf"{field} = .*allowed"):
         RuptureCase(**args)
+
+
+
+def test_equal_spheres_past_the_symmetry_breaking_angle_are_refused():
+    """Above PAIR_THETA_MAX the static branch between equal spheres ends at the
+    symmetry-breaking bifurcation, which the symmetric half cannot follow."""
     with pytest.raises(InputError, match="kind"):
         RuptureCase("plate", 1e-2, 1e-3, 20.0)
+    with pytest.raises(InputError, match="symmetry"):
+        RuptureCase("pair", 1e-2, 1e-3, PAIR_THETA_MAX + 1.0)
+    assert RuptureCase("wall", 1e-2, 1e-3, PAIR_THETA_MAX + 1.0).theta_deg > PAIR_THETA_MAX
 
 
 def test_gap_step_follows_the_delay_below_ca_1e_2():

@@ -22,8 +22,10 @@ a static meniscus is an equilibrium to 2e-6 in force; a perturbed bridge relaxes
 the O(Ca) force excess at Ca = 1e-3 is the quasi-static ``stokes`` force within 0.8 %; at
 Ca = 1e-4 the force is ``meniscus`` plus Ca times ``stokes`` within 1.7e-5 up to S/R =
 0.08 (1.4e-4 at 0.105, near the fold). Rupture at Ca = 1e-2: 1.20 S_c (S_c the static fold;
-half steps move it by 0.3 %; Pitois: 1.10), 20 s; at Ca = 1e-4: 1.027 S_c (extrapolated in
-dt), not the fold within 1e-3. The neck is followed to 2e-3 of its start (380 s, 17k
+half steps move it by 0.3 %; Pitois: 1.10), 20 s; at Ca = 1e-4: 1.0265 S_c at gap steps
+of 5.4e-5 R (the delay past the fold scales as about 3 Ca^(1/2) S_c). The rupture distance
+over Ca, volume and angle: :mod:`.rupture`; the liquid each side of the pinch:
+:mod:`.division`. The neck is followed to 2e-3 of its start (380 s, 17k
 elements), where its rate is 0.066 sigma/eta (Papageorgiou 1995: 0.0709).
 Equal spheres: static force to 1e-6, O(Ca) excess 0.5 % from ``stokes``, rupture 1.165 S_c.
 

@@ -8,17 +8,19 @@ pinch, ``S_c(Ca)``. Pitois, Moucheront & Chateau (2001) give
 ``S_c(Ca) = S_c (1 + Ca^(1/2))`` (PHYSICS.md section 8).
 
 Geometries: a sphere and a wall (``"wall"``), or two equal spheres (``"pair"``, solved on
-the upper half above the shear-free mid-plane: the half moves at v/2). Contact angles equal
+the upper half above the shear-free mid-plane: the half moves at v/2; angles up to
+:data:`PAIR_THETA_MAX`). Contact angles equal
 on both solids, static (the lines slide at the static angle), Navier slip ``slip`` R on both
 solids. Units R = sigma = eta = 1.
 
 Presets (:data:`PRESETS`): the base gap step and the largest relative change of the neck
 per step near pinch. The gap step shrinks like ``Ca^(1/3)`` below Ca = 1e-2
-(:func:`gap_step`): the delay past the fold, which the step must resolve, scales about so
-(measured ``S_c(Ca)/S_c - 1`` = 0.012 at Ca = 1e-5, 0.005 at 1e-6). The rupture distance
-converges at first order in the step (at Ca = 1e-4, 20 deg, V/R^3 = 1e-3: 1.0400, 1.0310,
-1.0284, 1.0265 S_c at gap steps 5e-4, 2.5e-4, 1.08e-4, 5.4e-5 R); the default preset's
-time error is about 0.2-0.4 % of S_c(Ca).
+(:func:`gap_step`), where the delay past the fold that the step must resolve becomes small
+(``S_c(Ca)/S_c - 1`` is about ``3 Ca^(1/2)`` at Ca <= 1e-4). Accuracy of the rupture
+distance (``benchmarks/bench_dynamic_rupture.py``; V/R^3 = 1e-3, 30 deg): the default preset
+is 0.27-0.30 % from the accurate one (sphere-wall at Ca = 1e-2 and 1e-4, equal spheres at
+1e-2), the fast one 0.56-0.84 %; the convergence in the step is slow (observed order
+0.6-0.9 at Ca = 1e-2, about 0 between the presets at 1e-4, where the gap step decides it).
 """
 
 from __future__ import annotations
@@ -58,6 +60,11 @@ S = 2.6 S_c)."""
 VOLUME_RANGE = (1e-4, 0.1)
 THETA_RANGE = (1.0, 60.0)
 """deg."""
+PAIR_THETA_MAX = 30.0
+"""deg: the largest angle between equal spheres. Above about 33 deg (V/R^3 1e-4 to 1e-2)
+the static branch ends at a symmetry-breaking bifurcation before its fold (``meniscus``'s
+``Division.end``); the upper half above a symmetry plane cannot follow it (at 50 deg and
+Ca = 1e-4 it ruptured at 1.07 times the static rupture distance, against 1.013 at 30)."""
 
 
 @dataclass(frozen=True)
@@ -81,6 +88,11 @@ class RuptureCase:
             if not (math.isfinite(value) and lo <= value <= hi):
                 raise InputError(f"dynamic rupture: {name} = {value!r}; allowed: "
                                  f"[{lo:g}, {hi:g}]")
+        if self.kind == "pair" and self.theta_deg > PAIR_THETA_MAX:
+            raise InputError(f"dynamic rupture: theta_deg = {self.theta_deg!r} between equal "
+                             f"spheres; allowed: up to {PAIR_THETA_MAX:g} (above, the static "
+                             "bridge breaks its symmetry before its fold, which the symmetric "
+                             "half cannot follow)")
 
 
 @dataclass(frozen=True)

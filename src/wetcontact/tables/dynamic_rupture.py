@@ -1,0 +1,152 @@
+"""Table: the dynamic rupture distance against Pitois' law and the refitted closure.
+
+Reference: ``stokes-dynamic`` stretching runs (:mod:`wetcontact.solver.stokes_dynamic.rupture`:
+a bridge from the static meniscus at 0.2 S_c separated at constant speed to its pinch),
+sphere-wall and equal spheres, over the capillary number Ca = eta v / sigma, V* = V/R^3 and
+the contact angle, from the generation record of the closure
+(``reduced_models/data/dynamic_rupture.json``, ``python -m wetcontact.generate
+dynamic-rupture``; the runs take about 40 min on 2 cores, so the report does not repeat
+them). Beside each run: Pitois, Moucheront & Chateau's (2001) ``S_c (1 + Ca^1/2)``, the
+refit of that form ``1 + a Ca^b`` and the extended closure
+(:func:`~wetcontact.reduced_models.dynamic_rupture.dynamic_rupture_ratio`), each evaluated
+now; the relative error of the rupture distance. Runs that did not reach the pinch are listed
+with their reason (the method's failure region).
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from wetcontact.reduced_models import dynamic_rupture as dr
+from wetcontact.sweep import Point, SweepResult
+from wetcontact.tables import StudyContext
+
+
+def points(ctx: StudyContext) -> list[Point]:
+    """Nothing to sweep: the references are the generation record's."""
+    return []
+
+
+def rows_of(data: dict[str, Any]) -> list[dict[str, Any]]:
+    """One row per run that reached the pinch: the reference, Pitois, the two fits."""
+    rows = []
+    for run in data["runs"]:
+        if "result" not in run:
+            continue
+        c, r = run["case"], run["result"]
+        wall = c["kind"] == "wall"
+        args = (wall, c["capillary_number"], c["volume"], c["theta_deg"])
+        pit = 1.0 + float(np.sqrt(c["capillary_number"]))
+        ab = float(dr.ratio_form(data["coefficients_ab"], *args))
+        full = float(dr.ratio_form(data["coefficients"], *args))
+        ref = r["ratio"]
+        rows.append({"kind": c["kind"], "Ca": c["capillary_number"], "V*": c["volume"],
+                     "theta_deg": c["theta_deg"], "held_out": run["held_out"],
+                     "S_c_static": r["static_gap"], "S_c_dynamic": r["gap"],
+                     "ratio_ref": ref, "ratio_pitois": pit,
+                     "err_pitois": abs(pit / ref - 1.0), "ratio_refit_ab": ab,
+                     "err_refit_ab": abs(ab / ref - 1.0), "ratio_closure": full,
+                     "err_closure": abs(full / ref - 1.0), "neck_slope": r["slope"],
+                     "volume_error": r["volume_error"], "wall_time_s": r["wall_time"]})
+    return rows
+
+
+def _stats(rows: list[dict[str, Any]], col: str) -> str:
+    e = np.array([r[col] for r in rows])
+    return f"{e.max():.3g} / {e.mean():.3g}" if e.size else "-"
+
+
+def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
+    """Write ``dynamic_rupture.csv`` and ``dynamic_rupture.png``; return the Markdown."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    data = dr.load()
+    rows = rows_of(data)
+    with open(out / "dynamic_rupture.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    from wetcontact.plotting import save
+
+    save(figure(rows, data), out / "dynamic_rupture.png")
+    failed = [run for run in data["runs"] if "error" in run]
+    dom = data["domain"]
+    ab = data["coefficients_ab"]
+    lines = ["## Dynamic rupture: Pitois' (1 + Ca^1/2) against free-surface Stokes flow", "",
+             "Rupture distance S_c(Ca) of a bridge stretched at constant relative speed v "
+             "(Ca = eta v / sigma) from the static meniscus at "
+             f"{data['start_over_static']:g} S_c to its pinch (`stokes-dynamic`, default "
+             "preset; S_c the static fold of `meniscus`). Sphere-wall and equal spheres, Ca "
+             f"{dom['capillary_number'][0]:g}-{dom['capillary_number'][1]:g}, V* = V/R^3 "
+             f"{dom['volume'][0]:g}-{dom['volume'][1]:g}, contact angle (static, both "
+             f"solids) {dom['theta_deg']['wall'][0]:g}-{dom['theta_deg']['wall'][1]:g} deg on "
+             f"a wall, {dom['theta_deg']['pair'][0]:g}-{dom['theta_deg']['pair'][1]:g} deg "
+             "between spheres (above, the static bridge breaks its symmetry before its fold), "
+             "slip 1e-3 R. References from the closure's generation record; the laws "
+             "evaluated now. Relative error of S_c(Ca), max / mean; every run: "
+             "`dynamic_rupture.csv`, S_c(Ca)/S_c against Ca: `dynamic_rupture.png`.", "",
+             "| law | grid runs | held-out runs |", "|---|---|---|"]
+    grid = [r for r in rows if not r["held_out"]]
+    held = [r for r in rows if r["held_out"]]
+    labels = (("Pitois 2001, 1 + Ca^1/2", "err_pitois"),
+              ("refit 1 + a Ca^b (per geometry: wall a = "
+               f"{ab['wall']['a']:.3g}, b = {ab['wall']['b']:.3g}; pair a = "
+               f"{ab['pair']['a']:.3g}, b = {ab['pair']['b']:.3g})", "err_refit_ab"),
+              ("closure 1 + a Ca^(b + c ln Ca) (V*/1e-3)^d e^(e theta)", "err_closure"))
+    for label, col in labels:
+        lines.append(f"| {label} | {_stats(grid, col)} | {_stats(held, col)} |")
+    lines += ["", f"{len(rows)} runs reached the pinch; {len(failed)} did not"
+              + (": " + "; ".join(f"{f['case']['kind']} Ca {f['case']['capillary_number']:g} "
+                                   f"V* {f['case']['volume']:g} theta "
+                                   f"{f['case']['theta_deg']:g}: {f['error'][-120:]}"
+                                   for f in failed[:6]) if failed else "") + "."]
+    e_p = max(r["err_pitois"] for r in held) if held else float("nan")
+    e_c = max(r["err_closure"] for r in held) if held else float("nan")
+    lines += ["", f"Conclusion: Pitois' factor is off by up to {e_p:.2g} on the held-out runs; "
+              f"the refitted closure by {e_c:.2g}."]
+    return "\n".join(lines) + "\n"
+
+
+def figure(rows: list[dict[str, Any]], data: dict[str, Any]):
+    """S_c(Ca)/S_c against Ca, one panel per geometry: the runs by angle, Pitois and the
+    closure at each angle (V* = 1e-3) as lines."""
+    from wetcontact.plotting import pyplot, styles
+
+    plt = pyplot()
+    ths = sorted({r["theta_deg"] for r in rows if not r["held_out"]})
+    names = [f"stokes-dynamic, theta {t:g} deg" for t in ths] + [
+        f"closure, theta {t:g} deg, V* 1e-3" for t in ths] + ["Pitois 2001, 1 + Ca^1/2",
+                                                               "held-out runs"]
+    st = styles(names)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True, layout="constrained")
+    ca = np.geomspace(*data["domain"]["capillary_number"], 100)
+    for ax, kind, title in zip(axes, ("wall", "pair"),
+                               ("sphere on a wall", "two equal spheres"), strict=True):
+        for t, name, cname in zip(ths, names[:len(ths)], names[len(ths):2 * len(ths)],
+                                  strict=True):
+            sel = [r for r in rows if r["kind"] == kind and r["theta_deg"] == t
+                   and not r["held_out"]]
+            if not sel:
+                continue
+            ax.plot([r["Ca"] for r in sel], [r["ratio_ref"] for r in sel], mfc="none",
+                    ms=6, label=name, **{**st[name], "linestyle": "none"})
+            ax.plot(ca, dr.ratio_form(data["coefficients"], kind == "wall", ca, 1e-3, t),
+                    lw=1.4, label=cname, **{**st[cname], "marker": None})
+        ax.plot(ca, 1 + np.sqrt(ca), lw=2.0, label=names[-2],
+                **{**st[names[-2]], "marker": None})
+        sel = [r for r in rows if r["kind"] == kind and r["held_out"]]
+        ax.plot([r["Ca"] for r in sel], [r["ratio_ref"] for r in sel], ms=7, label=names[-1],
+                **{**st[names[-1]], "linestyle": "none"})
+        ax.set_xscale("log")
+        ax.set_title(f"{title}: V* = V/R^3 1e-4 to 1e-2 (points)", fontsize=9)
+        ax.set_xlabel("Ca = eta v / sigma")
+        ax.grid(True, alpha=0.3)
+    axes[0].set_ylabel("S_c(Ca) / S_c (static fold)")
+    axes[1].legend(fontsize=7, loc="upper left")
+    fig.suptitle("Dynamic rupture distance: bridge stretched at constant speed from 0.2 S_c "
+                 "to its pinch (stokes-dynamic) against Pitois 2001 and the refit", fontsize=10)
+    return fig

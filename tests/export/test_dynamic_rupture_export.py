@@ -1,0 +1,89 @@
+"""``wc_dynamic_rupture_ratio`` (C header), ``dynamic_rupture_ratio`` (numpy module) and the
+JSON entry against the package's ``dynamic_rupture_ratio``, within 1e-12 relative."""
+
+from __future__ import annotations
+
+import math
+import shutil
+import subprocess
+from typing import Any
+
+import numpy as np
+import pytest
+
+from wetcontact.export.dynamic_rupture import FUNCTION, c_text, json_entry, python_text
+from wetcontact.reduced_models import dynamic_rupture as dr
+
+TOL = 1e-12
+
+
+def _points(n: int = 200) -> list[tuple[int, float, float, float]]:
+    """Seeded points inside the domain, and a few outside (NaN in the exports)."""
+    dom = dr.load()["domain"]
+    rng = np.random.default_rng(57)
+    (c0, c1), (v0, v1) = dom["capillary_number"], dom["volume"]
+    pts = []
+    for _ in range(n):
+        pair = int(rng.integers(2))
+        t0, t1 = dom["theta_deg"]["pair" if pair else "wall"]
+        pts.append((pair, float(np.exp(rng.uniform(math.log(c0), math.log(c1)))),
+                    float(np.exp(rng.uniform(math.log(v0), math.log(v1)))),
+                    float(rng.uniform(t0, t1))))
+    tp = dom["theta_deg"]["pair"][1]
+    return pts + [(0, c0 / 2, 1e-3, 20.0), (1, c1 * 2, 1e-3, 20.0), (0, 1e-2, v1 * 2, 20.0),
+                  (1, 1e-2, 1e-3, tp + 1.0)]
+
+
+def _package(pts) -> np.ndarray:
+    dom = dr.load()["domain"]
+    out = []
+    for pair, ca, v, th in pts:
+        kind = "pair" if pair else "wall"
+        inside = all(lo <= x <= hi for x, (lo, hi) in zip(
+            (ca, v, th), (dom["capillary_number"], dom["volume"], dom["theta_deg"][kind]),
+            strict=True))
+        out.append(dr.dynamic_rupture_ratio("pair" if pair else "wall", ca, v, th)
+                   if inside else math.nan)
+    return np.array(out)
+
+
+def test_python_module_matches_package():
+    ns: dict[str, Any] = {"np": np, "__all__": [], "Any": Any}
+    exec(compile(python_text(), "dynamic_rupture_export", "exec"), ns)
+    pts = _points()
+    got = np.array([ns["dynamic_rupture_ratio"]("pair" if p else "wall", c, v, t)
+                    for p, c, v, t in pts])
+    ref = _package(pts)
+    assert np.array_equal(np.isnan(got), np.isnan(ref)) and np.isnan(ref).sum() == 4
+    ok = np.isfinite(ref)
+    assert np.max(np.abs(got[ok] / ref[ok] - 1)) <= TOL
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler")
+def test_c_function_matches_package(tmp_path):
+    pts = _points()
+    (tmp_path / "in.txt").write_text("\n".join(f"{p} {c!r} {v!r} {t!r}" for p, c, v, t in pts)
+                                     + "\n")
+    src = ("#include <math.h>\n#include <stdio.h>\n#define WC_PI 3.141592653589793\n"
+           + c_text() + "\nint main(void)\n{\n    int k;\n    double a[3];\n"
+           "    while (scanf(\"%d %lf %lf %lf\", &k, a, a + 1, a + 2) == 4)\n"
+           f"        printf(\"%.17g\\n\", {FUNCTION}(k, a[0], a[1], a[2]));\n"
+           "    return 0;\n}\n")
+    (tmp_path / "t.c").write_text(src)
+    subprocess.run(["cc", "-std=c99", "-O2", "-Wall", "-Werror", "-o", str(tmp_path / "t"),
+                    str(tmp_path / "t.c"), "-lm"], check=True)
+    out = subprocess.run([str(tmp_path / "t")], stdin=(tmp_path / "in.txt").open(),
+                         capture_output=True, text=True, check=True).stdout.split()
+    got = np.array([float(x) for x in out])
+    ref = _package(pts)
+    assert np.array_equal(np.isnan(got), np.isnan(ref))
+    ok = np.isfinite(ref)
+    assert np.max(np.abs(got[ok] / ref[ok] - 1)) <= TOL
+
+
+def test_json_entry_carries_the_form_and_domain():
+    e = json_entry()
+    assert e["function"] == FUNCTION
+    assert set(e["coefficients"]) == {"wall", "pair"}
+    assert all(set(c) == set(dr.NAMES) for c in e["coefficients"].values())
+    assert set(e["held_out"]) >= {"max", "mean", "points", "pitois_max"}
