@@ -128,6 +128,11 @@ def chart(data: dict) -> None:
     ax1.plot(ca, ratio - 1, ms=7, label=names[0], **{**st[names[0]], "linestyle": "none"})
     ax1.plot(cc, f["delta_0"] + f["a"] * cc ** f["b"], label=f"{names[1]}: d0 = "
              f"{f['delta_0']:.1e}, b = {f['b']:.3f}", **{**st[names[1]], "marker": None})
+    if "fit_low" in lim:
+        f3 = lim["fit_low"]
+        ax1.plot(cc, f3["delta_0"] + f3["a"] * cc ** f3["b"], color="0.35", lw=1.0, ls=":",
+                 label=f"the same through Ca <= 1e-4: d0 = {f3['delta_0']:.1e}, b = "
+                       f"{f3['b']:.3f}")
     ax1.plot(cc, np.sqrt(cc), label=names[2], **{**st[names[2]], "marker": None})
     ax1.axhline(1e-3, color="0.5", lw=0.8, ls=":")
     ax1.set_xscale("log")
@@ -141,11 +146,14 @@ def chart(data: dict) -> None:
         t = [q["wall_time_s"] for q in p["presets"]]
         e = [max(q["error"], 1e-7) for q in p["presets"]]
         ax2.plot(t, e, label=f"{name} (order {p['observed_order']:.2f})", **st[name])
-        for q, ti, ei in zip(p["presets"], t, e, strict=True):
-            ax2.annotate(q["preset"], (ti, ei), fontsize=7, xytext=(3, 3),
+        for k, (q, ti, ei) in enumerate(zip(p["presets"], t, e, strict=True)):
+            ax2.annotate(q["preset"], (ti, ei), fontsize=7, xytext=(4, 4 - 12 * (k % 2)),
                          textcoords="offset points")
+    from matplotlib.ticker import NullFormatter
+
     ax2.set_xscale("log")
     ax2.set_yscale("log")
+    ax2.xaxis.set_minor_formatter(NullFormatter())
     ax2.set_xlabel("wall time of the run (s)")
     ax2.set_ylabel("|S_c(Ca) / S_c(Ca, accurate) - 1|\n(accurate: default's difference)")
     ax2.set_title("presets fast, default, accurate: V/R^3 = 1e-3, 30 deg", fontsize=9)
