@@ -132,3 +132,18 @@ def c_eval_many(header_dir: Path, calls: dict[str, np.ndarray]) -> dict[str, np.
         out[name] = values[start:start + n]
         start += n
     return out
+
+
+def run_c_snippet(folder: Path, source: str, rows: list[str]) -> np.ndarray:
+    """Compile ``source`` (a C99 program reading whitespace-separated rows on stdin and
+    printing one number a line) with ``cc -O2 -Wall -Werror`` in ``folder``, feed it
+    ``rows`` and return the printed numbers (skips without a compiler)."""
+    cc = shutil.which("cc")
+    if cc is None:
+        pytest.skip("no C compiler (cc) on this machine")
+    (folder / "t.c").write_text(source)
+    subprocess.run([cc, "-std=c99", "-O2", "-Wall", "-Werror", "-o", str(folder / "t"),
+                    str(folder / "t.c"), "-lm"], check=True)
+    out = subprocess.run([str(folder / "t")], input="\n".join(rows) + "\n",
+                         capture_output=True, text=True, check=True).stdout.split()
+    return np.array([float(x) for x in out])

@@ -4,15 +4,17 @@ JSON entry against the package's ``dynamic_rupture_ratio``, within 1e-12 relativ
 from __future__ import annotations
 
 import math
-import shutil
-import subprocess
+import sys
+from pathlib import Path
 from typing import Any
 
 import numpy as np
-import pytest
 
 from wetcontact.export.dynamic_rupture import FUNCTION, c_text, json_entry, python_text
 from wetcontact.reduced_models import dynamic_rupture as dr
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from exported import run_c_snippet  # noqa: E402
 
 TOL = 1e-12
 
@@ -59,22 +61,14 @@ def test_python_module_matches_package():
     assert np.max(np.abs(got[ok] / ref[ok] - 1)) <= TOL
 
 
-@pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler")
 def test_c_function_matches_package(tmp_path):
     pts = _points()
-    (tmp_path / "in.txt").write_text("\n".join(f"{p} {c!r} {v!r} {t!r}" for p, c, v, t in pts)
-                                     + "\n")
     src = ("#include <math.h>\n#include <stdio.h>\n#define WC_PI 3.141592653589793\n"
            + c_text() + "\nint main(void)\n{\n    int k;\n    double a[3];\n"
            "    while (scanf(\"%d %lf %lf %lf\", &k, a, a + 1, a + 2) == 4)\n"
            f"        printf(\"%.17g\\n\", {FUNCTION}(k, a[0], a[1], a[2]));\n"
            "    return 0;\n}\n")
-    (tmp_path / "t.c").write_text(src)
-    subprocess.run(["cc", "-std=c99", "-O2", "-Wall", "-Werror", "-o", str(tmp_path / "t"),
-                    str(tmp_path / "t.c"), "-lm"], check=True)
-    out = subprocess.run([str(tmp_path / "t")], stdin=(tmp_path / "in.txt").open(),
-                         capture_output=True, text=True, check=True).stdout.split()
-    got = np.array([float(x) for x in out])
+    got = run_c_snippet(tmp_path, src, [f"{p} {c!r} {v!r} {t!r}" for p, c, v, t in pts])
     ref = _package(pts)
     assert np.array_equal(np.isnan(got), np.isnan(ref))
     ok = np.isfinite(ref)

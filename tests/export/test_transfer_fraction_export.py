@@ -8,14 +8,16 @@ same formulas; only the order of the sums (and libm's cos, cbrt) differ, at 1e-1
 from __future__ import annotations
 
 import math
-import shutil
-import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
-import pytest
 
 from wetcontact.export.transfer_fraction import FUNCTION, c_text, json_entry, python_text
 from wetcontact.reduced_models.transfer_fraction import calibrated_transfer_fraction
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from exported import run_c_snippet  # noqa: E402
 
 TOL = 1e-12
 
@@ -58,23 +60,16 @@ def test_python_module_matches_package(tmp_path):
         assert math.isnan(ns["transfer_fraction"](*bad))
 
 
-@pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler")
 def test_c_function_matches_package(tmp_path):
     pts = _points()
-    rows = "\n".join(" ".join(repr(float(x)) for x in row) for row in zip(*pts, strict=True))
-    rows += "\n" + "\n".join(" ".join(repr(float(x)) for x in b) for b in BAD)
-    (tmp_path / "in.txt").write_text(rows + "\n")
+    rows = [" ".join(repr(float(x)) for x in row) for row in zip(*pts, strict=True)]
+    rows += [" ".join(repr(float(x)) for x in b) for b in BAD]
     src = ("#include <math.h>\n#include <stdio.h>\n#define WC_PI 3.141592653589793\n"
            + c_text() + "\nint main(void)\n{\n    double a[5];\n"
            "    while (scanf(\"%lf %lf %lf %lf %lf\", a, a + 1, a + 2, a + 3, a + 4) == 5)\n"
            f"        printf(\"%.17g\\n\", {FUNCTION}(a[0], a[1], a[2], a[3], a[4]));\n"
            "    return 0;\n}\n")
-    (tmp_path / "t.c").write_text(src)
-    subprocess.run(["cc", "-std=c99", "-O2", "-Wall", "-Werror", "-o", str(tmp_path / "t"),
-                    str(tmp_path / "t.c"), "-lm"], check=True)
-    out = subprocess.run([str(tmp_path / "t")], stdin=(tmp_path / "in.txt").open(),
-                         capture_output=True, text=True, check=True).stdout.split()
-    got = np.array([float(x) for x in out])
+    got = run_c_snippet(tmp_path, src, rows)
     n = len(pts[0])
     ref = _package(*pts)
     assert np.array_equal(np.isnan(got[:n]), np.isnan(ref))
