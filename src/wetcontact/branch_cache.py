@@ -6,10 +6,46 @@ from __future__ import annotations
 
 import json
 import os
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+
+def cache_file(prefix: str, sources: Sequence[str], folder: Path | None = None) -> Path:
+    """``<folder>/<prefix>-<hash>.jsonl``: one file per version of ``sources`` (paths under
+    the package, hashed by :func:`wetcontact.store.source_hash`); ``folder`` defaults to
+    ``$XDG_CACHE_HOME/wetcontact`` (``~/.cache/wetcontact``)."""
+    from wetcontact.store import source_hash
+
+    if folder is None:
+        folder = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "wetcontact"
+    return folder / f"{prefix}-{source_hash(tuple(sources))}.jsonl"
+
+
+def read_rows(path: Path) -> Iterator[dict[str, Any]]:
+    """The JSON objects of a JSON-lines file, one per line; a line a kill cut short (not
+    JSON, or without a ``key``) is skipped; no file: none."""
+    if not path.is_file():
+        return
+    for line in path.read_text().splitlines():
+        try:
+            row = json.loads(line)
+        except ValueError:
+            continue
+        if isinstance(row, dict) and "key" in row:
+            yield row
+
+
+def append_row(path: Path, row: dict[str, Any]) -> None:
+    """Append ``row`` as one JSON line (a read-only cache costs a rerun, not the work)."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with path.open("a") as fh:
+            fh.write(json.dumps(row) + "\n")
+    except OSError:
+        pass
 
 
 class NodeCache:
@@ -23,19 +59,11 @@ class NodeCache:
     rupture distances in ``study_rupture``)."""
 
     def __init__(self, folder: Path | None = None, prefix: str = "calibrated_capillary"):
-        from wetcontact.store import source_hash
-
-        base = folder or Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
-        self.path = (base if folder else base / "wetcontact") / (
-            f"{prefix}-" + source_hash(NODE_SOURCES) + ".jsonl")
+        self.path = cache_file(prefix, NODE_SOURCES, folder)
         self.rows: dict[str, tuple[float, list[float]]] = {}
-        if self.path.is_file():
-            for line in self.path.read_text().splitlines():
-                try:
-                    row = json.loads(line)
-                    self.rows[row["key"]] = (row["s_c"], row["q"])
-                except (ValueError, KeyError):
-                    continue  # a line cut by a kill
+        for row in read_rows(self.path):
+            if "s_c" in row and "q" in row:
+                self.rows[row["key"]] = (row["s_c"], row["q"])
 
     @staticmethod
     def key(job: tuple) -> str:
@@ -51,12 +79,7 @@ class NodeCache:
         """Keep ``(s_c, q)`` under ``key``, in memory and as one line of the file."""
         row = (float(s_c), np.asarray(q, dtype=float).tolist())
         self.rows[key] = row
-        try:
-            self.path.parent.mkdir(parents=True, exist_ok=True)
-            with self.path.open("a") as fh:
-                fh.write(json.dumps({"key": key, "s_c": row[0], "q": row[1]}) + "\n")
-        except OSError:
-            pass  # a read-only cache costs a rerun, not the generation
+        append_row(self.path, {"key": key, "s_c": row[0], "q": row[1]})
 
 
 NODE_SOURCES = ("models.py", "scene.py", "errors.py", "solver/meniscus")

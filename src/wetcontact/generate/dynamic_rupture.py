@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import time
 from dataclasses import asdict
 from pathlib import Path
@@ -21,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from wetcontact.branch_cache import append_row, cache_file, read_rows
 from wetcontact.errors import InputError, SolverError
 from wetcontact.generate.workers import map_jobs
 from wetcontact.reduced_models import DATA_DIR
@@ -70,23 +70,13 @@ class RunCache:
     """Results of finished runs, one JSON line each (``key``, ``result`` or ``error``)."""
 
     def __init__(self, folder: Path | None = None):
-        from wetcontact.store import source_hash
-
-        base = folder or Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / \
-            "wetcontact"
-        self.path = base / f"dynamic_rupture-{source_hash(SOURCES)}.jsonl"
+        self.path = cache_file("dynamic_rupture", SOURCES, folder)
         self.rows: dict[str, dict[str, Any]] = {}
         self.refresh()
 
     def refresh(self) -> None:
         """Read the file again (another process may have added runs)."""
-        if self.path.is_file():
-            for line in self.path.read_text().splitlines():
-                try:
-                    row = json.loads(line)
-                    self.rows[row["key"]] = row
-                except (ValueError, KeyError):
-                    continue  # a line cut by a kill
+        self.rows.update((row["key"], row) for row in read_rows(self.path))
 
     @staticmethod
     def key(case: RuptureCase, preset: str) -> str:
@@ -94,9 +84,7 @@ class RunCache:
 
     def put(self, row: dict[str, Any]) -> None:
         self.rows[row["key"]] = row
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        with self.path.open("a") as fh:
-            fh.write(json.dumps(row) + "\n")
+        append_row(self.path, row)
 
 
 def solve_case(job: tuple[RuptureCase, str]) -> dict[str, Any]:

@@ -162,6 +162,32 @@ def test_time_stepping_has_the_declared_order():
         assert observed_order(dts[:-1], diffs) == pytest.approx(ORDER, abs=0.15)
 
 
+def test_a_checkpointed_run_resumes(tmp_path):
+    """A run stopped at t = 0.4 into a checkpoint and resumed to t = 0.8 (remeshed at the
+    resume, its BDF2 history carried over) ends where an uninterrupted run does, within the
+    time error of the step (the uninterrupted run at half the step); a finished run resumes
+    without a step; a checkpoint of other arguments is refused, naming the file."""
+    path = tmp_path / "run.npz"
+    straight = run(V, S0, 1e-2, WET, Stepping(dt=0.025, t_end=0.8))
+    half = run(V, S0, 1e-2, WET, Stepping(dt=0.0125, t_end=0.8))
+    first = run(V, S0, 1e-2, WET, Stepping(dt=0.025, t_end=0.4), checkpoint=path)
+    assert first.stopped == "t_end" and path.is_file()
+    resumed = run(V, S0, 1e-2, WET, Stepping(dt=0.025, t_end=0.8), checkpoint=path)
+    assert resumed.stopped == "t_end" and resumed.time[-1] == pytest.approx(0.8)
+    assert resumed.steps > first.steps
+    np.testing.assert_array_equal(resumed.time[: first.time.size], first.time)
+    time_error = abs(straight.force[-1] - half.force[-1])
+    assert abs(resumed.force[-1] - straight.force[-1]) < 2 * time_error
+    assert abs(resumed.neck_radius[-1] - straight.neck_radius[-1]) < 2 * abs(
+        straight.neck_radius[-1] - half.neck_radius[-1])
+    assert np.abs(resumed.volume / V - 1).max() < 1e-12
+    again = run(V, S0, 1e-2, WET, Stepping(dt=0.025, t_end=0.8), checkpoint=path)
+    assert again.steps == resumed.steps
+    np.testing.assert_array_equal(again.force, resumed.force)
+    with pytest.raises(SolverError, match="run.npz was written by a run with other"):
+        run(V, S0, 2e-2, WET, Stepping(dt=0.025, t_end=0.8), checkpoint=path)
+
+
 def test_stepping_needs_a_stop():
     with pytest.raises(SolverError, match="t_end or gap_end"):
         Stepping(dt=0.1)

@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from wetcontact.errors import SolverError
-from wetcontact.solver.stokes_dynamic.domain import neck, p2_shape
+from wetcontact.solver.stokes_dynamic.domain import neck_point, p2_shape
 from wetcontact.solver.stokes_dynamic.run import DynamicRun
 
 _GAUSS = np.polynomial.legendre.leggauss(8)
@@ -47,21 +47,11 @@ def wall_side_volume(run: DynamicRun) -> tuple[float, float]:
     wall's share at the pinch) and the whole volume, units R^3 (the run's own units)."""
     d = run.domain
     xs = d.surface_xy
-    h, zn = neck(xs)
+    _, zn, k, xi_n = neck_point(xs)
     if zn >= d.gap:
         raise SolverError(f"stokes-dynamic: the neck (z = {zn:.4g} R) is not below the "
                           f"sphere's apex (S = {d.gap:.4g} R)")
     e = np.stack([xs[:, 0:-1:2], xs[:, 2::2], xs[:, 1::2]], axis=1)  # (2, 3, N)
-    # the element holding the neck, and the neck's local coordinate in it
-    r0, r1, rm = e[0]
-    b, c = 4 * rm - 3 * r0 - r1, 2 * r0 + 2 * r1 - 4 * rm
-    cand = np.linspace(0.0, 1.0, 401)
-    n, _ = p2_shape(cand)
-    rr = n.T @ e[0]  # (401, N)
-    k = int(np.argmin(rr.min(axis=0)))
-    xi_n = float(cand[int(np.argmin(rr[:, k]))])
-    if c[k] > 0:
-        xi_n = float(np.clip(-b[k] / (2 * c[k]), 0.0, 1.0))
     upto = np.where(np.arange(e.shape[2]) < k, 1.0, 0.0)
     upto[k] = xi_n
     return _volume_to(e, upto), d.volume()

@@ -129,23 +129,29 @@ def surface_normals(xs: np.ndarray) -> np.ndarray:
     return np.stack([t[1], -t[0]])
 
 
-def neck(xs: np.ndarray) -> tuple[float, float]:
-    """(radius, height) of the narrowest point of the P2 free surface (minimum of r along
-    each quadratic edge)."""
+def neck_point(xs: np.ndarray) -> tuple[float, float, int, float]:
+    """(radius, height, element, xi) of the narrowest point of the P2 free surface: the
+    minimum of r along each quadratic edge ``k`` (nodes 2k, 2k + 2, midpoint 2k + 1), at the
+    local coordinate ``xi`` in [0, 1] of that edge."""
     e = np.stack([xs[:, 0:-1:2], xs[:, 2::2], xs[:, 1::2]], axis=1)  # (2, 3, N)
     # r(xi) = a + b xi + c xi^2 from the node values at 0, 1, 1/2
     r0, r1, rm = e[0]
     b, c = 4 * rm - 3 * r0 - r1, 2 * r0 + 2 * r1 - 4 * rm
     with np.errstate(divide="ignore", invalid="ignore"):
         xs_ = np.where(c > 0, np.clip(-b / (2 * c), 0.0, 1.0), 0.0)
-    best_r, best_z = math.inf, 0.0
+    best = (math.inf, 0.0, 0, 0.0)
     for xi in (xs_, np.zeros_like(r0), np.ones_like(r0)):
         n, _ = p2_shape(xi)
         rr = np.sum(n * e[0], axis=0)
         k = int(np.argmin(rr))
-        if rr[k] < best_r:
-            best_r, best_z = float(rr[k]), float(np.sum(n[:, k] * e[1][:, k]))
-    return best_r, best_z
+        if rr[k] < best[0]:
+            best = (float(rr[k]), float(np.sum(n[:, k] * e[1][:, k])), k, float(xi[k]))
+    return best
+
+
+def neck(xs: np.ndarray) -> tuple[float, float]:
+    """(radius, height) of the narrowest point of the P2 free surface (:func:`neck_point`)."""
+    return neck_point(xs)[:2]
 
 
 def redistribute(xs: np.ndarray, fractions: np.ndarray) -> np.ndarray:

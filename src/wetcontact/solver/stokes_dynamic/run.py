@@ -36,7 +36,8 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
 
 import numpy as np
 from scipy.integrate import quad
@@ -205,15 +206,24 @@ def bdf_weights(omega: float | None) -> tuple[float, float, float]:
 
 def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet: Wetting,
         stepping: Stepping, mesh: MeshOptions | None = None,
-        initial: np.ndarray | None = None, intorder: int = 4) -> DynamicRun:
+        initial: np.ndarray | None = None, intorder: int = 4,
+        checkpoint: str | Path | None = None, checkpoint_every: float = 120.0) -> DynamicRun:
     """Follow a sphere-wall bridge of ``volume`` (V/R^3) from ``gap0`` (S/R) with the sphere
     moving at ``speed`` = dS/dt (units sigma/eta, i.e. the capillary number; > 0
     separating).
 
     ``initial``: the free surface (n, 2) at t = 0, from the wall's contact line to a point
     on the sphere (default: the static meniscus); its volume is corrected to ``volume``.
+
+    ``checkpoint``: a file (``.npz``) the state is written to every ``checkpoint_every``
+    seconds of wall time and at the end; a run started with an existing checkpoint of the
+    same arguments resumes from it (a constant ``speed`` only). A resumed run remeshes its
+    saved surface and carries the BDF2 history over as a remeshing does, so it differs
+    from an uninterrupted run by the discretisation error, not more.
     """
     t_start = time.perf_counter()
+    ckpt = None if checkpoint is None else _Checkpoint(
+        Path(checkpoint), volume, gap0, speed, wet, stepping, mesh or MeshOptions(), initial)
     opts = mesh or MeshOptions()
     prof = (static_profile(gap0, volume, wet, opts.plane) if initial is None
             else np.asarray(initial))
@@ -253,7 +263,39 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
     except SolverError as exc:
         raise SolverError(f"stokes-dynamic: the initial solve failed: {exc}") from exc
     record(0.0, dom, sol)
-    while True:
+    state = None if ckpt is None else ckpt.load()
+    if state is not None:  # resume: the saved surface remeshed, its history carried over
+        for k in hist:
+            hist[k] = list(state[f"hist_{k}"])
+        t, step, dt, dt_prev = (float(state[k]) for k in ("t", "step", "dt", "dt_prev"))
+        step, neck0 = int(step), float(state["neck0"])
+        remeshes, shifts = int(state["remeshes"]), list(state["shifts"])
+        remesh_times = list(state["remesh_times"])
+        dom = remesh(state["xs"], float(state["gap"]))
+        f_new = dom.fractions["surface"]
+        if state["prev"].size:
+            prev = _on_solids(redistribute(state["prev"], f_new), float(state["gap_prev"]))
+            uprev = np.stack([np.interp(f_new, state["fractions"], uc) for uc in state["uprev"]])
+        t_start -= float(state["wall_time"])
+        if end := _reached(stepping, t, dom.gap, gap0, hist["neck"][-1], neck0):
+            stopped, message = end
+    last_save = time.perf_counter()
+
+    def save() -> None:
+        if ckpt is not None:
+            ckpt.save(xs=dom.surface_xy, gap=dom.gap, fractions=dom.fractions["surface"],
+                      prev=np.zeros(0) if prev is None else prev, gap_prev=gap_prev,
+                      uprev=uprev, t=t, step=step, dt=dt, dt_prev=dt_prev, neck0=neck0,
+                      remeshes=remeshes, shifts=np.asarray(shifts),
+                      remesh_times=np.asarray(remesh_times),
+                      wall_time=time.perf_counter() - t_start,
+                      **{f"hist_{k}": np.asarray(v) for k, v in hist.items()})
+
+    gap_prev = gap0
+    while not stopped:
+        if ckpt is not None and time.perf_counter() - last_save > checkpoint_every:
+            save()
+            last_save = time.perf_counter()
         if step >= stepping.max_steps:
             stopped, message = "max_steps", f"{step} steps"
             break
@@ -334,19 +376,11 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
             f_old, f_new = dom.fractions["surface"], new.fractions["surface"]
             prev_new = _on_solids(redistribute(xn, f_new), dom.gap)
             uprev = np.stack([np.interp(f_new, f_old, uc) for uc in u])
+        gap_prev = dom.gap
         dom, prev, t, step, dt_prev, fresh = new, prev_new, t1, step + 1, dt, False
         record(t, dom, sol)
-        r_neck = hist["neck"][-1]
-        if r_neck < stepping.neck_stop * neck0:
-            stopped, message = "neck", (f"neck radius {r_neck:.4g} R < {stepping.neck_stop} "
-                                        f"times the initial {neck0:.4g} R at t = {t:.6g}")
-            break
-        if stepping.t_end is not None and t >= stepping.t_end - 1e-12 * max(1.0, t):
-            stopped, message = "t_end", f"t = {t:.6g}"
-            break
-        if stepping.gap_end is not None and (dom.gap - stepping.gap_end) * (
-                dom.gap - gap0) >= 0 and dom.gap != gap0:
-            stopped, message = "gap_end", f"S/R = {dom.gap:.6g}"
+        if end := _reached(stepping, t, dom.gap, gap0, hist["neck"][-1], neck0):
+            stopped, message = end
             break
         dt = _next_dt(stepping, hist, dt)
         if stepping.slide_limit is not None and lag > 0:
@@ -356,6 +390,7 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
         if dt < 1e-14 * max(1.0, t):
             stopped, message = "solver", f"time step {dt:.3g} underflows at t = {t:.6g}"
             break
+    save()
     arr = {k: np.asarray(v, dtype=float) for k, v in hist.items()}
     return DynamicRun(time=arr["t"], gap=arr["S"], force=arr["F"], force_wall=arr["Fw"],
                       neck_radius=arr["neck"], volume=arr["V"], stopped=stopped,
@@ -365,6 +400,20 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
                       diagnostics={"ndofs": float(sol.ndofs),
                                    "max_volume_shift": max(shifts, default=0.0),
                                    "elements": float(dom.mesh.t.shape[1])})
+
+
+def _reached(stepping: Stepping, t: float, gap: float, gap0: float, r_neck: float,
+             neck0: float) -> tuple[str, str] | None:
+    """The stopping rule ``(reason, message)`` the state meets, or ``None``."""
+    if r_neck < stepping.neck_stop * neck0:
+        return "neck", (f"neck radius {r_neck:.4g} R < {stepping.neck_stop} times the "
+                        f"initial {neck0:.4g} R at t = {t:.6g}")
+    if stepping.t_end is not None and t >= stepping.t_end - 1e-12 * max(1.0, t):
+        return "t_end", f"t = {t:.6g}"
+    if (stepping.gap_end is not None and (gap - stepping.gap_end) * (gap - gap0) >= 0
+            and gap != gap0):
+        return "gap_end", f"S/R = {gap:.6g}"
+    return None
 
 
 def _tangential(v: np.ndarray, normals: np.ndarray) -> np.ndarray:
@@ -395,3 +444,40 @@ def _next_dt(stepping: Stepping, hist: dict[str, list[float]], dt: float) -> flo
         if rate > 0:
             new = min(new, stepping.neck_step * h[-1] / rate)
     return min(new, stepping.max_ratio * dt)
+
+
+class _Checkpoint:
+    """A run's state in one ``.npz`` file, written atomically (a temporary file renamed),
+    tagged with the run's arguments so that only the same run resumes from it (the stopping
+    rules and gmsh's timeout aside: a finished run resumes to a later stop, and a run stopped
+    by a mesh or solver failure tries the failed step again)."""
+
+    def __init__(self, path: Path, volume: float, gap0: float, speed: object, wet: Wetting,
+                 stepping: Stepping, mesh: MeshOptions, initial: np.ndarray | None) -> None:
+        if callable(speed):
+            raise SolverError("stokes-dynamic: checkpoint needs a constant speed (a speed "
+                              "history cannot be recorded in the file)")
+        self.path = path
+        init = "static" if initial is None else repr(np.asarray(initial).round(15).tolist())
+        steps = {k: v for k, v in asdict(stepping).items()
+                 if k not in ("t_end", "gap_end", "neck_stop", "max_steps")}
+        sizes = {k: v for k, v in asdict(mesh).items() if k != "timeout"}
+        self.tag = repr((float(volume), float(gap0), float(speed), asdict(wet), steps,
+                         sizes, init))
+
+    def load(self) -> dict[str, np.ndarray] | None:
+        """The saved state, or ``None`` when there is no file."""
+        if not self.path.exists():
+            return None
+        with np.load(self.path, allow_pickle=False) as f:
+            state = dict(f)
+        if str(state.pop("tag")) != self.tag:
+            raise SolverError(f"stokes-dynamic: checkpoint {self.path} was written by a run "
+                              "with other arguments; delete it or give another file")
+        return state
+
+    def save(self, **state: object) -> None:
+        tmp = self.path.with_name(self.path.name + ".tmp.npz")
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        np.savez(tmp, tag=np.array(self.tag), **state)
+        tmp.replace(self.path)
