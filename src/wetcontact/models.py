@@ -210,6 +210,10 @@ class Model:
         Component -> rank of the model as the reference for that component (higher is
         trusted more; absent: never a reference). :func:`wetcontact.compare.reference_for`
         picks the highest-ranked curve present; nothing else keeps a list of references.
+    selectable : bool
+        False for a model whose force depends on the motion's history and not on the gap
+        alone (``stokes-dynamic`` starts from a static bridge at a given gap): model
+        selection and refusal hints (:func:`model_instead`) leave it out; it runs by name.
     """
 
     name: ClassVar[str] = ""
@@ -223,6 +227,7 @@ class Model:
     error_bound: ClassVar[Mapping[str, float]] = {}
     saves_fields: ClassVar[bool] = False
     reference_rank: ClassVar[Mapping[str, int]] = {}
+    selectable: ClassVar[bool] = True
     presets: ClassVar[Mapping[str, Mapping[str, Any]]] = {p: {} for p in PRESETS}
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
@@ -366,7 +371,8 @@ def model_instead(scene: Scene, component: str, exclude: str | tuple[str, ...] =
     def serves(m: Model) -> bool:
         return component == "both" or m.component in (component, "both")
 
-    cands = [m for m in load_all().values() if m.name not in skip and serves(m)]
+    cands = [m for m in load_all().values()
+             if m.name not in skip and m.selectable and serves(m)]
     cands.sort(key=lambda m: (-max(m.reference_rank.values(), default=0), -m.level, m.name))
     return next((m.name for m in cands if _accepts(m, scene)), None)
 

@@ -194,9 +194,9 @@ def choose(scene: Scene, tolerance: float, preset: str | None = None) -> Selecti
     if isinstance(tolerance, bool) or not (isinstance(tolerance, float | int)
                                            and lo < tolerance < hi):
         raise InputError(f"tolerance = {tolerance!r}; allowed: ({lo:g}, {hi:g}) relative")
-    refused = {m.name: (m, why) for m in load_all().values()
-               if (why := m.applicable(scene)) is not None}
-    models = sorted((m for m in load_all().values() if m.name not in refused),
+    pool = [m for m in load_all().values() if m.selectable]
+    refused = {m.name: (m, why) for m in pool if (why := m.applicable(scene)) is not None}
+    models = sorted((m for m in pool if m.name not in refused),
                     key=lambda m: (m.level, m.cost, m.name))
     choices: dict[str, Choice] = {}
     for comp in needed_components(scene):

@@ -207,7 +207,8 @@ def bdf_weights(omega: float | None) -> tuple[float, float, float]:
 def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet: Wetting,
         stepping: Stepping, mesh: MeshOptions | None = None,
         initial: np.ndarray | None = None, intorder: int = 4,
-        checkpoint: str | Path | None = None, checkpoint_every: float = 120.0) -> DynamicRun:
+        checkpoint: str | Path | None = None, checkpoint_every: float = 120.0,
+        observer: Callable[[float, Domain, StepSolution], None] | None = None) -> DynamicRun:
     """Follow a sphere-wall bridge of ``volume`` (V/R^3) from ``gap0`` (S/R) with the sphere
     moving at ``speed`` = dS/dt (units sigma/eta, i.e. the capillary number; > 0
     separating).
@@ -220,6 +221,9 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
     same arguments resumes from it (a constant ``speed`` only). A resumed run remeshes its
     saved surface and carries the BDF2 history over as a remeshing does, so it differs
     from an uninterrupted run by the discretisation error, not more.
+
+    ``observer(t, domain, solution)`` is called with each accepted state (the initial one
+    included), e.g. to write fields at chosen gaps.
     """
     t_start = time.perf_counter()
     ckpt = None if checkpoint is None else _Checkpoint(
@@ -246,6 +250,8 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
     fresh = False  # the current mesh was just made for an inverted prediction
 
     def record(t_: float, d: Domain, s: StepSolution) -> None:
+        if observer is not None:
+            observer(t_, d, s)
         hist["t"].append(t_)
         hist["S"].append(d.gap)
         hist["F"].append(s.force)

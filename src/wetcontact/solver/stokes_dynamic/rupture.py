@@ -138,8 +138,13 @@ def static_fold(case: RuptureCase) -> float:
 def gap_step(preset: str, static_gap: float, capillary_number: float) -> float:
     """The base gap step (R): the preset's, scaled with ``S_c / S_REF`` and by
     ``min(1, (Ca / 1e-2)^(1/3))``."""
-    return (PRESETS[preset][0] * static_gap / S_REF
-            * min(1.0, (capillary_number / 1e-2) ** (1.0 / 3.0)))
+    return scaled_gap_step(PRESETS[preset][0], static_gap, capillary_number)
+
+
+def scaled_gap_step(base: float, static_gap: float, capillary_number: float) -> float:
+    """``base`` (R, a step at S_c = :data:`S_REF` and Ca >= 1e-2) times ``S_c / S_REF`` and
+    ``min(1, (Ca / 1e-2)^(1/3))``."""
+    return base * static_gap / S_REF * min(1.0, (capillary_number / 1e-2) ** (1.0 / 3.0))
 
 
 def dynamic_rupture(case: RuptureCase, preset: str = "default") -> RuptureResult:
