@@ -38,6 +38,11 @@ THETAS = (10.0, 30.0, 50.0)
 PAIR_THETAS = (10.0, 20.0, PAIR_THETA_MAX)
 HELD_OUT = 12
 SEED = 57
+EDGE_CASES = (("wall", 1e-2, 0.1, 30.0), ("wall", 0.3, 0.1, 30.0), ("wall", 1e-4, 0.1, 10.0),
+              ("wall", 1e-2, 1e-3, 60.0), ("wall", 0.1, 1e-3, 60.0),
+              ("pair", 1e-2, 0.1, 30.0), ("pair", 0.3, 0.1, 10.0))
+"""Runs at the edges of the method's validity (V/R^3 = 0.1, 60 deg on a wall, Ca = 0.3 at
+the largest volume), outside the closure's domain: the stability map, not the fit."""
 SOURCES = ("solver/meniscus", *(f"solver/stokes_dynamic/{m}.py" for m in
                                 ("domain", "step", "run", "pinch", "rupture")))
 """What a run depends on (the cache file is per version of these sources)."""
@@ -144,7 +149,8 @@ def generate_dynamic_rupture(out: Path | None = None, workers: int = 1,
         f"{cache.path}")
     grid = solve_all(fit_cases(), workers, cache=cache)
     held = solve_all(held_out_cases(), workers, cache=cache)
-    failed = [r for r in grid + held if "error" in r]
+    edge = solve_all([RuptureCase(*c) for c in EDGE_CASES], workers, cache=cache)
+    failed = [r for r in grid + held + edge if "error" in r]
     a = _arrays(grid)
     if a["ca"].size < 10:
         raise InputError(f"dynamic-rupture: {a['ca'].size} grid runs reached the pinch; at "
@@ -167,8 +173,9 @@ def generate_dynamic_rupture(out: Path | None = None, workers: int = 1,
             "wall_time_s": round(time.perf_counter() - t0, 1),
             "runs": [{"case": r["case"], **({"result": r["result"]} if "result" in r
                                              else {"error": r["error"]}),
-                      "held_out": i >= len(grid)}
-                     for i, r in enumerate(grid + held)]}
+                      "held_out": len(grid) <= i < len(grid) + len(held),
+                      "edge": i >= len(grid) + len(held)}
+                     for i, r in enumerate(grid + held + edge)]}
     path = out or DATA_DIR / dr.DATA_FILE
     path.write_text(json.dumps(data, indent=1) + "\n")
     ho = data["held_out"]
