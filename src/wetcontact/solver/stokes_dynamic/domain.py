@@ -154,6 +154,19 @@ def neck(xs: np.ndarray) -> tuple[float, float]:
     return neck_point(xs)[:2]
 
 
+def contact_angles(xs: np.ndarray, gap: float) -> tuple[float, float]:
+    """Contact angles (rad, through the liquid) of the P2 surface ``xs`` at the wall and at
+    the sphere at ``gap``, from the end tangents of its first and last quadratic edges."""
+    _, d0 = p2_shape(np.array([0.0]))
+    _, d1 = p2_shape(np.array([1.0]))
+    t0 = np.stack([xs[:, 0], xs[:, 2], xs[:, 1]], axis=1) @ d0[:, 0]
+    t1 = np.stack([xs[:, -3], xs[:, -1], xs[:, -2]], axis=1) @ d1[:, 0]
+    t0, t1 = t0 / np.hypot(*t0), t1 / np.hypot(*t1)
+    phi = float(sphere_angle(xs[:, -1:], gap)[0])
+    cs = float(t1[0] * math.cos(phi) + t1[1] * math.sin(phi))
+    return math.acos(min(1.0, max(-1.0, -t0[0]))), math.acos(min(1.0, max(-1.0, cs)))
+
+
 def redistribute(xs: np.ndarray, fractions: np.ndarray) -> np.ndarray:
     """Nodes moved along the curve through ``xs`` (a cubic spline in chord length) to the
     given fractions of its chord length; the ends stay where they are."""

@@ -27,8 +27,10 @@ initial shape (``dt = 0``). Adaptive steps keep the neck's relative change per s
 (``slide_limit``) bounded as the neck thins.
 
 Stops at ``t_end`` or ``gap_end``, when the neck radius falls below ``neck_stop`` times its
-initial value ("neck"), or when a new mesh is no better ("mesh") or a solve fails
-("solver"): the reason is in :attr:`DynamicRun.stopped`, no value is NaN.
+initial value ("neck"), when a new mesh is no better ("mesh"), a solve fails ("solver",
+e.g. a line receding faster than Cox-Voinov's law allows) or a pinned line's angle falls
+below :data:`PIN_MIN` ("line"): the reason is in :attr:`DynamicRun.stopped`, no value is
+NaN.
 """
 
 from __future__ import annotations
@@ -47,6 +49,7 @@ from wetcontact.solver.meniscus import Bridge, meniscus_profile, solve_volume
 from wetcontact.solver.stokes_dynamic.domain import (
     Domain,
     MeshOptions,
+    contact_angles,
     correct_volume,
     dense_profile,
     on_sphere,
@@ -55,7 +58,12 @@ from wetcontact.solver.stokes_dynamic.domain import (
     sphere_angle,
     surface_normals,
 )
-from wetcontact.solver.stokes_dynamic.step import StepSolution, Wetting, solve_step
+from wetcontact.solver.stokes_dynamic.step import (
+    StepSolution,
+    Wetting,
+    cox_voinov,
+    solve_step,
+)
 
 ORDER = 2
 """Declared order in time of the stepping (BDF2 with an extrapolated domain)."""
@@ -129,7 +137,7 @@ class DynamicRun:
         Axial force on the wall (+z); ``force + force_wall`` vanishes in Stokes flow.
     stopped
         Why the run ended: ``"t_end"``, ``"gap_end"``, ``"neck"``, ``"mesh"``, ``"solver"``,
-        ``"max_steps"``; ``message`` has the details.
+        ``"line"``, ``"max_steps"``; ``message`` has the details.
     remeshes, steps, wall_time
         Number of gmsh remeshings, time steps, and seconds.
     remesh_times
@@ -187,12 +195,55 @@ def gap_history(gap0: float, speed: float | Callable[[float], float]
     return (lambda t: gap0 + v * t), (lambda t: v)
 
 
-def _on_solids(xs: np.ndarray, gap: float) -> np.ndarray:
-    """The surface with its ends put back on the wall and on the sphere at ``gap``."""
+def _on_solids(xs: np.ndarray, gap: float, pinned: float | None = None) -> np.ndarray:
+    """The surface with its ends put back on the wall and on the sphere at ``gap`` (at the
+    sphere angle ``pinned`` for a pinned line)."""
     xs = xs.copy()
     xs[1, 0] = 0.0
-    xs[:, -1] = on_sphere(sphere_angle(xs[:, -1:], gap), gap)[:, 0]
+    phi = sphere_angle(xs[:, -1:], gap) if pinned is None else np.array([pinned])
+    xs[:, -1] = on_sphere(phi, gap)[:, 0]
     return xs
+
+
+PIN_MIN = math.radians(2.0)
+"""Smallest contact angle of a pinned line: below it the run stops (reason ``"line"``)."""
+LINE_ITERATIONS = 8
+"""Most solves per step with Cox-Voinov's angle, each linearised about the last's speeds."""
+
+
+def _solve_lines(dom: Domain, dt: float, speed: float, wet: Wetting, intorder: int,
+                 base: np.ndarray, coef: float, guess: tuple[float, float]) -> StepSolution:
+    """One step; with Cox-Voinov's angle, Newton's iteration on the lines' speeds (each
+    solve linearises the law about the last's) until they change by less than 1e-10 of
+    themselves (or 1e-13 sigma/eta),
+    then the law checked at them (a receding line past its limit stops the run)."""
+    speeds = guess
+    for _ in range(LINE_ITERATIONS if wet.line == "cox-voinov" else 1):
+        sol = solve_step(dom, dt, speed, wet, intorder=intorder, base=base, coef=coef,
+                         line_speed=speeds)
+        if wet.line != "cox-voinov":
+            return sol
+        new = _line_speeds(sol.velocity(dom.surface), dom.surface_xy, dom.gap, speed)
+        done = all(abs(a - b) <= 1e-13 + 1e-10 * abs(a) for a, b in zip(new, speeds,
+                                                                        strict=True))
+        speeds = new
+        if done:
+            break
+    if dom.plane == "wall":
+        cox_voinov(wet.theta_wall, speeds[0], wet.slip_wall, wet.macro_length)
+    cox_voinov(wet.theta_sphere, speeds[1], wet.slip_sphere, wet.macro_length)
+    return sol
+
+
+def _line_speeds(u: np.ndarray, xs: np.ndarray, gap: float, speed: float
+                 ) -> tuple[float, float]:
+    """Speeds (sigma/eta, > 0 advancing) of the wall's and the sphere's contact lines over
+    their solids, from the velocity ``u`` (2, m) at the surface nodes ``xs``."""
+    if u.size == 0:
+        return 0.0, 0.0
+    phi = float(sphere_angle(xs[:, -1:], gap)[0])
+    return (float(u[0, 0]),
+            float(u[0, -1] * math.cos(phi) + (u[1, -1] - speed) * math.sin(phi)))
 
 
 def bdf_weights(omega: float | None) -> tuple[float, float, float]:
@@ -239,6 +290,8 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
         xs, _ = correct_volume(dom.surface_xy, gap0, volume)
     dom = dom.moved(xs, gap0)
     neck0 = dom.neck()[0]
+    pin = (float(sphere_angle(dom.surface_xy[:, -1:], gap0)[0]) if wet.line == "pinned"
+           else None)
     hist: dict[str, list[float]] = {k: [] for k in ("t", "S", "F", "Fw", "neck", "V")}
     remeshes, stopped, message = 0, "", ""
     t, step = 0.0, 0
@@ -280,7 +333,8 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
         dom = remesh(state["xs"], float(state["gap"]))
         f_new = dom.fractions["surface"]
         if state["prev"].size:
-            prev = _on_solids(redistribute(state["prev"], f_new), float(state["gap_prev"]))
+            prev = _on_solids(redistribute(state["prev"], f_new), float(state["gap_prev"]),
+                              pin)
             uprev = np.stack([np.interp(f_new, state["fractions"], uc) for uc in state["uprev"]])
         t_start -= float(state["wall_time"])
         if end := _reached(stepping, t, dom.gap, gap0, hist["neck"][-1], neck0):
@@ -314,7 +368,7 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
             omega = dt / dt_prev
             star = xn + omega * (xn - prev)
         a0, a1, c = bdf_weights(omega)
-        star = _on_solids(star, s1)
+        star = _on_solids(star, s1, pin)
         if np.any(star[0] <= 0):
             stopped, message = "neck", f"the predicted surface reaches the axis at t = {t1:.6g}"
             break
@@ -336,8 +390,8 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
             if prev is not None:  # the nodes' tangential motion follows the history
                 slide = (xn - prev) / dt_prev - uprev
                 base = base + a1 * prev + c * dt * _tangential(slide, nstar)
-            sol = solve_step(dstar, dt, speed_at(t1), wet, intorder=intorder, base=base,
-                             coef=c)
+            sol = _solve_lines(dstar, dt, speed_at(t1), wet, intorder, base, c,
+                               _line_speeds(uprev, xn, dom.gap, speed_at(t)))
         except SolverError as exc:
             stopped, message = "solver", str(exc)
             break
@@ -347,7 +401,7 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
             dt *= max(0.25, 0.9 * math.sqrt(stepping.slide_limit / lag))  # redo the step
             continue
         xs = base + c * dt * u
-        xs = _on_solids(xs, s1)
+        xs = _on_solids(xs, s1, pin)
         if np.any(xs[0] <= 0) or not np.all(np.isfinite(xs)):
             stopped, message = "neck", f"the free surface reached the axis at t = {t1:.6g}"
             break
@@ -380,11 +434,17 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
                 break
             # the history on the new mesh: X^n at the new surface fractions
             f_old, f_new = dom.fractions["surface"], new.fractions["surface"]
-            prev_new = _on_solids(redistribute(xn, f_new), dom.gap)
+            prev_new = _on_solids(redistribute(xn, f_new), dom.gap, pin)
             uprev = np.stack([np.interp(f_new, f_old, uc) for uc in u])
         gap_prev = dom.gap
         dom, prev, t, step, dt_prev, fresh = new, prev_new, t1, step + 1, dt, False
         record(t, dom, sol)
+        if pin is not None and (low := min(contact_angles(dom.surface_xy, dom.gap))) < PIN_MIN:
+            stopped, message = "line", (
+                f"a pinned line's angle fell to {math.degrees(low):.3g} deg at S/R = "
+                f"{dom.gap:.6g}: the liquid wedge degenerates, and a real line depins at its "
+                "receding angle (use line='cox-voinov' or 'static')")
+            break
         if end := _reached(stepping, t, dom.gap, gap0, hist["neck"][-1], neck0):
             stopped, message = end
             break

@@ -59,16 +59,36 @@ GAUSS5 = (0.5 * (_GX + 1.0), 0.5 * _GW)
 """5-point Gauss rule on [0, 1] for the (rational) surface integrands."""
 
 
+LINE_LAWS = ("static", "cox-voinov", "pinned")
+"""Contact-line conditions: the static angle at a sliding line, Cox-Voinov's dynamic angle,
+or lines pinned to their material points of the solids."""
+
+
 @dataclass(frozen=True)
 class Wetting:
-    """Contact angles (rad) and Navier slip lengths (units R) of the sphere and the wall."""
+    """Contact angles (rad), Navier slip lengths (units R) of the sphere and the wall, and
+    the contact-line law.
+
+    ``line``: ``"static"`` (the static angles at lines that slide), ``"cox-voinov"`` (the
+    dynamic angle ``theta_d^3 = theta_s^3 + 9 U ln(L/b)`` of each line, U its speed over
+    the solid in sigma/eta, positive advancing, b that solid's slip length, L =
+    ``macro_length`` R; Cox 1986, Voinov 1976) or ``"pinned"`` (both lines move with their
+    solids; the angles follow from the flow).
+    """
 
     theta_sphere: float
     theta_wall: float
     slip_sphere: float
     slip_wall: float
+    line: str = "static"
+    macro_length: float = 1.0
 
     def __post_init__(self) -> None:
+        if self.line not in LINE_LAWS:
+            raise SolverError(f"stokes-dynamic: line = {self.line!r}; allowed: {LINE_LAWS}")
+        if not (math.isfinite(self.macro_length) and self.macro_length > 0):
+            raise SolverError(f"stokes-dynamic: macro_length = {self.macro_length!r} R; "
+                              "allowed: finite > 0")
         for name in ("theta_sphere", "theta_wall"):
             th = getattr(self, name)
             if not (math.isfinite(th) and 0.0 < th < math.pi):
@@ -127,7 +147,8 @@ def surface_tension_matrix(domain: Domain, n: int) -> sp.csr_matrix:
 
 def solve_step(domain: Domain, dt: float, speed: float, wet: Wetting,
                intorder: int = 4, base: np.ndarray | None = None,
-               coef: float = 1.0) -> StepSolution:
+               coef: float = 1.0, line_speed: tuple[float, float] = (0.0, 0.0)
+               ) -> StepSolution:
     """Solve the step's Stokes problem (module docstring) with the sphere moving at
     ``speed`` = dS/dt (units sigma/eta; > 0 separating).
 
@@ -135,7 +156,25 @@ def solve_step(domain: Domain, dt: float, speed: float, wet: Wetting,
     free surface, linear in u): ``base`` (2, m) its explicit part per surface node
     (default: the current nodes). ``dt = 0`` gives the instantaneous Stokes flow of the
     current shape.
+
+    Contact lines (``wet.line``): static angles; Cox-Voinov's ``cos theta_d(U)``
+    linearised about ``line_speed`` = (U_wall, U_sphere), a prediction of the lines' speeds
+    over their solids (the linearisation error is second order in the prediction's, so a
+    prediction one step old keeps the scheme's order); or pinned lines (velocity the
+    solid's, no angle condition).
     """
+    try:
+        return _solve_step(domain, dt, speed, wet, intorder, base, coef, line_speed)
+    except Exception as exc:  # noqa: BLE001 - any failure of the solve stops the run
+        if isinstance(exc, SolverError):
+            raise
+        # scikit-fem's isoparametric map fails on a degenerate element
+        raise SolverError(f"stokes-dynamic: the step's assembly failed ({exc})") from exc
+
+
+def _solve_step(domain: Domain, dt: float, speed: float, wet: Wetting, intorder: int,
+                base: np.ndarray | None, coef: float, line_speed: tuple[float, float]
+                ) -> StepSolution:
     t0 = time.perf_counter()
     mesh = domain.mesh
     eu = ElementVector(ElementTriP2())
@@ -162,12 +201,38 @@ def solve_step(domain: Domain, dt: float, speed: float, wet: Wetting,
     f = Ms @ ub - L @ X
     # contact lines: -dE of the wetted areas, cos(theta) r tau (tau out of the wetted zone)
     jw, js = domain.surface[0], domain.surface[-1]
-    if wall_slip:
-        f[2 * jw] += math.cos(wet.theta_wall) * x[0, jw]
     phi = float(sphere_angle(x[:, [js]], domain.gap)[0])
-    f[2 * js] += math.cos(wet.theta_sphere) * x[0, js] * math.cos(phi)
-    f[2 * js + 1] += math.cos(wet.theta_sphere) * x[0, js] * math.sin(phi)
-    K = sp.bmat([[A + Ms + Mw + (coef * dt) * L, -B.T], [-B, None]], format="csr")
+    tau = (math.cos(phi), math.sin(phi))
+    line_k = sp.csr_matrix((nu, nu))
+    if wet.line == "static":
+        if wall_slip:
+            f[2 * jw] += math.cos(wet.theta_wall) * x[0, jw]
+        f[2 * js] += math.cos(wet.theta_sphere) * x[0, js] * tau[0]
+        f[2 * js + 1] += math.cos(wet.theta_sphere) * x[0, js] * tau[1]
+    elif wet.line == "cox-voinov":  # cos theta_d(U) ~ c(U*) + c'(U*) (U - U*)
+        kd, rd, cd = [], [], []
+        uw = linearisation_speed(wet.theta_wall, line_speed[0], wet.slip_wall,
+                                 wet.macro_length)
+        us = linearisation_speed(wet.theta_sphere, line_speed[1], wet.slip_sphere,
+                                 wet.macro_length)
+        if wall_slip:  # U = u_r at the wall's line
+            th, dc = cox_voinov(wet.theta_wall, uw, wet.slip_wall, wet.macro_length)
+            f[2 * jw] += x[0, jw] * (math.cos(th) - dc * uw)
+            kd.append(-dc * x[0, jw])
+            rd.append(2 * jw)
+            cd.append(2 * jw)
+        th, dc = cox_voinov(wet.theta_sphere, us, wet.slip_sphere, wet.macro_length)
+        # U = (u - U_sphere) . tau; the term c' (u . tau) r tau goes to the matrix
+        c0 = math.cos(th) - dc * (us + speed * tau[1])
+        f[2 * js] += x[0, js] * c0 * tau[0]
+        f[2 * js + 1] += x[0, js] * c0 * tau[1]
+        for a in (0, 1):
+            for b in (0, 1):
+                kd.append(-dc * x[0, js] * tau[a] * tau[b])
+                rd.append(2 * js + a)
+                cd.append(2 * js + b)
+        line_k = sp.csr_matrix((kd, (rd, cd)), shape=(nu, nu))
+    K = sp.bmat([[A + Ms + Mw + line_k + (coef * dt) * L, -B.T], [-B, None]], format="csr")
     rhs = np.concatenate([f, np.zeros(npr)])
     # constraints: axis u_r = 0, wall u_z = 0, sphere u.n = U.n in a rotated frame
     sol = np.zeros(nu + npr)
@@ -182,7 +247,12 @@ def solve_step(domain: Domain, dt: float, speed: float, wet: Wetting,
                         np.concatenate([ir, iz, ir, iz, other]))), shape=K.shape)
     sol[ir] = speed * nz  # dof ir carries u_n, iz the tangential velocity
     sol[2 * apex + 1] = speed
-    fixed = np.unique(np.concatenate([2 * axis, 2 * wall + 1, ir, [2 * apex + 1]]))
+    pins: list[int] = []
+    if wet.line == "pinned":  # each line moves with its solid
+        sol[2 * js + 1] = speed * tau[1]  # the sphere's tangential velocity at the line
+        pins = [2 * js + 1] + ([2 * jw] if wall_slip else [])
+    fixed = np.unique(np.concatenate([2 * axis, 2 * wall + 1, ir, [2 * apex + 1],
+                                     np.array(pins, dtype=int)]))
     free = np.setdiff1d(np.arange(nu + npr), fixed, assume_unique=True)
     Kt = (T.T @ K @ T).tocsr()
     rt = T.T @ rhs
@@ -202,3 +272,47 @@ def solve_step(domain: Domain, dt: float, speed: float, wet: Wetting,
     force_wall = -2 * math.pi * float(res[2 * wall + 1].sum())
     return StepSolution(u=u, p=p, force=force, force_wall=force_wall, ndofs=nu + npr,
                         timings={"assemble": t1 - t0, "solve": t2 - t1})
+
+
+COX_VOINOV_MAX = 3 * math.pi / 4
+"""Largest dynamic angle of the Cox-Voinov law's validity (its small-slope expansion holds
+to about 3 pi / 4; Voinov 1976)."""
+
+
+def linearisation_speed(theta_s: float, speed: float, slip: float, macro_length: float
+                        ) -> float:
+    """``speed`` moved into the Cox-Voinov law's range (dynamic angle between 1 deg and
+    :data:`COX_VOINOV_MAX`): the point the law is linearised about. A predicted speed may
+    overshoot where the true one does not."""
+    g = math.log(macro_length / slip)
+    if g <= 0.0:
+        return speed
+    lo = (math.radians(1.0) ** 3 - theta_s**3) / (9.0 * g)
+    hi = ((0.99 * COX_VOINOV_MAX) ** 3 - theta_s**3) / (9.0 * g)
+    return min(max(speed, lo), hi)
+
+
+def cox_voinov(theta_s: float, speed: float, slip: float, macro_length: float
+               ) -> tuple[float, float]:
+    """The dynamic angle ``theta_d`` (rad) of a line moving at ``speed`` (sigma/eta, > 0
+    advancing) over a solid of slip length ``slip``, and ``d cos(theta_d)/d speed``:
+    ``theta_d^3 = theta_s^3 + 9 speed ln(macro_length/slip)`` (Cox 1986, eq. 7.9; Voinov
+    1976).
+
+    Raises
+    ------
+    SolverError
+        A receding line too fast for the law (``theta_d^3 <= 0``: the liquid would leave a
+        film behind) or a dynamic angle above :data:`COX_VOINOV_MAX`.
+    """
+    g = math.log(macro_length / slip)
+    cube = theta_s**3 + 9.0 * speed * g
+    if cube <= 0.0:
+        raise SolverError(f"stokes-dynamic: a line receding at Ca = {-speed:.3g} is faster "
+                          f"than Cox-Voinov allows at theta_s = {math.degrees(theta_s):.3g} "
+                          "deg (theta_d -> 0: a film is left behind)")
+    th = cube ** (1.0 / 3.0)
+    if th > COX_VOINOV_MAX:
+        raise SolverError(f"stokes-dynamic: Cox-Voinov dynamic angle {math.degrees(th):.4g} "
+                          f"deg > {math.degrees(COX_VOINOV_MAX):g} deg, outside the law")
+    return th, -math.sin(th) * 3.0 * g / th**2
