@@ -117,6 +117,9 @@ def test_approach_is_resisted():
     ({"velocity": 2e-4, "gaps": [0.03, 0.05]}, {}, InputError, "gaps must decrease"),
     ({"velocity": -2e-4, "gaps": [0.03]}, {"start": 0.04}, InputError, "start = 0.04"),
     ({"velocity": -2e-4, "gaps": [0.03]}, {"gap_step": 1.0}, InputError, "gap_step = 1.0"),
+    ({"velocity": -2e-4, "gaps": [0.03]}, {"line": "sticky"}, InputError, "line = 'sticky'"),
+    ({"velocity": -2e-4, "gaps": [0.03]}, {"macro_length": -1.0}, InputError,
+     "macro_length = -1.0 m"),
     ({"velocity": 0.0, "gaps": [0.03]}, {}, ValidityError, "use meniscus"),
     ({"velocity": -0.2, "gaps": [0.03]}, {}, ValidityError, "Ca = eta|v|/sigma = 1"),
     ({"velocity": -2e-4, "gaps": [0.03], "kind": "sphere-sphere", "radius2": 2 * R}, {},
@@ -143,3 +146,12 @@ def test_presets_are_the_rupture_presets():
         assert MODEL.presets[name]["gap_step"] == gap
         assert MODEL.presets[name]["neck_step"] == neck
     assert math.isclose(MODEL.order, 2.0)
+
+
+def test_a_pinned_bridge_stopped_by_its_closing_wedge_says_so():
+    """Pinned lines through the model: the run stops when a pinned angle closes, and the
+    model raises with the run's reason instead of returning a partial curve."""
+    from wetcontact.errors import SolverError
+
+    with pytest.raises(SolverError, match="depins"):
+        MODEL.force(scene(-2e-4, [0.021, 0.05]), start=0.02, line="pinned")

@@ -29,8 +29,11 @@ over Ca, volume and angle: :mod:`.rupture`; the liquid each side of the pinch:
 elements), where its rate is 0.066 sigma/eta (Papageorgiou 1995: 0.0709).
 Equal spheres: static force to 1e-6, O(Ca) excess 0.5 % from ``stokes``, rupture 1.165 S_c.
 
+Contact lines: static angles (default), Cox-Voinov's dynamic angle or pinned lines
+(:class:`.step.Wetting`; tests/solver/stokes_dynamic/test_stokes_dynamic_lines.py).
+
 Limits: Papageorgiou's rate is not confirmed within 2 % (4.2 % below over the decade to
-1.15e-4 R); unequal spheres; a dynamic contact angle.
+1.15e-4 R); unequal spheres.
 
 Sources: Baensch (2001, Numer. Math. 88, 203), semi-implicit curvature; Ganesan & Tobiska
 (2008), the axisymmetric Laplace-Beltrami form; Navier (1823); Pitois, Moucheront &

@@ -55,7 +55,7 @@ from wetcontact.solver.stokes_dynamic.rupture import (
     VOLUME_RANGE,
     scaled_gap_step,
 )
-from wetcontact.solver.stokes_dynamic.step import StepSolution, Wetting
+from wetcontact.solver.stokes_dynamic.step import LINE_LAWS, StepSolution, Wetting
 
 SLIP_RANGE = (1e-5, 1e-2)
 """Slip lengths b/R the contact-line elements (1e-3 R) resolve."""
@@ -88,7 +88,9 @@ class StokesDynamic(Model):
     step) from the preset, ``default_slip`` (b/R for a solid whose slip length is 0),
     ``save_fields`` (a folder: the velocity and pressure at the first state at or past each
     gap, VTU files and a ParaView collection), ``checkpoint`` (a ``.npz`` file: a killed
-    run resumes from it).
+    run resumes from it), ``line`` (the contact-line law: ``"static"``, ``"cox-voinov"``
+    or ``"pinned"``, :class:`~.step.Wetting`) and ``macro_length`` (m, Cox-Voinov's L;
+    default the sphere radius).
     """
 
     name = "stokes-dynamic"
@@ -181,7 +183,8 @@ class StokesDynamic(Model):
     def _force(self, scene: Scene, preset: str, gap_step: float = 5e-4,
                neck_step: float = 0.05, default_slip: float = DEFAULT_SLIP,
                start: float | None = None, save_fields: str | None = None,
-               checkpoint: str | None = None) -> ForceCurve:
+               checkpoint: str | None = None, line: str = "static",
+               macro_length: float | None = None) -> ForceCurve:
         R, eta, sigma = scene.radius, scene.viscosity, scene.surface_tension
         gaps = scene.gap_array
         s = gaps / R
@@ -205,9 +208,18 @@ class StokesDynamic(Model):
         scale = 2.0 if pair else 1.0  # the half above the mid-plane: half gap, volume, speed
         vol = scene.bridge_volume / R**3
         ca = eta * abs(scene.velocity) / sigma
+        if line not in LINE_LAWS:
+            raise InputError(f"model '{self.name}': line = {line!r}; allowed: "
+                             + ", ".join(LINE_LAWS))
+        big = 1e3 * R
+        if macro_length is not None and not (isinstance(macro_length, int | float)
+                                             and 0 < macro_length <= big):
+            raise InputError(f"model '{self.name}': macro_length = {macro_length!r} m; "
+                             f"allowed: (0, {big:g}] m")
         wet = Wetting(scene.contact_angle_sphere, scene.contact_angle_wall,
                       scene.slip_length_sphere / R or default_slip,
-                      scene.slip_length_wall / R or default_slip)
+                      scene.slip_length_wall / R or default_slip, line=line,
+                      macro_length=1.0 if macro_length is None else macro_length / R)
         br = Bridge(radius=1.0, radius2=1.0 if pair else None,
                     contact_angle1=wet.theta_sphere, contact_angle2=wet.theta_wall,
                     surface_tension=1.0)
@@ -227,7 +239,7 @@ class StokesDynamic(Model):
                          neck_stop=NECK_STOP if sep else 0.0, neck_step=neck_step),
                 MeshOptions(plane="symmetry" if pair else "wall"),
                 checkpoint=checkpoint, observer=observer)
-        pinched = sep and r.stopped == "neck"
+        pinched = sep and r.stopped == "neck"  # ("line", "solver": a line law's limit)
         if not pinched and r.stopped != "gap_end":
             raise SolverError(f"model '{self.name}': the run stopped at S/R = "
                               f"{r.gap[-1] * scale:.6g} before the last gap ({r.stopped}: "
