@@ -163,11 +163,12 @@ def test_shooting_reproduces_the_static_meniscus():
 
 
 def test_pinned_lines_stay_and_the_slow_stretch_is_the_pinned_meniscus():
-    """Pinned lines keep their places on the solids to rounding; stretched at Ca = 1e-4
-    from 0.02 to 0.021 R (the angles close from 20 to about 9.6 deg) the bridge is the
-    pinned Young-Laplace bridge of the same volume (shooting) within its O(Ca) lag and the discretisation: neck radius within 2e-3
-    relative (measured 3.5e-5), wall angle within 0.2 deg (measured 0.13 deg, 9.70 against
-    9.57: the end tangent's discretisation, 0.04-0.08 deg for static angles)."""
+    """Pinned lines keep their places on the solids to rounding. Stretched at Ca = 1e-4
+    from 0.02 to 0.021 R (the angles close from 20 to about 9.6 deg), the bridge is the
+    pinned Young-Laplace bridge of the same volume (shooting) within its O(Ca) lag and the
+    discretisation: the neck radius within 2e-3 relative (measured 3.5e-5), the wall angle
+    within 0.2 deg (measured 0.13 deg, 9.70 against 9.57: the end tangent's
+    discretisation, 0.04-0.08 deg for static angles)."""
     obs = Lines()
     wet = Wetting(TH, TH, 1e-3, 1e-3, "pinned")
     r = run(V, S0, 1e-4, wet, Stepping(dt=0.5, t_end=10.0), observer=obs)

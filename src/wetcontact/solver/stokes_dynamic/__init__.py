@@ -6,7 +6,8 @@ Equations (units R = sigma = eta = 1; axisymmetric, meridian half-plane r >= 0):
 ``-div(-p I + 2 e(u)) = 0``, ``div u = 0`` in the liquid; on the free surface the traction
 ``sigma n = -kappa n`` (the weak Laplace-Beltrami form with its hoop term, :mod:`.step`),
 the kinematic condition ``dx/dt . n = u . n``; Navier slip (lengths b) on the solids; the
-static contact angles as natural conditions at the lines; the gap follows a given S(t).
+contact angles as natural conditions at the lines (static, or Cox-Voinov's dynamic angle),
+or pinned lines; the gap follows a given S(t).
 
 Discretisation: Taylor-Hood P2/P1 on an ALE mesh of second-order triangles (scikit-fem),
 variable-step BDF2 on a domain extrapolated to the new time with Baensch's (2001)
