@@ -10,6 +10,10 @@
    the one before): the observed order in the step; each preset's difference from the
    accurate one (the accurate one's own error is at least its difference from the default
    one where the order is 1 or less) and its wall time.
+3. **Force.** The registered model ``stokes-dynamic`` on an SI scene (R = 1 mm, sphere on a
+   wall, V/R^3 = 1e-3, 20 deg, Ca = 1e-2 from 0.022 R) at the three presets: the force at
+   0.03-0.11 R (up to the static fold, 0.1104 R) and each preset's difference from the
+   accurate one.
 
 Runs go through the generator's cache (:class:`wetcontact.generate.dynamic_rupture.RunCache`):
 a run the generator or an earlier benchmark already made is not made again (its wall time
@@ -86,6 +90,31 @@ def presets(cache: RunCache) -> list[dict]:
     return out
 
 
+FORCE_GAPS = (0.03, 0.05, 0.07, 0.09, 0.10, 0.105, 0.11)
+
+
+def force_presets() -> dict:
+    from wetcontact.models import get_model
+    from wetcontact.scene import scene_from_dict
+
+    R, eta, sigma, ca = 1e-3, 0.1, 0.02, 1e-2
+    sc = scene_from_dict({
+        "name": "dynamic-presets", "geometry": {"kind": "sphere-wall", "radius": R},
+        "liquid": {"viscosity": eta, "surface_tension": sigma, "density": 1000.0,
+                   "contact_angle": 20.0, "slip_length_sphere": 1e-3 * R,
+                   "slip_length_wall": 1e-3 * R},
+        "amount": {"bridge_volume": 1e-3 * R**3},
+        "motion": {"velocity": -ca * sigma / eta, "gaps": [g * R for g in FORCE_GAPS]}})
+    model = get_model("stokes-dynamic")
+    curves = {p: model.force(sc, preset=p, start=0.022) for p in PRESETS}
+    acc = curves["accurate"].force_total
+    return {"gaps_over_R": list(FORCE_GAPS), "capillary_number": ca,
+            "presets": [{"preset": p, "force_N": c.force_total.tolist(),
+                         "error": np.abs(c.force_total / acc - 1.0).tolist(),
+                         "wall_time_s": c.diagnostics["wall_time_s"]}
+                        for p, c in curves.items()]}
+
+
 def main() -> None:
     cache = RunCache()
     lim = limit(cache)
@@ -100,14 +129,21 @@ def main() -> None:
         print(f"{c['kind']} Ca {c['capillary_number']:g}: order {p['observed_order']:.2f}, "
               + ", ".join(f"{q['preset']} {q['error']:.2e} ({q['wall_time_s']:.0f} s)"
                           for q in p["presets"]), flush=True)
-    data = {"limit": lim, "presets": pre,
+    force = force_presets()
+    for q in force["presets"]:
+        print(f"force, {q['preset']}: largest difference from accurate {max(q['error']):.1e} "
+              f"({q['wall_time_s']:.0f} s)", flush=True)
+    data = {"limit": lim, "presets": pre, "force": force,
             "conclusion": (f"the Ca -> 0 limit is {1 + f['delta_0']:.5f} S_c (sd "
                            f"{f['delta_0_sd']:.1e}; {1 + f3['delta_0']:.5f} through the three "
                            "runs at Ca <= 1e-4; goal: the static fold within 1e-3); presets "
                            "(difference of the default from the accurate one): "
                            + "; ".join(f"{p['case']['kind']} Ca {p['case']['capillary_number']:g}"
                                        f" order {p['observed_order']:.2f}, default "
-                                       f"{p['presets'][1]['error']:.1e}" for p in pre))}
+                                       f"{p['presets'][1]['error']:.1e}" for p in pre)
+                           + "; force at 0.03-0.11 R, Ca = 1e-2: default within "
+                           f"{max(force['presets'][1]['error']):.1e} of accurate, fast "
+                           f"{max(force['presets'][0]['error']):.1e}")}
     write_json("dynamic_rupture", data)
     chart(data)
 
@@ -116,7 +152,10 @@ def chart(data: dict) -> None:
     from wetcontact.plotting import pyplot, styles
 
     plt = pyplot()
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
+    force = data.get("force")
+    fig, axes = plt.subplots(1, 3 if force else 2, figsize=(16 if force else 11, 4.4),
+                             layout="constrained")
+    ax1, ax2 = axes[0], axes[1]
     lim = data["limit"]
     ca = np.array([r["case"]["capillary_number"] for r in lim["runs"]])
     ratio = np.array([r["ratio"] for r in lim["runs"]])
@@ -159,6 +198,21 @@ def chart(data: dict) -> None:
     ax2.set_title("presets fast, default, accurate: V/R^3 = 1e-3, 30 deg", fontsize=9)
     ax2.legend(fontsize=8)
     ax2.grid(True, alpha=0.3)
+    if force:
+        ax3 = axes[2]
+        fst = styles([f"force, {q['preset']}" for q in force["presets"][:2]])
+        for q in force["presets"][:2]:
+            name = f"force, {q['preset']}"
+            ax3.plot(force["gaps_over_R"], np.maximum(q["error"], 1e-8),
+                     label=f"{name} ({q['wall_time_s']:.0f} s)", **fst[name])
+        ax3.axhline(1e-3, color="0.5", lw=0.8, ls=":")
+        ax3.set_yscale("log")
+        ax3.set_xlabel("S/R (static fold at 0.1104)")
+        ax3.set_ylabel("|F / F(accurate) - 1|")
+        ax3.set_title("force of stokes-dynamic, sphere on a wall, 20 deg, V/R^3 = 1e-3, "
+                      "Ca = 1e-2", fontsize=9)
+        ax3.legend(fontsize=8)
+        ax3.grid(True, alpha=0.3)
     fig.suptitle("Dynamic rupture distance (stokes-dynamic, bridge stretched from 0.2 S_c at "
                  "constant speed)", fontsize=10)
     save_chart(fig, "dynamic_rupture")
