@@ -155,3 +155,44 @@ def test_a_pinned_bridge_stopped_by_its_closing_wedge_says_so():
 
     with pytest.raises(SolverError, match="depins"):
         MODEL.force(scene(-2e-4, [0.021, 0.05]), start=0.02, line="pinned")
+
+
+def test_a_constant_speed_trajectory_is_the_constant_speed_run():
+    """A trajectory S(t) = S0 + |v| t (in s and m) gives the constant-speed curve."""
+    sc = scene(-2e-4, [0.03, 0.05])
+    t = np.linspace(0.0, 0.04 * R / 2e-4, 9)
+    traj = {"time": (t + 3.0).tolist(), "gap": (0.02 * R + 2e-4 * t).tolist()}
+    a = MODEL.force(sc, start=0.02)
+    b = MODEL.force(scene(0.0, [0.03, 0.05]), trajectory=traj)
+    np.testing.assert_allclose(b.force_total, a.force_total, rtol=1e-8)
+    np.testing.assert_allclose(b.extras["neck_radius"], a.extras["neck_radius"], rtol=1e-8)
+
+
+def test_a_slowing_separation_has_the_quasi_static_excess_at_each_speed():
+    """A separation slowing from Ca = 2e-3 to 5e-4 (S(t) quadratic): at each gap the dynamic
+    excess is the quasi-static ``stokes`` viscous force at that gap's speed within 3 %."""
+    eta, sigma = 0.1, 0.02
+    v0, v1 = 2e-3 * sigma / eta, 5e-4 * sigma / eta  # m/s
+    T = 0.05 * R / (0.5 * (v0 + v1))  # time to go from 0.02 R to 0.07 R
+    t = np.linspace(0.0, T, 41)
+    v = v0 + (v1 - v0) * t / T
+    traj = {"time": t.tolist(), "gap": (0.02 * R + v0 * t + 0.5 * (v1 - v0) * t**2 / T).tolist()}
+    gaps = [0.03, 0.05, 0.065]
+    c = MODEL.force(scene(0.0, gaps), trajectory=traj)
+    for k, g in enumerate(gaps):
+        tk = float(np.interp(g * R, traj["gap"], t))
+        vk = float(np.interp(tk, t, v))
+        qs = get_model("stokes").force(scene(-vk, [g])).force_viscous[0]
+        assert c.force_viscous[k] == pytest.approx(qs, rel=0.03)
+
+
+@pytest.mark.parametrize(("traj", "match"), [
+    ({"time": [0, 1, 2]}, "numeric 'time'"),
+    ({"time": [0, 1, 2], "gap": [1e-5, 2e-5, 3e-5]}, "length >= 4"),
+    ({"time": [0, 1, 1, 2], "gap": [2e-5, 3e-5, 4e-5, 5e-5]}, "increase strictly"),
+    ({"time": [0, 1, 2, 3], "gap": [2e-5, 3e-5, 2.5e-5, 5e-5]}, "strictly monotone"),
+    ({"time": [0, 1, 2, 3], "gap": [2e-5, 3e-5, 4e-5, 4.5e-5]}, "last gap"),
+])
+def test_bad_trajectories_are_refused(traj, match):
+    with pytest.raises(InputError, match=match):
+        MODEL.force(scene(0.0, [0.03, 0.05]), trajectory=traj)

@@ -31,12 +31,14 @@ other, :mod:`.rupture`).
 
 from __future__ import annotations
 
+import dataclasses
 import math
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any, ClassVar
 
 import numpy as np
-from scipy.interpolate import CubicSpline
+from scipy.interpolate import CubicSpline, PchipInterpolator
 
 from wetcontact.errors import InputError, SolverError, ValidityError
 from wetcontact.models import ForceCurve, Model, register
@@ -89,8 +91,11 @@ class StokesDynamic(Model):
     ``save_fields`` (a folder: the velocity and pressure at the first state at or past each
     gap, VTU files and a ParaView collection), ``checkpoint`` (a ``.npz`` file: a killed
     run resumes from it), ``line`` (the contact-line law: ``"static"``, ``"cox-voinov"``
-    or ``"pinned"``, :class:`~.step.Wetting`) and ``macro_length`` (m, Cox-Voinov's L;
-    default the sphere radius).
+    or ``"pinned"``, :class:`~.step.Wetting`), ``macro_length`` (m, Cox-Voinov's L;
+    default the sphere radius) and ``trajectory`` (a motion instead of the scene's constant
+    speed: ``{"time": [...], "gap": [...]}`` in s and m, e.g. a collision's
+    ``Collision.trajectory`` from the solid contact on; the gap strictly monotone in time,
+    interpolated by a monotone cubic (PCHIP); the bridge starts static at its first gap).
     """
 
     name = "stokes-dynamic"
@@ -164,6 +169,17 @@ class StokesDynamic(Model):
         if s.min() < MIN_GAP:
             raise ValidityError(self.name, f"S/R = {s.min():.3g} < {MIN_GAP:g}", _instead(scene))
 
+    def check_options(self, scene: Scene, opts: dict[str, Any]) -> None:
+        """A trajectory's motion replaces the scene's speed in the checks (its largest
+        speed, with the direction of its motion)."""
+        traj = opts.get("trajectory")
+        if traj is not None:
+            m = _Trajectory(self.name, traj, scene.radius,
+                            scene.viscosity / scene.surface_tension * scene.radius)
+            v = m.ca_max * scene.surface_tension / scene.viscosity
+            scene = dataclasses.replace(scene, velocity=-v if m.separating else v)
+        self.check(scene)
+
     def convergence_data(self) -> tuple[np.ndarray, np.ndarray]:
         """Time steps and the force's error against a run at an eighth of the finest step
         (sphere-wall, V/R^3 = 1e-3, 20 deg, Ca = 1e-2 from S/R = 0.02 to t = 0.8 eta R/sigma,
@@ -184,15 +200,26 @@ class StokesDynamic(Model):
                neck_step: float = 0.05, default_slip: float = DEFAULT_SLIP,
                start: float | None = None, save_fields: str | None = None,
                checkpoint: str | None = None, line: str = "static",
-               macro_length: float | None = None) -> ForceCurve:
+               macro_length: float | None = None,
+               trajectory: Mapping[str, Any] | None = None) -> ForceCurve:
         R, eta, sigma = scene.radius, scene.viscosity, scene.surface_tension
         gaps = scene.gap_array
         s = gaps / R
         sep = scene.velocity < 0  # v > 0 is approach
+        motion = None
+        if trajectory is not None:
+            if start is not None:
+                raise InputError(f"model '{self.name}': give start or trajectory, not both "
+                                 "(a trajectory starts at its first gap)")
+            motion = _Trajectory(self.name, trajectory, R, eta / sigma * R)
+            sep, start = motion.separating, motion.s[0]
         if s.size > 1 and not np.all(np.diff(s) > 0 if sep else np.diff(s) < 0):
             raise InputError(f"model '{self.name}': gaps must {'increase' if sep else 'decrease'}"
                              f" when the surfaces {'separate' if sep else 'approach'} "
                              f"(velocity {scene.velocity:g} m/s); got {gaps.tolist()[:5]} m")
+        if motion is not None and (s[-1] > motion.s[-1] if sep else s[-1] < motion.s[-1]):
+            raise InputError(f"model '{self.name}': the last gap {gaps[-1]:.6g} m lies beyond "
+                             f"the trajectory's last gap {motion.s[-1] * R:.6g} m")
         s0 = float(s[0]) if start is None else float(start)
         if not (math.isfinite(s0) and s0 >= MIN_GAP and (s0 <= s[0] if sep else s0 >= s[0])):
             raise InputError(f"model '{self.name}': start = {start!r} (S/R); allowed: >= "
@@ -228,7 +255,10 @@ class StokesDynamic(Model):
             raise ValidityError(self.name, f"no static bridge at the start S/R = {s0:.6g} "
                                 f"(beyond the static rupture distance {s_fold:.6g} R)",
                                 _instead(scene))
-        speed = (ca if sep else -ca) / scale
+        speed: float | Callable[[float], float] = (ca if sep else -ca) / scale
+        if motion is not None:
+            ca = motion.ca_max
+            speed = motion.speed(scale)
         step = scaled_gap_step(gap_step, s_fold, ca)  # R, of the full gap
         files: list[tuple[float, str]] = []
         observer = None
@@ -236,9 +266,11 @@ class StokesDynamic(Model):
             observer = _FieldWriter(Path(save_fields), scene, s / scale, sep, scale, files)
         r = run(vol / scale, s0 / scale, speed, wet,
                 Stepping(dt=step / ca, gap_end=float(s[-1]) / scale,
+                         t_end=None if motion is None else motion.duration,
                          neck_stop=NECK_STOP if sep else 0.0, neck_step=neck_step),
                 MeshOptions(plane="symmetry" if pair else "wall"),
-                checkpoint=checkpoint, observer=observer)
+                checkpoint=checkpoint, observer=observer,
+                gap_at=None if motion is None else motion.gap(scale))
         pinched = sep and r.stopped == "neck"  # ("line", "solver": a line law's limit)
         if not pinched and r.stopped != "gap_end":
             raise SolverError(f"model '{self.name}': the run stopped at S/R = "
@@ -272,6 +304,47 @@ class StokesDynamic(Model):
         return ForceCurve(case=scene.name, model=self.name, gap=gaps,
                           force_viscous=np.where(exists > 0, total - cap, 0.0),
                           force_capillary=cap, extras=extras, diagnostics=diag)
+
+
+class _Trajectory:
+    """A prescribed motion S(t) in the solver's units (time eta R / sigma, gap R)."""
+
+    def __init__(self, model: str, data: Mapping[str, Any], R: float, t_unit: float) -> None:
+        try:
+            t = np.asarray(data["time"], dtype=float)
+            g = np.asarray(data["gap"], dtype=float)
+        except (KeyError, TypeError, ValueError) as exc:
+            raise InputError(f"model '{model}': trajectory needs numeric 'time' (s) and "
+                             f"'gap' (m) sequences ({exc})") from None
+        if t.ndim != 1 or t.shape != g.shape or t.size < 4 or not np.all(np.isfinite(t)) \
+                or not np.all(np.isfinite(g)):
+            raise InputError(f"model '{model}': trajectory 'time' and 'gap' must be finite "
+                             f"1-D sequences of one length >= 4; got {t.shape} and {g.shape}")
+        if not np.all(np.diff(t) > 0):
+            raise InputError(f"model '{model}': trajectory 'time' must increase strictly")
+        dg = np.diff(g)
+        if not (np.all(dg > 0) or np.all(dg < 0)):
+            raise InputError(f"model '{model}': trajectory 'gap' must be strictly monotone (a "
+                             "separation or an approach; split a rebound at its turning point)")
+        self.separating = bool(dg[0] > 0)
+        self.tau = (t - t[0]) / t_unit
+        self.s = g / R
+        self.curve = PchipInterpolator(self.tau, self.s)
+        rate = self.curve.derivative()(np.linspace(0.0, self.tau[-1], 2001))
+        self.ca_max = float(np.max(np.abs(rate)))
+        self.duration = float(self.tau[-1])
+        if not CA_RANGE[0] <= self.ca_max <= CA_RANGE[1]:
+            raise InputError(f"model '{model}': the trajectory's largest capillary number "
+                             f"{self.ca_max:.3g} is outside [{CA_RANGE[0]:g}, {CA_RANGE[1]:g}]")
+
+    def speed(self, scale: float) -> Callable[[float], float]:
+        """dS/dt of the half-gap (``scale`` 2) or the gap (1), units sigma/eta."""
+        d = self.curve.derivative()
+        return lambda tau: float(d(min(tau, self.duration))) / scale
+
+    def gap(self, scale: float) -> Callable[[float], float]:
+        """S(t) of the half-gap (``scale`` 2) or the gap (1), units R."""
+        return lambda tau: float(self.curve(min(tau, self.duration))) / scale
 
 
 def get_capillary(scene: Scene) -> np.ndarray:

@@ -186,9 +186,13 @@ def static_profile(gap: float, volume: float, wet: Wetting, plane: str = "wall"
     return np.vstack([[r0, 0.0], np.column_stack([r[k:], z[k:] - gap])])
 
 
-def gap_history(gap0: float, speed: float | Callable[[float], float]
+def gap_history(gap0: float, speed: float | Callable[[float], float],
+                gap_at: Callable[[float], float] | None = None,
                 ) -> tuple[Callable[[float], float], Callable[[float], float]]:
-    """S(t) and dS/dt from S(0) = gap0 and dS/dt = speed (a constant or a function of t)."""
+    """S(t) and dS/dt from S(0) = gap0 and dS/dt = speed (a constant or a function of t;
+    ``gap_at``: its integral S(t), when known, instead of a quadrature)."""
+    if callable(speed) and gap_at is not None:
+        return gap_at, speed
     if callable(speed):
         return (lambda t: gap0 + quad(speed, 0.0, t, limit=200)[0]), speed
     v = float(speed)
@@ -259,7 +263,8 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
         stepping: Stepping, mesh: MeshOptions | None = None,
         initial: np.ndarray | None = None, intorder: int = 4,
         checkpoint: str | Path | None = None, checkpoint_every: float = 120.0,
-        observer: Callable[[float, Domain, StepSolution], None] | None = None) -> DynamicRun:
+        observer: Callable[[float, Domain, StepSolution], None] | None = None,
+        gap_at: Callable[[float], float] | None = None) -> DynamicRun:
     """Follow a sphere-wall bridge of ``volume`` (V/R^3) from ``gap0`` (S/R) with the sphere
     moving at ``speed`` = dS/dt (units sigma/eta, i.e. the capillary number; > 0
     separating).
@@ -274,7 +279,8 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
     from an uninterrupted run by the discretisation error, not more.
 
     ``observer(t, domain, solution)`` is called with each accepted state (the initial one
-    included), e.g. to write fields at chosen gaps.
+    included), e.g. to write fields at chosen gaps. ``gap_at``: S(t) of a ``speed`` given as
+    a function, when its integral is known (otherwise a quadrature of the speed).
     """
     t_start = time.perf_counter()
     ckpt = None if checkpoint is None else _Checkpoint(
@@ -282,7 +288,7 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
     opts = mesh or MeshOptions()
     prof = (static_profile(gap0, volume, wet, opts.plane) if initial is None
             else np.asarray(initial))
-    gap_at, speed_at = gap_history(gap0, speed)
+    gap_at, speed_at = gap_history(gap0, speed, gap_at)
     dom = Domain.from_profile(gap0, prof, opts)
     xs, shift = correct_volume(dom.surface_xy, gap0, volume)
     if abs(shift) > 0.1 * opts.contact_size:  # a large correction: mesh the corrected shape
