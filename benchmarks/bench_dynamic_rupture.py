@@ -209,8 +209,7 @@ def chart(data: dict) -> None:
         ax3.set_yscale("log")
         ax3.set_xlabel("S/R (static fold at 0.1104)")
         ax3.set_ylabel("|F / F(accurate) - 1|")
-        ax3.set_title("force of stokes-dynamic, sphere on a wall, 20 deg, V/R^3 = 1e-3, "
-                      "Ca = 1e-2", fontsize=9)
+        ax3.set_title("force presets: wall, 20 deg, V/R^3 = 1e-3, Ca = 1e-2", fontsize=9)
         ax3.legend(fontsize=8)
         ax3.grid(True, alpha=0.3)
     fig.suptitle("Dynamic rupture distance (stokes-dynamic, bridge stretched from 0.2 S_c at "
