@@ -117,10 +117,12 @@ def quick_gaps(scene: Scene) -> Scene:
 
 
 def case_points(scenes: list[Scene], preset: str) -> list[Point]:
-    """Every registered model that applies to each scene, at ``preset`` where it has it."""
+    """Every registered model that applies to each scene, at ``preset`` where it has it;
+    not a model whose force depends on the motion's history (``Model.selectable`` False:
+    ``stokes-dynamic``), which runs by name (``compare --models``)."""
     models = load_all()
     return [Point(sc, m.name, preset) for sc in scenes for m in models.values()
-            if m.applicable(sc) is None]
+            if m.selectable and m.applicable(sc) is None]
 
 
 def case_results(scenes: list[Scene], points: list[Point], result: SweepResult
@@ -357,7 +359,10 @@ def compare_case(case: Path, out: Path, models: Sequence[str] | None = None,
                       if (why := registered[n].applicable(scene)) is not None}
     points = case_points([scene], preset)
     compared: list[str] | None = None
-    if models is not None:
+    if models is not None:  # a named model runs even where the report leaves it out
+        have = {p.model for p in points}
+        points += [Point(scene, n, preset) for n in names
+                   if n not in have and n not in not_applicable]
         compared = [n for n in names if n not in not_applicable]
         refs = set()
         for comp in ("viscous", "capillary"):

@@ -50,7 +50,7 @@ def test_excess_is_ca_times_the_quasi_static_viscous_force(separating):
     Nearer the static fold (0.110 R) the excess departs from its O(Ca) limit: 9.5 % at
     0.09 R (where it is 0.25 % of the force)."""
     sc, curve, _ = separating
-    men = get_model("meniscus").force(sc)
+    men = get_model("meniscus").force(sc)  # the same (default) preset
     np.testing.assert_array_equal(curve.force_capillary, men.force_capillary)
     qs = get_model("stokes").force(sc).force_viscous
     assert np.all(qs < 0)  # separation is resisted

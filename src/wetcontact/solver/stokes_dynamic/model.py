@@ -278,7 +278,7 @@ class StokesDynamic(Model):
                               f"{r.message})")
         curve = _curves(r, s, scale, pinched)
         total = curve["force"] * sigma * R
-        cap = get_capillary(scene)
+        cap = get_capillary(scene, preset)
         exists = curve["exists"]
         extras = {"neck_radius": curve["neck"] * R, "bridge_exists": exists}
         diag: dict[str, Any] = {
@@ -347,11 +347,12 @@ class _Trajectory:
         return lambda tau: float(self.curve(min(tau, self.duration))) / scale
 
 
-def get_capillary(scene: Scene) -> np.ndarray:
-    """The quasi-static capillary force (N) of ``meniscus`` at the scene's gaps."""
+def get_capillary(scene: Scene, preset: str) -> np.ndarray:
+    """The quasi-static capillary force (N) of ``meniscus`` at the scene's gaps (its
+    ``preset``)."""
     from wetcontact.models import get_model
 
-    return np.asarray(get_model("meniscus").force(scene).force_capillary)
+    return np.asarray(get_model("meniscus").force(scene, preset=preset).force_capillary)
 
 
 def _curves(r: DynamicRun, s: np.ndarray, scale: float, pinched: bool) -> dict[str, np.ndarray]:
