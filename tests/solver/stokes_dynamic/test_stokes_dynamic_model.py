@@ -196,3 +196,18 @@ def test_a_slowing_separation_has_the_quasi_static_excess_at_each_speed():
 def test_bad_trajectories_are_refused(traj, match):
     with pytest.raises(InputError, match=match):
         MODEL.force(scene(0.0, [0.03, 0.05]), trajectory=traj)
+
+
+def test_the_report_and_selection_leave_it_out():
+    """Its force depends on where the motion started: the report's sweep of every
+    applicable model and ``--tol`` selection do not use it, though it applies."""
+    from wetcontact.report import case_points
+    from wetcontact.select import choose
+
+    sc = scene(-2e-4, [0.03, 0.05])
+    assert MODEL.applicable(sc) is None and not MODEL.selectable
+    models = {p.model for p in case_points([sc], "default")}
+    assert "meniscus" in models and "stokes" in models and "stokes-dynamic" not in models
+    with pytest.raises(InputError) as exc:  # no bounded model for this bridge's viscous part
+        choose(sc, 0.05)
+    assert "stokes-dynamic" not in str(exc.value) and "stokes' applies" in str(exc.value)
