@@ -219,8 +219,8 @@ def _solve_lines(dom: Domain, dt: float, speed: float, wet: Wetting, intorder: i
                  base: np.ndarray, coef: float, guess: tuple[float, float]) -> StepSolution:
     """One step; with Cox-Voinov's angle, Newton's iteration on the lines' speeds (each
     solve linearises the law about the last's) until they change by less than 1e-10 of
-    themselves (or 1e-13 sigma/eta),
-    then the law checked at them (a receding line past its limit stops the run)."""
+    themselves (or 1e-13 sigma/eta), then the law checked at them (a receding line past
+    its limit stops the run)."""
     speeds = guess
     for _ in range(LINE_ITERATIONS if wet.line == "cox-voinov" else 1):
         sol = solve_step(dom, dt, speed, wet, intorder=intorder, base=base, coef=coef,
@@ -328,6 +328,7 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
     except SolverError as exc:
         raise SolverError(f"stokes-dynamic: the initial solve failed: {exc}") from exc
     record(0.0, dom, sol)
+    gap_prev = gap0  # the gap of ``prev``
     state = None if ckpt is None else ckpt.load()
     if state is not None:  # resume: the saved surface remeshed, its history carried over
         for k in hist:
@@ -338,9 +339,9 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
         remesh_times = list(state["remesh_times"])
         dom = remesh(state["xs"], float(state["gap"]))
         f_new = dom.fractions["surface"]
+        gap_prev = float(state["gap_prev"])
         if state["prev"].size:
-            prev = _on_solids(redistribute(state["prev"], f_new), float(state["gap_prev"]),
-                              pin)
+            prev = _on_solids(redistribute(state["prev"], f_new), gap_prev, pin)
             uprev = np.stack([np.interp(f_new, state["fractions"], uc) for uc in state["uprev"]])
         t_start -= float(state["wall_time"])
         if end := _reached(stepping, t, dom.gap, gap0, hist["neck"][-1], neck0):
@@ -357,7 +358,6 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
                       wall_time=time.perf_counter() - t_start,
                       **{f"hist_{k}": np.asarray(v) for k, v in hist.items()})
 
-    gap_prev = gap0
     while not stopped:
         if ckpt is not None and time.perf_counter() - last_save > checkpoint_every:
             save()
