@@ -396,8 +396,9 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
             if prev is not None:  # the nodes' tangential motion follows the history
                 slide = (xn - prev) / dt_prev - uprev
                 base = base + a1 * prev + c * dt * _tangential(slide, nstar)
-            sol = _solve_lines(dstar, dt, speed_at(t1), wet, intorder, base, c,
-                               _line_speeds(uprev, xn, dom.gap, speed_at(t)))
+            guess = (_line_speeds(uprev, xn, dom.gap, speed_at(t)) if wet.line == "cox-voinov"
+                     else (0.0, 0.0))
+            sol = _solve_lines(dstar, dt, speed_at(t1), wet, intorder, base, c, guess)
         except SolverError as exc:
             stopped, message = "solver", str(exc)
             break

@@ -165,10 +165,9 @@ def solve_step(domain: Domain, dt: float, speed: float, wet: Wetting,
     """
     try:
         return _solve_step(domain, dt, speed, wet, intorder, base, coef, line_speed)
-    except Exception as exc:  # noqa: BLE001 - any failure of the solve stops the run
-        if isinstance(exc, SolverError):
-            raise
-        # scikit-fem's isoparametric map fails on a degenerate element
+    except SolverError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - e.g. scikit-fem's map of a degenerate element
         raise SolverError(f"stokes-dynamic: the step's assembly failed ({exc})") from exc
 
 
@@ -203,35 +202,27 @@ def _solve_step(domain: Domain, dt: float, speed: float, wet: Wetting, intorder:
     jw, js = domain.surface[0], domain.surface[-1]
     phi = float(sphere_angle(x[:, [js]], domain.gap)[0])
     tau = (math.cos(phi), math.sin(phi))
-    line_k = sp.csr_matrix((nu, nu))
-    if wet.line == "static":
-        if wall_slip:
-            f[2 * jw] += math.cos(wet.theta_wall) * x[0, jw]
-        f[2 * js] += math.cos(wet.theta_sphere) * x[0, js] * tau[0]
-        f[2 * js + 1] += math.cos(wet.theta_sphere) * x[0, js] * tau[1]
-    elif wet.line == "cox-voinov":  # cos theta_d(U) ~ c(U*) + c'(U*) (U - U*)
-        kd, rd, cd = [], [], []
-        uw = linearisation_speed(wet.theta_wall, line_speed[0], wet.slip_wall,
-                                 wet.macro_length)
-        us = linearisation_speed(wet.theta_sphere, line_speed[1], wet.slip_sphere,
-                                 wet.macro_length)
-        if wall_slip:  # U = u_r at the wall's line
-            th, dc = cox_voinov(wet.theta_wall, uw, wet.slip_wall, wet.macro_length)
-            f[2 * jw] += x[0, jw] * (math.cos(th) - dc * uw)
-            kd.append(-dc * x[0, jw])
-            rd.append(2 * jw)
-            cd.append(2 * jw)
-        th, dc = cox_voinov(wet.theta_sphere, us, wet.slip_sphere, wet.macro_length)
-        # U = (u - U_sphere) . tau; the term c' (u . tau) r tau goes to the matrix
-        c0 = math.cos(th) - dc * (us + speed * tau[1])
-        f[2 * js] += x[0, js] * c0 * tau[0]
-        f[2 * js + 1] += x[0, js] * c0 * tau[1]
-        for a in (0, 1):
-            for b in (0, 1):
-                kd.append(-dc * x[0, js] * tau[a] * tau[b])
-                rd.append(2 * js + a)
-                cd.append(2 * js + b)
-        line_k = sp.csr_matrix((kd, (rd, cd)), shape=(nu, nu))
+    # each line: node, static angle, slip length, tau, the solid's velocity along tau
+    lines = [(js, wet.theta_sphere, wet.slip_sphere, tau, speed * tau[1], line_speed[1])]
+    if wall_slip:
+        lines.insert(0, (jw, wet.theta_wall, wet.slip_wall, (1.0, 0.0), 0.0, line_speed[0]))
+    kd, rd, cd = [], [], []
+    if wet.line != "pinned":
+        for j, theta, slip, t, solid, guess in lines:
+            c0, dc = math.cos(theta), 0.0
+            if wet.line == "cox-voinov":  # cos theta_d(U) ~ c(U*) + c'(U*) (U - U*)
+                us = linearisation_speed(theta, guess, slip, wet.macro_length)
+                th, dc = cox_voinov(theta, us, slip, wet.macro_length)
+                # U = (u - U_solid) . tau; the term c' (u . tau) r tau goes to the matrix
+                c0 = math.cos(th) - dc * (us + solid)
+                for a in (0, 1):
+                    for b in (0, 1):
+                        kd.append(-dc * x[0, j] * t[a] * t[b])
+                        rd.append(2 * j + a)
+                        cd.append(2 * j + b)
+            f[2 * j] += x[0, j] * c0 * t[0]
+            f[2 * j + 1] += x[0, j] * c0 * t[1]
+    line_k = sp.csr_matrix((kd, (rd, cd)), shape=(nu, nu))
     K = sp.bmat([[A + Ms + Mw + line_k + (coef * dt) * L, -B.T], [-B, None]], format="csr")
     rhs = np.concatenate([f, np.zeros(npr)])
     # constraints: axis u_r = 0, wall u_z = 0, sphere u.n = U.n in a rotated frame
