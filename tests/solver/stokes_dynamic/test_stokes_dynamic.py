@@ -300,23 +300,6 @@ def test_small_ca_force_is_static_plus_quasi_static_viscous(slow_stretch):
         assert float(force(gap)) == pytest.approx(expected, rel=1e-4)
 
 
-@pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="measured rupture at 1.040 S_c at Ca = 1e-4 "
-                   "(dS = 5e-4 per step; 1.031 at 2.5e-4, 1.028 at 1.25e-4, 1.0265 at "
-                   "5.4e-5): the slow passage through the fold delays the collapse by "
-                   "about 3 Ca^(1/2) S_c (bench_dynamic_rupture: 0.0034 at Ca = 1e-6, 0.030 "
-                   "at 1e-4), so at Ca = 1e-4 the rupture is 2-3 % beyond the fold, as "
-                   "Pitois' own law (1 % at 1e-4) also says")
-def test_small_ca_rupture_is_the_static_fold(slow_stretch):
-    """Issue 57's goal: at Ca = 1e-4 the rupture distance is the meniscus solver's static
-    fold within 1e-3."""
-    from wetcontact.solver.meniscus import rupture_distance
-    from wetcontact.solver.stokes_dynamic import locate_pinch
-
-    assert locate_pinch(slow_stretch).gap == pytest.approx(rupture_distance(BRIDGE, V),
-                                                           rel=1e-3)
-
-
 BRIDGE2 = Bridge(radius=1.0, radius2=1.0, contact_angle1=TH, contact_angle2=TH,
                  surface_tension=1.0)
 HALF = MeshOptions(plane="symmetry")  # two equal spheres: the upper half, mid-plane z = 0
@@ -379,3 +362,19 @@ def test_equal_spheres_rupture_beyond_the_static_rupture():
     p = locate_pinch(r)
     assert 2 * p.gap > 1.1 * sc
     assert np.abs(r.volume / (V / 2) - 1).max() < 1e-12
+
+
+def test_neck_error_estimate_is_the_cubic_term():
+    """The step's error estimate is a sixth of the distance from the parabola through the
+    last three neck radii: zero on a parabola, ``dt^3 h''' / 6`` on a cubic at equal steps,
+    ``(t1 - t0)(t1 - t1')(t1 - t2) h''' / 36`` at unequal ones."""
+    from wetcontact.solver.stokes_dynamic.run import _neck_error
+
+    par = {"t": [0.0, 1.0, 3.0], "neck": [1.0, 2.0, 10.0]}  # 1 + t^2
+    assert _neck_error(par, 4.5, 1.0 + 4.5**2) == pytest.approx(0.0, abs=1e-12)
+    cubic = {"t": [0.0, 1.0, 2.0], "neck": [0.0, 1.0, 8.0]}
+    assert _neck_error(cubic, 3.0, 27.0) == pytest.approx(1.0, rel=1e-14)
+    cubic = {"t": [0.0, 1.0, 3.0], "neck": [0.0, 1.0, 27.0]}
+    assert _neck_error(cubic, 4.5, 4.5**3) == pytest.approx(4.5 * 3.5 * 1.5 / 6, rel=1e-14)
+    with pytest.raises(SolverError, match="tolerance = 0.0; allowed"):
+        Stepping(dt=0.1, t_end=1.0, tolerance=0.0)

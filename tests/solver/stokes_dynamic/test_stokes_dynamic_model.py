@@ -142,9 +142,9 @@ def test_zero_slip_gets_the_default_and_says_so():
 def test_presets_are_the_rupture_presets():
     from wetcontact.solver.stokes_dynamic.rupture import PRESETS
 
-    for name, (gap, neck) in PRESETS.items():
-        assert MODEL.presets[name]["gap_step"] == gap
-        assert MODEL.presets[name]["neck_step"] == neck
+    for name, steps in PRESETS.items():
+        assert MODEL.presets[name]["neck_step"] == steps.neck_step
+        assert MODEL.presets[name]["tolerance"] == steps.tolerance
     assert math.isclose(MODEL.order, 2.0)
 
 

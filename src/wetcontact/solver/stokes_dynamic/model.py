@@ -25,8 +25,7 @@ the pinch; :mod:`.division`; 1/2 between equal spheres).
 Geometries: sphere-wall (angles and slip lengths may differ on the two solids) and two
 equal spheres with equal angles and slip lengths (the half above the mid-plane). Accuracy:
 :mod:`wetcontact.solver.stokes_dynamic` (force at Ca = 1e-4 within 1.7e-5 of ``meniscus``
-plus Ca times ``stokes`` up to 0.08 R; the rupture distance's presets within 3e-3 of each
-other, :mod:`.rupture`).
+plus Ca times ``stokes`` up to 0.08 R; the rupture distance: :mod:`.rupture`).
 """
 
 from __future__ import annotations
@@ -59,6 +58,10 @@ from wetcontact.solver.stokes_dynamic.rupture import (
 )
 from wetcontact.solver.stokes_dynamic.step import LINE_LAWS, StepSolution, Wetting
 
+FORCE_GAP_STEPS = {"fast": 1e-3, "default": 5e-4, "accurate": 2.5e-4}
+"""The largest gap step (R, at S_c = 0.11 R and Ca >= 1e-2) of each preset: the force's
+time error (default within 9.5e-4 of accurate at Ca = 1e-2)."""
+
 SLIP_RANGE = (1e-5, 1e-2)
 """Slip lengths b/R the contact-line elements (1e-3 R) resolve."""
 DEFAULT_SLIP = 1e-3
@@ -85,12 +88,13 @@ class StokesDynamic(Model):
     Taylor-Hood, BDF2, gmsh remeshing; :mod:`wetcontact.solver.stokes_dynamic`).
 
     Options: ``start`` (S/R at which the static bridge starts moving; default the first
-    gap), ``gap_step`` (the base gap step, R, at S_c = 0.11 R and Ca >= 1e-2,
-    :func:`.rupture.gap_step`) and ``neck_step`` (largest relative change of the neck per
-    step) from the preset, ``default_slip`` (b/R for a solid whose slip length is 0),
-    ``save_fields`` (a folder: the velocity and pressure at the first state at or past each
-    gap, VTU files and a ParaView collection), ``checkpoint`` (a ``.npz`` file: a killed
-    run resumes from it), ``line`` (the contact-line law: ``"static"``, ``"cox-voinov"``
+    gap), ``gap_step`` (the largest gap step, R, at S_c = 0.11 R and Ca >= 1e-2, shorter
+    like Ca^(1/3) below, :func:`.rupture.scaled_gap_step`), ``neck_step`` (largest relative
+    change of the neck per step) and ``tolerance`` (the neck's local error per step,
+    ``Stepping.tolerance``) from the preset, ``default_slip`` (b/R for a solid whose slip
+    length is 0), ``save_fields`` (a folder: the velocity and pressure at the first state at
+    or past each gap, VTU files and a ParaView collection), ``checkpoint`` (a ``.npz`` file:
+    a killed run resumes from it), ``line`` (the contact-line law: ``"static"``, ``"cox-voinov"``
     or ``"pinned"``, :class:`~.step.Wetting`), ``macro_length`` (m, Cox-Voinov's L;
     default the sphere radius) and ``trajectory`` (a motion instead of the scene's constant
     speed: ``{"time": [...], "gap": [...]}`` in s and m, e.g. a collision's
@@ -117,8 +121,9 @@ class StokesDynamic(Model):
               "meniscus, the quasi-static stokes bridge (Ca -> 0), Papageorgiou 1995 (the "
               "neck's pinch-off rate) and Pitois, Moucheront & Chateau 2001 (rupture)")
     presets: ClassVar[dict[str, dict[str, Any]]] = {
-        p: {"gap_step": g, "neck_step": n, "default_slip": DEFAULT_SLIP}
-        for p, (g, n) in PRESETS.items()}
+        p: {"gap_step": FORCE_GAP_STEPS[p], "neck_step": PRESETS[p].neck_step,
+            "tolerance": PRESETS[p].tolerance, "default_slip": DEFAULT_SLIP}
+        for p in PRESETS}
 
     def check(self, scene: Scene) -> None:
         if scene.amount != "bridge":
@@ -197,7 +202,8 @@ class StokesDynamic(Model):
         return dts, np.array([abs(force(dt) - ref) for dt in dts])
 
     def _force(self, scene: Scene, preset: str, gap_step: float = 5e-4,
-               neck_step: float = 0.05, default_slip: float = DEFAULT_SLIP,
+               neck_step: float = 0.05, tolerance: float | None = None,
+               default_slip: float = DEFAULT_SLIP,
                start: float | None = None, save_fields: str | None = None,
                checkpoint: str | None = None, line: str = "static",
                macro_length: float | None = None,
@@ -227,6 +233,8 @@ class StokesDynamic(Model):
                              f"{s[0]:.6g}")
         for name, val, lo, hi in (("gap_step", gap_step, 1e-6, 0.1),
                                   ("neck_step", neck_step, 1e-3, 0.5),
+                                  ("tolerance", 1e-6 if tolerance is None else tolerance,
+                                   1e-9, 1e-2),
                                   ("default_slip", default_slip, *SLIP_RANGE)):
             if not (isinstance(val, int | float) and lo <= val <= hi):
                 raise InputError(f"model '{self.name}': {name} = {val!r}; allowed: "
@@ -267,7 +275,8 @@ class StokesDynamic(Model):
         r = run(vol / scale, s0 / scale, speed, wet,
                 Stepping(dt=step / ca, gap_end=float(s[-1]) / scale,
                          t_end=None if motion is None else motion.duration,
-                         neck_stop=NECK_STOP if sep else 0.0, neck_step=neck_step),
+                         neck_stop=NECK_STOP if sep else 0.0, neck_step=neck_step,
+                         tolerance=tolerance),
                 MeshOptions(plane="symmetry" if pair else "wall"),
                 checkpoint=checkpoint, observer=observer,
                 gap_at=None if motion is None else motion.gap(scale))

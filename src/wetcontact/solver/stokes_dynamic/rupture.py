@@ -13,14 +13,14 @@ the upper half above the shear-free mid-plane: the half moves at v/2; angles up 
 on both solids, static (the lines slide at the static angle), Navier slip ``slip`` R on both
 solids. Units R = sigma = eta = 1.
 
-Presets (:data:`PRESETS`): the base gap step and the largest relative change of the neck
-per step near pinch. The gap step shrinks like ``Ca^(1/3)`` below Ca = 1e-2
-(:func:`gap_step`), where the delay past the fold that the step must resolve becomes small
-(``S_c(Ca)/S_c - 1`` is about ``3 Ca^(1/2)`` at Ca <= 1e-4). Accuracy of the rupture
-distance (``benchmarks/bench_dynamic_rupture.py``; V/R^3 = 1e-3, 30 deg): the default preset
-is 0.27-0.30 % from the accurate one (sphere-wall at Ca = 1e-2 and 1e-4, equal spheres at
-1e-2), the fast one 0.56-0.84 %; the convergence in the step is slow (observed order
-0.6-0.9 at Ca = 1e-2, about 0 between the presets at 1e-4, where the gap step decides it).
+Presets (:class:`Preset`, :data:`PRESETS`): the steps are controlled by the neck's local
+error (``Stepping.tolerance``): long while the bridge follows its static branch, short in
+the slow passage past the fold where the rupture distance is decided, and by the neck's
+relative change per step near the pinch; the largest step is a gap step proportional to
+S_c (:func:`gap_step`). Accuracy of the rupture distance against the accurate preset
+(``benchmarks/bench_dynamic_rupture.py``; V/R^3 = 1e-3, 30 deg; sphere-wall at Ca = 1e-2
+and 1e-4, equal spheres at 1e-2): see ``benchmarks/results/dynamic_rupture.json``; the
+tolerance's convergence is second order in the step it sets (error ~ tolerance^(2/3)).
 """
 
 from __future__ import annotations
@@ -28,6 +28,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import asdict, dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -39,14 +40,30 @@ from wetcontact.solver.stokes_dynamic.run import Stepping, run
 from wetcontact.solver.stokes_dynamic.step import Wetting
 
 KINDS = ("wall", "pair")
-PRESETS: dict[str, tuple[float, float]] = {
-    "fast": (1e-3, 0.1),
-    "default": (5e-4, 0.05),
-    "accurate": (2.5e-4, 0.025),
+class Preset(NamedTuple):
+    """The steps of a rupture run.
+
+    Attributes
+    ----------
+    gap_step
+        The largest step, in gap (R) at S_c = :data:`S_REF` (:func:`gap_step`).
+    neck_step
+        The largest relative change of the neck radius per step (``Stepping.neck_step``).
+    tolerance
+        The neck's local error per step relative to its start (``Stepping.tolerance``).
+    """
+
+    gap_step: float
+    neck_step: float
+    tolerance: float
+
+
+PRESETS: dict[str, Preset] = {
+    "fast": Preset(5e-4, 0.05, 4e-6),
+    "default": Preset(5e-4, 0.05, 2e-6),
+    "accurate": Preset(5e-4, 0.025, 3e-7),
 }
-"""``(gap step, neck step)`` of each preset: the base step in gap (R) at S_c = 0.11 R (the
-static fold at V/R^3 = 1e-3, 20 deg) and Ca >= 1e-2 (:func:`gap_step`), and the largest
-relative change of the neck radius per step near pinch."""
+"""The steps of each preset."""
 S_REF = 0.11037
 """S_c/R at which the presets' gap steps are stated."""
 START = 0.2
@@ -135,10 +152,10 @@ def static_fold(case: RuptureCase) -> float:
     return float(rupture_distance(br, case.volume))
 
 
-def gap_step(preset: str, static_gap: float, capillary_number: float) -> float:
-    """The base gap step (R): the preset's, scaled with ``S_c / S_REF`` and by
-    ``min(1, (Ca / 1e-2)^(1/3))``."""
-    return scaled_gap_step(PRESETS[preset][0], static_gap, capillary_number)
+def gap_step(preset: str, static_gap: float) -> float:
+    """The largest gap step (R) of a rupture run: the preset's, scaled with ``S_c / S_REF``
+    (the error control shortens it where the neck needs it)."""
+    return PRESETS[preset].gap_step * static_gap / S_REF
 
 
 def scaled_gap_step(base: float, static_gap: float, capillary_number: float) -> float:
@@ -147,9 +164,10 @@ def scaled_gap_step(base: float, static_gap: float, capillary_number: float) -> 
     return base * static_gap / S_REF * min(1.0, (capillary_number / 1e-2) ** (1.0 / 3.0))
 
 
-def dynamic_rupture(case: RuptureCase, preset: str = "default") -> RuptureResult:
+def dynamic_rupture(case: RuptureCase, preset: str = "default", steps: Preset | None = None
+                    ) -> RuptureResult:
     """Stretch the bridge of ``case`` at its capillary number from ``START * S_c`` to its
-    pinch and return the rupture distance.
+    pinch and return the rupture distance (``steps``: other steps than the preset's).
 
     Raises
     ------
@@ -159,17 +177,17 @@ def dynamic_rupture(case: RuptureCase, preset: str = "default") -> RuptureResult
     if preset not in PRESETS:
         raise InputError(f"dynamic rupture: preset = {preset!r}; allowed: {tuple(PRESETS)}")
     t0 = time.perf_counter()
-    neck_step = PRESETS[preset][1]
+    steps = PRESETS[preset] if steps is None else steps
     sc = static_fold(case)
     half = case.kind == "pair"  # the upper half: half the gap, volume and speed
     scale = 2.0 if half else 1.0
     speed = case.capillary_number / scale
-    step = gap_step(preset, sc, case.capillary_number) / scale
+    step = steps.gap_step * sc / S_REF / scale
     th = math.radians(case.theta_deg)
     wet = Wetting(th, th, case.slip, case.slip)
     r = run(case.volume / scale, START * sc / scale, speed, wet,
             Stepping(dt=step / speed, gap_end=20.0 * sc / scale, neck_stop=NECK_STOP,
-                     neck_step=neck_step),
+                     neck_step=steps.neck_step, tolerance=steps.tolerance),
             MeshOptions(plane="symmetry" if half else "wall"))
     if r.stopped != "neck":
         raise SolverError(f"dynamic rupture {asdict(case)}: the run stopped before the pinch "
