@@ -18,7 +18,10 @@ step backward Euler on the current domain, at ``first`` dt, the next ones growin
 5. place the solid and interior nodes (:meth:`.domain.Domain.moved`); remesh with gmsh from
    the surface when an element's shape falls below ``remesh_shape`` of its reference shape
    or its P2 map below ``remesh_curvature``; the history x^n, u^n is carried to the new
-   mesh at its surface fractions (no restart).
+   mesh at its surface fractions (no restart). A new mesh whose P2 map is itself below
+   ``remesh_curvature`` (gmsh's corner element in a thin wedge at a small contact angle) is
+   kept down to :data:`CURVATURE_FLOOR` of it and remeshed when its map falls to
+   :data:`CURVATURE_DROP` of its start.
 
 Force timing: ``force[k]`` is the force at ``time[k]`` (second order: the Stokes problem of
 step 2 is the one at t_{n+1}); the first entry is the instantaneous Stokes flow of the
@@ -67,6 +70,12 @@ from wetcontact.solver.stokes_dynamic.step import (
 
 ORDER = 2
 """Declared order in time of the stepping (BDF2 with an extrapolated domain)."""
+CURVATURE_FLOOR = 0.5
+"""A new mesh's P2 map ratio may be this fraction of ``Stepping.remesh_curvature`` (below
+it the run stops, reason ``"mesh"``)."""
+CURVATURE_DROP = 0.8
+"""A new mesh whose P2 map ratio is below ``remesh_curvature`` is remeshed when the ratio
+falls to this fraction of its start."""
 
 
 @dataclass(frozen=True)
@@ -321,6 +330,7 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
     shifts: list[float] = []
     remesh_times: list[float] = []
     fresh = False  # the current mesh was just made for an inverted prediction
+    curv_limit = stepping.remesh_curvature  # remesh below this P2 map ratio
 
     def record(t_: float, d: Domain, s: StepSolution) -> None:
         if observer is not None:
@@ -399,6 +409,7 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
                 break
             try:
                 dom, prev, fresh = remesh(xn, dom.gap), None, True
+                curv_limit = stepping.remesh_curvature
             except SolverError as exc:
                 stopped, message = "mesh", f"remeshing at t = {t:.6g} failed: {exc}"
                 break
@@ -447,7 +458,7 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
                 continue
         prev_new, uprev = xn, u
         shape, curv = new.quality()
-        if shape < stepping.remesh_shape or curv < stepping.remesh_curvature:
+        if shape < stepping.remesh_shape or curv < curv_limit:
             try:
                 new = remesh(xs, s1)
             except SolverError as exc:
@@ -456,10 +467,13 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
             remeshes += 1
             remesh_times.append(t1)
             shape, curv = new.quality()
-            if curv < stepping.remesh_curvature:
+            floor = CURVATURE_FLOOR * stepping.remesh_curvature
+            if curv < floor:
                 stopped, message = "mesh", (f"a new mesh at t = {t1:.6g} has a P2 map ratio "
-                                            f"{curv:.3g} < {stepping.remesh_curvature}")
+                                            f"{curv:.3g} < {floor:.3g}")
                 break
+            curv_limit = (stepping.remesh_curvature if curv >= stepping.remesh_curvature
+                          else CURVATURE_DROP * curv)
             # the history on the new mesh: X^n at the new surface fractions
             f_old, f_new = dom.fractions["surface"], new.fractions["surface"]
             prev_new = _on_solids(redistribute(xn, f_new), dom.gap, pin)
