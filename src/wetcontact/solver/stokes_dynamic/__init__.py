@@ -1,6 +1,7 @@
 r"""Dynamic liquid bridge between a sphere and a wall, or two equal spheres (the half above
 the shear-free mid-plane, ``MeshOptions(plane="symmetry")``): free-surface Stokes flow at
-a finite capillary number Ca = eta v / sigma (issue 57; not yet a registered model).
+a finite capillary number Ca = eta v / sigma; the registered model ``stokes-dynamic``
+(:mod:`.model`).
 
 Equations (units R = sigma = eta = 1; axisymmetric, meridian half-plane r >= 0):
 ``-div(-p I + 2 e(u)) = 0``, ``div u = 0`` in the liquid; on the free surface the traction
@@ -14,27 +15,26 @@ variable-step BDF2 on a domain extrapolated to the new time with Baensch's (2001
 semi-implicit curvature (:data:`ORDER` = 2; ``force[k]`` is the force at ``time[k]``),
 volume restored each step, gmsh remeshing from the surface's own nodes with elements of
 ``w(z)/n_neck`` across the local radius w (small only at the neck), gmsh in a worker
-process with a timeout (stop reason ``"mesh"``), adaptive steps as the neck thins, and the
-pinch located from the neck's late linear law (:func:`locate_pinch`).
+process with a timeout (stop reason ``"mesh"``), steps controlled by the neck's local error
+and its relative change per step, and the pinch located from the neck's late linear law
+(:func:`locate_pinch`).
 
 Accuracy (tests/solver/stokes_dynamic; V/R^3 = 1e-3, 20 deg, b = 1e-3 R, from S/R = 0.02):
 a static meniscus is an equilibrium to 2e-6 in force; a perturbed bridge relaxes to it
 (force 1e-5); volume kept to 1e-13; observed time order 2.0 (difference ratios 3.96, 4.04);
 the O(Ca) force excess at Ca = 1e-3 is the quasi-static ``stokes`` force within 0.8 %; at
 Ca = 1e-4 the force is ``meniscus`` plus Ca times ``stokes`` within 1.7e-5 up to S/R =
-0.08 (1.4e-4 at 0.105, near the fold). Rupture at Ca = 1e-2: 1.20 S_c (S_c the static fold;
-half steps move it by 0.3 %; Pitois: 1.10), 20 s; at Ca = 1e-4: 1.0265 S_c at gap steps
-of 5.4e-5 R (the delay past the fold scales as about 3 Ca^(1/2) S_c). The rupture distance
-over Ca, volume and angle: :mod:`.rupture`; the liquid each side of the pinch:
-:mod:`.division`. The neck is followed to 2e-3 of its start (380 s, 17k
-elements), where its rate is 0.066 sigma/eta (Papageorgiou 1995: 0.0709).
+0.08 (1.4e-4 at 0.105, near the fold). The rupture distance (:mod:`.rupture`; V/R^3 =
+1e-3, 30 deg, default preset): 1.1868 S_c at Ca = 1e-2 (S_c the static fold; Pitois:
+1.10), 1.0254 at 1e-4, 1.00024 at 1e-8 (the delay past the fold falls like about 3
+Ca^(1/2) S_c); the liquid each side of the pinch: :mod:`.division`. The neck's pinch-off
+rate against Papageorgiou (1995): ``benchmarks/bench_pinch.py``.
 Equal spheres: static force to 1e-6, O(Ca) excess 0.5 % from ``stokes``, rupture 1.165 S_c.
 
 Contact lines: static angles (default), Cox-Voinov's dynamic angle or pinned lines
 (:class:`.step.Wetting`; tests/solver/stokes_dynamic/test_stokes_dynamic_lines.py).
 
-Limits: Papageorgiou's rate is not confirmed within 2 % (4.2 % below over the decade to
-1.15e-4 R); unequal spheres.
+Limits: unequal spheres.
 
 Sources: Baensch (2001, Numer. Math. 88, 203), semi-implicit curvature; Ganesan & Tobiska
 (2008), the axisymmetric Laplace-Beltrami form; Navier (1823); Pitois, Moucheront &
