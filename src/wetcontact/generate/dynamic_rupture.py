@@ -171,6 +171,8 @@ def generate_dynamic_rupture(out: Path | None = None, workers: int = 1,
             "start_over_static": START, "preset": "default",
             "command": "python -m wetcontact.generate dynamic-rupture",
             "wall_time_s": round(time.perf_counter() - t0, 1),
+            "runs_wall_time_s": round(sum(r["result"].get("wall_time", 0.0)
+                                          for r in grid + held + edge if "result" in r), 1),
             "runs": [{"case": r["case"], **({"result": r["result"]} if "result" in r
                                              else {"error": r["error"]}),
                       "held_out": len(grid) <= i < len(grid) + len(held),

@@ -178,7 +178,7 @@ def stability_figure(stab: list[dict[str, Any]]):
     plt = pyplot()
     ths = sorted({r["theta_deg"] for r in stab if r["set"] != "held-out"})
     names = [f"pinch reached, theta {t:g} deg" for t in ths] + [
-        "held-out run, pinch reached", "stopped before the pinch (mesh)"]
+        "held-out run, pinch reached", "stopped before the pinch (reason: the CSV)"]
     st = styles(names)
     fig, axes = plt.subplots(1, 2, figsize=(11, 5.0), sharey=True, layout="constrained")
     for ax, kind, title in zip(axes, ("wall", "pair"),
