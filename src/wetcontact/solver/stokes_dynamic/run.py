@@ -445,15 +445,17 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
             stopped, message = "solver", str(exc)
             break
         new = dom.moved(xs, s1)
-        if (stepping.neck_step is not None and new.neck()[0] < (1 - 3 * stepping.neck_step)
-                * hist["neck"][-1] and dt > stepping.first * stepping.dt * 1e-6):
+        h_new = new.neck()[0]
+        can_shorten = dt > stepping.first * stepping.dt * 1e-6
+        if (stepping.neck_step is not None and can_shorten
+                and h_new < (1 - 3 * stepping.neck_step) * hist["neck"][-1]):
             dt *= 0.25  # the neck fell too fast: redo the step with a quarter of it
             continue
         grow = stepping.max_ratio
         if stepping.tolerance is not None and prev is not None and len(hist["t"]) >= 3:
-            est = _neck_error(hist, t1, new.neck()[0]) / neck0
+            est = _neck_error(hist, t1, h_new) / neck0
             grow = 0.9 * (stepping.tolerance / max(est, 1e-300)) ** (1.0 / 3.0)
-            if est > stepping.tolerance and dt > stepping.first * stepping.dt * 1e-6:
+            if est > stepping.tolerance and can_shorten:
                 dt *= max(0.25, grow)  # redo the step shorter
                 continue
         prev_new, uprev = xn, u
