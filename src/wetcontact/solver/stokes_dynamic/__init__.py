@@ -1,7 +1,7 @@
-r"""Dynamic liquid bridge between a sphere and a wall, or two equal spheres (the half above
-the shear-free mid-plane, ``MeshOptions(plane="symmetry")``): free-surface Stokes flow at
-a finite capillary number Ca = eta v / sigma; the registered model ``stokes-dynamic``
-(:mod:`.model`).
+r"""Dynamic liquid bridge between a sphere and a wall, two equal spheres (the half above
+the shear-free mid-plane, ``MeshOptions(plane="symmetry")``) or two unequal spheres (the
+whole bridge, ``MeshOptions(radius2=...)``): free-surface Stokes flow at a finite capillary
+number Ca = eta v / sigma; the registered model ``stokes-dynamic`` (:mod:`.model`).
 
 Equations (units R = sigma = eta = 1; axisymmetric, meridian half-plane r >= 0):
 ``-div(-p I + 2 e(u)) = 0``, ``div u = 0`` in the liquid; on the free surface the traction
@@ -30,11 +30,15 @@ Ca = 1e-4 the force is ``meniscus`` plus Ca times ``stokes`` within 1.7e-5 up to
 Ca^(1/2) S_c); the liquid each side of the pinch: :mod:`.division`. The neck's pinch-off
 rate against Papageorgiou (1995): ``benchmarks/bench_pinch.py``.
 Equal spheres: static force to 1e-6, O(Ca) excess 0.5 % from ``stokes``, rupture 1.165 S_c.
+Unequal spheres (R and R/2 or 2R, 30 deg): static force to 7e-7, O(Ca) excess 0.45 % from
+``stokes``; the whole bridge between equal spheres ruptures within 8e-5 of the half; spheres
+R, 2R and R, R/2 (the same bridge scaled) agree on S_c(Ca)/S_c within 5e-6.
 
 Contact lines: static angles (default), Cox-Voinov's dynamic angle or pinned lines
 (:class:`.step.Wetting`; tests/solver/stokes_dynamic/test_stokes_dynamic_lines.py).
 
-Limits: unequal spheres.
+Limits: angles up to 30 deg between spheres (:data:`.rupture.PAIR_THETA_MAX`), R2/R in
+0.1-10; Ca up to 0.3 (:mod:`.rupture`).
 
 Sources: Baensch (2001, Numer. Math. 88, 203), semi-implicit curvature; Ganesan & Tobiska
 (2008), the axisymmetric Laplace-Beltrami form; Navier (1823); Pitois, Moucheront &

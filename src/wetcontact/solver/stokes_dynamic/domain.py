@@ -1,22 +1,26 @@
-"""The moving liquid domain of a sphere-wall bridge: an ALE mesh of second-order triangles.
+"""The moving liquid domain of a bridge on a sphere: an ALE mesh of second-order triangles.
 
-Units R = 1 (sphere radius). The sphere's centre is at ``(0, 1 + S)``, the wall is z = 0
-(or the mid-plane of two equal spheres, ``plane = "symmetry"``: the same chains).
-The boundary is four named chains of P2 edges (:func:`chain`): ``free_surface`` from the
-wall's contact line to the sphere's, ``sphere`` from its apex on the axis to its contact
-line, ``wall`` from the origin to its contact line, ``axis`` from the origin to the apex.
+Units R = 1 (the upper sphere's radius). The sphere's centre is at ``(0, 1 + S)``; the
+lower solid is the wall z = 0, the mid-plane of two equal spheres (``plane =
+"symmetry"``) or a lower sphere of radius ``R2`` (``MeshOptions.radius2``, units R)
+centred at ``(0, -R2)``, its apex at the origin. The boundary is four named chains of P2
+edges (:func:`chain`): ``free_surface`` from the lower solid's contact line to the
+sphere's, ``sphere`` from its apex on the axis to its contact line, the lower solid
+(``wall``, ``symmetry`` or ``sphere2``; the attribute ``wall``) from the origin to its
+contact line, ``axis`` from the origin to the apex.
 
 The state of the bridge is the free surface alone (Stokes flow has no memory): every other
 node follows it. Solid nodes keep their reference fractions of the wetted arc (wall: r/r_w;
-sphere: angle from the apex over the filling angle; axis: z/S), on the exact solids;
+spheres: angle from the apex over the filling angle; axis: z/S), on the exact solids;
 interior nodes follow by a harmonic extension of the boundary displacement from the
 reference mesh, stiffened by 1/area so that the small contact-line elements move rigidly
 (Johnson & Tezduyar 1994). The extension matrix is factorised once per reference mesh.
 
 Volume (the meniscus solver's definition, exact solids): ``V = pi int_Gamma r^2 dz -
-V_cap(phi)``, ``V_cap = pi (1 - cos phi)^2 (2 + cos phi)/3`` the sphere cap below the
-contact line, evaluated exactly on the P2 free surface (3-point Gauss, the integrand is a
-polynomial of degree 5).
+V_cap(phi) - R2^3 V_cap(phi_2)``, ``V_cap = pi (1 - cos phi)^2 (2 + cos phi)/3`` the unit
+sphere's cap below its contact line (phi its filling angle) and the lower sphere's above
+its line (phi_2; none on a plane), evaluated exactly on the P2 free surface (3-point Gauss,
+the integrand is a polynomial of degree 5).
 
 Meshes come from gmsh (:func:`~wetcontact.meshes.builders.sphere_bridge`, with ``n_width``
 elements across the local radius at a thin neck) in a worker process (:class:`_Mesher`):
@@ -98,19 +102,33 @@ def on_sphere(angle: np.ndarray, gap: float) -> np.ndarray:
     return np.stack([np.sin(angle), 1.0 + gap - np.cos(angle)])
 
 
+def lower_angle(xy: np.ndarray, radius2: float) -> np.ndarray:
+    """Angle from the lower sphere's apex (the origin; radius ``radius2``, centre
+    ``(0, -radius2)``) of points (2, n) on (or near) it."""
+    return np.arctan2(xy[0], radius2 + xy[1])
+
+
+def on_lower(angle: np.ndarray, radius2: float) -> np.ndarray:
+    """Points (2, n) of the lower sphere of radius ``radius2`` at ``angle`` from its apex."""
+    return radius2 * np.stack([np.sin(angle), np.cos(angle) - 1.0])
+
+
 def cap_volume(phi: float) -> float:
     """Volume of the unit sphere's cap of half-angle phi."""
     c = math.cos(phi)
     return math.pi * (1 - c) ** 2 * (2 + c) / 3.0
 
 
-def surface_volume(xs: np.ndarray, gap: float) -> float:
-    """Liquid volume under the free surface ``xs`` (2, 2N + 1) (module docstring)."""
+def surface_volume(xs: np.ndarray, gap: float, radius2: float | None = None) -> float:
+    """Liquid volume under the free surface ``xs`` (2, 2N + 1) (module docstring; ``radius2``
+    the lower sphere's radius, ``None`` a plane)."""
     n, dn = p2_shape(GAUSS3[0])
     e = np.stack([xs[:, 0:-1:2], xs[:, 2::2], xs[:, 1::2]], axis=1)  # (2, 3, N)
     r = np.einsum("kq,kn->nq", n, e[0])
     dz = np.einsum("kq,kn->nq", dn, e[1])
     v = math.pi * float(np.sum(r * r * dz * GAUSS3[1]))
+    if radius2 is not None:
+        v -= radius2**3 * cap_volume(float(lower_angle(xs[:, :1], radius2)[0]))
     return v - cap_volume(float(sphere_angle(xs[:, -1:], gap)[0]))
 
 
@@ -154,9 +172,11 @@ def neck(xs: np.ndarray) -> tuple[float, float]:
     return neck_point(xs)[:2]
 
 
-def contact_angles(xs: np.ndarray, gap: float) -> tuple[float, float]:
-    """Contact angles (rad, through the liquid) of the P2 surface ``xs`` at the wall and at
-    the sphere at ``gap``, from the end tangents of its first and last quadratic edges."""
+def contact_angles(xs: np.ndarray, gap: float, radius2: float | None = None
+                   ) -> tuple[float, float]:
+    """Contact angles (rad, through the liquid) of the P2 surface ``xs`` at the lower solid
+    (the wall, or the sphere of radius ``radius2``) and at the sphere at ``gap``, from the
+    end tangents of its first and last quadratic edges."""
     _, d0 = p2_shape(np.array([0.0]))
     _, d1 = p2_shape(np.array([1.0]))
     t0 = np.stack([xs[:, 0], xs[:, 2], xs[:, 1]], axis=1) @ d0[:, 0]
@@ -164,7 +184,9 @@ def contact_angles(xs: np.ndarray, gap: float) -> tuple[float, float]:
     t0, t1 = t0 / np.hypot(*t0), t1 / np.hypot(*t1)
     phi = float(sphere_angle(xs[:, -1:], gap)[0])
     cs = float(t1[0] * math.cos(phi) + t1[1] * math.sin(phi))
-    return math.acos(min(1.0, max(-1.0, -t0[0]))), math.acos(min(1.0, max(-1.0, cs)))
+    a2 = 0.0 if radius2 is None else float(lower_angle(xs[:, :1], radius2)[0])
+    cw = -float(t0[0] * math.cos(a2) - t0[1] * math.sin(a2))
+    return math.acos(min(1.0, max(-1.0, cw))), math.acos(min(1.0, max(-1.0, cs)))
 
 
 def redistribute(xs: np.ndarray, fractions: np.ndarray) -> np.ndarray:
@@ -192,18 +214,18 @@ def dense_profile(xs: np.ndarray) -> np.ndarray:
 
 
 def correct_volume(xs: np.ndarray, gap: float, volume: float, tol: float = 1e-13,
-                   ) -> tuple[np.ndarray, float]:
+                   radius2: float | None = None) -> tuple[np.ndarray, float]:
     """Shift the free-surface nodes along their normals by ``d sin(pi f)`` (f the chord
     fraction; the contact lines stay on their solids and the surface keeps its angles there)
-    with the one d that makes the volume ``volume`` (secant iteration; V is a cubic in d).
-    Returns the surface and d.
+    with the one d that makes the volume ``volume`` (secant iteration; V is a cubic in d;
+    ``radius2`` the lower sphere's, :func:`surface_volume`). Returns the surface and d.
     """
     s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xs, axis=1)))])
     n = surface_normals(xs) * np.sin(math.pi * s / s[-1])
     n[:, 0] = n[:, -1] = 0.0
 
     def vol(d: float) -> float:
-        return surface_volume(xs + d * n, gap) - volume
+        return surface_volume(xs + d * n, gap, radius2) - volume
 
     area = 2 * math.pi * float(np.sum(xs[0] * np.hypot(*np.gradient(xs, axis=1))
                                       * np.hypot(n[0], n[1])))
@@ -329,6 +351,10 @@ MESHER = _Mesher()
 # ---- the domain -----------------------------------------------------------------------
 
 
+RADIUS2_RANGE = (0.05, 20.0)
+"""R2/R of a lower sphere the mesh builder takes."""
+
+
 @BilinearForm
 def _stiffened_laplace(u, v, w):
     return w["k"] * dot(grad(u), grad(v))
@@ -358,6 +384,9 @@ class MeshOptions:
         ``"wall"``: a sphere on a wall; ``"symmetry"``: the upper half of a bridge between
         two equal spheres (the plane z = 0 is the mid-plane, shear-free, and the surface
         meets it at right angles: no contact line there; gap and volume are the half's).
+    radius2
+        R2/R of a lower sphere (its apex at the origin, a solid with slip and a contact
+        line like the wall) instead of the plane; ``None``: the plane.
     """
 
     h_surface: float = 0.01
@@ -367,6 +396,17 @@ class MeshOptions:
     n_neck: int = 8
     timeout: float = 60.0
     plane: str = "wall"
+    radius2: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.radius2 is not None:
+            a2 = self.radius2
+            if not (math.isfinite(a2) and RADIUS2_RANGE[0] <= a2 <= RADIUS2_RANGE[1]):
+                raise SolverError(f"stokes-dynamic: radius2 = {a2!r} R; allowed: "
+                                  f"[{RADIUS2_RANGE[0]:g}, {RADIUS2_RANGE[1]:g}] or None")
+            if self.plane != "wall":
+                raise SolverError(f"stokes-dynamic: plane = {self.plane!r} with a lower sphere "
+                                  "(radius2); allowed: 'wall'")
 
     def resolution(self) -> Resolution:
         """The builder's :class:`~wetcontact.meshes.builders.Resolution`."""
@@ -385,13 +425,16 @@ class Domain:
     gap
         S/R of the current mesh.
     surface, sphere, wall, axis
-        Node chains (:func:`chain`); ``wall`` is the plane z = 0, named ``plane``
-        (``"wall"`` or ``"symmetry"``, :class:`MeshOptions`).
+        Node chains (:func:`chain`); ``wall`` is the lower solid: the plane z = 0, named
+        ``plane`` (``"wall"`` or ``"symmetry"``, :class:`MeshOptions`), or the lower sphere
+        (``"sphere2"``).
     reference
         Node positions (2, n) of the reference mesh (the last one gmsh made).
     fractions
         Per chain, the reference fraction of each node (free surface: chord length; wall:
-        r/r_w; sphere: angle/filling angle; axis: z/S).
+        r/r_w; spheres: angle/filling angle; axis: z/S).
+    radius2
+        R2/R of the lower sphere; ``None``: the plane.
     """
 
     mesh: MeshTri2
@@ -404,6 +447,7 @@ class Domain:
     fractions: dict[str, np.ndarray]
     quality0: tuple[np.ndarray, np.ndarray]
     plane: str = "wall"
+    radius2: float | None = None
     _extension: tuple = field(repr=False, default=())
 
     @classmethod
@@ -413,11 +457,11 @@ class Domain:
         sphere_bridge`)."""
         prof = np.asarray(profile, dtype=float)
         mesh = MESHER(opts.timeout, gap, prof, opts.resolution(), contact_size=opts.contact_size,
-                      n_width=opts.n_neck, plane=opts.plane)
-        return cls.on_mesh(to_skfem(mesh), gap)
+                      n_width=opts.n_neck, plane=opts.plane, radius2=opts.radius2)
+        return cls.on_mesh(to_skfem(mesh), gap, opts.radius2)
 
     @classmethod
-    def on_mesh(cls, mesh: MeshTri2, gap: float) -> Domain:
+    def on_mesh(cls, mesh: MeshTri2, gap: float, radius2: float | None = None) -> Domain:
         x = mesh.doflocs
         fs = mesh.facets[:, mesh.boundaries["free_surface"]]
         ends = [v for v in np.unique(fs) if np.count_nonzero(fs == v) == 1]
@@ -430,7 +474,7 @@ class Domain:
         surface = chain(mesh, "free_surface", int(low))
         sphere = chain(mesh, "sphere", int(apex))
         plane = "symmetry" if "symmetry" in mesh.boundaries else "wall"
-        wall = chain(mesh, plane, int(origin))
+        wall = chain(mesh, "sphere2" if radius2 is not None else plane, int(origin))
         axis = chain(mesh, "axis", int(origin))
         if sphere[-1] != high or wall[-1] != low or axis[-1] != apex:
             raise SolverError("bridge mesh: the boundary chains do not meet at the contact "
@@ -438,10 +482,11 @@ class Domain:
         xs = x[:, surface]
         s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xs, axis=1)))])
         ang = sphere_angle(x[:, sphere], gap)
-        frac = {"surface": s / s[-1], "sphere": ang / ang[-1],
-                "wall": x[0, wall] / x[0, wall[-1]], "axis": x[1, axis] / gap}
+        lower = x[0, wall] if radius2 is None else lower_angle(x[:, wall], radius2)
+        frac = {"surface": s / s[-1], "sphere": ang / ang[-1], "wall": lower / lower[-1],
+                "axis": x[1, axis] / gap}
         dom = cls(mesh=mesh, gap=gap, surface=surface, sphere=sphere, wall=wall, axis=axis,
-                  plane=plane,
+                  plane=plane, radius2=radius2,
                   reference=x.copy(), fractions=frac, quality0=element_quality(mesh))
         dom._extension = dom._factor()
         return dom
@@ -464,19 +509,28 @@ class Domain:
         """Free-surface nodes (2, 2N + 1), wall to sphere."""
         return self.mesh.doflocs[:, self.surface]
 
+    @property
+    def lower_name(self) -> str:
+        """The lower solid's boundary name: ``"wall"``, ``"symmetry"`` or ``"sphere2"``."""
+        return "sphere2" if self.radius2 is not None else self.plane
+
     def volume(self) -> float:
-        return surface_volume(self.surface_xy, self.gap)
+        return surface_volume(self.surface_xy, self.gap, self.radius2)
 
     def neck(self) -> tuple[float, float]:
         return neck(self.surface_xy)
 
     def moved(self, xs: np.ndarray, gap: float) -> Domain:
-        """The domain with free surface ``xs`` (its ends on the wall and on the sphere at
-        ``gap``), the other nodes placed by the rules of the module docstring."""
+        """The domain with free surface ``xs`` (its ends on the lower solid and on the sphere
+        at ``gap``), the other nodes placed by the rules of the module docstring."""
         x = self.reference.copy()
         f = self.fractions
         x[:, self.surface] = xs
-        x[0, self.wall], x[1, self.wall] = f["wall"] * xs[0, 0], 0.0
+        if self.radius2 is None:
+            x[0, self.wall], x[1, self.wall] = f["wall"] * xs[0, 0], 0.0
+        else:
+            a2 = float(lower_angle(xs[:, :1], self.radius2)[0])
+            x[:, self.wall] = on_lower(f["wall"] * a2, self.radius2)
         x[0, self.axis], x[1, self.axis] = 0.0, f["axis"] * gap
         phi = float(sphere_angle(xs[:, -1:], gap)[0])
         x[:, self.sphere] = on_sphere(f["sphere"] * phi, gap)

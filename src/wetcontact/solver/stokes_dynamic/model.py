@@ -22,8 +22,12 @@ Past the pinch both are zero (``bridge_exists`` 0). Extras: ``neck_radius`` (m),
 :func:`.pinch.locate_pinch`) and ``transfer_fraction`` (the sphere's share of the liquid at
 the pinch; :mod:`.division`; 1/2 between equal spheres).
 
-Geometries: sphere-wall (angles and slip lengths may differ on the two solids) and two
-equal spheres with equal angles and slip lengths (the half above the mid-plane). Accuracy:
+Geometries: sphere-wall and two spheres (R2/R in
+:data:`~.rupture.RADIUS_RATIO_RANGE`), angles and slip lengths may differ on the two
+solids. Equal spheres with equal angles and slip lengths are solved on the half above the
+shear-free mid-plane, other pairs on the whole bridge (the lower sphere a solid at rest
+with slip and a contact line; the two agree within 8e-5 on the rupture distance at
+Ca = 1e-2). Accuracy:
 :mod:`wetcontact.solver.stokes_dynamic` (force at Ca = 1e-4 within 1.7e-5 of ``meniscus``
 plus Ca times ``stokes`` up to 0.08 R; the rupture distance: :mod:`.rupture`).
 """
@@ -52,6 +56,7 @@ from wetcontact.solver.stokes_dynamic.rupture import (
     NECK_STOP,
     PAIR_THETA_MAX,
     PRESETS,
+    RADIUS_RATIO_RANGE,
     THETA_RANGE,
     VOLUME_RANGE,
     scaled_gap_step,
@@ -107,8 +112,9 @@ class StokesDynamic(Model):
     component = "both"
     validity = (f"a moving liquid bridge, Ca = eta|v|/sigma in [{CA_RANGE[0]:g}, "
                 f"{CA_RANGE[1]:g}], V/R^3 in [{VOLUME_RANGE[0]:g}, {VOLUME_RANGE[1]:g}], contact "
-                f"angles {THETA_RANGE[0]:g}-{THETA_RANGE[1]:g} deg; sphere-wall, or equal "
-                f"spheres with equal angles (<= {PAIR_THETA_MAX:g} deg) and slip lengths; slip "
+                f"angles {THETA_RANGE[0]:g}-{THETA_RANGE[1]:g} deg; sphere-wall, or two "
+                f"spheres (R2/R {RADIUS_RATIO_RANGE[0]:g}-{RADIUS_RATIO_RANGE[1]:g}, angles "
+                f"<= {PAIR_THETA_MAX:g} deg); slip "
                 f"b/R in [{SLIP_RANGE[0]:g}, {SLIP_RANGE[1]:g}] (0: {DEFAULT_SLIP:g}); S/R >= "
                 f"{MIN_GAP:g}")
     order = float(ORDER)
@@ -157,19 +163,17 @@ class StokesDynamic(Model):
                 raise ValidityError(self.name, f"{label} = {b:.3g} m = {b / R:.3g} R outside "
                                     f"[{SLIP_RANGE[0]:g}, {SLIP_RANGE[1]:g}] R", _instead(scene))
         if scene.kind == "sphere-sphere":
-            if abs(scene.radius2 / R - 1.0) > 1e-9:
-                raise ValidityError(self.name, f"R2/R = {scene.radius2 / R:.4g}: equal spheres "
-                                    "only (the half above the mid-plane)" + QUASI_STATIC,
-                                    _instead(scene))
-            if (abs(scene.contact_angle_sphere - scene.contact_angle_wall) > 1e-12
-                    or scene.slip_length_sphere != scene.slip_length_wall):
-                raise ValidityError(self.name, "two spheres with different contact angles or "
-                                    "slip lengths: equal ones only" + QUASI_STATIC, _instead(scene))
-            if (deg := math.degrees(scene.contact_angle_sphere)) > PAIR_THETA_MAX + 1e-9:
+            q = scene.radius2 / R
+            if not RADIUS_RATIO_RANGE[0] <= q <= RADIUS_RATIO_RANGE[1]:
+                raise ValidityError(self.name, f"R2/R = {q:.4g} outside "
+                                    f"[{RADIUS_RATIO_RANGE[0]:g}, {RADIUS_RATIO_RANGE[1]:g}]"
+                                    + QUASI_STATIC, _instead(scene))
+            deg = math.degrees(max(scene.contact_angle_sphere, scene.contact_angle_wall))
+            if deg > PAIR_THETA_MAX + 1e-9:
                 raise ValidityError(self.name, f"contact angle {deg:.4g}"
-                                    f" deg > {PAIR_THETA_MAX:g} deg between equal spheres: the "
-                                    "static bridge breaks its symmetry before its fold",
-                                    _instead(scene))
+                                    f" deg > {PAIR_THETA_MAX:g} deg between spheres: the "
+                                    "static bridge between equal spheres breaks its symmetry "
+                                    "before its fold", _instead(scene))
         s = scene.gap_array / R
         if s.min() < MIN_GAP:
             raise ValidityError(self.name, f"S/R = {s.min():.3g} < {MIN_GAP:g}", _instead(scene))
@@ -240,7 +244,9 @@ class StokesDynamic(Model):
                 raise InputError(f"model '{self.name}': {name} = {val!r}; allowed: "
                                  f"[{lo:g}, {hi:g}]")
         pair = scene.kind == "sphere-sphere"
-        scale = 2.0 if pair else 1.0  # the half above the mid-plane: half gap, volume, speed
+        q = scene.radius2 / R if pair else None  # R2/R
+        half = pair and _symmetric(scene)
+        scale = 2.0 if half else 1.0  # the half above the mid-plane: half gap, volume, speed
         vol = scene.bridge_volume / R**3
         ca = eta * abs(scene.velocity) / sigma
         if line not in LINE_LAWS:
@@ -255,7 +261,7 @@ class StokesDynamic(Model):
                       scene.slip_length_sphere / R or default_slip,
                       scene.slip_length_wall / R or default_slip, line=line,
                       macro_length=1.0 if macro_length is None else macro_length / R)
-        br = Bridge(radius=1.0, radius2=1.0 if pair else None,
+        br = Bridge(radius=1.0, radius2=q,
                     contact_angle1=wet.theta_sphere, contact_angle2=wet.theta_wall,
                     surface_tension=1.0)
         s_fold = float(rupture_distance(br, vol))
@@ -277,7 +283,8 @@ class StokesDynamic(Model):
                          t_end=None if motion is None else motion.duration,
                          neck_stop=NECK_STOP if sep else 0.0, neck_step=neck_step,
                          tolerance=tolerance),
-                MeshOptions(plane="symmetry" if pair else "wall"),
+                MeshOptions(plane="symmetry" if half else "wall",
+                            radius2=None if half else q),
                 checkpoint=checkpoint, observer=observer,
                 gap_at=None if motion is None else motion.gap(scale))
         pinched = sep and r.stopped == "neck"  # ("line", "solver": a line law's limit)
@@ -298,7 +305,7 @@ class StokesDynamic(Model):
             "static_rupture_distance": s_fold * R}
         if pinched:
             p = locate_pinch(r)
-            share = 0.5 if pair else 1.0 - wall_fraction(r)
+            share = 0.5 if half else 1.0 - wall_fraction(r)
             extras["rupture_distance"] = np.full(s.size, p.gap * scale * R)
             extras["transfer_fraction"] = np.full(s.size, share)
             diag.update(pinch_slope=p.slope, pinch_spread=p.spread)
@@ -313,6 +320,14 @@ class StokesDynamic(Model):
         return ForceCurve(case=scene.name, model=self.name, gap=gaps,
                           force_viscous=np.where(exists > 0, total - cap, 0.0),
                           force_capillary=cap, extras=extras, diagnostics=diag)
+
+
+def _symmetric(scene: Scene) -> bool:
+    """Two equal spheres with equal angles and slip lengths: a bridge symmetric about its
+    mid-plane (solved on its upper half)."""
+    return (abs(scene.radius2 / scene.radius - 1.0) <= 1e-9
+            and abs(scene.contact_angle_sphere - scene.contact_angle_wall) <= 1e-12
+            and scene.slip_length_sphere == scene.slip_length_wall)
 
 
 class _Trajectory:

@@ -1,5 +1,6 @@
-"""Time stepping of a sphere-wall bridge: kinematic update, volume, mesh motion, remeshing,
-stopping (the equations are in :mod:`.step`, the domain in :mod:`.domain`).
+"""Time stepping of a bridge between a sphere and a wall, a symmetry plane or a lower sphere:
+kinematic update, volume, mesh motion, remeshing, stopping (the equations are in
+:mod:`.step`, the domain in :mod:`.domain`).
 
 One step from t_n to t_{n+1} = t_n + dt (variable-step BDF2, order 2 in time; the first
 step backward Euler on the current domain, at ``first`` dt, the next ones growing by
@@ -55,6 +56,8 @@ from wetcontact.solver.stokes_dynamic.domain import (
     contact_angles,
     correct_volume,
     dense_profile,
+    lower_angle,
+    on_lower,
     on_sphere,
     profile_of,
     redistribute,
@@ -185,14 +188,16 @@ class DynamicRun:
     diagnostics: dict[str, float] = field(default_factory=dict)
 
 
-def static_profile(gap: float, volume: float, wet: Wetting, plane: str = "wall"
-                   ) -> np.ndarray:
+def static_profile(gap: float, volume: float, wet: Wetting, plane: str = "wall",
+                   radius2: float | None = None) -> np.ndarray:
     """The static meniscus (n, 2) at ``gap`` (S/R) and ``volume`` (V/R^3), units R
-    (:func:`wetcontact.solver.meniscus.solve_volume`). ``plane="symmetry"``: the upper half
-    of the bridge between two equal spheres at 2 gap holding 2 volume, from the mid-plane
-    (z = 0) to the upper sphere (angle ``theta_sphere`` on both)."""
+    (:func:`wetcontact.solver.meniscus.solve_volume`), from the lower solid's contact line
+    to the sphere's. ``plane="symmetry"``: the upper half of the bridge between two equal
+    spheres at 2 gap holding 2 volume, from the mid-plane (z = 0) to the upper sphere
+    (angle ``theta_sphere`` on both). ``radius2``: a lower sphere of that radius (its apex
+    at the origin, angle ``theta_wall``) instead of the wall."""
     sym = plane == "symmetry"
-    br = Bridge(radius=1.0, radius2=1.0 if sym else None,
+    br = Bridge(radius=1.0, radius2=1.0 if sym else radius2,
                 contact_angle1=wet.theta_sphere,
                 contact_angle2=wet.theta_sphere if sym else wet.theta_wall,
                 surface_tension=1.0)
@@ -222,11 +227,16 @@ def gap_history(gap0: float, speed: float | Callable[[float], float],
     return (lambda t: gap0 + v * t), (lambda t: v)
 
 
-def _on_solids(xs: np.ndarray, gap: float, pinned: float | None = None) -> np.ndarray:
-    """The surface with its ends put back on the wall and on the sphere at ``gap`` (at the
-    sphere angle ``pinned`` for a pinned line)."""
+def _on_solids(xs: np.ndarray, gap: float, pinned: float | None = None,
+               radius2: float | None = None) -> np.ndarray:
+    """The surface with its ends put back on the lower solid (the wall, or the sphere of
+    radius ``radius2``) and on the sphere at ``gap`` (at the sphere angle ``pinned`` for a
+    pinned line)."""
     xs = xs.copy()
-    xs[1, 0] = 0.0
+    if radius2 is None:
+        xs[1, 0] = 0.0
+    else:
+        xs[:, 0] = on_lower(lower_angle(xs[:, :1], radius2), radius2)[:, 0]
     phi = sphere_angle(xs[:, -1:], gap) if pinned is None else np.array([pinned])
     xs[:, -1] = on_sphere(phi, gap)[:, 0]
     return xs
@@ -250,7 +260,8 @@ def _solve_lines(dom: Domain, dt: float, speed: float, wet: Wetting, intorder: i
                          line_speed=speeds)
         if wet.line != "cox-voinov":
             return sol
-        new = _line_speeds(sol.velocity(dom.surface), dom.surface_xy, dom.gap, speed)
+        new = _line_speeds(sol.velocity(dom.surface), dom.surface_xy, dom.gap, speed,
+                           dom.radius2)
         done = all(abs(a - b) <= 1e-13 + 1e-10 * abs(a) for a, b in zip(new, speeds,
                                                                         strict=True))
         speeds = new
@@ -262,14 +273,15 @@ def _solve_lines(dom: Domain, dt: float, speed: float, wet: Wetting, intorder: i
     return sol
 
 
-def _line_speeds(u: np.ndarray, xs: np.ndarray, gap: float, speed: float
-                 ) -> tuple[float, float]:
-    """Speeds (sigma/eta, > 0 advancing) of the wall's and the sphere's contact lines over
-    their solids, from the velocity ``u`` (2, m) at the surface nodes ``xs``."""
+def _line_speeds(u: np.ndarray, xs: np.ndarray, gap: float, speed: float,
+                 radius2: float | None = None) -> tuple[float, float]:
+    """Speeds (sigma/eta, > 0 advancing) of the lower solid's and the sphere's contact lines
+    over their solids, from the velocity ``u`` (2, m) at the surface nodes ``xs``."""
     if u.size == 0:
         return 0.0, 0.0
     phi = float(sphere_angle(xs[:, -1:], gap)[0])
-    return (float(u[0, 0]),
+    a2 = 0.0 if radius2 is None else float(lower_angle(xs[:, :1], radius2)[0])
+    return (float(u[0, 0] * math.cos(a2) - u[1, 0] * math.sin(a2)),
             float(u[0, -1] * math.cos(phi) + (u[1, -1] - speed) * math.sin(phi)))
 
 
@@ -309,14 +321,15 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
     ckpt = None if checkpoint is None else _Checkpoint(
         Path(checkpoint), volume, gap0, speed, wet, stepping, mesh or MeshOptions(), initial)
     opts = mesh or MeshOptions()
-    prof = (static_profile(gap0, volume, wet, opts.plane) if initial is None
+    a2 = opts.radius2
+    prof = (static_profile(gap0, volume, wet, opts.plane, a2) if initial is None
             else np.asarray(initial))
     gap_at, speed_at = gap_history(gap0, speed, gap_at)
     dom = Domain.from_profile(gap0, prof, opts)
-    xs, shift = correct_volume(dom.surface_xy, gap0, volume)
+    xs, shift = correct_volume(dom.surface_xy, gap0, volume, radius2=a2)
     if abs(shift) > 0.1 * opts.contact_size:  # a large correction: mesh the corrected shape
         dom = Domain.from_profile(gap0, profile_of(xs), opts)
-        xs, _ = correct_volume(dom.surface_xy, gap0, volume)
+        xs, _ = correct_volume(dom.surface_xy, gap0, volume, radius2=a2)
     dom = dom.moved(xs, gap0)
     neck0 = dom.neck()[0]
     pin = (float(sphere_angle(dom.surface_xy[:, -1:], gap0)[0]) if wet.line == "pinned"
@@ -344,7 +357,7 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
 
     def remesh(xs_: np.ndarray, gap: float) -> Domain:
         new = Domain.from_profile(gap, dense_profile(xs_), opts)
-        xs2, _ = correct_volume(new.surface_xy, gap, volume)
+        xs2, _ = correct_volume(new.surface_xy, gap, volume, radius2=a2)
         return new.moved(xs2, gap)
 
     try:  # the instantaneous flow at t = 0: the initial force
@@ -365,7 +378,7 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
         f_new = dom.fractions["surface"]
         gap_prev = float(state["gap_prev"])
         if state["prev"].size:
-            prev = _on_solids(redistribute(state["prev"], f_new), gap_prev, pin)
+            prev = _on_solids(redistribute(state["prev"], f_new), gap_prev, pin, a2)
             uprev = np.stack([np.interp(f_new, state["fractions"], uc) for uc in state["uprev"]])
         t_start -= float(state["wall_time"])
         if end := _reached(stepping, t, dom.gap, gap0, hist["neck"][-1], neck0):
@@ -398,7 +411,7 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
             omega = dt / dt_prev
             star = xn + omega * (xn - prev)
         a0, a1, c = bdf_weights(omega)
-        star = _on_solids(star, s1, pin)
+        star = _on_solids(star, s1, pin, a2)
         if np.any(star[0] <= 0):
             stopped, message = "neck", f"the predicted surface reaches the axis at t = {t1:.6g}"
             break
@@ -421,8 +434,8 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
             if prev is not None:  # the nodes' tangential motion follows the history
                 slide = (xn - prev) / dt_prev - uprev
                 base = base + a1 * prev + c * dt * _tangential(slide, nstar)
-            guess = (_line_speeds(uprev, xn, dom.gap, speed_at(t)) if wet.line == "cox-voinov"
-                     else (0.0, 0.0))
+            guess = (_line_speeds(uprev, xn, dom.gap, speed_at(t), a2)
+                     if wet.line == "cox-voinov" else (0.0, 0.0))
             sol = _solve_lines(dstar, dt, speed_at(t1), wet, intorder, base, c, guess)
         except SolverError as exc:
             stopped, message = "solver", str(exc)
@@ -433,13 +446,13 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
             dt *= max(0.25, 0.9 * math.sqrt(stepping.slide_limit / lag))  # redo the step
             continue
         xs = base + c * dt * u
-        xs = _on_solids(xs, s1, pin)
+        xs = _on_solids(xs, s1, pin, a2)
         if np.any(xs[0] <= 0) or not np.all(np.isfinite(xs)):
             stopped, message = "neck", f"the free surface reached the axis at t = {t1:.6g}"
             break
         xs = redistribute(xs, dom.fractions["surface"])
         try:
-            xs, shift = correct_volume(xs, s1, volume)
+            xs, shift = correct_volume(xs, s1, volume, radius2=a2)
             shifts.append(abs(shift))
         except SolverError as exc:
             stopped, message = "solver", str(exc)
@@ -478,12 +491,13 @@ def run(volume: float, gap0: float, speed: float | Callable[[float], float], wet
                           else CURVATURE_DROP * curv)
             # the history on the new mesh: X^n at the new surface fractions
             f_old, f_new = dom.fractions["surface"], new.fractions["surface"]
-            prev_new = _on_solids(redistribute(xn, f_new), dom.gap, pin)
+            prev_new = _on_solids(redistribute(xn, f_new), dom.gap, pin, a2)
             uprev = np.stack([np.interp(f_new, f_old, uc) for uc in u])
         gap_prev = dom.gap
         dom, prev, t, step, dt_prev, fresh = new, prev_new, t1, step + 1, dt, False
         record(t, dom, sol)
-        if pin is not None and (low := min(contact_angles(dom.surface_xy, dom.gap))) < PIN_MIN:
+        if pin is not None and (low := min(contact_angles(dom.surface_xy, dom.gap, a2))
+                                ) < PIN_MIN:
             stopped, message = "line", (
                 f"a pinned line's angle fell to {math.degrees(low):.3g} deg at S/R = "
                 f"{dom.gap:.6g}: the liquid wedge degenerates, and a real line depins at its "

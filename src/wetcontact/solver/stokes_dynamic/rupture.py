@@ -7,9 +7,10 @@ its neck pinches (:func:`~.pinch.locate_pinch`); the rupture distance is the gap
 pinch, ``S_c(Ca)``. Pitois, Moucheront & Chateau (2001) give
 ``S_c(Ca) = S_c (1 + Ca^(1/2))`` (PHYSICS.md section 8).
 
-Geometries: a sphere and a wall (``"wall"``), or two equal spheres (``"pair"``, solved on
-the upper half above the shear-free mid-plane: the half moves at v/2; angles up to
-:data:`PAIR_THETA_MAX`). Contact angles equal
+Geometries: a sphere and a wall (``"wall"``), or two spheres (``"pair"``; angles up to
+:data:`PAIR_THETA_MAX`): equal spheres are solved on the upper half above the shear-free
+mid-plane (the half moves at v/2), unequal ones (``radius_ratio`` = R2/R of the lower
+sphere, R the upper's) on the whole bridge. Contact angles equal
 on both solids, static (the lines slide at the static angle), Navier slip ``slip`` R on both
 solids. Units R = sigma = eta = 1.
 
@@ -84,6 +85,8 @@ CA_RANGE = (1e-8, 0.3)
 (at Ca = 1, V/R^3 = 1e-3, 20 deg: a degenerate P2 element after 52 remeshings, at
 S = 2.6 S_c)."""
 VOLUME_RANGE = (1e-4, 0.1)
+RADIUS_RATIO_RANGE = (0.1, 10.0)
+"""R2/R of the lower sphere of a pair."""
 THETA_RANGE = (1.0, 60.0)
 """deg."""
 PAIR_THETA_MAX = 30.0
@@ -95,13 +98,18 @@ Ca = 1e-4 it ruptured at 1.07 times the static rupture distance, against 1.013 a
 
 @dataclass(frozen=True)
 class RuptureCase:
-    """One stretching run (units R, sigma, eta; angles in deg)."""
+    """One stretching run (units R, sigma, eta; angles in deg).
+
+    ``radius_ratio``: R2/R of the lower sphere of a pair (1: equal spheres); R, the upper
+    sphere's radius, is the unit of the volume and of the gaps.
+    """
 
     kind: str
     capillary_number: float
     volume: float
     theta_deg: float
     slip: float = 1e-3
+    radius_ratio: float = 1.0
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -109,16 +117,30 @@ class RuptureCase:
         checks = (("capillary_number", self.capillary_number, CA_RANGE),
                   ("volume", self.volume, VOLUME_RANGE),
                   ("theta_deg", self.theta_deg, THETA_RANGE),
-                  ("slip", self.slip, (1e-5, 1e-2)))
+                  ("slip", self.slip, (1e-5, 1e-2)),
+                  ("radius_ratio", self.radius_ratio, RADIUS_RATIO_RANGE))
         for name, value, (lo, hi) in checks:
             if not (math.isfinite(value) and lo <= value <= hi):
                 raise InputError(f"dynamic rupture: {name} = {value!r}; allowed: "
                                  f"[{lo:g}, {hi:g}]")
+        if self.kind == "wall" and self.radius_ratio != 1.0:
+            raise InputError(f"dynamic rupture: radius_ratio = {self.radius_ratio!r} on a "
+                             "wall; allowed: 1 (a radius ratio is a pair's)")
         if self.kind == "pair" and self.theta_deg > PAIR_THETA_MAX:
-            raise InputError(f"dynamic rupture: theta_deg = {self.theta_deg!r} between equal "
+            raise InputError(f"dynamic rupture: theta_deg = {self.theta_deg!r} between two "
                              f"spheres; allowed: up to {PAIR_THETA_MAX:g} (above, the static "
-                             "bridge breaks its symmetry before its fold, which the symmetric "
-                             "half cannot follow)")
+                             "bridge between equal spheres breaks its symmetry before its "
+                             "fold, which the symmetric half cannot follow)")
+
+    @property
+    def half(self) -> bool:
+        """Solved on the upper half above a symmetry plane (equal spheres)."""
+        return self.kind == "pair" and self.radius_ratio == 1.0
+
+    @property
+    def radius2(self) -> float | None:
+        """R2/R of a lower sphere solved as a solid (unequal spheres), else ``None``."""
+        return self.radius_ratio if self.kind == "pair" and not self.half else None
 
 
 @dataclass(frozen=True)
@@ -156,7 +178,7 @@ class RuptureResult:
 def static_fold(case: RuptureCase) -> float:
     """S_c/R of the static meniscus (the fold of the volume-controlled branch)."""
     th = math.radians(case.theta_deg)
-    br = Bridge(radius=1.0, radius2=1.0 if case.kind == "pair" else None,
+    br = Bridge(radius=1.0, radius2=case.radius_ratio if case.kind == "pair" else None,
                 contact_angle1=th, contact_angle2=th, surface_tension=1.0)
     return float(rupture_distance(br, case.volume))
 
@@ -188,7 +210,7 @@ def dynamic_rupture(case: RuptureCase, preset: str = "default", steps: Preset | 
     t0 = time.perf_counter()
     steps = PRESETS[preset] if steps is None else steps
     sc = static_fold(case)
-    half = case.kind == "pair"  # the upper half: half the gap, volume and speed
+    half = case.half  # the upper half: half the gap, volume and speed
     scale = 2.0 if half else 1.0
     speed = case.capillary_number / scale
     step = steps.largest_gap_step(sc) / scale
@@ -197,7 +219,7 @@ def dynamic_rupture(case: RuptureCase, preset: str = "default", steps: Preset | 
     r = run(case.volume / scale, START * sc / scale, speed, wet,
             Stepping(dt=step / speed, gap_end=20.0 * sc / scale, neck_stop=NECK_STOP,
                      neck_step=steps.neck_step, tolerance=steps.tolerance),
-            MeshOptions(plane="symmetry" if half else "wall"))
+            MeshOptions(plane="symmetry" if half else "wall", radius2=case.radius2))
     if r.stopped != "neck":
         raise SolverError(f"dynamic rupture {asdict(case)}: the run stopped before the pinch "
                           f"({r.stopped}: {r.message})")

@@ -26,7 +26,9 @@ The right-hand side is ``-dE[w]`` of the free energy
 natural conditions at the lines, where the nodes slide along their solids (normal velocity
 the solid's, imposed in a rotated frame). Axis: u_r = 0; wall: u_z = 0 (a symmetry plane:
 u_z = 0, no friction, no contact line); sphere:
-``u . n = U . n``. The pressure level is set by the free surface (no pin).
+``u . n = U . n``; a lower sphere (``Domain.radius2``, at rest) like the wall, with
+``u . n = 0`` in its rotated frame. The pressure level is set by the free surface (no
+pin).
 
 Force on the sphere (positive pushing the solids apart): the reaction of the discrete
 system to the test function ``w = e_z`` on the sphere's nodes, ``F = -2 pi [a(u, w) - b(w,
@@ -52,7 +54,13 @@ from wetcontact.solver.stokes import (
     navier_slip_form,
     viscous_form,
 )
-from wetcontact.solver.stokes_dynamic.domain import Domain, edges_of, p2_shape, sphere_angle
+from wetcontact.solver.stokes_dynamic.domain import (
+    Domain,
+    edges_of,
+    lower_angle,
+    p2_shape,
+    sphere_angle,
+)
 
 _GX, _GW = np.polynomial.legendre.leggauss(5)
 GAUSS5 = (0.5 * (_GX + 1.0), 0.5 * _GW)
@@ -103,8 +111,8 @@ class Wetting:
 class StepSolution:
     """Velocity (interleaved P2, per mesh node) and pressure (P1) of one step, and the force.
 
-    ``force`` is on the sphere, ``force_wall`` on the wall (their sum vanishes in Stokes
-    flow: a check), units sigma R.
+    ``force`` is on the sphere, ``force_wall`` on the lower solid (their sum vanishes in
+    Stokes flow: a check), units sigma R.
     """
 
     u: np.ndarray
@@ -193,7 +201,7 @@ def _solve_step(domain: Domain, dt: float, speed: float, wet: Wetting, intorder:
     Ms = navier_slip_form.assemble(facet_basis(mesh, eu, "sphere", intorder),
                                    friction=1.0 / wet.slip_sphere)
     wall_slip = domain.plane == "wall"  # a symmetry plane is shear-free, with no line
-    Mw = navier_slip_form.assemble(facet_basis(mesh, eu, "wall", intorder),
+    Mw = navier_slip_form.assemble(facet_basis(mesh, eu, domain.lower_name, intorder),
                                    friction=1.0 / wet.slip_wall) if wall_slip else 0 * Ms
     ub = np.zeros(nu)
     ub[2 * sph + 1] = speed
@@ -204,8 +212,11 @@ def _solve_step(domain: Domain, dt: float, speed: float, wet: Wetting, intorder:
     tau = (math.cos(phi), math.sin(phi))
     # each line: node, static angle, slip length, tau, the solid's velocity along tau
     lines = [(js, wet.theta_sphere, wet.slip_sphere, tau, speed * tau[1], line_speed[1])]
-    if wall_slip:
-        lines.insert(0, (jw, wet.theta_wall, wet.slip_wall, (1.0, 0.0), 0.0, line_speed[0]))
+    a2 = (0.0 if domain.radius2 is None
+          else float(lower_angle(x[:, [jw]], domain.radius2)[0]))
+    if wall_slip:  # the lower solid's tau: along it, away from its apex
+        lines.insert(0, (jw, wet.theta_wall, wet.slip_wall, (math.cos(a2), -math.sin(a2)),
+                         0.0, line_speed[0]))
     kd, rd, cd = [], [], []
     if wet.line != "pinned":
         for j, theta, slip, t, solid, guess in lines:
@@ -225,24 +236,34 @@ def _solve_step(domain: Domain, dt: float, speed: float, wet: Wetting, intorder:
     line_k = sp.csr_matrix((kd, (rd, cd)), shape=(nu, nu))
     K = sp.bmat([[A + Ms + Mw + line_k + (coef * dt) * L, -B.T], [-B, None]], format="csr")
     rhs = np.concatenate([f, np.zeros(npr)])
-    # constraints: axis u_r = 0, wall u_z = 0, sphere u.n = U.n in a rotated frame
+    # constraints: axis u_r = 0, wall u_z = 0, spheres u.n = U.n in a rotated frame
     sol = np.zeros(nu + npr)
-    apex = axis[-1]
+    apex, origin = axis[-1], axis[0]
     rot = sph[sph != apex]
     c = np.array([0.0, 1.0 + domain.gap])[:, None]
     nr, nz = (x[:, rot] - c) / np.hypot(*(x[:, rot] - c))
+    flat = wall  # nodes with u_z = 0
+    if domain.radius2 is not None:  # the lower sphere at rest: u.n = 0 in its frame
+        low = wall[wall != origin]
+        c2 = np.array([0.0, -domain.radius2])[:, None]
+        n2r, n2z = (x[:, low] - c2) / np.hypot(*(x[:, low] - c2))
+        rot, nr, nz = np.concatenate([rot, low]), np.concatenate([nr, n2r]), np.concatenate(
+            [nz, n2z])
+        flat = np.array([origin])
     ir, iz = 2 * rot, 2 * rot + 1
     other = np.setdiff1d(np.arange(nu + npr), np.concatenate([ir, iz]))
     T = sp.csr_matrix((np.concatenate([nr, -nz, nz, nr, np.ones(other.size)]),
                        (np.concatenate([ir, ir, iz, iz, other]),
                         np.concatenate([ir, iz, ir, iz, other]))), shape=K.shape)
     sol[ir] = speed * nz  # dof ir carries u_n, iz the tangential velocity
+    if domain.radius2 is not None:
+        sol[ir[rot.size - low.size:]] = 0.0
     sol[2 * apex + 1] = speed
     pins: list[int] = []
     if wet.line == "pinned":  # each line moves with its solid
         sol[2 * js + 1] = speed * tau[1]  # the sphere's tangential velocity at the line
-        pins = [2 * js + 1] + ([2 * jw] if wall_slip else [])
-    fixed = np.unique(np.concatenate([2 * axis, 2 * wall + 1, ir, [2 * apex + 1],
+        pins = [2 * js + 1] + ([2 * jw + (domain.radius2 is not None)] if wall_slip else [])
+    fixed = np.unique(np.concatenate([2 * axis, 2 * flat + 1, ir, [2 * apex + 1],
                                      np.array(pins, dtype=int)]))
     free = np.setdiff1d(np.arange(nu + npr), fixed, assume_unique=True)
     Kt = (T.T @ K @ T).tocsr()
