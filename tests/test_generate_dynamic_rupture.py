@@ -14,8 +14,8 @@ from wetcontact.branch_cache import cache_file, read_rows
 from wetcontact.reduced_models import dynamic_rupture as dr
 from wetcontact.solver.stokes_dynamic.rupture import RuptureCase
 
-COEF = {"wall": {"a": 2.0, "b": 0.5, "c": 0.01, "d": 0.05, "e": -0.3},
-        "pair": {"a": 1.5, "b": 0.45, "c": 0.0, "d": -0.02, "e": 0.2}}
+COEF = {"wall": {"a": 2.0, "b": 0.5, "c": 0.01, "d": 0.05, "e": -0.3, "g": 0.0},
+        "pair": {"a": 1.5, "b": 0.45, "c": 0.0, "d": -0.02, "e": 0.2, "g": -0.35}}
 
 
 def _fake_solve(calls: list):
@@ -30,9 +30,11 @@ def _fake_solve(calls: list):
         if case.capillary_number == 0.3 and case.volume == 1e-2 and case.theta_deg == 50.0:
             row["error"] = "stand-in: remeshing failed"
             return row
-        ratio = dr.ratio_form(COEF, np.array([case.kind == "wall"]),
-                              np.array([case.capillary_number]), np.array([case.volume]),
-                              np.array([case.theta_deg]))
+        wall = case.kind == "wall"
+        v, rho = ((case.volume, 1.0) if wall
+                  else dr.pair_coordinates(case.volume, case.radius_ratio))
+        ratio = dr.ratio_form(COEF, np.array([wall]), np.array([case.capillary_number]),
+                              np.array([v]), np.array([case.theta_deg]), np.array([rho]))
         row["result"] = {"ratio": float(ratio[0])}
         return row
 
@@ -76,9 +78,10 @@ def test_generator_recovers_known_coefficients(tmp_path, monkeypatch):
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
     out = tmp_path / "dynamic_rupture.json"
     data = gen.generate_dynamic_rupture(out, workers=1, log=lambda _m: None)
-    assert len(calls) == len(gen.fit_cases()) + gen.HELD_OUT + len(gen.EDGE_CASES)
+    held = gen.HELD_OUT + gen.UNEQUAL_HELD_OUT
+    assert len(calls) == len(gen.fit_cases()) + held + len(gen.EDGE_CASES)
     assert sum(r["edge"] for r in data["runs"]) == len(gen.EDGE_CASES)
-    assert sum(r["held_out"] for r in data["runs"]) == gen.HELD_OUT
+    assert sum(r["held_out"] for r in data["runs"]) == held
     assert json.loads(out.read_text())["coefficients"] == data["coefficients"]
     for kind, want in COEF.items():
         for name, value in want.items():
@@ -90,6 +93,24 @@ def test_generator_recovers_known_coefficients(tmp_path, monkeypatch):
     n = len(calls)
     gen.generate_dynamic_rupture(out, workers=1, log=lambda _m: None)
     assert len(calls) == n
+
+
+def test_unequal_cases_hold_their_volume_over_the_effective_radius():
+    """An unequal pair's V/R^3 is V*/R*^3 of the grid's V*, and its held-out cases lie
+    inside the grid's ranges (seeded)."""
+    for c in gen.fit_cases():
+        if c.radius_ratio != 1.0:
+            v, rho = dr.pair_coordinates(c.volume, c.radius_ratio)
+            assert min(gen.UNEQUAL_VOLUMES, key=lambda g: abs(g - v)) == pytest.approx(
+                v, rel=1e-7)  # V/R^3 rounded to 1e-10
+            assert 1 / rho in gen.UNEQUAL_RATIOS
+    cases = gen.unequal_held_out_cases()
+    assert cases == gen.unequal_held_out_cases()
+    for c in cases:
+        v, rho = dr.pair_coordinates(c.volume, c.radius_ratio)
+        assert gen.UNEQUAL_VOLUMES[0] <= v * (1 + 1e-6) and v <= gen.UNEQUAL_VOLUMES[-1]
+        assert 1 / gen.UNEQUAL_RATIOS[-1] <= rho <= 1.0
+        assert gen.UNEQUAL_CAS[0] <= c.capillary_number <= gen.UNEQUAL_CAS[-1]
 
 
 def test_held_out_cases_lie_inside_the_grid():

@@ -17,8 +17,10 @@ from typing import Any
 from wetcontact.reduced_models import dynamic_rupture as dr
 
 FUNCTION = "wc_dynamic_rupture_ratio"
-FORM = ("S_c(Ca)/S_c = 1 + a Ca^(b + c ln Ca) (V/R^3 / 1e-3)^d exp(e theta), theta in rad; "
-        "(a, b, c, d, e) per geometry (wall: a sphere and a wall; pair: two equal spheres)")
+FORM = ("S_c(Ca)/S_c = 1 + a Ca^(b + c ln Ca) (V* / 1e-3)^d exp(e theta) rho^g, theta in rad; "
+        "(a, b, c, d, e, g) per geometry (wall: a sphere and a wall, V* = V/R^3, rho = 1; "
+        "pair: spheres R and R2, V* = V/R*^3 with R* = 2 R R2/(R + R2), "
+        "rho = min(R, R2)/max(R, R2))")
 
 
 def json_entry() -> dict[str, Any]:
@@ -34,30 +36,41 @@ def json_entry() -> dict[str, Any]:
 
 C_TEMPLATE = """
 /* ---- {fn}: the dynamic rupture distance over the static fold (calibrated) -------------
- * double {fn}(int pair, double ca, double v_star, double theta_deg);
+ * double {fn}(int pair, double ca, double v_star, double theta_deg,
+ *                 double radius_ratio);
  * S_c(Ca)/S_c of a bridge separated at constant relative speed v, Ca = eta v / sigma,
  * from the static meniscus at {start:g} S_c to its pinch (free-surface Stokes flow,
- * stokes-dynamic), S_c the static fold; pair = 0 a sphere and a wall, 1 two equal spheres;
- * v_star = V/R^3; theta_deg the static contact angle on both solids. Fitted over Ca
- * {ca_lo:g}-{ca_hi:g}, V/R^3 {v_lo:g}-{v_hi:g}, {t_lo:g}-{t_hi:g} deg on a wall,
- * {tp_lo:g}-{tp_hi:g} deg between spheres; NaN outside.
+ * stokes-dynamic), S_c the static fold; pair = 0 a sphere and a wall, 1 two spheres;
+ * v_star = V/R^3 (R the first sphere's radius); radius_ratio = R2/R of the second sphere
+ * (1 on a wall); theta_deg the static contact angle on both solids. Fitted over Ca
+ * {ca_lo:g}-{ca_hi:g}, V* {v_lo:g}-{v_hi:g}, rho {q_lo:g}-1, {t_lo:g}-{t_hi:g} deg on a
+ * wall, {tp_lo:g}-{tp_hi:g} deg between spheres; NaN outside.
  * {form}. Held-out relative error: max {ho_max:.2g}, mean {ho_mean:.2g} ({ho_n} runs;
  * Pitois' (1 + Ca^1/2): max {ho_pit:.2g}). Form: wetcontact/reduced_models/dynamic_rupture.py. */
-static const double wc__dr_coef[2][5] = {{
+static const double wc__dr_coef[2][6] = {{
     {{{wall}}},
     {{{pair}}}}};
 
-static inline double {fn}(int pair, double ca, double v_star, double theta_deg)
+static inline double {fn}(int pair, double ca, double v_star, double theta_deg,
+                          double radius_ratio)
 {{
     const double *k = wc__dr_coef[pair ? 1 : 0];
     const double t_lo = pair ? {tp_lo!r} : {t_lo!r}, t_hi = pair ? {tp_hi!r} : {t_hi!r};
-    double lc;
-    if (!(ca >= {ca_lo!r} && ca <= {ca_hi!r} && v_star >= {v_lo!r} && v_star <= {v_hi!r}
-          && theta_deg >= t_lo && theta_deg <= t_hi))
+    double lc, rs, rho = 1.0, v = v_star;
+    if (pair) {{
+        if (!(radius_ratio > 0.0))
+            return NAN;
+        rs = 2.0 * radius_ratio / (1.0 + radius_ratio);
+        v = v_star / (rs * rs * rs);
+        rho = radius_ratio < 1.0 ? radius_ratio : 1.0 / radius_ratio;
+    }} else if (radius_ratio != 1.0)
+        return NAN;
+    if (!(ca >= {ca_lo!r} && ca <= {ca_hi!r} && v >= {v_lo!r} && v <= {v_hi!r}
+          && theta_deg >= t_lo && theta_deg <= t_hi && rho >= {q_lo!r}))
         return NAN;
     lc = log(ca);
-    return 1.0 + k[0] * exp((k[1] + k[2] * lc) * lc + k[3] * log(v_star / 1e-3)
-                            + k[4] * (theta_deg * (WC_PI / 180.0)));
+    return 1.0 + k[0] * exp((k[1] + k[2] * lc) * lc + k[3] * log(v / 1e-3)
+                            + k[4] * (theta_deg * (WC_PI / 180.0)) + k[5] * log(rho));
 }}
 """
 
@@ -74,6 +87,7 @@ def c_text() -> str:
         fn=FUNCTION, start=d["start_over_static"], form=FORM,
         ca_lo=float(dom["capillary_number"][0]), ca_hi=float(dom["capillary_number"][1]),
         v_lo=float(dom["volume"][0]), v_hi=float(dom["volume"][1]),
+        q_lo=float(dom["rho"][0]),
         t_lo=float(dom["theta_deg"]["wall"][0]), t_hi=float(dom["theta_deg"]["wall"][1]),
         tp_lo=float(dom["theta_deg"]["pair"][0]), tp_hi=float(dom["theta_deg"]["pair"][1]),
         ho_max=ho["max"], ho_mean=ho["mean"], ho_n=ho["points"], ho_pit=ho["pitois_max"],
@@ -82,10 +96,12 @@ def c_text() -> str:
 
 def python_text() -> str:
     """Python source (numpy only) defining ``dynamic_rupture_ratio(kind, ca, v_star,
-    theta_deg)``: the package's form verbatim, the coefficients; NaN outside the domain."""
+    theta_deg, radius_ratio=1.0)``: the package's form and pair coordinates verbatim, the
+    coefficients; NaN outside the domain."""
     d = dr.load()
     dom, ho = d["domain"], d["held_out"]
-    src = textwrap.dedent(inspect.getsource(dr.ratio_form))
+    src = "\n\n".join(textwrap.dedent(inspect.getsource(f)) for f in (
+        dr.effective_radius, dr.pair_coordinates, dr.ratio_form))
     return f'''
 
 # ---- dynamic_rupture_ratio: the dynamic rupture distance over the static fold ----
@@ -98,20 +114,28 @@ _DR_DOMAIN = {dom!r}
 {src}
 
 
-def dynamic_rupture_ratio(kind, ca, v_star, theta_deg):
+def dynamic_rupture_ratio(kind, ca, v_star, theta_deg, radius_ratio=1.0):
     """S_c(Ca)/S_c: the rupture distance of a bridge separated at Ca = eta v / sigma over
-    its static fold; kind "wall" (a sphere and a wall) or "pair" (two equal spheres);
-    v_star = V/R^3; theta_deg the static contact angle. {FORM}. Fitted over Ca
-    {dom["capillary_number"][0]:g}-{dom["capillary_number"][1]:g}, V/R^3
-    {dom["volume"][0]:g}-{dom["volume"][1]:g}, angles {dom["theta_deg"]["wall"]} deg on a
-    wall, {dom["theta_deg"]["pair"]} deg between spheres; NaN outside. Held-out relative
-    error: max {ho["max"]:.2g}, mean {ho["mean"]:.2g}."""
+    its static fold; kind "wall" (a sphere and a wall) or "pair" (two spheres); v_star =
+    V/R^3 (R the first sphere's radius); theta_deg the static contact angle; radius_ratio
+    R2/R of the second sphere (1 on a wall). {FORM}. Fitted over Ca
+    {dom["capillary_number"][0]:g}-{dom["capillary_number"][1]:g}, V*
+    {dom["volume"][0]:g}-{dom["volume"][1]:g}, rho {dom["rho"][0]:g}-1, angles
+    {dom["theta_deg"]["wall"]} deg on a wall, {dom["theta_deg"]["pair"]} deg between
+    spheres; NaN outside. Held-out relative error: max {ho["max"]:.2g}, mean
+    {ho["mean"]:.2g}."""
     if kind not in ("wall", "pair"):
         raise ValueError(f"kind = {{kind!r}}; allowed: 'wall', 'pair'")
-    ca, v, th = np.broadcast_arrays(*(np.asarray(a, dtype=float)
-                                      for a in (ca, v_star, theta_deg)))
-    out = ratio_form(_DR_COEF, kind == "wall", ca, v, th)
-    inside = np.ones(ca.shape, dtype=bool)
+    ca, v, th, q = np.broadcast_arrays(*(np.asarray(a, dtype=float)
+                                         for a in (ca, v_star, theta_deg, radius_ratio)))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if kind == "wall":
+            rho, ok = np.ones(q.shape), q == 1.0
+        else:
+            v, rho = pair_coordinates(v, q)
+            ok = q > 0
+        out = ratio_form(_DR_COEF, kind == "wall", ca, v, th, rho)
+    inside = ok & (rho >= _DR_DOMAIN["rho"][0])
     for x, name in ((ca, "capillary_number"), (v, "volume"), (th, "theta_deg")):
         lo, hi = _DR_DOMAIN[name][kind] if name == "theta_deg" else _DR_DOMAIN[name]
         inside &= (x >= lo) & (x <= hi)

@@ -2,8 +2,9 @@
 
 Reference: ``stokes-dynamic`` stretching runs (:mod:`wetcontact.solver.stokes_dynamic.rupture`:
 a bridge from the static meniscus at 0.2 S_c separated at constant speed to its pinch),
-sphere-wall and equal spheres, over the capillary number Ca = eta v / sigma, V* = V/R^3 and
-the contact angle, from the generation record of the closure
+sphere-wall, equal and unequal spheres, over the capillary number Ca = eta v / sigma, V*
+(V/R^3 on a wall, V/R*^3 between spheres, R* = 2 R R2/(R + R2)), the radius ratio and the
+contact angle, from the generation record of the closure
 (``reduced_models/data/dynamic_rupture.json``, ``python -m wetcontact.generate
 dynamic-rupture``; the runs take about 40 min on 2 cores, so the report does not repeat
 them). Beside each run: Pitois, Moucheront & Chateau's (2001) ``S_c (1 + Ca^1/2)``, the
@@ -13,7 +14,8 @@ now; the relative error of the rupture distance. Runs that did not reach the pin
 with their reason (the method's failure region).
 
 The stability map (``dynamic_stability.csv`` / ``.png``): every run of the record, the runs
-at the edges of the validity (V/R^3 = 0.1, 60 deg, Ca = 0.3 at the largest volume) included,
+at the edges of the validity (V/R^3 = 0.1, 60 deg, Ca = 0.3 at the largest volume, a
+radius ratio of 10) included,
 with whether it reached the pinch, the reason when not, its volume error and the neck's
 fitted rate, over (Ca, V*) per geometry, and the region the solver refuses (Ca > 0.3).
 """
@@ -36,6 +38,26 @@ def points(ctx: StudyContext) -> list[Point]:
     return []
 
 
+GEOMETRIES = (("wall", "sphere on a wall"), ("pair", "two equal spheres"),
+              ("unequal", "two unequal spheres"))
+"""The report's geometries (:func:`geometry`) and their titles."""
+
+
+def geometry(case: dict[str, Any]) -> str:
+    """``"wall"``, ``"pair"`` (equal spheres) or ``"unequal"`` of a run's case."""
+    if case["kind"] == "wall":
+        return "wall"
+    return "pair" if case.get("radius_ratio", 1.0) == 1.0 else "unequal"
+
+
+def coordinates(case: dict[str, Any]) -> tuple[float, float]:
+    """The closure's ``(V*, rho)`` of a run's case (module docstring)."""
+    if case["kind"] == "wall":
+        return case["volume"], 1.0
+    v, q = dr.pair_coordinates(case["volume"], case.get("radius_ratio", 1.0))
+    return float(v), float(q)
+
+
 def rows_of(data: dict[str, Any]) -> list[dict[str, Any]]:
     """One row per run that reached the pinch: the reference, Pitois, the two fits."""
     rows = []
@@ -44,12 +66,14 @@ def rows_of(data: dict[str, Any]) -> list[dict[str, Any]]:
             continue
         c, r = run["case"], run["result"]
         wall = c["kind"] == "wall"
-        args = (wall, c["capillary_number"], c["volume"], c["theta_deg"])
+        v, rho = coordinates(c)
+        args = (wall, c["capillary_number"], v, c["theta_deg"], rho)
         pit = 1.0 + float(np.sqrt(c["capillary_number"]))
         ab = float(dr.ratio_form(data["coefficients_ab"], *args))
         full = float(dr.ratio_form(data["coefficients"], *args))
         ref = r["ratio"]
-        rows.append({"kind": c["kind"], "Ca": c["capillary_number"], "V*": c["volume"],
+        rows.append({"kind": geometry(c), "Ca": c["capillary_number"], "V*": v,
+                     "radius_ratio": c.get("radius_ratio", 1.0), "rho": rho,
                      "theta_deg": c["theta_deg"], "held_out": run["held_out"],
                      "S_c_static": r["static_gap"], "S_c_dynamic": r["gap"],
                      "ratio_ref": ref, "ratio_pitois": pit,
@@ -97,12 +121,15 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
              "Rupture distance S_c(Ca) of a bridge stretched at constant relative speed v "
              "(Ca = eta v / sigma) from the static meniscus at "
              f"{data['start_over_static']:g} S_c to its pinch (`stokes-dynamic`, default "
-             "preset; S_c the static fold of `meniscus`). Sphere-wall and equal spheres, Ca "
-             f"{dom['capillary_number'][0]:g}-{dom['capillary_number'][1]:g}, V* = V/R^3 "
+             "preset; S_c the static fold of `meniscus`). Sphere-wall, equal and unequal "
+             f"spheres (rho = R_small/R_large {dom['rho'][0]:g}-1), Ca "
+             f"{dom['capillary_number'][0]:g}-{dom['capillary_number'][1]:g}, V* (V/R^3 on a "
+             "wall, V/R*^3 between spheres, R* = 2 R R2/(R + R2)) "
              f"{dom['volume'][0]:g}-{dom['volume'][1]:g}, contact angle (static, both "
              f"solids) {dom['theta_deg']['wall'][0]:g}-{dom['theta_deg']['wall'][1]:g} deg on "
              f"a wall, {dom['theta_deg']['pair'][0]:g}-{dom['theta_deg']['pair'][1]:g} deg "
-             "between spheres (above, the static bridge breaks its symmetry before its fold), "
+             "between spheres (above, the static bridge between equal spheres breaks its "
+             "symmetry before its fold), "
              "slip 1e-3 R. References from the closure's generation record; the laws "
              "evaluated now. Relative error of S_c(Ca), max / mean; every run: "
              "`dynamic_rupture.csv`, S_c(Ca)/S_c against Ca: `dynamic_rupture.png`.", "",
@@ -113,13 +140,13 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
               ("refit 1 + a Ca^b (per geometry: wall a = "
                f"{ab['wall']['a']:.3g}, b = {ab['wall']['b']:.3g}; pair a = "
                f"{ab['pair']['a']:.3g}, b = {ab['pair']['b']:.3g})", "err_refit_ab"),
-              ("closure 1 + a Ca^(b + c ln Ca) (V*/1e-3)^d e^(e theta)", "err_closure"))
+              ("closure 1 + a Ca^(b + c ln Ca) (V*/1e-3)^d e^(e theta) rho^g", "err_closure"))
     for label, col in labels:
         lines.append(f"| {label} | {_stats(grid, col)} | {_stats(held, col)} |")
     lines += ["", f"{len(rows)} runs reached the pinch; {len(failed)} did not (the method's "
               "failure region)" + (": " + "; ".join(
-                  f"{f['case']['kind']} Ca {f['case']['capillary_number']:g} V* "
-                  f"{f['case']['volume']:g} theta {f['case']['theta_deg']:g} deg "
+                  f"{geometry(f['case'])} Ca {f['case']['capillary_number']:g} V* "
+                  f"{coordinates(f['case'])[0]:.3g} theta {f['case']['theta_deg']:g} deg "
                   f"({_reason(f['error'])})" for f in failed) if failed else "") + "."]
     e_p = max(r["err_pitois"] for r in held) if held else float("nan")
     e_c = max(r["err_closure"] for r in held) if held else float("nan")
@@ -129,6 +156,12 @@ def section(out: Path, result: SweepResult, ctx: StudyContext) -> str:
               f"of {len(rows)} runs, by up to {100 * e_p:.1f} % on the held-out runs; "
               f"refitting its form 1 + a Ca^b leaves {100 * e_ab:.1f} %, the closure "
               f"{100 * e_c:.1f} %."]
+    uneq = [r for r in held if r["kind"] == "unequal"]
+    if uneq:
+        lines += ["", "Unequal spheres (held-out, rho "
+                  f"{min(r['rho'] for r in uneq):.2f}-{max(r['rho'] for r in uneq):.2f}): "
+                  f"closure {_stats(uneq, 'err_closure')}, Pitois "
+                  f"{_stats(uneq, 'err_pitois')} (max / mean)."]
     lines += ["", stability_text(stab)]
     return "\n".join(lines) + "\n"
 
@@ -139,7 +172,8 @@ def stability_rows(data: dict[str, Any]) -> list[dict[str, Any]]:
     out = []
     for run in data["runs"]:
         c, r = run["case"], run.get("result", {})
-        out.append({"kind": c["kind"], "Ca": c["capillary_number"], "V*": c["volume"],
+        out.append({"kind": geometry(c), "Ca": c["capillary_number"],
+                    "V*": coordinates(c)[0], "radius_ratio": c.get("radius_ratio", 1.0),
                     "theta_deg": c["theta_deg"],
                     "set": "edge" if run.get("edge") else ("held-out" if run["held_out"]
                                                            else "grid"),
@@ -161,14 +195,16 @@ def stability_text(stab: list[dict[str, Any]]) -> str:
                       f"{r['reason']}" for r in bad) or "none"
     return (f"**Stability map** (`dynamic_stability.png`, `dynamic_stability.csv`): of "
             f"{len(stab)} runs ({len(edge)} at the edges of the validity: V* = 0.1, 60 deg "
-            f"on a wall, Ca = 0.3 at the largest volume), {len(ok)} reached the pinch, with "
+            f"on a wall, Ca = 0.3 at the largest volume, a radius ratio of 10), {len(ok)} "
+            "reached the pinch, with "
             f"volume kept within {max(r['volume_error'] for r in ok):.1e} and the neck's "
             f"fitted rate {min(r['neck_slope'] for r in ok):.3f}-"
             f"{max(r['neck_slope'] for r in ok):.3f} sigma/eta over its last decade "
             "(Papageorgiou's asymptote 0.0709). Failures (the run stops and says why, no "
             f"value): {fails}. Refused: Ca > 0.3 (at Ca = 1 the thread's mesh degenerates "
             "after 52 remeshings at 2.6 S_c), V* outside 1e-4-0.1, angles outside 1-60 deg, "
-            "equal spheres above 30 deg (the static bridge breaks its symmetry first).")
+            "spheres above 30 deg (between equal ones the static bridge breaks its symmetry "
+            "first), radius ratios outside 0.1-10.")
 
 
 def stability_figure(stab: list[dict[str, Any]]):
@@ -180,10 +216,8 @@ def stability_figure(stab: list[dict[str, Any]]):
     names = [f"pinch reached, theta {t:g} deg" for t in ths] + [
         "held-out run, pinch reached", "stopped before the pinch (reason: the CSV)"]
     st = styles(names)
-    fig, axes = plt.subplots(1, 2, figsize=(11, 5.0), sharey=True, layout="constrained")
-    for ax, kind, title in zip(axes, ("wall", "pair"),
-                               ("sphere on a wall", "two equal spheres (upper half)"),
-                               strict=True):
+    fig, axes = plt.subplots(1, 3, figsize=(14, 5.0), sharey=True, layout="constrained")
+    for ax, (kind, title) in zip(axes, GEOMETRIES, strict=True):
         for k, (t, name) in enumerate(zip(ths, names, strict=False)):
             sel = [r for r in stab if r["kind"] == kind and r["theta_deg"] == t
                    and r["pinch"] and r["set"] != "held-out"]
@@ -213,7 +247,7 @@ def stability_figure(stab: list[dict[str, Any]]):
             handles.setdefault(lab, h)
     fig.legend(handles.values(), handles.keys(), loc="outside lower center", ncols=4,
                fontsize=8)
-    axes[0].set_ylabel("V* = V / R^3")
+    axes[0].set_ylabel("V* (V/R^3; V/R*^3 between spheres)")
     fig.suptitle("stokes-dynamic stability map: bridges stretched from 0.2 S_c to the pinch, "
                  "which runs reach it (default preset)", fontsize=10)
     return fig
@@ -230,10 +264,10 @@ def figure(rows: list[dict[str, Any]], data: dict[str, Any]):
         f"closure, theta {t:g} deg, V* 1e-3" for t in ths] + ["Pitois 2001, 1 + Ca^1/2",
                                                                "held-out runs"]
     st = styles(names)
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True, layout="constrained")
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), sharey=True, layout="constrained")
     ca = np.geomspace(*data["domain"]["capillary_number"], 100)
-    for ax, kind, title in zip(axes, ("wall", "pair"),
-                               ("sphere on a wall", "two equal spheres"), strict=True):
+    for ax, (kind, title) in zip(axes, GEOMETRIES, strict=True):
+        rho = min((r["rho"] for r in rows if r["kind"] == kind), default=1.0)
         for t, name, cname in zip(ths, names[:len(ths)], names[len(ths):2 * len(ths)],
                                   strict=True):
             sel = [r for r in rows if r["kind"] == kind and r["theta_deg"] == t
@@ -242,15 +276,19 @@ def figure(rows: list[dict[str, Any]], data: dict[str, Any]):
                 continue
             ax.plot([r["Ca"] for r in sel], [r["ratio_ref"] for r in sel], mfc="none",
                     ms=6, label=name, **{**st[name], "linestyle": "none"})
-            ax.plot(ca, dr.ratio_form(data["coefficients"], kind == "wall", ca, 1e-3, t),
-                    lw=1.4, label=cname, **{**st[cname], "marker": None})
+            ax.plot(ca, dr.ratio_form(data["coefficients"], kind == "wall", ca, 1e-3, t, rho),
+                    lw=1.4, label=cname + (f", rho {rho:g}" if rho < 1 else ""),
+                    **{**st[cname], "marker": None})
         ax.plot(ca, 1 + np.sqrt(ca), lw=2.0, label=names[-2],
                 **{**st[names[-2]], "marker": None})
         sel = [r for r in rows if r["kind"] == kind and r["held_out"]]
         ax.plot([r["Ca"] for r in sel], [r["ratio_ref"] for r in sel], ms=7, label=names[-1],
                 **{**st[names[-1]], "linestyle": "none"})
         ax.set_xscale("log")
-        ax.set_title(f"{title}: V* = V/R^3 1e-4 to 1e-2 (points)", fontsize=9)
+        rhos = sorted({r["rho"] for r in rows if r["kind"] == kind and not r["held_out"]})
+        ax.set_title(f"{title}: V* 1e-4 to 1e-2 (points)"
+                     + (", rho " + ", ".join(f"{q:g}" for q in rhos) if kind == "unequal"
+                        else ""), fontsize=9)
         ax.set_xlabel("Ca = eta v / sigma")
         ax.grid(True, alpha=0.3)
     axes[0].set_ylabel("S_c(Ca) / S_c (static fold)")
