@@ -238,7 +238,11 @@ def stability_figure(stab: list[dict[str, Any]]):
         ax.set_yscale("log")
         ax.set_xlim(3e-5, 3.0)
         ax.set_ylim(5e-5, 0.2)
-        ax.set_title(title, fontsize=9)
+        ratios = sorted({r["radius_ratio"] for r in stab if r["kind"] == kind
+                         and r["set"] == "grid"})
+        ax.set_title(title + (" (R2/R " + " and ".join(f"{q:g}" for q in ratios)
+                              + " at each grid point)" if kind == "unequal" else ""),
+                     fontsize=9)
         ax.set_xlabel("Ca = eta v / sigma (the angles side by side at each Ca)")
         ax.grid(True, alpha=0.3)
     handles: dict[str, Any] = {}
