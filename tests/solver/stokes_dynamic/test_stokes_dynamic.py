@@ -20,13 +20,14 @@ are the measured errors (in each docstring) with a margin.
 from __future__ import annotations
 
 import math
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from wetcontact.errors import SolverError
-from wetcontact.models import get_model, observed_order
-from wetcontact.scene import scene_from_dict
+from wetcontact.models import observed_order
 from wetcontact.solver.meniscus import Bridge, solve_volume
 from wetcontact.solver.stokes_dynamic import (
     ORDER,
@@ -40,6 +41,9 @@ from wetcontact.solver.stokes_dynamic import (
     static_profile,
 )
 from wetcontact.solver.stokes_dynamic.domain import correct_volume, redistribute
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from quasi_static import assert_at_rest, viscous_per_speed  # noqa: E402
 
 TH = math.radians(20.0)
 V = 1e-3  # V/R^3
@@ -132,15 +136,7 @@ def test_small_ca_force_excess_is_the_quasi_static_viscous_force(stretched):
     for r in runs:
         assert r.stopped == "t_end" and r.gap[-1] == pytest.approx(0.03, abs=1e-12)
         excess.append((r.force[-1] - fst) / ca)
-    R = 1e-3
-    scene = scene_from_dict({
-        "name": "dynamic-check", "geometry": {"kind": "sphere-wall", "radius": R},
-        "liquid": {"viscosity": 1e-3, "surface_tension": 0.072, "density": 998.0,
-                   "contact_angle": 20.0, "slip_length_sphere": 1e-3 * R,
-                   "slip_length_wall": 1e-3 * R},
-        "amount": {"bridge_volume": V * R**3},
-        "motion": {"velocity": -0.1, "gaps": [0.03 * R]}})
-    fv = float(get_model("stokes").force(scene).force_viscous[0]) / (1e-3 * R * 0.1)
+    fv = viscous_per_speed(0.03, V, 20.0)
     assert fv < 0  # separation is resisted
     for e in excess:
         assert e == pytest.approx(fv, rel=0.015)
@@ -307,17 +303,8 @@ def test_small_ca_force_is_static_plus_quasi_static_viscous(slow_stretch):
     r = slow_stretch
     k = int(np.argmax(r.gap > 0.09))  # the spline stays clear of the fold
     force = CubicSpline(r.gap[1:k], r.force[1:k])
-    R = 1e-3
     for gap in (0.03, 0.05, 0.08):
-        scene = scene_from_dict({
-            "name": "dynamic-check", "geometry": {"kind": "sphere-wall", "radius": R},
-            "liquid": {"viscosity": 1e-3, "surface_tension": 0.072, "density": 998.0,
-                       "contact_angle": 20.0, "slip_length_sphere": 1e-3 * R,
-                       "slip_length_wall": 1e-3 * R},
-            "amount": {"bridge_volume": V * R**3},
-            "motion": {"velocity": -0.1, "gaps": [gap * R]}})
-        fv = float(get_model("stokes").force(scene).force_viscous[0]) / (1e-3 * R * 0.1)
-        expected = _static(gap).force + 1e-4 * fv
+        expected = _static(gap).force + 1e-4 * viscous_per_speed(gap, V, 20.0)
         assert float(force(gap)) == pytest.approx(expected, rel=1e-4)
 
 
@@ -335,12 +322,7 @@ def test_equal_spheres_static_bridge_is_an_equilibrium():
     assert dom.plane == "symmetry"
     xs, _ = correct_volume(dom.surface_xy, S0, V / 2)
     dom = dom.moved(xs, S0)
-    st = solve_volume(BRIDGE2, 2 * S0, V)
-    for dt in (0.0, 1e-1):
-        sol = solve_step(dom, dt, 0.0, WET)
-        assert sol.force == pytest.approx(st.force, rel=1e-5)
-        assert sol.force_wall == pytest.approx(-sol.force, rel=1e-12)
-        assert np.abs(sol.u).max() < 1e-4
+    assert_at_rest(dom, WET, solve_volume(BRIDGE2, 2 * S0, V).force)
 
 
 def test_equal_spheres_force_excess_is_the_quasi_static_viscous_force():
@@ -353,16 +335,7 @@ def test_equal_spheres_force_excess_is_the_quasi_static_viscous_force():
     assert r.stopped == "t_end" and 2 * r.gap[-1] == pytest.approx(0.06, abs=1e-12)
     assert np.abs(r.volume / (V / 2) - 1).max() < 1e-12
     excess = (r.force[-1] - solve_volume(BRIDGE2, 0.06, V).force) / ca
-    R = 1e-3
-    scene = scene_from_dict({
-        "name": "dynamic-check", "geometry": {"kind": "sphere-sphere", "radius": R,
-                                              "radius2": R},
-        "liquid": {"viscosity": 1e-3, "surface_tension": 0.072, "density": 998.0,
-                   "contact_angle": 20.0, "slip_length_sphere": 1e-3 * R,
-                   "slip_length_wall": 1e-3 * R},
-        "amount": {"bridge_volume": V * R**3},
-        "motion": {"velocity": -0.1, "gaps": [0.06 * R]}})
-    fv = float(get_model("stokes").force(scene).force_viscous[0]) / (1e-3 * R * 0.1)
+    fv = viscous_per_speed(0.06, V, 20.0, radius2=1.0)
     assert fv < 0
     assert excess == pytest.approx(fv, rel=0.01)
 

@@ -20,14 +20,14 @@ errors (in each docstring) with a margin.
 from __future__ import annotations
 
 import math
+import sys
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 from wetcontact.errors import InputError, SolverError
-from wetcontact.models import get_model
-from wetcontact.scene import scene_from_dict
 from wetcontact.solver.meniscus import Bridge, meniscus_profile, solve_volume
 from wetcontact.solver.stokes_dynamic import (
     Domain,
@@ -36,7 +36,6 @@ from wetcontact.solver.stokes_dynamic import (
     Wetting,
     locate_pinch,
     run,
-    solve_step,
     static_profile,
 )
 from wetcontact.solver.stokes_dynamic.division import wall_side_volume
@@ -49,6 +48,9 @@ from wetcontact.solver.stokes_dynamic.rupture import (
     dynamic_rupture,
     static_fold,
 )
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from quasi_static import assert_at_rest, viscous_per_speed  # noqa: E402
 
 TH = math.radians(30.0)
 V = 1e-3
@@ -78,12 +80,7 @@ def test_static_bridge_between_unequal_spheres_is_an_equilibrium(ratio):
     assert dom.lower_name == "sphere2"
     assert [math.degrees(a) for a in contact_angles(dom.surface_xy, S0, ratio)] == (
         pytest.approx([30.0, 30.0], abs=0.005))
-    st = solve_volume(_bridge(ratio), S0, V)
-    for dt in (0.0, 1e-1):
-        sol = solve_step(dom, dt, 0.0, WET)
-        assert sol.force == pytest.approx(st.force, rel=1e-5)
-        assert sol.force_wall == pytest.approx(-sol.force, rel=1e-12)
-        assert np.abs(sol.u).max() < 1e-4
+    assert_at_rest(dom, WET, solve_volume(_bridge(ratio), S0, V).force)
 
 
 def test_lower_sphere_keeps_the_liquid_below_the_neck():
@@ -116,16 +113,7 @@ def test_force_excess_between_unequal_spheres_is_the_quasi_static_viscous_force(
     assert r.stopped == "t_end" and r.gap[-1] == pytest.approx(0.04, abs=1e-12)
     assert np.abs(r.volume / V - 1).max() < 1e-12
     excess = (r.force[-1] - solve_volume(_bridge(ratio), 0.04, V).force) / ca
-    R = 1e-3
-    scene = scene_from_dict({
-        "name": "dynamic-check", "geometry": {"kind": "sphere-sphere", "radius": R,
-                                              "radius2": ratio * R},
-        "liquid": {"viscosity": 1e-3, "surface_tension": 0.072, "density": 998.0,
-                   "contact_angle": 30.0, "slip_length_sphere": 1e-3 * R,
-                   "slip_length_wall": 1e-3 * R},
-        "amount": {"bridge_volume": V * R**3},
-        "motion": {"velocity": -0.1, "gaps": [0.04 * R]}})
-    fv = float(get_model("stokes").force(scene).force_viscous[0]) / (1e-3 * R * 0.1)
+    fv = viscous_per_speed(0.04, V, 30.0, radius2=ratio)
     assert fv < 0
     assert excess == pytest.approx(fv, rel=0.01)
 
